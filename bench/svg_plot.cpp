@@ -1,0 +1,93 @@
+// SVG line plots: scales, axes, ticks, polylines and a legend.
+#include "bench/svg_plot.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <sstream>
+
+namespace dentsim::bench {
+namespace {
+
+std::string escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '<') out += "&lt;";
+    else if (c == '>') out += "&gt;";
+    else if (c == '&') out += "&amp;";
+    else out += c;
+  }
+  return out;
+}
+
+std::string number(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
+
+}  // namespace
+
+std::string svgLinePlot(const std::string& title, const std::string& x_label, const std::string& y_label,
+                        const std::vector<PlotSeries>& series, bool log_y) {
+  constexpr double kW = 640, kH = 400, kLeft = 80, kRight = 190, kTop = 40, kBottom = 60;
+  const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"};
+  std::set<double> xs;
+  double ymin = HUGE_VAL, ymax = -HUGE_VAL;
+  for (const auto& s : series)
+    for (auto [x, y] : s.points) {
+      if (log_y && y <= 0) continue;
+      xs.insert(x);
+      ymin = std::min(ymin, y);
+      ymax = std::max(ymax, y);
+    }
+  if (xs.empty()) { xs.insert(0); ymin = 0; ymax = 1; }
+  auto ty = [&](double y) { return log_y ? std::log10(y) : y; };
+  double lo = ty(ymin), hi = ty(ymax);
+  if (log_y) { lo = std::floor(lo); hi = std::ceil(hi); }
+  if (hi - lo < 1e-12) { lo -= 1; hi += 1; }
+  if (!log_y) lo = std::min(lo, 0.0);
+  const double xlo = *xs.begin(), xhi = *xs.rbegin() == xlo ? xlo + 1 : *xs.rbegin();
+  auto px = [&](double x) { return kLeft + (x - xlo) / (xhi - xlo) * (kW - kLeft - kRight); };
+  auto py = [&](double y) { return kH - kBottom - (ty(y) - lo) / (hi - lo) * (kH - kTop - kBottom); };
+
+  std::ostringstream o;
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << kW << "\" height=\"" << kH
+    << "\" font-family=\"sans-serif\" font-size=\"12\">\n<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  o << "<text x=\"" << kW / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">" << escape(title) << "</text>\n";
+  o << "<line x1=\"" << kLeft << "\" y1=\"" << kH - kBottom << "\" x2=\"" << kW - kRight << "\" y2=\"" << kH - kBottom
+    << "\" stroke=\"black\"/>\n<line x1=\"" << kLeft << "\" y1=\"" << kTop << "\" x2=\"" << kLeft << "\" y2=\""
+    << kH - kBottom << "\" stroke=\"black\"/>\n";
+  for (double x : xs)
+    o << "<text x=\"" << px(x) << "\" y=\"" << kH - kBottom + 18 << "\" text-anchor=\"middle\">" << number(x) << "</text>\n";
+  const int ticks = log_y ? int(hi - lo) : 5;
+  for (int i = 0; i <= ticks; ++i) {
+    const double t = lo + (hi - lo) * i / ticks;
+    const double v = log_y ? std::pow(10.0, t) : t;
+    const double y = kH - kBottom - (t - lo) / (hi - lo) * (kH - kTop - kBottom);
+    o << "<line x1=\"" << kLeft - 4 << "\" y1=\"" << y << "\" x2=\"" << kW - kRight << "\" y2=\"" << y
+      << "\" stroke=\"#ddd\"/>\n<text x=\"" << kLeft - 8 << "\" y=\"" << y + 4 << "\" text-anchor=\"end\">" << number(v)
+      << "</text>\n";
+  }
+  o << "<text x=\"" << (kLeft + kW - kRight) / 2 << "\" y=\"" << kH - 15 << "\" text-anchor=\"middle\">" << escape(x_label)
+    << "</text>\n<text transform=\"translate(18," << (kTop + kH - kBottom) / 2
+    << ") rotate(-90)\" text-anchor=\"middle\">" << escape(y_label) << "</text>\n";
+  for (size_t i = 0; i < series.size(); ++i) {
+    const char* c = colours[i % 6];
+    o << "<polyline fill=\"none\" stroke=\"" << c << "\" stroke-width=\"2\" points=\"";
+    for (auto [x, y] : series[i].points)
+      if (!log_y || y > 0) o << px(x) << "," << py(y) << " ";
+    o << "\"/>\n";
+    for (auto [x, y] : series[i].points)
+      if (!log_y || y > 0) o << "<circle cx=\"" << px(x) << "\" cy=\"" << py(y) << "\" r=\"3\" fill=\"" << c << "\"/>\n";
+    const double ly = kTop + 10 + 20.0 * double(i);
+    o << "<line x1=\"" << kW - kRight + 10 << "\" y1=\"" << ly << "\" x2=\"" << kW - kRight + 30 << "\" y2=\"" << ly
+      << "\" stroke=\"" << c << "\" stroke-width=\"2\"/>\n<text x=\"" << kW - kRight + 35 << "\" y=\"" << ly + 4 << "\">"
+      << escape(series[i].name) << "</text>\n";
+  }
+  o << "</svg>\n";
+  return o.str();
+}
+
+}  // namespace dentsim::bench

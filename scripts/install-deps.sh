@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package dentsim needs to build, test and benchmark; idempotent, no prompts.
+set -euo pipefail
+
+# Build and test: compiler, CMake, shaders, Vulkan on lavapipe with validation, libraries.
+packages=(
+  build-essential cmake ninja-build pkg-config clang lld
+  glslc glslang-tools spirv-tools
+  libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
+  libglfw3-dev libglm-dev libopenal-dev libusb-1.0-0-dev libhidapi-dev
+  libgtest-dev libgmock-dev
+  libnifti2-dev zlib1g-dev libzstd-dev libxxhash-dev
+  libcli11-dev libstb-dev nlohmann-json3-dev libmeshoptimizer-dev
+)
+# Benchmark peers: measured beside dentsim in the same run (docs/PERFORMANCE.md).
+if [[ "${DENTSIM_NO_PEERS:-0}" != 1 ]]; then
+  packages+=(libopenvdb-dev libtbb-dev libboost-iostreams-dev libblosc-dev)
+fi
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
+done
+if ((${#missing[@]} == 0)); then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+echo "install-deps: installing ${#missing[@]} packages: ${missing[*]}"
+sudo=""
+[[ $(id -u) -eq 0 ]] || sudo="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$sudo apt-get update -qq
+$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+echo "install-deps: done"

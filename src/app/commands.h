@@ -1,0 +1,24 @@
+// Registration of dentsim's subcommands: each cmd_*.cpp adds one subcommand and the action it runs.
+#pragma once
+
+#include <functional>
+
+#include <CLI/CLI.hpp>
+
+namespace dentsim::app {
+
+// What main() runs after parsing: returns the process exit code (0 success, 1 failure).
+using Action = std::function<int()>;
+
+// Each adds its subcommand to `root`. When the user picks it, the subcommand's parse callback sets
+// `action` to run it with the parsed options.
+void addGpuCommand(CLI::App& root, Action& action);
+void addVoxelizeCommand(CLI::App& root, Action& action);
+void addInfoCommand(CLI::App& root, Action& action);
+void addExportCommand(CLI::App& root, Action& action);
+void addBenchCommand(CLI::App& root, Action& action);
+
+// Prints "dentsim: <message>" on stderr and returns exit code 1: the one way commands report errors.
+int fail(const std::string& message);
+
+}  // namespace dentsim::app

@@ -1,0 +1,43 @@
+// dentsim's command-line entry: parses the subcommand, runs it, and turns any escape into a one-line error.
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <new>
+
+#include "app/commands.h"
+
+namespace dentsim::app {
+
+int fail(const std::string& message) {
+  std::cerr << "dentsim: " << message << "\n";
+  return 1;
+}
+
+}  // namespace dentsim::app
+
+int main(int argc, char** argv) {
+  using namespace dentsim::app;
+  CLI::App root{"dentsim: dental surgery simulator (voxel tooth, haptic drilling, automatic scoring)"};
+  root.require_subcommand(1);
+  root.set_version_flag("--version", std::string("dentsim ") + DENTSIM_VERSION);
+  Action action;
+  addGpuCommand(root, action);
+  addVoxelizeCommand(root, action);
+  addInfoCommand(root, action);
+  addExportCommand(root, action);
+  addBenchCommand(root, action);
+  try {
+    root.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return root.exit(e);
+  }
+  // Errors the environment can cause come back as Result; these catches only keep a bug or an
+  // exhausted memory from ending in an abort without a message.
+  try {
+    return action ? action() : fail("no command given");
+  } catch (const std::bad_alloc&) {
+    return fail("out of memory");
+  } catch (const std::exception& e) {
+    return fail(std::string("internal error: ") + e.what());
+  }
+}

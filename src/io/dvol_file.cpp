@@ -1,0 +1,168 @@
+// .dvol reading and writing: fixed little-endian header, zstd payload, XXH64 checksums, atomic replace.
+#include "io/dvol_file.h"
+
+#include <bit>
+#include <cmath>
+#include <cstring>
+
+#include <xxhash.h>
+#include <zstd.h>
+
+#include "io/atomic_file.h"
+
+namespace dentsim {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, ".dvol stores little-endian words as they are in memory");
+
+constexpr char kMagic[8] = {'D', 'E', 'N', 'T', 'S', 'I', 'M', 'V'};
+constexpr int kZstdLevel = 3;  // fast; the brick pool is mostly repeated bytes
+
+// Header field offsets [B]. The header is hashed up to kHeaderHashAt.
+constexpr size_t kVersionAt = 8, kHeaderBytesAt = 12, kLevelAt = 16, kVoxelAt = 24, kOriginAt = 32,
+                 kSourceOffsetAt = 56, kSourceDimsAt = 68, kScannerAt = 80, kChunkWordsAt = 176,
+                 kBlockWordsAt = 184, kBrickWordsAt = 192, kCompressedAt = 200, kPayloadHashAt = 208,
+                 kHeaderHashAt = 216, kHeaderBytes = 224;
+
+template <class T>
+void put(std::vector<uint8_t>& out, size_t at, T v) {
+  std::memcpy(out.data() + at, &v, sizeof(T));
+}
+template <class T>
+T get(std::span<const uint8_t> in, size_t at) {
+  T v;
+  std::memcpy(&v, in.data() + at, sizeof(T));
+  return v;
+}
+
+constexpr int minLevel = 3, maxLevel = 13;  // the brick layout's DS_MIN_LEVEL .. DS_MAX_LEVEL
+uint64_t chunkEntriesFor(int level) {
+  const uint64_t side = level > 6 ? uint64_t{1} << (level - 6) : 1;
+  return side * side * side;
+}
+
+}  // namespace
+
+std::vector<uint8_t> encodeVolumeFile(const VolumeFileData& d) {
+  const VolumeFrame& f = d.frame;
+  // Raw payload: the three arrays back to back.
+  std::vector<uint8_t> raw((d.chunks.size() + d.blocks.size() + d.bricks.size()) * sizeof(uint32_t));
+  size_t at = 0;
+  for (const auto* words : {&d.chunks, &d.blocks, &d.bricks}) {
+    if (!words->empty()) std::memcpy(raw.data() + at, words->data(), words->size() * sizeof(uint32_t));
+    at += words->size() * sizeof(uint32_t);
+  }
+  std::vector<uint8_t> out(kHeaderBytes + ZSTD_compressBound(raw.size()));
+  const size_t packed = ZSTD_compress(out.data() + kHeaderBytes, out.size() - kHeaderBytes, raw.data(), raw.size(), kZstdLevel);
+  out.resize(kHeaderBytes + packed);  // ZSTD_compress cannot fail with a bound-sized buffer
+
+  std::memcpy(out.data(), kMagic, sizeof(kMagic));
+  put<uint32_t>(out, kVersionAt, kVolumeFileVersion);
+  put<uint32_t>(out, kHeaderBytesAt, uint32_t(kHeaderBytes));
+  put<int32_t>(out, kLevelAt, f.level);
+  put<double>(out, kVoxelAt, f.voxel_mm);
+  for (int i = 0; i < 3; ++i) {
+    put<double>(out, kOriginAt + 8 * i, f.origin_mm[i]);
+    put<int32_t>(out, kSourceOffsetAt + 4 * i, f.source_offset[i]);
+    put<int32_t>(out, kSourceDimsAt + 4 * i, f.source_dims[i]);
+  }
+  for (int i = 0; i < 12; ++i) put<double>(out, kScannerAt + 8 * i, f.scanner_from_grid[i]);
+  put<uint64_t>(out, kChunkWordsAt, d.chunks.size());
+  put<uint64_t>(out, kBlockWordsAt, d.blocks.size());
+  put<uint64_t>(out, kBrickWordsAt, d.bricks.size());
+  put<uint64_t>(out, kCompressedAt, packed);
+  put<uint64_t>(out, kPayloadHashAt, XXH64(raw.data(), raw.size(), 0));
+  put<uint64_t>(out, kHeaderHashAt, XXH64(out.data(), kHeaderHashAt, 0));
+  return out;
+}
+
+Status writeVolumeFile(const std::string& path, const VolumeFileData& data) {
+  const std::vector<uint8_t> bytes = encodeVolumeFile(data);
+  return writeFileAtomic(path, bytes);
+}
+
+Result<VolumeFileData> parseVolumeFile(std::span<const uint8_t> in, const std::string& where, uint64_t max_raw_bytes) {
+  if (in.size() < kHeaderBytes)
+    return makeError(where, in.size() >= sizeof(kMagic) && std::memcmp(in.data(), kMagic, sizeof(kMagic)) == 0
+                                ? "truncated header (" + std::to_string(in.size()) + " bytes)"
+                                : "not a dentsim volume file (too short)");
+  if (std::memcmp(in.data(), kMagic, sizeof(kMagic)) != 0) return makeError(where, "not a dentsim volume file (bad magic)");
+  if (get<uint64_t>(in, kHeaderHashAt) != XXH64(in.data(), kHeaderHashAt, 0))
+    return makeError(where, "header checksum mismatch: the file is corrupt");
+  const uint32_t version = get<uint32_t>(in, kVersionAt);
+  if (version != kVolumeFileVersion)
+    return makeError(where, "unsupported volume file version " + std::to_string(version) + " (this dentsim reads " +
+                                std::to_string(kVolumeFileVersion) + ")");
+  if (get<uint32_t>(in, kHeaderBytesAt) != kHeaderBytes) return makeError(where, "unexpected header size");
+
+  VolumeFileData d;
+  VolumeFrame& f = d.frame;
+  f.level = get<int32_t>(in, kLevelAt);
+  if (f.level < minLevel || f.level > maxLevel)
+    return makeError(where, "grid level " + std::to_string(f.level) + " outside 3..13");
+  f.voxel_mm = get<double>(in, kVoxelAt);
+  if (!std::isfinite(f.voxel_mm) || f.voxel_mm <= 0.0 || f.voxel_mm > 100.0)
+    return makeError(where, "voxel size " + std::to_string(f.voxel_mm) + " mm is not in (0, 100]");
+  bool finite = true;
+  for (int i = 0; i < 3; ++i) {
+    f.origin_mm[i] = get<double>(in, kOriginAt + 8 * i);
+    f.source_offset[i] = get<int32_t>(in, kSourceOffsetAt + 4 * i);
+    f.source_dims[i] = get<int32_t>(in, kSourceDimsAt + 4 * i);
+    finite = finite && std::isfinite(f.origin_mm[i]);
+  }
+  for (int i = 0; i < 12; ++i) {
+    f.scanner_from_grid[i] = get<double>(in, kScannerAt + 8 * i);
+    finite = finite && std::isfinite(f.scanner_from_grid[i]);
+  }
+  if (!finite) return makeError(where, "origin or scanner matrix is not finite");
+  const int64_t dim = f.dim();
+  for (int i = 0; i < 3; ++i) {
+    const int64_t lo = f.source_offset[i], n = f.source_dims[i];
+    if (n < 0 || lo < 0 || lo + n > dim) return makeError(where, "source box lies outside the grid");
+  }
+
+  const uint64_t chunk_words = get<uint64_t>(in, kChunkWordsAt);
+  const uint64_t block_words = get<uint64_t>(in, kBlockWordsAt);
+  const uint64_t brick_words = get<uint64_t>(in, kBrickWordsAt);
+  const uint64_t packed = get<uint64_t>(in, kCompressedAt);
+  if (chunk_words != chunkEntriesFor(f.level))
+    return makeError(where, "chunk table size does not match level " + std::to_string(f.level));
+  if (block_words % 512 != 0 || brick_words % 128 != 0) return makeError(where, "index or brick pool is not whole");
+  // Each count is checked alone first so that the sum cannot overflow.
+  const uint64_t limit_words = max_raw_bytes / 4;
+  if (block_words > limit_words || brick_words > limit_words || chunk_words + block_words + brick_words > limit_words)
+    return makeError(where, "payload exceeds the limit of " + std::to_string(max_raw_bytes) + " bytes");
+  const uint64_t raw_bytes = (chunk_words + block_words + brick_words) * 4;
+  if (packed != in.size() - kHeaderBytes)
+    return makeError(where, in.size() - kHeaderBytes < packed
+                                ? "truncated: payload has " + std::to_string(in.size() - kHeaderBytes) + " of " +
+                                      std::to_string(packed) + " bytes"
+                                : "unexpected bytes after the payload");
+  const unsigned long long declared = ZSTD_getFrameContentSize(in.data() + kHeaderBytes, packed);
+  if (declared != raw_bytes) return makeError(where, "compressed payload is corrupt (size mismatch)");
+
+  std::vector<uint8_t> raw(raw_bytes);
+  const size_t got = ZSTD_decompress(raw.data(), raw.size(), in.data() + kHeaderBytes, packed);
+  if (ZSTD_isError(got) || got != raw_bytes)
+    return makeError(where, std::string("compressed payload is corrupt (") +
+                                (ZSTD_isError(got) ? ZSTD_getErrorName(got) : "short") + ")");
+  if (XXH64(raw.data(), raw.size(), 0) != get<uint64_t>(in, kPayloadHashAt))
+    return makeError(where, "payload checksum mismatch: the file is corrupt");
+
+  size_t at = 0;
+  for (auto [words, count] : {std::pair{&d.chunks, chunk_words}, {&d.blocks, block_words}, {&d.bricks, brick_words}}) {
+    words->resize(count);
+    if (count) std::memcpy(words->data(), raw.data() + at, count * 4);
+    at += count * 4;
+  }
+  return d;
+}
+
+Result<VolumeFileData> readVolumeFile(const std::string& path, uint64_t max_raw_bytes) {
+  // zstd gains at least 1/8 on any payload we write, so a file this large is never legitimate.
+  auto bytes = readFileBytes(path, max_raw_bytes + (max_raw_bytes >> 3) + 4096);
+  if (!bytes) return bytes.error();
+  return parseVolumeFile(*bytes, path, max_raw_bytes);
+}
+
+}  // namespace dentsim

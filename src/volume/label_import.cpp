@@ -1,0 +1,476 @@
+// Label images into brick volumes and back: label-map parsing, enclosed-space filling, direct and resampled placement, export.
+//
+// Contents
+//   1. Label maps
+//   2. Source voxel codes (label -> voxel through the map)
+//   3. Filling enclosed empty space (breadth-first from the border)
+//   4. Placement without resampling
+//   5. Placement with resampling
+//   6. importLabels
+//   7. exportLabels
+#include "volume/label_import.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <deque>
+#include <limits>
+#include <sstream>
+
+namespace dentsim {
+namespace {
+
+constexpr uint8_t kOutsideMark = 0xFF;  // not a valid voxel code: marks empty space reached from the border
+
+std::string trim(const std::string& s) {
+  const size_t b = s.find_first_not_of(" \t");
+  if (b == std::string::npos) return {};
+  const size_t e = s.find_last_not_of(" \t");
+  return s.substr(b, e - b + 1);
+}
+
+std::string withThousands(uint64_t v) {
+  std::string s = std::to_string(v);
+  for (int i = int(s.size()) - 3; i > 0; i -= 3) s.insert(size_t(i), ",");
+  return s;
+}
+
+// Progress over consecutive stages: stage k of the job covers [begin, end) of the bar.
+struct Stage {
+  Interrupter& interrupter;
+  double begin = 0.0, end = 1.0;
+  bool report(double fraction) const { return interrupter.progress(begin + (end - begin) * fraction); }
+};
+
+Error cancelled(const std::string& where) { return makeError(where, "import cancelled"); }
+
+// Inner tissue wins ties: pulp > caries > dentin > enamel.
+int tieRank(uint32_t material) {
+  switch (material) {
+    case DS_MAT_PULP: return 4;
+    case DS_MAT_CARIES: return 3;
+    case DS_MAT_DENTIN: return 2;
+    case DS_MAT_ENAMEL: return 1;
+    default: return 0;
+  }
+}
+
+// ---- 2. source voxel codes ------------------------------------------------------------------
+
+// One voxel code per source voxel, after checking that every label present is mapped.
+Result<std::vector<uint8_t>> sourceCodes(const LabelImage& image, const LabelImportOptions& options,
+                                         const Stage& stage) {
+  const size_t n = image.labels.size();
+  constexpr size_t kLabelValues = 65536;
+  auto slot = [](Label l) { return size_t(uint16_t(l)); };
+  std::vector<uint64_t> histogram(kLabelValues, 0);
+  for (Label l : image.labels) ++histogram[slot(l)];
+
+  std::vector<uint8_t> lut(kLabelValues, 0);
+  for (size_t s = 0; s < kLabelValues; ++s) {
+    if (histogram[s] == 0) continue;
+    const int32_t label = int16_t(uint16_t(s));
+    if (label == 0) continue;
+    const auto it = options.map.find(label);
+    if (it == options.map.end())
+      return makeError(options.where, "label " + std::to_string(label) + " (" + withThousands(histogram[s]) +
+                                          " voxels) is not in the label map");
+    lut[s] = makeVoxel(it->second, DS_FILL_FULL);
+  }
+  if (!stage.report(0.5)) return cancelled(options.where);
+  std::vector<uint8_t> codes(n);
+  for (size_t i = 0; i < n; ++i) codes[i] = lut[slot(image.labels[i])];
+  if (!stage.report(1.0)) return cancelled(options.where);
+  return codes;
+}
+
+// ---- 3. enclosed space ----------------------------------------------------------------------
+
+// Empty voxels not 6-connected to the border through empty voxels become `fill`. Breadth-first with
+// an explicit queue: its size stays near the width of the advancing front, not the volume.
+Status fillEnclosed(std::vector<uint8_t>& codes, const std::array<int32_t, 3>& dims, uint8_t fill,
+                    const Stage& stage, const std::string& where) {
+  const int64_t nx = dims[0], ny = dims[1], nz = dims[2];
+  const int64_t sy = nx, sz = nx * ny;
+  std::deque<uint64_t> queue;
+  auto seed = [&](int64_t x, int64_t y, int64_t z) {
+    const size_t i = size_t(x + sy * y + sz * z);
+    if (codes[i] == 0) {
+      codes[i] = kOutsideMark;
+      queue.push_back(i);
+    }
+  };
+  for (int64_t z = 0; z < nz; ++z)
+    for (int64_t y = 0; y < ny; ++y) {
+      if (z == 0 || z == nz - 1 || y == 0 || y == ny - 1) {
+        for (int64_t x = 0; x < nx; ++x) seed(x, y, z);
+      } else {
+        seed(0, y, z);
+        seed(nx - 1, y, z);
+      }
+    }
+
+  const double total = double(codes.size());
+  uint64_t visited = 0;
+  while (!queue.empty()) {
+    const uint64_t i = queue.front();
+    queue.pop_front();
+    const int64_t x = int64_t(i) % nx, y = (int64_t(i) / nx) % ny, z = int64_t(i) / sz;
+    auto visit = [&](uint64_t j) {
+      if (codes[j] == 0) {
+        codes[j] = kOutsideMark;
+        queue.push_back(j);
+      }
+    };
+    if (x > 0) visit(i - 1);
+    if (x < nx - 1) visit(i + 1);
+    if (y > 0) visit(i - uint64_t(sy));
+    if (y < ny - 1) visit(i + uint64_t(sy));
+    if (z > 0) visit(i - uint64_t(sz));
+    if (z < nz - 1) visit(i + uint64_t(sz));
+    if ((++visited & 0xFFFFF) == 0 && !stage.report(0.9 * double(visited) / total)) return cancelled(where);
+  }
+  for (uint8_t& c : codes) c = c == kOutsideMark ? 0 : (c == 0 ? fill : c);
+  if (!stage.report(1.0)) return cancelled(where);
+  return Ok{};
+}
+
+// ---- 4. placement without resampling --------------------------------------------------------
+
+Status placeDirect(const std::vector<uint8_t>& codes, const std::array<int32_t, 3>& dims, BrickVolume& volume,
+                   const Stage& stage, const std::string& where) {
+  const int64_t nx = dims[0], ny = dims[1], nz = dims[2];
+  const uint32_t bricks[3] = {uint32_t((nx + 7) / 8), uint32_t((ny + 7) / 8), uint32_t((nz + 7) / 8)};
+  std::array<Voxel, DS_BRICK_VOXELS> buf{};
+  for (uint32_t bz = 0; bz < bricks[2]; ++bz) {
+    for (uint32_t by = 0; by < bricks[1]; ++by)
+      for (uint32_t bx = 0; bx < bricks[0]; ++bx) {
+        const int64_t x0 = int64_t(bx) * 8, y0 = int64_t(by) * 8, z0 = int64_t(bz) * 8;
+        const int64_t wx = std::min<int64_t>(8, nx - x0);
+        bool any = false;
+        buf.fill(0);
+        for (int64_t z = 0; z < 8 && z0 + z < nz; ++z)
+          for (int64_t y = 0; y < 8 && y0 + y < ny; ++y) {
+            const uint8_t* row = &codes[size_t(x0 + nx * (y0 + y) + nx * ny * (z0 + z))];
+            Voxel* dst = &buf[layout::brickCoordToOffset(0, uint32_t(y), uint32_t(z))];
+            for (int64_t x = 0; x < wx; ++x) {
+              dst[x] = row[x];
+              any |= row[x] != 0;
+            }
+          }
+        if (any) volume.setBrick(BrickCoord{bx, by, bz}, buf.data());  // the grid starts empty
+      }
+    if (!stage.report(double(bz + 1) / double(bricks[2]))) return cancelled(where);
+  }
+  return Ok{};
+}
+
+// ---- 5. placement with resampling -----------------------------------------------------------
+
+// Where the target grid lies in source index space (voxel k covers [k-0.5, k+0.5)).
+struct Resampling {
+  int level = 0;
+  double voxel_mm = 0;               // target voxel edge [mm]
+  std::array<double, 3> ratio{};     // target voxel edge in source voxels, per axis
+  std::array<double, 3> low{};       // source index coordinate of the target grid's low corner
+  std::array<int, 3> samples{};      // point samples per target voxel along each axis
+};
+
+// For each target index along one axis, its samples' source indices (-1 outside the source).
+std::vector<int32_t> sampleTable(const Resampling& rs, size_t axis, int32_t source_dim) {
+  const int64_t dim = int64_t{1} << rs.level;
+  const int n = rs.samples[axis];
+  std::vector<int32_t> table(size_t(dim * n));
+  for (int64_t i = 0; i < dim; ++i)
+    for (int s = 0; s < n; ++s) {
+      const double u = rs.low[axis] + (double(i) + (s + 0.5) / n) * rs.ratio[axis];
+      const double k = std::floor(u + 0.5);
+      table[size_t(i * n + s)] = (k >= 0 && k < source_dim) ? int32_t(k) : -1;
+    }
+  return table;
+}
+
+Status placeResampled(const std::vector<uint8_t>& codes, const std::array<int32_t, 3>& dims,
+                      const Resampling& rs, BrickVolume& volume, const Stage& stage, const std::string& where) {
+  std::array<std::vector<int32_t>, 3> table;
+  std::array<int64_t, 3> first{}, last{};  // target voxels with at least one sample inside the source
+  const int64_t dim = int64_t{1} << rs.level;
+  for (size_t a = 0; a < 3; ++a) {
+    table[a] = sampleTable(rs, a, dims[a]);
+    first[a] = dim;
+    last[a] = -1;
+    for (int64_t i = 0; i < dim; ++i)
+      for (int s = 0; s < rs.samples[a]; ++s)
+        if (table[a][size_t(i * rs.samples[a] + s)] >= 0) {
+          first[a] = std::min(first[a], i);
+          last[a] = std::max(last[a], i);
+        }
+    if (last[a] < 0) return Ok{};  // the source misses the grid: nothing to place
+  }
+  const int nxs = rs.samples[0], nys = rs.samples[1], nzs = rs.samples[2];
+  const int total = nxs * nys * nzs;
+  const int64_t sy = dims[0], sz = int64_t{dims[0]} * dims[1];
+  std::array<Voxel, DS_BRICK_VOXELS> buf{};
+  const uint32_t b0[3] = {uint32_t(first[0] / 8), uint32_t(first[1] / 8), uint32_t(first[2] / 8)};
+  const uint32_t b1[3] = {uint32_t(last[0] / 8), uint32_t(last[1] / 8), uint32_t(last[2] / 8)};
+  for (uint32_t bz = b0[2]; bz <= b1[2]; ++bz) {
+    for (uint32_t by = b0[1]; by <= b1[1]; ++by)
+      for (uint32_t bx = b0[0]; bx <= b1[0]; ++bx) {
+        bool any = false;
+        for (uint32_t lz = 0; lz < 8; ++lz)
+          for (uint32_t ly = 0; ly < 8; ++ly)
+            for (uint32_t lx = 0; lx < 8; ++lx) {
+              const int64_t i = int64_t(bx) * 8 + lx, j = int64_t(by) * 8 + ly, k = int64_t(bz) * 8 + lz;
+              std::array<int, DS_MATERIAL_COUNT> count{};
+              int solid = 0;
+              for (int s = 0; s < nzs; ++s) {
+                const int32_t zk = table[2][size_t(k * nzs + s)];
+                if (zk < 0) continue;
+                for (int t = 0; t < nys; ++t) {
+                  const int32_t yj = table[1][size_t(j * nys + t)];
+                  if (yj < 0) continue;
+                  const uint8_t* row = &codes[size_t(sy * yj + sz * zk)];
+                  for (int u = 0; u < nxs; ++u) {
+                    const int32_t xi = table[0][size_t(i * nxs + u)];
+                    if (xi < 0) continue;
+                    const uint8_t c = row[xi];
+                    if (c == 0) continue;
+                    ++solid;
+                    ++count[layout::voxelMaterial(c)];
+                  }
+                }
+              }
+              Voxel v = 0;
+              if (solid > 0) {
+                uint32_t best = 0;
+                for (uint32_t m = 1; m < DS_MATERIAL_COUNT; ++m)
+                  if (count[m] > count[best] || (count[m] == count[best] && count[m] > 0 && tieRank(m) > tieRank(best)))
+                    best = m;
+                const uint32_t fill =
+                    std::max(1u, uint32_t(std::lround(double(DS_FILL_FULL) * solid / double(total))));
+                v = makeVoxel(static_cast<Material>(best), fill);
+                any = true;
+              }
+              buf[layout::brickCoordToOffset(lx, ly, lz)] = v;
+            }
+        if (any) volume.setBrick(BrickCoord{bx, by, bz}, buf.data());
+      }
+    if (!stage.report(double(bz - b0[2] + 1) / double(b1[2] - b0[2] + 1))) return cancelled(where);
+  }
+  return Ok{};
+}
+
+// ---- 6. import helpers ----------------------------------------------------------------------
+
+// The source matrix with each column rescaled to `pitch` (direction and sign kept, offset kept).
+std::array<double, 12> withPitch(const std::array<double, 12>& m, const std::array<double, 3>& pitch) {
+  std::array<double, 12> out = m;
+  for (size_t c = 0; c < 3; ++c) {
+    const double len = std::sqrt(m[c] * m[c] + m[4 + c] * m[4 + c] + m[8 + c] * m[8 + c]);
+    for (size_t r = 0; r < 3; ++r) out[4 * r + c] = len > 0 ? m[4 * r + c] / len * pitch[c] : 0.0;
+  }
+  return out;
+}
+
+int levelFor(double voxels_per_side) {
+  int level = DS_MIN_LEVEL;
+  while (level <= DS_MAX_LEVEL && double(int64_t{1} << level) < voxels_per_side) ++level;
+  return level;
+}
+
+}  // namespace
+
+// ---- 1. label maps --------------------------------------------------------------------------
+
+Result<LabelMap> parseLabelMap(const std::string& text) {
+  const std::string where = "label map '" + text + "'";
+  LabelMap map;
+  std::stringstream items(text);
+  std::string item;
+  while (std::getline(items, item, ',')) {
+    item = trim(item);
+    const size_t eq = item.find('=');
+    if (item.empty() || eq == std::string::npos)
+      return makeError(where, "expected LABEL=TISSUE items separated by commas, got '" + item + "'");
+    const std::string label_text = trim(item.substr(0, eq));
+    const std::string tissue = trim(item.substr(eq + 1));
+    int64_t label = 0;
+    size_t used = 0;
+    try {
+      label = std::stoll(label_text, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (label_text.empty() || used != label_text.size())
+      return makeError(where, "'" + label_text + "' is not an integer label");
+    if (label == 0) return makeError(where, "label 0 is always empty and cannot be mapped");
+    if (label < std::numeric_limits<Label>::min() || label > std::numeric_limits<Label>::max())
+      return makeError(where, "label " + label_text + " is outside -32768..32767");
+    Material m{};
+    if (!parseMaterial(tissue, &m))
+      return makeError(where, "unknown tissue '" + tissue + "' (expected enamel, dentin, pulp, caries or empty)");
+    if (!map.emplace(int32_t(label), m).second)
+      return makeError(where, "label " + std::to_string(label) + " is mapped twice");
+  }
+  if (map.empty()) return makeError(where, "no LABEL=TISSUE items");
+  if (!text.empty() && text.back() == ',') return makeError(where, "trailing comma");
+  return map;
+}
+
+// ---- 6. importLabels ------------------------------------------------------------------------
+
+Result<ToothVolume> importLabels(const LabelImage& image, const LabelImportOptions& options,
+                                 Interrupter& interrupter) {
+  const std::string& where = options.where;
+  for (int32_t d : image.dims)
+    if (d <= 0) return makeError(where, "label image has no voxels");
+  if (image.labels.size() != size_t(image.voxelCount()))
+    return makeError(where, "label count does not match the dimensions");
+  if (options.level && options.voxel_mm)
+    return makeError(where, "give a target voxel size or a level, not both");
+  if (options.level && (*options.level < DS_MIN_LEVEL || *options.level > DS_MAX_LEVEL))
+    return makeError(where, "level " + std::to_string(*options.level) + " is outside " +
+                                std::to_string(DS_MIN_LEVEL) + ".." + std::to_string(DS_MAX_LEVEL));
+  if (options.voxel_mm && !(std::isfinite(*options.voxel_mm) && *options.voxel_mm > 0))
+    return makeError(where, "voxel size must be a positive number of mm");
+  if (options.source_pitch_mm && !(std::isfinite(*options.source_pitch_mm) && *options.source_pitch_mm > 0))
+    return makeError(where, "source voxel size must be a positive number of mm");
+
+  // The pitch that holds: an override replaces the header's (which CT exports often get wrong).
+  std::array<double, 3> pitch = image.pitch_mm;
+  std::array<double, 12> scanner = image.scanner_from_voxel;
+  if (options.source_pitch_mm) {
+    pitch = {*options.source_pitch_mm, *options.source_pitch_mm, *options.source_pitch_mm};
+    scanner = withPitch(scanner, pitch);
+  }
+  auto same = [](double a, double b) { return std::fabs(a - b) <= 1e-9 * std::max(a, b); };
+  const bool isotropic = same(pitch[0], pitch[1]) && same(pitch[0], pitch[2]);
+  const bool direct = !options.level && isotropic && (!options.voxel_mm || same(*options.voxel_mm, pitch[0]));
+  if (!options.level && !options.voxel_mm && !isotropic)
+    return makeError(where, "anisotropic voxels; give a voxel size or a level to resample to");
+
+  interrupter.start("importing labels");
+  const bool filling = options.fill_enclosed.has_value();
+  Result<std::vector<uint8_t>> codes = sourceCodes(image, options, Stage{interrupter, 0.0, 0.15});
+  if (!codes) return codes.error();
+  if (filling) {
+    const uint8_t fill = makeVoxel(*options.fill_enclosed, DS_FILL_FULL);
+    if (Status s = fillEnclosed(*codes, image.dims, fill, Stage{interrupter, 0.15, 0.45}, where); !s)
+      return s.error();
+  }
+  const Stage place{interrupter, filling ? 0.45 : 0.15, 1.0};
+
+  ToothVolume tooth;
+  if (direct) {
+    const int32_t longest = std::max({image.dims[0], image.dims[1], image.dims[2]});
+    const int level = levelFor(double(longest));
+    if (level > DS_MAX_LEVEL)
+      return makeError(where, "a " + std::to_string(longest) + "-voxel side needs a grid beyond level " +
+                                  std::to_string(DS_MAX_LEVEL));
+    tooth.voxels = BrickVolume(level);
+    if (Status s = placeDirect(*codes, image.dims, tooth.voxels, place, where); !s) return s.error();
+    tooth.frame.level = level;
+    tooth.frame.voxel_mm = pitch[0];
+    tooth.frame.origin_mm = {0, 0, 0};
+    tooth.frame.source_offset = {0, 0, 0};
+    tooth.frame.source_dims = image.dims;
+    tooth.frame.scanner_from_grid = scanner;
+  } else {
+    // The tissue's bounding box, in source voxels.
+    std::array<int64_t, 3> lo{image.dims[0], image.dims[1], image.dims[2]}, hi{-1, -1, -1};
+    const int64_t nx = image.dims[0], ny = image.dims[1], nz = image.dims[2];
+    for (int64_t z = 0; z < nz; ++z)
+      for (int64_t y = 0; y < ny; ++y) {
+        const uint8_t* row = &(*codes)[size_t(nx * (y + ny * z))];
+        for (int64_t x = 0; x < nx; ++x)
+          if (row[x] != 0) {
+            lo = {std::min(lo[0], x), std::min(lo[1], y), std::min(lo[2], z)};
+            hi = {std::max(hi[0], x), std::max(hi[1], y), std::max(hi[2], z)};
+          }
+      }
+    if (hi[0] < 0) return makeError(where, "no tissue to resample (every mapped voxel is empty)");
+    double extent = 0;  // longest side of the box [mm]
+    for (size_t a = 0; a < 3; ++a) extent = std::max(extent, double(hi[a] - lo[a] + 1) * pitch[a]);
+    Resampling rs;
+    if (options.level) {
+      rs.level = *options.level;
+      rs.voxel_mm = extent / double((int64_t{1} << rs.level) - 4);  // 2 margin voxels each side
+    } else {
+      rs.voxel_mm = *options.voxel_mm;
+      rs.level = levelFor(extent / rs.voxel_mm + 4.0);
+      if (rs.level > DS_MAX_LEVEL)
+        return makeError(where, "voxel size " + std::to_string(rs.voxel_mm) + " mm needs a grid beyond level " +
+                                    std::to_string(DS_MAX_LEVEL));
+    }
+    const double grid = double(int64_t{1} << rs.level);
+    for (size_t a = 0; a < 3; ++a) {
+      rs.ratio[a] = rs.voxel_mm / pitch[a];
+      rs.samples[a] = std::clamp(int(std::ceil(rs.ratio[a] - 1e-9)), 1, 4);
+      const double centre = 0.5 * double(lo[a] + hi[a]);
+      rs.low[a] = centre - 0.5 * grid * rs.ratio[a];
+    }
+    tooth.voxels = BrickVolume(rs.level);
+    if (Status s = placeResampled(*codes, image.dims, rs, tooth.voxels, place, where); !s) return s.error();
+    tooth.frame.level = rs.level;
+    tooth.frame.voxel_mm = rs.voxel_mm;
+    tooth.frame.origin_mm = {0, 0, 0};
+    // Target voxel centre (i,j,k) sits at source index low + (i + 0.5) * ratio.
+    std::array<double, 12>& g = tooth.frame.scanner_from_grid;
+    for (size_t r = 0; r < 3; ++r) {
+      g[4 * r + 3] = scanner[4 * r + 3];
+      for (size_t c = 0; c < 3; ++c) {
+        g[4 * r + c] = scanner[4 * r + c] * rs.ratio[c];
+        g[4 * r + 3] += scanner[4 * r + c] * (rs.low[c] + 0.5 * rs.ratio[c]);
+      }
+    }
+  }
+  interrupter.end();
+  return tooth;
+}
+
+// ---- 7. exportLabels ------------------------------------------------------------------------
+
+LabelImage exportLabels(const ToothVolume& tooth, ExportRegion region) {
+  const VolumeFrame& frame = tooth.frame;
+  const BrickVolume& volume = tooth.voxels;
+  std::array<int64_t, 3> offset{0, 0, 0};
+  std::array<int32_t, 3> dims{int32_t(volume.dim()), int32_t(volume.dim()), int32_t(volume.dim())};
+  if (region == ExportRegion::Auto && frame.hasSource()) {
+    for (size_t a = 0; a < 3; ++a) {
+      // A source box is clipped to the grid, so a damaged frame cannot make us read outside it.
+      offset[a] = std::clamp<int64_t>(frame.source_offset[a], 0, volume.dim() - 1);
+      dims[a] = int32_t(std::min<int64_t>(frame.source_dims[a], volume.dim() - offset[a]));
+    }
+  }
+  LabelImage image;
+  image.dims = dims;
+  image.pitch_mm = {frame.voxel_mm, frame.voxel_mm, frame.voxel_mm};
+  image.scanner_from_voxel = frame.scanner_from_grid;
+  for (size_t r = 0; r < 3; ++r)
+    for (size_t c = 0; c < 3; ++c)
+      image.scanner_from_voxel[4 * r + 3] += frame.scanner_from_grid[4 * r + c] * double(offset[c]);
+  image.labels.assign(size_t(image.voxelCount()), 0);
+
+  // Half-solid rule: a voxel counts as its tissue when at least 16 of 31 fill units remain.
+  auto label = [](Voxel v) -> Label {
+    return voxelFill(v) >= 16 ? Label(layout::voxelMaterial(v)) : Label(0);
+  };
+  const int64_t end[3] = {offset[0] + dims[0], offset[1] + dims[1], offset[2] + dims[2]};
+  for (int64_t bz = offset[2] / 8; bz * 8 < end[2]; ++bz)
+    for (int64_t by = offset[1] / 8; by * 8 < end[1]; ++by)
+      for (int64_t bx = offset[0] / 8; bx * 8 < end[0]; ++bx) {
+        const BrickView view = volume.brick(BrickCoord{uint32_t(bx), uint32_t(by), uint32_t(bz)});
+        if (view.uniform && label(view.value) == 0) continue;
+        for (int64_t z = std::max(bz * 8, offset[2]); z < std::min(bz * 8 + 8, end[2]); ++z)
+          for (int64_t y = std::max(by * 8, offset[1]); y < std::min(by * 8 + 8, end[1]); ++y)
+            for (int64_t x = std::max(bx * 8, offset[0]); x < std::min(bx * 8 + 8, end[0]); ++x) {
+              const Voxel v = view.uniform ? view.value
+                                           : view.voxels[layout::brickCoordToOffset(
+                                                 uint32_t(x - bx * 8), uint32_t(y - by * 8), uint32_t(z - bz * 8))];
+              image.labels[image.index(x - offset[0], y - offset[1], z - offset[2])] = label(v);
+            }
+      }
+  return image;
+}
+
+}  // namespace dentsim

@@ -1,0 +1,77 @@
+// Segmented label images (CT) into the brick volume and back: label maps, import with optional resampling, export.
+//
+// Contents
+//   1. Label maps ("1=caries,2=enamel,3=dentin")
+//   2. importLabels: a LabelImage into a ToothVolume
+//   3. exportLabels: a ToothVolume back into a LabelImage (Material codes as labels)
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+
+#include "core/interrupter.h"
+#include "core/result.h"
+#include "io/nifti_labels.h"
+#include "volume/brick_volume.h"
+
+namespace dentsim {
+
+// ---- 1. label maps --------------------------------------------------------------------------
+// Label value in the image -> tissue. Label 0 is always empty and cannot be mapped; a label may
+// map to "empty" to drop it on purpose.
+using LabelMap = std::map<int32_t, Material>;
+
+// Parses "LABEL=TISSUE[,LABEL=TISSUE...]" (spaces around items allowed). Errors: bad syntax, a
+// label outside -32768..32767 or equal to 0, a label given twice, an unknown tissue name.
+Result<LabelMap> parseLabelMap(const std::string& text);
+
+// ---- 2. import ------------------------------------------------------------------------------
+struct LabelImportOptions {
+  LabelMap map;                             // every non-zero label in the data must appear here
+  std::optional<double> voxel_mm;           // target voxel edge [mm]; unset: the source pitch
+  std::optional<int> level;                 // fit the tissue into a 2^level grid (excludes voxel_mm)
+  std::optional<double> source_pitch_mm;    // overrides the header pitch (isotropic) [mm]
+  std::optional<Material> fill_enclosed;    // empty voxels enclosed by the tooth become this
+  std::string where;                        // names the source in errors (the file path)
+};
+
+// Builds a tooth from labels.
+//
+// Without resampling (target voxel == source pitch, within 1e-9 relative): the grid is the smallest
+// 2^L >= max(dims), L >= 3; source voxel (i,j,k) is grid voxel (i,j,k); every tissue voxel is full
+// (fill 31); the frame records the source box, and scanner_from_grid is the source's scanner matrix
+// with each column rescaled to the source pitch (direction and sign kept, offset unchanged).
+//
+// With resampling (a level, or a voxel size other than the pitch): the tissue's bounding box
+// (non-empty voxels after mapping and filling) is centred in the grid with a margin of 2 target
+// voxels on every side. With `level` N the voxel is the largest box extent [mm] / (2^N - 4); with
+// `voxel_mm` the level is the smallest that fits box + margin. Each target voxel takes n^3 point
+// samples (n = clamp(ceil(voxel / pitch), 1, 4) per axis), nearest-neighbour into the source:
+// material = the most frequent tissue among solid samples, ties going to the inner tissue
+// (pulp > caries > dentin > enamel); fill = round(31 * solid samples / samples), at least 1 when any
+// sample is solid; no solid sample: empty. The frame then has no source box (the grids differ),
+// and scanner_from_grid maps target voxel centres into the source's scanner space.
+//
+// fill_enclosed works on the source grid before resampling: an empty voxel not 6-connected to the
+// image border through empty voxels becomes that tissue (an explicit queue; no recursion).
+//
+// Errors (one line, naming options.where): a non-zero label not in the map (with its voxel count),
+// an anisotropic pitch without a target size, a grid beyond DS_MAX_LEVEL, no tissue to fit, a
+// cancel through `interrupter`.
+Result<ToothVolume> importLabels(const LabelImage& image, const LabelImportOptions& options,
+                                 Interrupter& interrupter = nullInterrupter());
+
+// ---- 3. export ------------------------------------------------------------------------------
+enum class ExportRegion {
+  Auto,       // the source box when the frame has one, else the whole grid
+  WholeGrid,  // always the whole 2^L grid
+};
+
+// Labels are the Material codes: 0 empty, 1 enamel, 2 dentin, 3 pulp, 4 caries. A voxel with fill
+// < 16 (less than half solid) exports as 0, so a cut surface lands where half the voxel remains,
+// and a full-fill import exports its labels unchanged. The pitch is frame.voxel_mm and the scanner
+// matrix is frame.scanner_from_grid shifted to the region's first voxel.
+LabelImage exportLabels(const ToothVolume& tooth, ExportRegion region = ExportRegion::Auto);
+
+}  // namespace dentsim

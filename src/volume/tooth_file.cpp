@@ -1,0 +1,29 @@
+// ToothVolume <-> .dvol: the io layer moves words, this layer checks what they mean.
+#include "volume/tooth_file.h"
+
+#include "io/dvol_file.h"
+
+namespace dentsim {
+
+Status saveTooth(const std::string& path, ToothVolume& tooth) {
+  tooth.voxels.compact();
+  VolumeFileData d;
+  d.frame = tooth.frame;
+  d.frame.level = tooth.voxels.level();
+  const auto copy = [](std::span<const uint32_t> s) { return std::vector<uint32_t>(s.begin(), s.end()); };
+  d.chunks = copy(tooth.voxels.chunkWords());
+  d.blocks = copy(tooth.voxels.blockWords());
+  d.bricks = copy(tooth.voxels.brickWords());
+  return writeVolumeFile(path, d);
+}
+
+Result<ToothVolume> loadTooth(const std::string& path) {
+  auto file = readVolumeFile(path);
+  if (!file) return file.error();
+  VolumeFileData& d = *file;
+  auto voxels = BrickVolume::fromWords(d.frame.level, std::move(d.chunks), std::move(d.blocks), std::move(d.bricks), path);
+  if (!voxels) return voxels.error();
+  return ToothVolume{d.frame, std::move(*voxels)};
+}
+
+}  // namespace dentsim

@@ -1,0 +1,16 @@
+// Loading and saving a ToothVolume as a .dvol file, with every entry of the brick index checked.
+#pragma once
+
+#include <string>
+
+#include "core/result.h"
+#include "volume/brick_volume.h"
+
+namespace dentsim {
+
+// Compacts the voxels (so the file has no holes) and writes `path` atomically.
+Status saveTooth(const std::string& path, ToothVolume& tooth);
+// Reads `path`; errors name the file and the problem (checksum, truncation, bad entry, ...).
+Result<ToothVolume> loadTooth(const std::string& path);
+
+}  // namespace dentsim

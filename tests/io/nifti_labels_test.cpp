@@ -1,0 +1,320 @@
+// Tests of src/io/nifti_labels.cpp: label images survive a write/read round trip, and every malformed file gets a one-line error.
+#include "io/nifti_labels.h"
+
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
+#include <iterator>
+
+#include "test_support.h"
+
+namespace dentsim {
+namespace {
+
+// 5 x 4 x 3 = 60 voxels, counted by hand: a 2x2x1 block of 3 (4 voxels), one voxel of 1, and the
+// row j=3,k=2 of label 2 (5 voxels); the other 50 are 0.
+LabelImage smallImage() {
+  LabelImage im;
+  im.dims = {5, 4, 3};
+  im.pitch_mm = {0.034, 0.05, 0.1};
+  // Flipped x and y, as the CT files are, with an offset [mm].
+  im.scanner_from_voxel = {-0.034, 0, 0, 12.5, 0, -0.05, 0, -3.0, 0, 0, 0.1, 7.25};
+  im.labels.assign(60, 0);
+  for (int j = 1; j <= 2; ++j)
+    for (int i = 2; i <= 3; ++i) im.labels[im.index(i, j, 0)] = 3;
+  im.labels[im.index(4, 0, 1)] = 1;
+  for (int i = 0; i < 5; ++i) im.labels[im.index(i, 3, 2)] = 2;
+  return im;
+}
+
+std::vector<uint8_t> readBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+}
+template <class T>
+void poke(std::vector<uint8_t>& bytes, size_t offset, T value) {
+  std::memcpy(bytes.data() + offset, &value, sizeof(T));
+}
+
+// NIfTI-1 header offsets [B] used to forge hostile files from a valid one.
+constexpr size_t kDim = 40, kDatatype = 70, kBitpix = 72, kSclSlope = 112, kSformCode = 254, kHeaderAndExt = 352;
+
+// One line, naming the file, and saying what went wrong.
+void expectError(const Result<LabelImage>& r, const std::string& path, const std::string& problem) {
+  ASSERT_FALSE(r.ok()) << "expected an error for " << path;
+  EXPECT_EQ(r.message().rfind(path + ": ", 0), 0u) << r.message();
+  EXPECT_NE(r.message().find(problem), std::string::npos) << r.message();
+  EXPECT_EQ(r.message().find('\n'), std::string::npos) << r.message();
+}
+
+void expectSame(const LabelImage& a, const LabelImage& b, double matrix_tol) {
+  EXPECT_EQ(a.dims, b.dims);
+  for (size_t i = 0; i < 3; ++i) EXPECT_NEAR(a.pitch_mm[i], b.pitch_mm[i], 1e-7);
+  for (size_t i = 0; i < 12; ++i) EXPECT_NEAR(a.scanner_from_voxel[i], b.scanner_from_voxel[i], matrix_tol) << i;
+  EXPECT_EQ(a.labels, b.labels);
+}
+
+class NiftiLabelsTest : public ::testing::Test {
+ protected:
+  test::TempDir dir;
+  // A valid uncompressed file of smallImage() as bytes: header, 4-byte extender, 60 uint8 voxels.
+  std::vector<uint8_t> validBytes() {
+    const std::string p = dir.file("valid.nii");
+    EXPECT_TRUE(writeNiftiLabels(p, smallImage()).ok());
+    return readBytes(p);
+  }
+};
+
+TEST_F(NiftiLabelsTest, RoundTripUncompressedAndGzip) {
+  const LabelImage im = smallImage();
+  for (const char* name : {"a.nii", "a.nii.gz"}) {
+    const std::string p = dir.file(name);
+    ASSERT_TRUE(writeNiftiLabels(p, im).ok());
+    Result<LabelImage> back = readNiftiLabels(p);
+    ASSERT_TRUE(back.ok()) << back.message();
+    expectSame(im, *back, 1e-6);  // the sform is stored as float32
+    // Hand counts survive: 50 zeros, one 1, five 2s, four 3s.
+    EXPECT_EQ(std::count(back->labels.begin(), back->labels.end(), 0), 50);
+    EXPECT_EQ(std::count(back->labels.begin(), back->labels.end(), 1), 1);
+    EXPECT_EQ(std::count(back->labels.begin(), back->labels.end(), 2), 5);
+    EXPECT_EQ(std::count(back->labels.begin(), back->labels.end(), 3), 4);
+  }
+  // The uncompressed file is exactly header + extender + one byte per voxel; the gzip one is compressed.
+  EXPECT_EQ(readBytes(dir.file("a.nii")).size(), kHeaderAndExt + 60);
+  const std::vector<uint8_t> gz = readBytes(dir.file("a.nii.gz"));
+  ASSERT_GE(gz.size(), 2u);
+  EXPECT_EQ(gz[0], 0x1f);
+  EXPECT_EQ(gz[1], 0x8b);
+}
+
+TEST_F(NiftiLabelsTest, QformAloneGivesTheSameMatrix) {
+  // Turn the sform off: the reader must fall back to the qform, which the writer set too.
+  std::vector<uint8_t> bytes = validBytes();
+  poke<int16_t>(bytes, kSformCode, 0);
+  const std::string p = dir.file("qform.nii");
+  writeBytes(p, bytes);
+  Result<LabelImage> back = readNiftiLabels(p);
+  ASSERT_TRUE(back.ok()) << back.message();
+  expectSame(smallImage(), *back, 1e-5);
+}
+
+TEST_F(NiftiLabelsTest, WriteLeavesNoTemporaryAndReplacesAtomically) {
+  const std::string p = dir.file("out.nii.gz");
+  ASSERT_TRUE(writeNiftiLabels(p, smallImage()).ok());
+  ASSERT_TRUE(writeNiftiLabels(p, smallImage()).ok());
+  int files = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir.path())) {
+    (void)e;
+    ++files;
+  }
+  EXPECT_EQ(files, 1);
+}
+
+TEST_F(NiftiLabelsTest, WriteRefusesLabelsThatDoNotFitUint8) {
+  LabelImage im = smallImage();
+  im.labels[0] = 300;
+  const std::string p = dir.file("big.nii");
+  const Status s = writeNiftiLabels(p, im);
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.message().find("label 300"), std::string::npos) << s.message();
+  EXPECT_FALSE(std::filesystem::exists(p));
+}
+
+TEST_F(NiftiLabelsTest, MissingFile) {
+  const std::string p = dir.file("nothing.nii.gz");
+  expectError(readNiftiLabels(p), p, "cannot open");
+}
+
+TEST_F(NiftiLabelsTest, MissingUncompressedDoesNotFallBackToGzipSibling) {
+  ASSERT_TRUE(writeNiftiLabels(dir.file("x.nii.gz"), smallImage()).ok());
+  const std::string p = dir.file("x.nii");
+  expectError(readNiftiLabels(p), p, "cannot open");
+}
+
+TEST_F(NiftiLabelsTest, EmptyFile) {
+  const std::string p = dir.file("empty.nii");
+  writeBytes(p, {});
+  expectError(readNiftiLabels(p), p, "empty file");
+}
+
+TEST_F(NiftiLabelsTest, TextFile) {
+  const std::string p = dir.file("notes.nii");
+  std::string text;
+  for (int i = 0; i < 40; ++i) text += "this is a text file, not a label volume\n";
+  writeBytes(p, std::vector<uint8_t>(text.begin(), text.end()));
+  expectError(readNiftiLabels(p), p, "not a NIfTI file");
+}
+
+TEST_F(NiftiLabelsTest, ShortTextFile) {
+  const std::string p = dir.file("short.nii");
+  writeBytes(p, {'h', 'i', '\n'});
+  expectError(readNiftiLabels(p), p, "not a NIfTI file");
+}
+
+TEST_F(NiftiLabelsTest, WrongExtension) {
+  const std::string p = dir.file("labels.raw");
+  writeBytes(p, validBytes());
+  expectError(readNiftiLabels(p), p, "expected .nii or .nii.gz");
+}
+
+TEST_F(NiftiLabelsTest, TruncatedUncompressed) {
+  std::vector<uint8_t> bytes = validBytes();
+  bytes.resize(bytes.size() - 7);  // the last 7 voxels are missing
+  const std::string p = dir.file("cut.nii");
+  writeBytes(p, bytes);
+  expectError(readNiftiLabels(p), p, "truncated");
+}
+
+TEST_F(NiftiLabelsTest, TruncatedHeader) {
+  std::vector<uint8_t> bytes = validBytes();
+  bytes.resize(200);
+  const std::string p = dir.file("cuthdr.nii");
+  writeBytes(p, bytes);
+  expectError(readNiftiLabels(p), p, "truncated");
+}
+
+TEST_F(NiftiLabelsTest, TruncatedGzip) {
+  // A volume big enough that its compressed stream has a middle to cut.
+  LabelImage im;
+  im.dims = {40, 40, 40};
+  im.pitch_mm = {1, 1, 1};
+  im.scanner_from_voxel = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+  im.labels.resize(64000);
+  uint32_t state = 12345;  // incompressible-ish content: labels 0..3 from a fixed LCG
+  for (Label& l : im.labels) {
+    state = state * 1664525u + 1013904223u;
+    l = Label(state >> 30);
+  }
+  const std::string whole = dir.file("whole.nii.gz");
+  ASSERT_TRUE(writeNiftiLabels(whole, im).ok());
+  std::vector<uint8_t> bytes = readBytes(whole);
+  bytes.resize(bytes.size() / 2);
+  const std::string p = dir.file("cut.nii.gz");
+  writeBytes(p, bytes);
+  expectError(readNiftiLabels(p), p, "truncated");
+}
+
+TEST_F(NiftiLabelsTest, FloatLabelsMustBeWholeNumbers) {
+  std::vector<uint8_t> bytes = validBytes();
+  bytes.resize(kHeaderAndExt);
+  poke<int16_t>(bytes, kDatatype, 16);  // DT_FLOAT32
+  poke<int16_t>(bytes, kBitpix, 32);
+  const LabelImage im = smallImage();
+  std::vector<float> values(im.labels.begin(), im.labels.end());
+  std::vector<uint8_t> whole = bytes;
+  whole.resize(kHeaderAndExt + values.size() * 4);
+  std::memcpy(whole.data() + kHeaderAndExt, values.data(), values.size() * 4);
+  const std::string ok_path = dir.file("float_ok.nii");
+  writeBytes(ok_path, whole);
+  Result<LabelImage> ok = readNiftiLabels(ok_path);
+  ASSERT_TRUE(ok.ok()) << ok.message();
+  EXPECT_EQ(ok->labels, im.labels);
+
+  values[17] = 2.5f;
+  std::memcpy(whole.data() + kHeaderAndExt, values.data(), values.size() * 4);
+  const std::string bad = dir.file("float_bad.nii");
+  writeBytes(bad, whole);
+  expectError(readNiftiLabels(bad), bad, "whole numbers");
+}
+
+TEST_F(NiftiLabelsTest, UnsupportedDatatype) {
+  std::vector<uint8_t> bytes = validBytes();
+  poke<int16_t>(bytes, kDatatype, 32);  // DT_COMPLEX64
+  poke<int16_t>(bytes, kBitpix, 64);
+  const std::string p = dir.file("complex.nii");
+  writeBytes(p, bytes);
+  expectError(readNiftiLabels(p), p, "unsupported datatype");
+}
+
+TEST_F(NiftiLabelsTest, FourDimensional) {
+  std::vector<uint8_t> bytes = validBytes();
+  poke<int16_t>(bytes, kDim, 4);
+  poke<int16_t>(bytes, kDim + 8, 1);  // t = 1: still one 3D volume
+  const std::string one = dir.file("t1.nii");
+  writeBytes(one, bytes);
+  Result<LabelImage> r = readNiftiLabels(one);
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(r->labels, smallImage().labels);
+
+  poke<int16_t>(bytes, kDim + 8, 2);  // t = 2: a time series
+  bytes.resize(kHeaderAndExt + 120);
+  const std::string two = dir.file("t2.nii");
+  writeBytes(two, bytes);
+  expectError(readNiftiLabels(two), two, "wrong dimensionality");
+}
+
+TEST_F(NiftiLabelsTest, TwoDimensional) {
+  std::vector<uint8_t> bytes = validBytes();
+  poke<int16_t>(bytes, kDim, 2);
+  const std::string p = dir.file("flat.nii");
+  writeBytes(p, bytes);
+  expectError(readNiftiLabels(p), p, "wrong dimensionality");
+}
+
+TEST_F(NiftiLabelsTest, AbsurdDimensions) {
+  // NIfTI-1 dims are int16: 30000^3 = 2.7e13 voxels, far past the limit; nothing may be allocated.
+  std::vector<uint8_t> bytes = validBytes();
+  for (size_t a = 1; a <= 3; ++a) poke<int16_t>(bytes, kDim + 2 * a, 30000);
+  const std::string p = dir.file("huge.nii");
+  writeBytes(p, bytes);
+  expectError(readNiftiLabels(p), p, "oversized dimensions");
+}
+
+TEST_F(NiftiLabelsTest, DimensionsWithinVoxelLimitButPastFileSize) {
+  std::vector<uint8_t> bytes = validBytes();
+  for (size_t a = 1; a <= 3; ++a) poke<int16_t>(bytes, kDim + 2 * a, 500);
+  const std::string p = dir.file("promise.nii");
+  writeBytes(p, bytes);
+  expectError(readNiftiLabels(p), p, "truncated");
+}
+
+TEST_F(NiftiLabelsTest, NegativeDimension) {
+  std::vector<uint8_t> bytes = validBytes();
+  poke<int16_t>(bytes, kDim + 4, -4);
+  const std::string p = dir.file("neg.nii");
+  writeBytes(p, bytes);
+  Result<LabelImage> r = readNiftiLabels(p);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.message().rfind(p + ": ", 0), 0u) << r.message();
+}
+
+TEST_F(NiftiLabelsTest, ScaledLabelsAreRefused) {
+  std::vector<uint8_t> bytes = validBytes();
+  poke<float>(bytes, kSclSlope, 2.0f);
+  const std::string p = dir.file("scaled.nii");
+  writeBytes(p, bytes);
+  expectError(readNiftiLabels(p), p, "scaled");
+}
+
+TEST_F(NiftiLabelsTest, LimitsAreHonoured) {
+  const std::string p = dir.file("small.nii");
+  writeBytes(p, validBytes());
+  NiftiReadLimits limits;
+  limits.max_voxels = 59;  // one fewer than the 60 voxels of the file
+  expectError(readNiftiLabels(p, limits), p, "exceed the limit");
+  limits = {};
+  limits.max_bytes = 59;
+  expectError(readNiftiLabels(p, limits), p, "exceeds the limit");
+}
+
+TEST_F(NiftiLabelsTest, WideLabelsOutsideInt16AreRefused) {
+  std::vector<uint8_t> bytes = validBytes();
+  bytes.resize(kHeaderAndExt);
+  poke<int16_t>(bytes, kDatatype, 768);  // DT_UINT32
+  poke<int16_t>(bytes, kBitpix, 32);
+  std::vector<uint32_t> values(60, 0);
+  values[5] = 40000;
+  bytes.resize(kHeaderAndExt + 240);
+  std::memcpy(bytes.data() + kHeaderAndExt, values.data(), 240);
+  const std::string p = dir.file("wide.nii");
+  writeBytes(p, bytes);
+  expectError(readNiftiLabels(p), p, "label 40000");
+}
+
+}  // namespace
+}  // namespace dentsim

@@ -1,0 +1,57 @@
+// Helpers shared by the test suites: the real-data folder, temporary directories, running the CLI.
+#pragma once
+
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+namespace dentsim::test {
+
+// ../shared/data, or $DENTSIM_DATA_DIR; empty when neither exists.
+inline std::filesystem::path dataDir() {
+  if (const char* env = std::getenv("DENTSIM_DATA_DIR"); env && *env && std::filesystem::is_directory(env))
+    return env;
+  if (std::filesystem::is_directory(DENTSIM_DEFAULT_DATA_DIR)) return DENTSIM_DEFAULT_DATA_DIR;
+  return {};
+}
+
+// A fresh directory removed at scope exit.
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "dentsim-test-XXXXXX").string();
+    path_ = ::mkdtemp(pattern.data());
+  }
+  ~TempDir() { std::error_code ec; std::filesystem::remove_all(path_, ec); }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+  std::string file(const std::string& name) const { return (path_ / name).string(); }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// Runs the dentsim binary with `args`; returns its exit code and what it printed (stdout+stderr).
+struct CommandResult {
+  int exit_code = -1;
+  std::string output;
+};
+inline CommandResult runDentsim(const std::string& args) {
+  CommandResult r;
+  const std::string cmd = std::string(DENTSIM_BINARY) + " " + args + " 2>&1";
+  FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (!pipe) return r;
+  std::array<char, 4096> buf{};
+  size_t n = 0;
+  while ((n = std::fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
+  const int status = ::pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return r;
+}
+
+}  // namespace dentsim::test

@@ -1,0 +1,355 @@
+// Tests of src/volume/label_import.cpp: label maps, direct and resampled import, enclosed-space filling, export, against hand counts.
+#include "volume/label_import.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+
+namespace dentsim {
+namespace {
+
+LabelImage blankImage(std::array<int32_t, 3> dims, double pitch) {
+  LabelImage im;
+  im.dims = dims;
+  im.pitch_mm = {pitch, pitch, pitch};
+  im.scanner_from_voxel = {pitch, 0, 0, 0, 0, pitch, 0, 0, 0, 0, pitch, 0};
+  im.labels.assign(size_t(im.voxelCount()), 0);
+  return im;
+}
+
+void fillBox(LabelImage& im, std::array<int, 3> lo, std::array<int, 3> hi, Label v) {
+  for (int k = lo[2]; k <= hi[2]; ++k)
+    for (int j = lo[1]; j <= hi[1]; ++j)
+      for (int i = lo[0]; i <= hi[0]; ++i) im.labels[im.index(i, j, k)] = v;
+}
+
+LabelMap ctMap() { return parseLabelMap("1=caries,2=enamel,3=dentin").value(); }
+
+// Caries 1 -> 4, enamel 2 -> 1, dentin 3 -> 2: the CT codes as Material codes.
+Label renumbered(Label l) {
+  switch (l) {
+    case 1: return DS_MAT_CARIES;
+    case 2: return DS_MAT_ENAMEL;
+    case 3: return DS_MAT_DENTIN;
+    default: return 0;
+  }
+}
+
+class CountingInterrupter : public Interrupter {
+ public:
+  explicit CountingInterrupter(int allow) : allow_(allow) {}
+  bool progress(double fraction) override {
+    last = fraction;
+    return ++calls <= allow_;
+  }
+  int calls = 0;
+  double last = -1;
+
+ private:
+  int allow_;
+};
+
+// ---- label maps -------------------------------------------------------------------------------
+
+TEST(LabelMapTest, ParsesTissues) {
+  Result<LabelMap> m = parseLabelMap(" 1=caries, 2 = enamel,3=dentin,7=pulp,-2=empty");
+  ASSERT_TRUE(m.ok()) << m.message();
+  EXPECT_EQ(m->size(), 5u);
+  EXPECT_EQ(m->at(1), Material::Caries);
+  EXPECT_EQ(m->at(2), Material::Enamel);
+  EXPECT_EQ(m->at(3), Material::Dentin);
+  EXPECT_EQ(m->at(7), Material::Pulp);
+  EXPECT_EQ(m->at(-2), Material::Empty);
+}
+
+TEST(LabelMapTest, RejectsBadMaps) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"1=bone", "unknown tissue 'bone'"},
+      {"1=caries,1=enamel", "mapped twice"},
+      {"0=enamel", "label 0"},
+      {"1:caries", "expected LABEL=TISSUE"},
+      {"x=caries", "not an integer"},
+      {"1.5=caries", "not an integer"},
+      {"40000=caries", "outside"},
+      {"", "no LABEL=TISSUE"},
+      {"1=caries,,2=enamel", "expected LABEL=TISSUE"},
+      {"1=caries,", "trailing comma"},
+  };
+  for (const auto& [text, problem] : cases) {
+    Result<LabelMap> m = parseLabelMap(text);
+    ASSERT_FALSE(m.ok()) << text;
+    EXPECT_NE(m.message().find(problem), std::string::npos) << text << " -> " << m.message();
+    EXPECT_EQ(m.message().find('\n'), std::string::npos);
+  }
+}
+
+// ---- direct import ----------------------------------------------------------------------------
+
+TEST(LabelImportTest, DirectImportKeepsEveryLabelAndExportsItBack) {
+  // 13 x 10 x 9: no side is a power of two, and the bricks at the far faces are partial.
+  LabelImage im = blankImage({13, 10, 9}, 0.034);
+  im.scanner_from_voxel = {-1, 0, 0, 5, 0, -1, 0, -6, 0, 0, 1, 7};  // header pitch 1, flipped x and y
+  fillBox(im, {0, 0, 0}, {12, 9, 1}, 3);   // 13*10*2 = 260 dentin
+  fillBox(im, {2, 3, 2}, {6, 5, 4}, 2);    // 5*3*3 = 45 enamel
+  fillBox(im, {12, 9, 8}, {12, 9, 8}, 1);  // 1 caries, in the far corner
+  fillBox(im, {8, 0, 5}, {11, 0, 5}, 1);   // 4 more caries
+  LabelImportOptions opt;
+  opt.map = ctMap();
+  opt.source_pitch_mm = 0.034;
+  opt.where = "small.nii";
+  Result<ToothVolume> tooth = importLabels(im, opt);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+
+  const VolumeFrame& f = tooth->frame;
+  EXPECT_EQ(f.level, 4);  // 13 voxels need 16 per side
+  EXPECT_DOUBLE_EQ(f.voxel_mm, 0.034);
+  EXPECT_EQ(f.source_dims, im.dims);
+  EXPECT_EQ(f.source_offset, (std::array<int32_t, 3>{0, 0, 0}));
+  // Pitch replaced, direction cosines and offset kept.
+  const std::array<double, 12> expected = {-0.034, 0, 0, 5, 0, -0.034, 0, -6, 0, 0, 0.034, 7};
+  for (size_t i = 0; i < 12; ++i) EXPECT_NEAR(f.scanner_from_grid[i], expected[i], 1e-12) << i;
+
+  const MaterialTotals t = tooth->voxels.materialTotals();
+  EXPECT_EQ(t.voxels[DS_MAT_DENTIN], 260u);
+  EXPECT_EQ(t.voxels[DS_MAT_ENAMEL], 45u);
+  EXPECT_EQ(t.voxels[DS_MAT_CARIES], 5u);
+  EXPECT_EQ(t.voxels[DS_MAT_PULP], 0u);
+  EXPECT_EQ(t.fill_sum[DS_MAT_DENTIN], 260u * DS_FILL_FULL);
+  EXPECT_NEAR(t.volumeMm3(Material::Enamel, f.voxel_mm), 45 * 0.034 * 0.034 * 0.034, 1e-15);
+  EXPECT_EQ(tooth->voxels.voxel(12, 9, 8), makeVoxel(Material::Caries));
+  EXPECT_EQ(tooth->voxels.voxel(13, 9, 8), 0);  // just outside the source
+
+  const LabelImage back = exportLabels(*tooth);
+  EXPECT_EQ(back.dims, im.dims);
+  ASSERT_EQ(back.labels.size(), im.labels.size());
+  for (size_t i = 0; i < im.labels.size(); ++i) ASSERT_EQ(back.labels[i], renumbered(im.labels[i])) << i;
+  for (size_t i = 0; i < 12; ++i) EXPECT_NEAR(back.scanner_from_voxel[i], expected[i], 1e-12) << i;
+  EXPECT_DOUBLE_EQ(back.pitch_mm[0], 0.034);
+}
+
+TEST(LabelImportTest, HeaderPitchIsUsedWithoutOverride) {
+  LabelImage im = blankImage({8, 8, 8}, 0.25);
+  im.scanner_from_voxel = {0, 0.25, 0, 1, 0.25, 0, 0, 2, 0, 0, -0.25, 3};  // axes swapped and flipped
+  fillBox(im, {1, 1, 1}, {2, 2, 2}, 2);
+  LabelImportOptions opt;
+  opt.map = ctMap();
+  Result<ToothVolume> tooth = importLabels(im, opt);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  EXPECT_EQ(tooth->frame.level, 3);
+  EXPECT_DOUBLE_EQ(tooth->frame.voxel_mm, 0.25);
+  EXPECT_EQ(tooth->frame.scanner_from_grid, im.scanner_from_voxel);
+  EXPECT_EQ(tooth->voxels.materialTotals().voxels[DS_MAT_ENAMEL], 8u);
+}
+
+TEST(LabelImportTest, UnknownLabelNamesValueAndCount) {
+  LabelImage im = blankImage({4, 4, 4}, 1.0);
+  fillBox(im, {0, 0, 0}, {1, 0, 0}, 7);  // two voxels of label 7
+  fillBox(im, {0, 1, 0}, {3, 3, 3}, 3);
+  LabelImportOptions opt;
+  opt.map = ctMap();
+  opt.where = "scan.nii.gz";
+  Result<ToothVolume> tooth = importLabels(im, opt);
+  ASSERT_FALSE(tooth.ok());
+  EXPECT_EQ(tooth.message(), "scan.nii.gz: label 7 (2 voxels) is not in the label map");
+}
+
+TEST(LabelImportTest, AnisotropicPitchNeedsATarget) {
+  LabelImage im = blankImage({4, 4, 4}, 1.0);
+  im.pitch_mm = {1.0, 1.0, 2.0};
+  fillBox(im, {1, 1, 1}, {2, 2, 2}, 3);
+  LabelImportOptions opt;
+  opt.map = ctMap();
+  opt.where = "aniso.nii";
+  Result<ToothVolume> r = importLabels(im, opt);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("anisotropic"), std::string::npos) << r.message();
+  opt.source_pitch_mm = 0.5;  // an override makes the source isotropic
+  EXPECT_TRUE(importLabels(im, opt).ok());
+}
+
+TEST(LabelImportTest, CancelIsAnError) {
+  LabelImage im = blankImage({16, 16, 16}, 1.0);
+  fillBox(im, {2, 2, 2}, {12, 12, 12}, 3);
+  LabelImportOptions opt;
+  opt.map = ctMap();
+  opt.where = "c.nii";
+  CountingInterrupter stop_at_first(0);
+  Result<ToothVolume> r = importLabels(im, opt, stop_at_first);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.message(), "c.nii: import cancelled");
+  CountingInterrupter never(1 << 30);
+  ASSERT_TRUE(importLabels(im, opt, never).ok());
+  EXPECT_GT(never.calls, 2);
+  EXPECT_DOUBLE_EQ(never.last, 1.0);
+}
+
+// ---- enclosed space ---------------------------------------------------------------------------
+
+TEST(LabelImportTest, FillEnclosedFillsExactlyTheCavity) {
+  // A 7^3 dentin cube at 1..7 of a 9^3 grid, hollowed by a 3^3 cavity at 3..5: 343 - 27 = 316 dentin.
+  LabelImage im = blankImage({9, 9, 9}, 0.1);
+  fillBox(im, {1, 1, 1}, {7, 7, 7}, 3);
+  fillBox(im, {3, 3, 3}, {5, 5, 5}, 0);
+  LabelImportOptions opt;
+  opt.map = ctMap();
+  opt.fill_enclosed = Material::Pulp;
+  Result<ToothVolume> tooth = importLabels(im, opt);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  MaterialTotals t = tooth->voxels.materialTotals();
+  EXPECT_EQ(t.voxels[DS_MAT_PULP], 27u);
+  EXPECT_EQ(t.voxels[DS_MAT_DENTIN], 316u);
+  EXPECT_EQ(tooth->voxels.voxel(0, 0, 0), 0);  // the outside stays empty
+
+  // A tunnel from the cavity to the border (x = 0..2 at y = z = 4) opens it: nothing is filled.
+  fillBox(im, {0, 4, 4}, {2, 4, 4}, 0);
+  tooth = importLabels(im, opt);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  t = tooth->voxels.materialTotals();
+  EXPECT_EQ(t.voxels[DS_MAT_PULP], 0u);
+  EXPECT_EQ(t.voxels[DS_MAT_DENTIN], 316u - 2u);  // the tunnel cut x = 1, 2 of the wall
+
+  // A diagonal-only contact is not 6-connected: a cavity touching the wall at an edge stays enclosed.
+  LabelImage edge = blankImage({6, 6, 6}, 0.1);
+  fillBox(edge, {0, 0, 0}, {5, 5, 5}, 3);
+  fillBox(edge, {2, 2, 2}, {3, 3, 3}, 0);     // 8-voxel cavity
+  fillBox(edge, {0, 0, 0}, {1, 1, 5}, 0);     // an outside notch meeting the cavity only along an edge
+  tooth = importLabels(edge, opt);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  EXPECT_EQ(tooth->voxels.materialTotals().voxels[DS_MAT_PULP], 8u);
+}
+
+// ---- resampling -------------------------------------------------------------------------------
+
+TEST(LabelImportTest, LevelFitKeepsAnAlignedBlockExactly) {
+  // A 24 x 16 x 12 dentin block at pitch 0.1 mm: 4.608 mm^3. Level 4 gives a voxel of
+  // 2.4 mm / (16 - 4) = 0.2 mm, two source voxels, and the centred grid lines up with the block,
+  // so the volume comes out exact: 12 x 8 x 6 full voxels.
+  LabelImage im = blankImage({40, 30, 20}, 0.1);
+  fillBox(im, {5, 7, 3}, {28, 22, 14}, 3);
+  LabelImportOptions opt;
+  opt.map = ctMap();
+  opt.level = 4;
+  Result<ToothVolume> tooth = importLabels(im, opt);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  EXPECT_EQ(tooth->frame.level, 4);
+  EXPECT_NEAR(tooth->frame.voxel_mm, 0.2, 1e-12);
+  EXPECT_FALSE(tooth->frame.hasSource());
+  const MaterialTotals t = tooth->voxels.materialTotals();
+  EXPECT_EQ(t.voxels[DS_MAT_DENTIN], 12u * 8u * 6u);
+  EXPECT_NEAR(t.volumeMm3(Material::Dentin, tooth->frame.voxel_mm), 4.608, 1e-9);
+  // The grid voxel at the block's low corner maps back onto the block's low corner in the scanner:
+  // its centre is the centre of source voxels 5..6, i.e. x = 5.5 * 0.1 mm.
+  const auto& g = tooth->frame.scanner_from_grid;
+  EXPECT_NEAR(g[0], 0.2, 1e-12);
+  const double first_x = 2.0;  // 2 margin voxels along the longest axis
+  EXPECT_NEAR(g[0] * first_x + g[3], 0.55, 1e-9);
+}
+
+TEST(LabelImportTest, LevelFitKeepsVolumeOfAnUnalignedBlock) {
+  // A 23 x 17 x 11 enamel block at pitch 0.05 mm: 0.215050 mm^3. At level 5 the voxel is
+  // 1.15 / 28 mm, not a divisor of the block: the error is bounded by half a voxel over the surface.
+  LabelImage im = blankImage({30, 30, 30}, 0.05);
+  fillBox(im, {3, 5, 9}, {25, 21, 19}, 2);
+  const double volume = 23 * 17 * 11 * 0.05 * 0.05 * 0.05;
+  const double area = 2 * (23 * 17 + 17 * 11 + 23 * 11) * 0.05 * 0.05;
+  LabelImportOptions opt;
+  opt.map = ctMap();
+  opt.level = 5;
+  Result<ToothVolume> tooth = importLabels(im, opt);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  const double v = tooth->frame.voxel_mm;
+  EXPECT_NEAR(v, 23 * 0.05 / 28, 1e-12);
+  const double got = tooth->voxels.materialTotals().volumeMm3(Material::Enamel, v);
+  EXPECT_NEAR(got, volume, 0.5 * area * v);
+  EXPECT_NEAR(got, volume, 0.05 * volume);  // and, for this block, within 5 %
+}
+
+TEST(LabelImportTest, MajorityAndTieRules) {
+  // Target voxels of 2 source voxels; the tissue spans source 2..5 on each axis, so target voxel 3
+  // covers source 2..3 and target voxel 4 covers source 4..5 (grid 8, low corner at -4.5).
+  LabelImage im = blankImage({8, 8, 8}, 1.0);
+  // Target (3,3,3): 4 enamel + 4 dentin -> the tie goes to dentin, the inner tissue.
+  fillBox(im, {2, 2, 2}, {3, 3, 2}, 2);
+  fillBox(im, {2, 2, 3}, {3, 3, 3}, 3);
+  // Target (4,3,3): 5 enamel + 3 dentin -> enamel, the majority.
+  fillBox(im, {4, 2, 2}, {5, 3, 2}, 2);
+  fillBox(im, {4, 2, 3}, {4, 2, 3}, 2);
+  fillBox(im, {5, 2, 3}, {5, 3, 3}, 3);
+  fillBox(im, {4, 3, 3}, {4, 3, 3}, 3);
+  // Target (3,4,3): 4 caries + 4 empty -> caries, half full: round(31 * 4 / 8) = 16.
+  fillBox(im, {2, 4, 2}, {3, 5, 2}, 1);
+  // Target (3,3,4): 2 pulp, 2 caries, 2 dentin, 2 enamel -> pulp wins the four-way tie.
+  fillBox(im, {2, 2, 4}, {3, 2, 4}, 4);
+  fillBox(im, {2, 3, 4}, {3, 3, 4}, 1);
+  fillBox(im, {2, 2, 5}, {3, 2, 5}, 3);
+  fillBox(im, {2, 3, 5}, {3, 3, 5}, 2);
+  // Something at source x,y,z = 5 so that the bounding box is 2..5 on every axis.
+  fillBox(im, {5, 5, 5}, {5, 5, 5}, 3);
+  LabelImportOptions opt;
+  opt.map = parseLabelMap("1=caries,2=enamel,3=dentin,4=pulp").value();
+  opt.voxel_mm = 2.0;
+  Result<ToothVolume> tooth = importLabels(im, opt);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  ASSERT_EQ(tooth->frame.level, 3);
+  const BrickVolume& v = tooth->voxels;
+  EXPECT_EQ(v.voxel(3, 3, 3), makeVoxel(Material::Dentin, 31));
+  EXPECT_EQ(v.voxel(4, 3, 3), makeVoxel(Material::Enamel, 31));
+  EXPECT_EQ(v.voxel(3, 4, 3), makeVoxel(Material::Caries, 16));
+  EXPECT_EQ(v.voxel(3, 3, 4), makeVoxel(Material::Pulp, 31));
+  EXPECT_EQ(v.voxel(4, 4, 4), makeVoxel(Material::Dentin, 4));  // 1 of 8 samples: round(3.875)
+  EXPECT_EQ(v.voxel(2, 2, 2), 0);                                // all samples empty
+}
+
+TEST(LabelImportTest, LevelWithNoTissueIsAnError) {
+  LabelImage im = blankImage({8, 8, 8}, 1.0);
+  LabelImportOptions opt;
+  opt.map = ctMap();
+  opt.level = 5;
+  opt.where = "blank.nii";
+  Result<ToothVolume> r = importLabels(im, opt);
+  ASSERT_FALSE(r.ok());
+  EXPECT_NE(r.message().find("no tissue"), std::string::npos) << r.message();
+}
+
+// ---- export -----------------------------------------------------------------------------------
+
+TEST(LabelExportTest, HalfFillRuleAndWholeGrid) {
+  ToothVolume tooth;
+  tooth.voxels = BrickVolume(3);
+  tooth.frame = VolumeFrame::axisAligned(3, 0.5, {1.0, 2.0, 3.0});
+  tooth.voxels.setVoxel(1, 0, 0, makeVoxel(Material::Dentin, 16));  // half or more: kept
+  tooth.voxels.setVoxel(2, 0, 0, makeVoxel(Material::Dentin, 15));  // less than half: empty
+  tooth.voxels.setVoxel(0, 7, 7, makeVoxel(Material::Pulp, 31));
+  const LabelImage im = exportLabels(tooth);
+  ASSERT_EQ(im.dims, (std::array<int32_t, 3>{8, 8, 8}));
+  EXPECT_EQ(im.labels[im.index(1, 0, 0)], DS_MAT_DENTIN);
+  EXPECT_EQ(im.labels[im.index(2, 0, 0)], 0);
+  EXPECT_EQ(im.labels[im.index(0, 7, 7)], DS_MAT_PULP);
+  EXPECT_EQ(std::count(im.labels.begin(), im.labels.end(), 0), 512 - 2);
+  EXPECT_DOUBLE_EQ(im.scanner_from_voxel[3], 1.25);  // centre of voxel 0 [mm]
+}
+
+TEST(LabelExportTest, SourceBoxWithOffsetShiftsTheMatrix) {
+  ToothVolume tooth;
+  tooth.voxels = BrickVolume(4);
+  tooth.frame = VolumeFrame::axisAligned(4, 0.1, {0, 0, 0});
+  tooth.frame.source_offset = {2, 3, 4};
+  tooth.frame.source_dims = {5, 6, 7};
+  tooth.voxels.setVoxel(2, 3, 4, makeVoxel(Material::Enamel));   // source (0,0,0)
+  tooth.voxels.setVoxel(6, 8, 10, makeVoxel(Material::Caries));  // source (4,5,6)
+  tooth.voxels.setVoxel(7, 3, 4, makeVoxel(Material::Dentin));   // outside the box
+  const LabelImage im = exportLabels(tooth);
+  ASSERT_EQ(im.dims, (std::array<int32_t, 3>{5, 6, 7}));
+  EXPECT_EQ(im.labels[im.index(0, 0, 0)], DS_MAT_ENAMEL);
+  EXPECT_EQ(im.labels[im.index(4, 5, 6)], DS_MAT_CARIES);
+  EXPECT_EQ(std::count(im.labels.begin(), im.labels.end(), 0), 5 * 6 * 7 - 2);
+  EXPECT_NEAR(im.scanner_from_voxel[3], 0.25, 1e-12);  // (2 + 0.5) * 0.1
+  EXPECT_NEAR(im.scanner_from_voxel[7], 0.35, 1e-12);
+  EXPECT_NEAR(im.scanner_from_voxel[11], 0.45, 1e-12);
+  const LabelImage whole = exportLabels(tooth, ExportRegion::WholeGrid);
+  EXPECT_EQ(whole.dims, (std::array<int32_t, 3>{16, 16, 16}));
+  EXPECT_EQ(std::count(whole.labels.begin(), whole.labels.end(), 0), 4096 - 3);
+}
+
+}  // namespace
+}  // namespace dentsim
