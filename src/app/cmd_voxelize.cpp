@@ -19,6 +19,7 @@ struct VoxelizeOptions {
   double voxel_size = 0.0;   // source voxel edge [mm] for labels (overrides the header); 0: unset
   int level = 0;             // fit into a 2^level grid; 0: unset
   std::string fill_enclosed; // tissue for empty space the tooth encloses; empty: none
+  double seal_mm = 0.2;       // closing radius for --fill-enclosed [mm]; about the apical foramen radius
   std::string output;        // .dvol path
 };
 
@@ -48,6 +49,7 @@ int runVoxelize(const VoxelizeOptions& o) {
     if (!parseMaterial(o.fill_enclosed, &m) || m == Material::Empty)
       return fail("--fill-enclosed: unknown tissue '" + o.fill_enclosed + "' (expected enamel, dentin, pulp or caries)");
     import.fill_enclosed = m;
+    import.seal_mm = o.seal_mm;
   }
 
   Result<LabelImage> image = readNiftiLabels(o.labels);
@@ -75,6 +77,11 @@ void addVoxelizeCommand(CLI::App& root, Action& action) {
       ->check(CLI::Range(DS_MIN_LEVEL, DS_MAX_LEVEL));
   cmd->add_option("--fill-enclosed", opts->fill_enclosed,
                   "Tissue for empty space the tooth encloses (e.g. pulp)");
+  cmd->add_option("--seal-mm", opts->seal_mm,
+                  "With --fill-enclosed: seal openings (root canal apices) narrower than about twice this "
+                  "radius before filling; 0 fills only fully closed space [mm]")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   cmd->add_option("-o,--output", opts->output, "Output volume (.dvol)")->required();
   cmd->callback([opts, &action] { action = [opts] { return runVoxelize(*opts); }; });
 }

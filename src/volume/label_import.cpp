@@ -40,6 +40,9 @@ struct Stage {
   Interrupter& interrupter;
   double begin = 0.0, end = 1.0;
   bool report(double fraction) const { return interrupter.progress(begin + (end - begin) * fraction); }
+  Stage sub(double from, double to) const {
+    return Stage{interrupter, begin + (end - begin) * from, begin + (end - begin) * to};
+  }
 };
 
 Error cancelled(const std::string& where) { return makeError(where, "import cancelled"); }
@@ -86,51 +89,100 @@ Result<std::vector<uint8_t>> sourceCodes(const LabelImage& image, const LabelImp
 
 // ---- 3. enclosed space ----------------------------------------------------------------------
 
-// Empty voxels not 6-connected to the border through empty voxels become `fill`. Breadth-first with
-// an explicit queue: its size stays near the width of the advancing front, not the volume.
-Status fillEnclosed(std::vector<uint8_t>& codes, const std::array<int32_t, 3>& dims, uint8_t fill,
-                    const Stage& stage, const std::string& where) {
+// Marks with kOutsideMark every zero cell 6-connected to the border through zero cells.
+// Breadth-first with an explicit queue: its size stays near the width of the advancing front.
+Status floodFromBorder(std::vector<uint8_t>& cells, const std::array<int32_t, 3>& dims, const Stage& stage,
+                       const std::string& where) {
   const int64_t nx = dims[0], ny = dims[1], nz = dims[2];
   const int64_t sy = nx, sz = nx * ny;
   std::deque<uint64_t> queue;
-  auto seed = [&](int64_t x, int64_t y, int64_t z) {
-    const size_t i = size_t(x + sy * y + sz * z);
-    if (codes[i] == 0) {
-      codes[i] = kOutsideMark;
+  auto visit = [&](uint64_t i) {
+    if (cells[i] == 0) {
+      cells[i] = kOutsideMark;
       queue.push_back(i);
     }
   };
   for (int64_t z = 0; z < nz; ++z)
     for (int64_t y = 0; y < ny; ++y) {
       if (z == 0 || z == nz - 1 || y == 0 || y == ny - 1) {
-        for (int64_t x = 0; x < nx; ++x) seed(x, y, z);
+        for (int64_t x = 0; x < nx; ++x) visit(uint64_t(x + sy * y + sz * z));
       } else {
-        seed(0, y, z);
-        seed(nx - 1, y, z);
+        visit(uint64_t(sy * y + sz * z));
+        visit(uint64_t(nx - 1 + sy * y + sz * z));
       }
     }
-
-  const double total = double(codes.size());
+  const double total = double(cells.size());
   uint64_t visited = 0;
   while (!queue.empty()) {
     const uint64_t i = queue.front();
     queue.pop_front();
     const int64_t x = int64_t(i) % nx, y = (int64_t(i) / nx) % ny, z = int64_t(i) / sz;
-    auto visit = [&](uint64_t j) {
-      if (codes[j] == 0) {
-        codes[j] = kOutsideMark;
-        queue.push_back(j);
-      }
-    };
     if (x > 0) visit(i - 1);
     if (x < nx - 1) visit(i + 1);
     if (y > 0) visit(i - uint64_t(sy));
     if (y < ny - 1) visit(i + uint64_t(sy));
     if (z > 0) visit(i - uint64_t(sz));
     if (z < nz - 1) visit(i + uint64_t(sz));
-    if ((++visited & 0xFFFFF) == 0 && !stage.report(0.9 * double(visited) / total)) return cancelled(where);
+    if ((++visited & 0xFFFFF) == 0 && !stage.report(double(visited) / total)) return cancelled(where);
   }
-  for (uint8_t& c : codes) c = c == kOutsideMark ? 0 : (c == 0 ? fill : c);
+  return Ok{};
+}
+
+// Dilates a 0/1 mask by a cube of side 2r+1, one axis at a time: each voxel learns its distance to
+// the nearest set voxel along the axis in a forward and a backward sweep (memory order, so every
+// sweep streams), and is set when that distance is at most r. 1 <= r <= 254.
+void dilateBox(std::vector<uint8_t>& mask, const std::array<int32_t, 3>& dims, int r) {
+  const size_t nx = size_t(dims[0]), ny = size_t(dims[1]), nz = size_t(dims[2]);
+  std::vector<uint8_t> dist(mask.size());
+  for (int axis = 0; axis < 3; ++axis) {
+    // One counter per line along `axis`: lines along x share one, along y one per x, along z one per (x, y).
+    std::vector<uint8_t> run(axis == 0 ? 1 : axis == 1 ? nx : nx * ny);
+    auto step = [&](size_t i, size_t line, bool line_start, bool forward) {
+      uint8_t& c = run[line];
+      if (line_start) c = 255;
+      c = mask[i] ? 0 : uint8_t(std::min(255, c + 1));
+      dist[i] = forward ? c : std::min(dist[i], c);
+    };
+    for (size_t z = 0, i = 0; z < nz; ++z)
+      for (size_t y = 0; y < ny; ++y)
+        for (size_t x = 0; x < nx; ++x, ++i) {
+          if (axis == 0) step(i, 0, x == 0, true);
+          else if (axis == 1) step(i, x, y == 0, true);
+          else step(i, x + nx * y, z == 0, true);
+        }
+    for (size_t z = nz, i = mask.size(); z-- > 0;)
+      for (size_t y = ny; y-- > 0;)
+        for (size_t x = nx; x-- > 0;) {
+          --i;
+          if (axis == 0) step(i, 0, x == nx - 1, false);
+          else if (axis == 1) step(i, x, y == ny - 1, false);
+          else step(i, x + nx * y, z == nz - 1, false);
+        }
+    for (size_t i = 0; i < mask.size(); ++i) mask[i] = dist[i] <= r ? 1 : 0;
+  }
+}
+
+// Empty voxels that the tooth encloses become `fill`. With seal_voxels > 0 the walls are first
+// closed (dilated by the radius, flooded from the border, and the flood dilated back), so that
+// openings narrower than about twice the radius, such as apical foramina, do not let the flood into
+// the pulp. Only voxels of `wall_material` (0: any tissue) are closed, so grooves in other tissues
+// stay open.
+Status fillEnclosed(std::vector<uint8_t>& codes, const std::array<int32_t, 3>& dims, uint8_t fill,
+                    uint8_t wall_material, int seal_voxels, const Stage& stage, const std::string& where) {
+  if (seal_voxels <= 0) {
+    if (Status s = floodFromBorder(codes, dims, stage, where); !s) return s;
+    for (uint8_t& c : codes) c = c == kOutsideMark ? 0 : (c == 0 ? fill : c);
+    return Ok{};
+  }
+  std::vector<uint8_t> cells(codes.size());
+  for (size_t i = 0; i < codes.size(); ++i) cells[i] = (wall_material == 0 ? codes[i] != 0 : voxelMaterial(codes[i]) == Material(wall_material)) ? 1 : 0;
+  dilateBox(cells, dims, seal_voxels);
+  if (!stage.report(0.3)) return cancelled(where);
+  if (Status s = floodFromBorder(cells, dims, stage.sub(0.3, 0.7), where); !s) return s;
+  for (uint8_t& c : cells) c = c == kOutsideMark ? 1 : 0;
+  dilateBox(cells, dims, seal_voxels);
+  for (size_t i = 0; i < codes.size(); ++i)
+    if (codes[i] == 0 && cells[i] == 0) codes[i] = fill;
   if (!stage.report(1.0)) return cancelled(where);
   return Ok{};
 }
@@ -355,7 +407,14 @@ Result<ToothVolume> importLabels(const LabelImage& image, const LabelImportOptio
   if (!codes) return codes.error();
   if (filling) {
     const uint8_t fill = makeVoxel(*options.fill_enclosed, DS_FILL_FULL);
-    if (Status s = fillEnclosed(*codes, image.dims, fill, Stage{interrupter, 0.15, 0.45}, where); !s)
+    // Dentin walls the pulp; a tooth without dentin is sealed as a whole.
+    const bool has_dentin = std::any_of(codes->begin(), codes->end(),
+                                        [](uint8_t c) { return voxelMaterial(c) == Material::Dentin; });
+    const int seal_voxels = int(std::lround(options.seal_mm / pitch[0]));
+    if (seal_voxels > 254) return makeError(where, "seal radius is over 254 source voxels");
+    if (Status s = fillEnclosed(*codes, image.dims, fill, has_dentin ? uint8_t(DS_MAT_DENTIN) : uint8_t(0),
+                                seal_voxels, Stage{interrupter, 0.15, 0.45}, where);
+        !s)
       return s.error();
   }
   const Stage place{interrupter, filling ? 0.45 : 0.15, 1.0};

@@ -33,6 +33,7 @@ struct LabelImportOptions {
   std::optional<int> level;                 // fit the tissue into a 2^level grid (excludes voxel_mm)
   std::optional<double> source_pitch_mm;    // overrides the header pitch (isotropic) [mm]
   std::optional<Material> fill_enclosed;    // empty voxels enclosed by the tooth become this
+  double seal_mm = 0.0;                     // closing radius for fill_enclosed; 0: plain flood [mm]
   std::string where;                        // names the source in errors (the file path)
 };
 
@@ -54,7 +55,10 @@ struct LabelImportOptions {
 // and scanner_from_grid maps target voxel centres into the source's scanner space.
 //
 // fill_enclosed works on the source grid before resampling: an empty voxel not 6-connected to the
-// image border through empty voxels becomes that tissue (an explicit queue; no recursion).
+// image border through empty voxels becomes that tissue (an explicit queue; no recursion). Real
+// teeth have open root canals (apical foramina), so with seal_mm > 0 the dentin (or, with no dentin,
+// every tissue) is first closed by a cube of that radius: openings narrower than about 2 x seal_mm
+// are sealed for the flood, and only empty voxels deeper than the flood's reach back become filled.
 //
 // Errors (one line, naming options.where): a non-zero label not in the map (with its voxel count),
 // an anisotropic pitch without a target size, a grid beyond DS_MAX_LEVEL, no tissue to fit, a

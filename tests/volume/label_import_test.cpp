@@ -220,6 +220,46 @@ TEST(LabelImportTest, FillEnclosedFillsExactlyTheCavity) {
 
 // ---- resampling -------------------------------------------------------------------------------
 
+TEST(LabelImportTest, SealClosesNarrowCanalsButNotWideOnesOrEnamelGrooves) {
+  // A 13^3 dentin cube at 3..15 of a 19^3 grid (pitch 0.1 mm) with a 5^3 cavity at 7..11 and a
+  // one-voxel canal from the cavity to the outside (x = 3..6 at y = z = 9): an open root canal.
+  // On top, an enamel slab (z = 16..17) with a one-voxel groove at x = 9 through its depth.
+  LabelImage im = blankImage({19, 19, 19}, 0.1);
+  fillBox(im, {3, 3, 3}, {15, 15, 15}, 3);
+  fillBox(im, {7, 7, 7}, {11, 11, 11}, 0);
+  fillBox(im, {3, 9, 9}, {6, 9, 9}, 0);
+  fillBox(im, {3, 3, 16}, {15, 15, 17}, 2);
+  fillBox(im, {9, 3, 16}, {9, 15, 17}, 0);
+  LabelImportOptions opt;
+  opt.map = ctMap();
+  opt.fill_enclosed = Material::Pulp;
+
+  // No seal: the canal lets the flood in, so nothing is enclosed.
+  Result<ToothVolume> tooth = importLabels(im, opt);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  EXPECT_EQ(tooth->voxels.materialTotals().voxels[DS_MAT_PULP], 0u);
+
+  // Seal radius 1 voxel: the dilated dentin closes the canal; the flood stops outside, and its
+  // dilation back reaches x <= 2 only, so the cavity (125) and the canal's 4 voxels become pulp.
+  // The enamel groove is not dentin, so it is never sealed and stays empty.
+  opt.seal_mm = 0.1;
+  tooth = importLabels(im, opt);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  const MaterialTotals t = tooth->voxels.materialTotals();
+  EXPECT_EQ(t.voxels[DS_MAT_PULP], 125u + 4u);
+  EXPECT_EQ(t.voxels[DS_MAT_DENTIN], 13u * 13u * 13u - 125u - 4u);
+  EXPECT_EQ(tooth->voxels.voxel(9, 9, 16), 0);  // the groove
+  EXPECT_EQ(tooth->voxels.voxel(1, 9, 9), 0);   // the outside in front of the canal
+  EXPECT_EQ(tooth->voxels.voxel(4, 9, 9), makeVoxel(Material::Pulp));
+
+  // A canal three voxels wide keeps an open centre line at radius 1: the flood enters and, dilated
+  // back, covers the whole cavity, so nothing is filled.
+  fillBox(im, {3, 8, 8}, {6, 10, 10}, 0);
+  tooth = importLabels(im, opt);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  EXPECT_EQ(tooth->voxels.materialTotals().voxels[DS_MAT_PULP], 0u);
+}
+
 TEST(LabelImportTest, LevelFitKeepsAnAlignedBlockExactly) {
   // A 24 x 16 x 12 dentin block at pitch 0.1 mm: 4.608 mm^3. Level 4 gives a voxel of
   // 2.4 mm / (16 - 4) = 0.2 mm, two source voxels, and the centred grid lines up with the block,
