@@ -28,16 +28,17 @@ struct BrickPyramid {
   State l3 = kWhite;
 };
 
-template <size_t N, size_t M>
-void reduce(const std::array<State, N>& fine, uint32_t fine_side, std::array<State, M>& coarse) {
-  const uint32_t side = fine_side / 2;
-  for (uint32_t z = 0; z < side; ++z)
-    for (uint32_t y = 0; y < side; ++y)
-      for (uint32_t x = 0; x < side; ++x) {
+// Each cube of the coarse level (side fine_side/2) takes the combined state of its 8 children.
+// Index inside a level: x + side*(y + side*z). Serves the brick pyramid and the grid pyramid alike.
+void reduceLevel(const State* fine, uint32_t fine_side, State* coarse) {
+  const size_t side = fine_side / 2, fside = fine_side;
+  for (size_t z = 0; z < side; ++z)
+    for (size_t y = 0; y < side; ++y)
+      for (size_t x = 0; x < side; ++x) {
         State s = kWhite;
         for (uint32_t c = 0; c < 8; ++c) {
-          const uint32_t fx = 2 * x + (c & 1), fy = 2 * y + ((c >> 1) & 1), fz = 2 * z + (c >> 2);
-          s = combine(s, fine[fx + fine_side * (fy + fine_side * fz)], c == 0);
+          const size_t fx = 2 * x + (c & 1), fy = 2 * y + ((c >> 1) & 1), fz = 2 * z + (c >> 2);
+          s = combine(s, fine[fx + fside * (fy + fside * fz)], c == 0);
         }
         coarse[x + side * (y + side * z)] = s;
       }
@@ -49,11 +50,9 @@ BrickPyramid pyramidOf(const Voxel* voxels) {
     for (uint32_t y = 0; y < 8; ++y)
       for (uint32_t x = 0; x < 8; ++x)
         p.l0[x + 8 * (y + 8 * z)] = voxelSolid(voxels[layout::brickCoordToOffset(x, y, z)]) ? kBlack : kWhite;
-  reduce(p.l0, 8, p.l1);
-  reduce(p.l1, 4, p.l2);
-  std::array<State, 1> top{};
-  reduce(p.l2, 2, top);
-  p.l3 = top[0];
+  reduceLevel(p.l0.data(), 8, p.l1.data());
+  reduceLevel(p.l1.data(), 4, p.l2.data());
+  reduceLevel(p.l2.data(), 2, &p.l3);
   return p;
 }
 
@@ -94,18 +93,9 @@ OctreeCounts octreeNodeCounts(const BrickVolume& volume) {
     states[brick_depth][i] = b.uniform ? (voxelSolid(b.value) ? kBlack : kWhite) : pyramidOf(b.voxels).l3;
   });
   for (size_t d = brick_depth; d > 0; --d) {
-    const uint32_t side = 1u << (d - 1), fine = 1u << d;
-    states[d - 1].resize(size_t(side) * side * side);
-    for (uint32_t z = 0; z < side; ++z)
-      for (uint32_t y = 0; y < side; ++y)
-        for (uint32_t x = 0; x < side; ++x) {
-          State s = kWhite;
-          for (uint32_t c = 0; c < 8; ++c) {
-            const uint32_t fx = 2 * x + (c & 1), fy = 2 * y + ((c >> 1) & 1), fz = 2 * z + (c >> 2);
-            s = combine(s, states[d][fx + size_t(fine) * (fy + size_t(fine) * fz)], c == 0);
-          }
-          states[d - 1][x + size_t(side) * (y + size_t(side) * z)] = s;
-        }
+    const size_t side = size_t{1} << (d - 1);
+    states[d - 1].resize(side * side * side);
+    reduceLevel(states[d].data(), uint32_t(side * 2), states[d - 1].data());
   }
 
   // Top-down: a node exists when its parent exists and is mix.
