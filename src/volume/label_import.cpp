@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <optional>
 #include <deque>
 #include <limits>
 #include <sstream>
@@ -165,17 +166,18 @@ void dilateBox(std::vector<uint8_t>& mask, const std::array<int32_t, 3>& dims, i
 // Empty voxels that the tooth encloses become `fill`. With seal_voxels > 0 the walls are first
 // closed (dilated by the radius, flooded from the border, and the flood dilated back), so that
 // openings narrower than about twice the radius, such as apical foramina, do not let the flood into
-// the pulp. Only voxels of `wall_material` (0: any tissue) are closed, so grooves in other tissues
+// the pulp. Only voxels of `wall` (every tissue when unset) are closed, so grooves in other tissues
 // stay open.
 Status fillEnclosed(std::vector<uint8_t>& codes, const std::array<int32_t, 3>& dims, uint8_t fill,
-                    uint8_t wall_material, int seal_voxels, const Stage& stage, const std::string& where) {
+                    std::optional<Material> wall, int seal_voxels, const Stage& stage, const std::string& where) {
   if (seal_voxels <= 0) {
     if (Status s = floodFromBorder(codes, dims, stage, where); !s) return s;
     for (uint8_t& c : codes) c = c == kOutsideMark ? 0 : (c == 0 ? fill : c);
     return Ok{};
   }
   std::vector<uint8_t> cells(codes.size());
-  for (size_t i = 0; i < codes.size(); ++i) cells[i] = (wall_material == 0 ? codes[i] != 0 : voxelMaterial(codes[i]) == Material(wall_material)) ? 1 : 0;
+  for (size_t i = 0; i < codes.size(); ++i)
+    cells[i] = wall ? voxelMaterial(codes[i]) == *wall : codes[i] != 0;
   dilateBox(cells, dims, seal_voxels);
   if (!stage.report(0.3)) return cancelled(where);
   if (Status s = floodFromBorder(cells, dims, stage.sub(0.3, 0.7), where); !s) return s;
@@ -412,7 +414,7 @@ Result<ToothVolume> importLabels(const LabelImage& image, const LabelImportOptio
                                         [](uint8_t c) { return voxelMaterial(c) == Material::Dentin; });
     const int seal_voxels = int(std::lround(options.seal_mm / pitch[0]));
     if (seal_voxels > 254) return makeError(where, "seal radius is over 254 source voxels");
-    if (Status s = fillEnclosed(*codes, image.dims, fill, has_dentin ? uint8_t(DS_MAT_DENTIN) : uint8_t(0),
+    if (Status s = fillEnclosed(*codes, image.dims, fill, has_dentin ? std::optional(Material::Dentin) : std::nullopt,
                                 seal_voxels, Stage{interrupter, 0.15, 0.45}, where);
         !s)
       return s.error();
