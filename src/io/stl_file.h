@@ -1,0 +1,50 @@
+// STL reading and writing (binary and ASCII): size checks, NaN rejection, vertex welding and a topology report.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/result.h"
+#include "core/triangle_mesh.h"
+#include "io/mesh_topology.h"
+
+namespace dentsim {
+
+enum class StlFormat { Binary, Ascii };
+
+// Budget checked before anything is allocated, so a hostile header cannot exhaust memory.
+struct StlReadLimits {
+  uint64_t max_triangles = 20'000'000;  // about 1 GB of binary STL
+};
+
+// What the reader saw, for warnings and `dentsim voxelize`'s report.
+struct StlInfo {
+  StlFormat format = StlFormat::Binary;
+  std::string solid_name;           // ASCII "solid NAME" or the binary header's text, trimmed
+  uint64_t file_triangles = 0;      // facets in the file
+  uint64_t dropped_triangles = 0;   // facets that collapsed when corners were welded
+  MeshTopology topology;            // after welding
+};
+
+struct StlMesh {
+  TriangleMesh mesh;  // welded, in the file's own units
+  StlInfo info;
+};
+
+// Parses STL bytes; `where` names the source in errors ("enamel.stl").
+Result<StlMesh> parseStl(std::span<const uint8_t> bytes, const std::string& where,
+                         const StlReadLimits& limits = {});
+// Reads and parses a file.
+Result<StlMesh> readStl(const std::string& path, const StlReadLimits& limits = {});
+
+// Binary STL bytes of a mesh; `header` fills the 80-byte header (cut or padded with zeros).
+std::vector<uint8_t> encodeStlBinary(const TriangleMesh& mesh, std::string_view header);
+// ASCII STL text of a mesh ("solid NAME" ... "endsolid NAME").
+std::string encodeStlAscii(const TriangleMesh& mesh, std::string_view name);
+// Writes binary STL atomically (temporary file, then rename).
+Status writeStl(const std::string& path, const TriangleMesh& mesh, std::string_view header);
+
+}  // namespace dentsim
