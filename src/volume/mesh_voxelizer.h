@@ -64,10 +64,8 @@ struct RaySetup {
 Result<RaySetup> makeRaySetup(const std::vector<MeshLayer>& layers, const VolumeFrame& frame,
                               const VoxelizeOptions& options);
 
-// Hit key: the depth quantised to 2^24 steps over the grid's height in bits 8..31, the layer in
-// bits 1..3 and 1 in bit 0 for a ray entering the solid. Sorting keys sorts hits by depth.
-constexpr uint32_t kHitDepthShift = 8;
-constexpr uint32_t kHitDepthBits = 24;
+// Material code of each layer packed 4 bits a layer, lowest priority first (voxelize_layout.h).
+uint32_t layerMaterialWord(const RaySetup& setup);
 
 // The CPU reference voxelizer: exactly the rule above, one thread, no GPU.
 Result<BrickVolume> voxelizeCpu(const RaySetup& setup, const VoxelizeOptions& options,
