@@ -170,12 +170,13 @@ Result<ComputePipeline> ComputePipeline::create(Context& ctx, const PipelineDesc
   if (p.reflection_.push_constant_size > lim.max_push_constants_size)
     return makeError(where, "push constants of " + std::to_string(p.reflection_.push_constant_size) +
                                 " B exceed maxPushConstantsSize " + std::to_string(lim.max_push_constants_size));
-  std::vector<uint32_t> expected(desc.storage_buffers);
-  for (uint32_t i = 0; i < desc.storage_buffers; ++i) expected[i] = i;
-  if (p.reflection_.storage_bindings != expected)
-    return makeError(where, "shader declares " + std::to_string(p.reflection_.storage_bindings.size()) +
-                                " storage buffers in set 0 but the pipeline expects bindings 0.." +
-                                std::to_string(desc.storage_buffers) + "-1");
+  // Kernels of one family share a binding list and each uses part of it (the optimizer drops the
+  // rest), so a shader may use any subset of bindings 0..n-1 but nothing outside it.
+  for (uint32_t b : p.reflection_.storage_bindings)
+    if (b >= desc.storage_buffers)
+      return makeError(where, "shader uses storage binding " + std::to_string(b) +
+                                  " in set 0 but the pipeline binds only 0.." + std::to_string(desc.storage_buffers) +
+                                  "-1");
 
   VkShaderModuleCreateInfo smci{};
   smci.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;

@@ -37,6 +37,10 @@ struct MeshLayer {
 struct VoxelizeOptions {
   int subsamples = 2;    // S: rays per voxel column side (1..4); S^2 rays per column
   int hole_radius = 8;   // how far, in sub-samples, a leaky ray looks for a balanced one
+  // GPU only; 0 = automatic. Tests set them to force the band split and the pool regrowth that
+  // large grids need.
+  uint32_t max_band_chunk_rows = 0;  // chunk rows per band at most
+  uint32_t initial_brick_capacity = 0;  // dense bricks the pool starts with
 };
 
 // Priority of a material when layers overlap: a higher value wins.

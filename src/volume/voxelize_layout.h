@@ -39,16 +39,18 @@ using std::floor;
 #define DS_VOX_BINDING_COUNTS 2     // uint per ray: hits (count pass), then the scatter cursor
 #define DS_VOX_BINDING_OFFSETS 3    // uint per ray + 1: exclusive prefix sum of counts
 #define DS_VOX_BINDING_HITS 4       // uint keys
-#define DS_VOX_BINDING_RAYINFO 5    // uint per ray: leaky-layer mask (sort pass), then the donor (donor pass)
+#define DS_VOX_BINDING_RAYINFO 5    // uint per ray: mask of layers whose hits do not balance
 #define DS_VOX_BINDING_BLOCKS 6     // uint[512 per chunk of the band]: brick entries
 #define DS_VOX_BINDING_BRICKS 7     // uint[128 per dense brick]
 #define DS_VOX_BINDING_COUNTERS 8   // uint[4]: dense bricks, live blocks, spare, spare
 #define DS_VOX_BINDING_CHUNKS 9     // uint per chunk of the band: chunk entries
 #define DS_VOX_BINDING_PACKED 10    // uint[512 per live block]: blocks packed by the chunk pass
 #define DS_VOX_BINDING_SCANSUMS 11  // uint per scan block
+#define DS_VOX_BINDING_DONORS 12    // uint per ray: the ray a leaky ray borrows from (see below)
+#define DS_VOX_BINDING_COUNT 13
 
-// Ray-info word after the donor pass: the donor ray's index in bits 0..26 (or all ones when none),
-// the borrowed layer in bits 27..28, a valid flag in bit 29. The leaky mask lives in bits 0..3 before.
+// Donor word of a ray: 0 when the ray is balanced; else the valid flag in bit 29, the borrowed
+// layer in bits 27..28 and the donor ray's band index in bits 0..26 (all ones: borrow nothing).
 #define DS_VOX_DONOR_NONE 0x7ffffffu
 #define DS_VOX_DONOR_VALID 0x20000000u
 
