@@ -175,7 +175,8 @@ void main() {
     }
     uint voxels[DS_BRICK_DIM];
     for (uint v = 0u; v < DS_BRICK_DIM; ++v)
-      voxels[v] = voxVoxelFromCoverage(cov[v * 4u], cov[v * 4u + 1u], cov[v * 4u + 2u], cov[v * 4u + 3u], full, materials);
+      voxels[v] = voxVoxelFromCoverage(cov[v * 4u], cov[v * 4u + 1u], cov[v * 4u + 2u], cov[v * 4u + 3u], full,
+                                     voxDither(bx * DS_BRICK_DIM + lx, by * DS_BRICK_DIM + ly, bz * DS_BRICK_DIM + v));
 
     brickBuffer[2u * lane] = 0u;
     brickBuffer[2u * lane + 1u] = 0u;

@@ -1,22 +1,38 @@
-// dentsim voxelize: builds a .dvol tooth from a segmented CT label volume (NIfTI) and a label map.
+// dentsim voxelize: builds a .dvol tooth from STL tissue layers (GPU depth peeling) or from a segmented CT label volume.
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "app/commands.h"
 #include "app/terminal_progress.h"
+#include "gpu/gpu_voxelizer.h"
+#include "io/mesh_units.h"
 #include "io/nifti_labels.h"
+#include "io/stl_file.h"
 #include "volume/label_import.h"
+#include "volume/mesh_voxelizer.h"
 #include "volume/tooth_file.h"
 
 namespace dentsim::app {
 namespace {
 
 struct VoxelizeOptions {
+  // STL layers (one file per tissue) or a one-layer tooth
+  std::string enamel, dentin, pulp, caries, tooth;
+  std::string tooth_material = "dentin";  // tissue of a --tooth mesh
+  std::string units = "mm";               // unit of the STL coordinates
+  double scale = 1.0;                     // extra factor after the unit
+  int subsamples = 2;                     // rays per voxel side
+  int hole_radius = 8;                    // rays a leaky ray searches for a donor
+  bool cpu = false;                       // the CPU reference instead of the GPU
+  std::string device;                     // Vulkan device override
+  // CT labels
   std::string labels;        // NIfTI label volume
   std::string label_map;     // "1=caries,2=enamel,3=dentin"
-  double voxel_size = 0.0;   // source voxel edge [mm] for labels (overrides the header); 0: unset
+  double voxel_size = 0.0;   // labels: source voxel edge (overrides the header); STL: output voxel edge [mm]; 0: unset
   int level = 0;             // fit into a 2^level grid; 0: unset
   std::string fill_enclosed; // tissue for empty space the tooth encloses; empty: none
   double seal_mm = 0.2;       // closing radius for --fill-enclosed [mm]; about the apical foramen radius
@@ -36,7 +52,110 @@ void printSummary(const ToothVolume& tooth, const std::string& output) {
   }
 }
 
+struct LoadedLayer {
+  std::string path;
+  Material material = Material::Dentin;
+  TriangleMesh mesh;
+  double volume_mm3 = 0.0;
+};
+
+// Reads one layer, converts it to mm and says what is wrong with it; an error ends the command.
+Result<LoadedLayer> loadLayer(const std::string& path, Material material, double mm_per_unit) {
+  auto stl = readStl(path);
+  if (!stl) return stl.error();
+  LoadedLayer layer{path, material, std::move(stl->mesh), 0.0};
+  layer.mesh.scale(mm_per_unit);
+  const MeshTopology& topo = stl->info.topology;
+  if (topo.open_edges > 0)
+    std::fprintf(stderr, "dentsim: warning: %s: %llu open edges (holes); rays through a hole borrow the layer from the nearest ray that is closed\n",
+                 path.c_str(), static_cast<unsigned long long>(topo.open_edges));
+  if (topo.nonmanifold_edges > 0)
+    std::fprintf(stderr, "dentsim: warning: %s: %llu non-manifold edges\n", path.c_str(),
+                 static_cast<unsigned long long>(topo.nonmanifold_edges));
+  if (!topo.consistent())
+    std::fprintf(stderr, "dentsim: warning: %s: %llu edges with inconsistent winding; the inside is taken by winding number\n",
+                 path.c_str(), static_cast<unsigned long long>(topo.flipped_edges));
+  else if (topo.signed_volume_mm3 < 0.0)
+    std::fprintf(stderr, "dentsim: warning: %s: the mesh is inside out (negative volume); it is filled all the same\n",
+                 path.c_str());
+  if (std::string w = toothExtentWarning(layer.mesh.bounds(), path); !w.empty())
+    std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
+  layer.volume_mm3 = std::abs(layer.mesh.signedVolume());
+  return layer;
+}
+
+int runVoxelizeMeshes(const VoxelizeOptions& o) {
+  LengthUnit unit{};
+  if (!parseLengthUnit(o.units, &unit)) return fail("--units: unknown unit '" + o.units + "' (expected mm, cm, m or um)");
+  if (!(o.scale > 0.0) || !std::isfinite(o.scale)) return fail("--scale must be a positive number");
+  const double mm_per_unit = millimetresPer(unit) * o.scale;
+
+  std::vector<std::pair<std::string, Material>> inputs;
+  if (!o.tooth.empty()) {
+    Material m{};
+    if (!parseMaterial(o.tooth_material, &m) || m == Material::Empty)
+      return fail("--tooth-material: unknown tissue '" + o.tooth_material + "'");
+    inputs.push_back({o.tooth, m});
+  }
+  for (auto [path, m] : {std::pair{&o.enamel, Material::Enamel}, {&o.dentin, Material::Dentin},
+                         {&o.caries, Material::Caries}, {&o.pulp, Material::Pulp}})
+    if (!path->empty()) inputs.push_back({*path, m});
+
+  std::vector<LoadedLayer> loaded;
+  Bounds3 bounds;
+  for (const auto& [path, m] : inputs) {
+    auto layer = loadLayer(path, m, mm_per_unit);
+    if (!layer) return fail(layer.message());
+    bounds.add(layer->mesh.bounds());
+    loaded.push_back(std::move(layer).value());
+  }
+  std::vector<MeshLayer> layers;
+  for (const LoadedLayer& l : loaded) layers.push_back({l.material, &l.mesh, l.path});
+
+  Result<VolumeFrame> frame = o.voxel_size > 0.0 ? fitGridToVoxelSize(bounds, o.voxel_size)
+                                                 : fitGridToLevel(bounds, o.level > 0 ? o.level : 9);
+  if (!frame) return fail(frame.message());
+  dentsim::VoxelizeOptions vo;
+  vo.subsamples = o.subsamples;
+  vo.hole_radius = o.hole_radius;
+  auto setup = makeRaySetup(layers, *frame, vo);
+  if (!setup) return fail(setup.message());
+
+  TerminalProgress progress;
+  std::optional<Result<BrickVolume>> voxels;
+  std::string engine = "CPU reference";
+  if (!o.cpu) {
+    gpu::ContextOptions co;
+    co.device_override = o.device;
+    auto ctx = gpu::Context::create(gpu::withEnvironment(co));
+    if (ctx) {
+      voxels.emplace(gpu::voxelizeGpu(*ctx, *setup, vo, nullptr, progress));
+      engine = "GPU (" + ctx->device().name + ")";
+    } else if (gpu::isNoDeviceError(ctx.error()) && o.device.empty()) {
+      std::fprintf(stderr, "dentsim: warning: %s; voxelizing on the CPU instead\n", ctx.message().c_str());
+    } else {
+      return fail(ctx.message());
+    }
+  }
+  if (!voxels) voxels.emplace(voxelizeCpu(*setup, vo, progress));
+  if (!*voxels) return fail(voxels->message());
+  ToothVolume tooth{*frame, std::move(*voxels).value()};
+  if (Status saved = saveTooth(o.output, tooth); !saved) return fail(saved.message());
+  printSummary(tooth, o.output);
+  std::printf("  voxelized on the %s, %d x %d rays per voxel\n", engine.c_str(), o.subsamples, o.subsamples);
+  for (const LoadedLayer& l : loaded)
+    std::printf("  layer %-7s %s: %zu triangles, mesh volume %.4f mm^3\n", materialName(l.material).c_str(),
+                l.path.c_str(), l.mesh.triangleCount(), l.volume_mm3);
+  return 0;
+}
+
 int runVoxelize(const VoxelizeOptions& o) {
+  const bool meshes = !(o.enamel.empty() && o.dentin.empty() && o.pulp.empty() && o.caries.empty() && o.tooth.empty());
+  if (meshes && !o.labels.empty()) return fail("give either STL layers or --labels, not both");
+  if (!meshes && o.labels.empty())
+    return fail("nothing to voxelize: give --enamel/--dentin/--pulp/--caries STL layers, --tooth, or --labels");
+  if (meshes) return runVoxelizeMeshes(o);
+  if (o.label_map.empty()) return fail("--labels needs --label-map");
   Result<LabelMap> map = parseLabelMap(o.label_map);
   if (!map) return fail("--label-map: " + map.message());
   LabelImportOptions import;
@@ -67,13 +186,30 @@ int runVoxelize(const VoxelizeOptions& o) {
 
 void addVoxelizeCommand(CLI::App& root, Action& action) {
   auto opts = std::make_shared<VoxelizeOptions>();
-  CLI::App* cmd = root.add_subcommand("voxelize", "Build a .dvol tooth from a segmented CT label volume");
-  cmd->add_option("--labels", opts->labels, "Label volume (.nii or .nii.gz)")->required();
-  cmd->add_option("--label-map", opts->label_map, "Label to tissue, e.g. 1=caries,2=enamel,3=dentin")->required();
+  CLI::App* cmd = root.add_subcommand("voxelize", "Build a .dvol tooth from STL tissue layers or a segmented CT label volume");
+  cmd->add_option("--enamel", opts->enamel, "Enamel surface (STL)");
+  cmd->add_option("--dentin", opts->dentin, "Dentin surface (STL)");
+  cmd->add_option("--pulp", opts->pulp, "Pulp surface (STL)");
+  cmd->add_option("--caries", opts->caries, "Caries lesion surface (STL)");
+  cmd->add_option("--tooth", opts->tooth, "A one-layer tooth (STL), filled with --tooth-material");
+  cmd->add_option("--tooth-material", opts->tooth_material, "Tissue of --tooth")->capture_default_str();
+  cmd->add_option("--units", opts->units, "Unit of the STL coordinates: mm, cm, m or um")->capture_default_str();
+  cmd->add_option("--scale", opts->scale, "Extra scale factor for the STL coordinates")->capture_default_str();
+  cmd->add_option("--subsamples", opts->subsamples, "Rays per voxel side for the fill fraction (1-4)")
+      ->check(CLI::Range(1, 4))
+      ->capture_default_str();
+  cmd->add_option("--hole-radius", opts->hole_radius, "How far a ray through a hole looks for a closed one [rays]")
+      ->check(CLI::Range(0, 64))
+      ->capture_default_str();
+  cmd->add_flag("--cpu", opts->cpu, "Voxelize STL layers with the CPU reference instead of the GPU");
+  cmd->add_option("--device", opts->device, "Vulkan device index or name substring (also DENTSIM_DEVICE)");
+  cmd->add_option("--labels", opts->labels, "Label volume (.nii or .nii.gz)");
+  cmd->add_option("--label-map", opts->label_map, "Label to tissue, e.g. 1=caries,2=enamel,3=dentin");
   cmd->add_option("--voxel-size", opts->voxel_size,
-                  "True voxel size of the label volume [mm], when its header is wrong")
+                  "STL: voxel edge of the output grid [mm]; labels: true voxel size of the label volume, when its "
+                  "header is wrong")
       ->check(CLI::PositiveNumber);
-  cmd->add_option("--level", opts->level, "Resample to fit the tooth into a 2^N grid")
+  cmd->add_option("--level", opts->level, "Fit the tooth into a 2^N grid (STL default 9)")
       ->check(CLI::Range(DS_MIN_LEVEL, DS_MAX_LEVEL));
   cmd->add_option("--fill-enclosed", opts->fill_enclosed,
                   "Tissue for empty space the tooth encloses (e.g. pulp)");

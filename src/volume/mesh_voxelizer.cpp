@@ -13,13 +13,9 @@ namespace dentsim {
 using namespace layout;
 
 int materialPriority(Material m) {
-  switch (m) {
-    case Material::Enamel: return 1;
-    case Material::Dentin: return 2;
-    case Material::Caries: return 3;
-    case Material::Pulp: return 4;
-    default: return 0;
-  }
+  for (int i = 0; i < 4; ++i)
+    if (((DS_VOX_PRIORITY_ORDER >> (4 * i)) & 15u) == uint32_t(m) && m != Material::Empty) return i + 1;
+  return 0;
 }
 
 namespace {
@@ -282,7 +278,7 @@ Result<BrickVolume> voxelizeCpu(const RaySetup& setup, const VoxelizeOptions& op
             }
           for (uint32_t z = 0; z < dim; ++z) {
             const uint32_t* c = &cov[size_t(z) * 4];
-            const Voxel v = Voxel(voxVoxelFromCoverage(c[0], c[1], c[2], c[3], full, materials));
+            const Voxel v = Voxel(voxVoxelFromCoverage(c[0], c[1], c[2], c[3], full, voxDither(vx, vy, z)));
             column_voxels[(size_t(z) * DS_BRICK_DIM + ly) * DS_BRICK_DIM + lx] = v;
             any = any || v != 0;
           }
