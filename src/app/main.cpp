@@ -26,6 +26,7 @@ int main(int argc, char** argv) {
   addInfoCommand(root, action);
   addExportCommand(root, action);
   addBenchCommand(root, action);
+  addMakeToothCommand(root, action);
   try {
     root.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,53 @@
+// The built-in molar and tools: the checked-in files under assets/, embedded into the library at build time.
+//
+// Entry points:
+//   loadBuiltinMolar()       the four molar layers parsed from the embedded STL files
+//   loadBuiltinTool(name)    one tool ("round_bur_010", see toolCatalog()) parsed likewise
+//   builtinAssetBytes(path)  raw embedded bytes by path under assets/ ("teeth/molar_enamel.stl")
+//   generateAssets()         what `dentsim make-tooth` writes: every asset file, freshly generated
+//
+// The embedded bytes are whatever assets/ held when the library was built; generateAssets()
+// reproduces them byte for byte (a test checks this). When assets/ is empty (bootstrapping),
+// the loaders return an error that says to run `dentsim make-tooth --out assets`.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/result.h"
+#include "core/triangle_mesh.h"
+#include "model/molar_generator.h"
+
+namespace dentsim {
+
+Result<MolarLayers> loadBuiltinMolar();
+Result<TriangleMesh> loadBuiltinTool(std::string_view name);
+
+// Empty when no such file was embedded.
+std::span<const uint8_t> builtinAssetBytes(std::string_view relative_path);
+// Paths of every embedded file, relative to assets/, sorted.
+std::vector<std::string> builtinAssetPaths();
+
+// One file under assets/.
+struct AssetFile {
+  std::string path;            // relative to assets/, '/'-separated
+  std::vector<uint8_t> bytes;  // the file's contents
+};
+
+struct GeneratedAssets {
+  MolarLayers molar;                // the layers as written
+  std::vector<TriangleMesh> tools;  // in toolCatalog() order
+  std::vector<AssetFile> files;     // teeth/molar_*.stl, tools/*.stl, tools/tools.json
+};
+
+// Runs the generators and encodes every asset file (binary STL, fixed headers). Deterministic.
+GeneratedAssets generateAssets(const MolarOptions& options = {});
+
+// File names of the molar layers under assets/.
+inline constexpr const char* kMolarLayerFiles[4] = {"teeth/molar_enamel.stl", "teeth/molar_dentin.stl",
+                                                    "teeth/molar_pulp.stl", "teeth/molar_caries.stl"};
+
+}  // namespace dentsim
