@@ -1,4 +1,5 @@
 // dentsim voxelize: builds a .dvol tooth from STL tissue layers (GPU depth peeling) or from a segmented CT label volume.
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -124,12 +125,14 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
   TerminalProgress progress;
   std::optional<Result<BrickVolume>> voxels;
   std::string engine = "CPU reference";
+  gpu::VoxelizeTiming timing;
+  const auto t0 = std::chrono::steady_clock::now();
   if (!o.cpu) {
     gpu::ContextOptions co;
     co.device_override = o.device;
     auto ctx = gpu::Context::create(gpu::withEnvironment(co));
     if (ctx) {
-      voxels.emplace(gpu::voxelizeGpu(*ctx, *setup, vo, nullptr, progress));
+      voxels.emplace(gpu::voxelizeGpu(*ctx, *setup, vo, &timing, progress));
       engine = "GPU (" + ctx->device().name + ")";
     } else if (gpu::isNoDeviceError(ctx.error()) && o.device.empty()) {
       std::fprintf(stderr, "dentsim: warning: %s; voxelizing on the CPU instead\n", ctx.message().c_str());
@@ -139,10 +142,18 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
   }
   if (!voxels) voxels.emplace(voxelizeCpu(*setup, vo, progress));
   if (!*voxels) return fail(voxels->message());
+  const double voxelize_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   ToothVolume tooth{*frame, std::move(*voxels).value()};
   if (Status saved = saveTooth(o.output, tooth); !saved) return fail(saved.message());
   printSummary(tooth, o.output);
-  std::printf("  voxelized on the %s, %d x %d rays per voxel\n", engine.c_str(), o.subsamples, o.subsamples);
+  std::printf("  voxelized on the %s, %d x %d rays per voxel, in %.0f ms", engine.c_str(), o.subsamples, o.subsamples,
+              voxelize_ms);
+  if (timing.bands > 0)
+    std::printf(" (voxelizer %.0f ms, kernels %.0f ms: count+scan %.0f, store+sort %.0f, paint %.0f, chunks %.0f; "
+                "%llu hits, %llu dense bricks, %u band%s)", timing.total_ms, timing.kernels_ms, timing.count_scan_ms,
+                timing.store_sort_ms, timing.paint_ms, timing.chunks_ms, static_cast<unsigned long long>(timing.hits),
+                static_cast<unsigned long long>(timing.dense_bricks), timing.bands, timing.bands == 1 ? "" : "s");
+  std::printf("\n");
   for (const LoadedLayer& l : loaded)
     std::printf("  layer %-7s %s: %zu triangles, mesh volume %.4f mm^3\n", materialName(l.material).c_str(),
                 l.path.c_str(), l.mesh.triangleCount(), l.volume_mm3);

@@ -34,7 +34,7 @@ struct Pipelines {
   std::optional<ComputePipeline> count, scatter, scan_reduce, scan_blocks, scan_apply, sort, donor, paint, chunks;
 };
 
-Result<Pipelines> makePipelines(Context& ctx) {
+Result<Pipelines> makePipelines(Context& ctx, uint32_t subsamples) {
   Pipelines p;
   const uint32_t n = DS_VOX_BINDING_COUNT;
   auto make = [&](std::optional<ComputePipeline>& slot, const char* name, const uint32_t* words, size_t count,
@@ -51,7 +51,7 @@ Result<Pipelines> makePipelines(Context& ctx) {
   if (s) s = make(p.scan_apply, "voxelize_scan_apply", voxelize_scan_comp_spv, voxelize_scan_comp_spv_words, {{0, 2}});
   if (s) s = make(p.sort, "voxelize_sort", voxelize_sort_comp_spv, voxelize_sort_comp_spv_words, {});
   if (s) s = make(p.donor, "voxelize_donor", voxelize_donor_comp_spv, voxelize_donor_comp_spv_words, {});
-  if (s) s = make(p.paint, "voxelize_paint", voxelize_paint_comp_spv, voxelize_paint_comp_spv_words, {});
+  if (s) s = make(p.paint, "voxelize_paint", voxelize_paint_comp_spv, voxelize_paint_comp_spv_words, {{1, subsamples}});
   if (s) s = make(p.chunks, "voxelize_chunks", voxelize_chunks_comp_spv, voxelize_chunks_comp_spv_words, {});
   if (!s) return s.error();
   return p;
@@ -115,7 +115,7 @@ Result<BrickVolume> voxelizeGpu(Context& ctx, const RaySetup& setup, const Voxel
   if (options.hole_radius < 0 || options.hole_radius > 64) return makeError(where, "hole radius must be 0..64");
   interrupter.start("voxelize (GPU)");
 
-  auto pipes = makePipelines(ctx);
+  auto pipes = makePipelines(ctx, uint32_t(setup.subsamples));
   if (!pipes) return makeError(where, pipes.message());
   const uint64_t max_binding = ctx.limits().max_storage_buffer_range;
 
@@ -163,13 +163,17 @@ Result<BrickVolume> voxelizeGpu(Context& ctx, const RaySetup& setup, const Voxel
   const bool timed = TimestampPool::supported(ctx, &stamp_note);
   std::optional<TimestampPool> stamps;
   if (timed) {
-    auto pool = TimestampPool::create(ctx, 3, "voxelize timestamps");
+    auto pool = TimestampPool::create(ctx, 4, "voxelize timestamps");
     if (!pool) return makeError(where, pool.message());
     stamps.emplace(std::move(pool).value());
   }
-  auto addKernelTime = [&](uint32_t pair) {
+  // Pairs: 0 count and scan, 1 store, sort and donors, 2 paint, 3 chunks.
+  auto addKernelTime = [&](uint32_t pair, double* part) {
     if (!stamps) return;
-    if (auto ns = stamps->elapsedNs(pair); ns) tm.kernels_ms += *ns * 1e-6;
+    if (auto ns = stamps->elapsedNs(pair); ns) {
+      tm.kernels_ms += *ns * 1e-6;
+      *part += *ns * 1e-6;
+    }
   };
 
   // Chunk rows per band; halved when a band does not fit.
@@ -256,7 +260,7 @@ Result<BrickVolume> voxelizeGpu(Context& ctx, const RaySetup& setup, const Voxel
       return Ok{};
     });
     if (!first) return makeError(where, first.message());
-    addKernelTime(0);
+    addKernelTime(0, &tm.count_scan_ms);
     const uint64_t band_hits = counter_words[2];
     if (band_hits * 4 > max_binding) {
       if (auto s = splitBand(std::to_string(band_hits) + " hits exceed one binding"); !s) return s.error();
@@ -271,7 +275,18 @@ Result<BrickVolume> voxelizeGpu(Context& ctx, const RaySetup& setup, const Voxel
     capacity = bricks.buffer->size() / (DS_BRICK_WORDS * 4);
 
     // Submission 2: store, sort, donors, paint, pack. Repeated with a larger pool on overflow.
-    const uint64_t columns = uint64_t(brick_dim) * p.brickRows;
+    // Paint visits only the brick columns under the footprint; every other entry stays the empty
+    // tile the block buffer is filled with.
+    VoxelizeParams paint = p;
+    const uint32_t span = DS_BRICK_DIM * S;
+    const uint32_t col0 = setup.ray_x0 / span, col1 = (setup.ray_x1 + span - 1) / span;
+    const uint32_t row0 = std::max(p.brickRow0, setup.ray_y0 / span);
+    const uint32_t row1 = std::min(p.brickRow0 + p.brickRows, (setup.ray_y1 + span - 1) / span);
+    paint.paintColumn0 = col0;
+    paint.paintColumns = std::max(1u, col1 - col0);
+    paint.brickRow0 = row0;
+    paint.brickRows = row1 > row0 && col1 > col0 ? row1 - row0 : 0;
+    const uint64_t columns = uint64_t(paint.paintColumns) * paint.brickRows;
     bool stored = false;
     uint64_t dense = 0, live_blocks = 0;
     for (int attempt = 0; attempt < 2; ++attempt) {
@@ -279,19 +294,35 @@ Result<BrickVolume> voxelizeGpu(Context& ctx, const RaySetup& setup, const Voxel
       std::fill_n(counter_words, 2, 0u);
       auto second = submitAndWait(ctx, "voxelize paint", [&](Commands& cmds) -> Status {
         auto b = bindings();
-        if (stamps) stamps->begin(cmds, 1 + uint32_t(attempt));
+        if (stamps) stamps->begin(cmds, 1);
         if (!stored && rays > 0) {
           if (auto s = runPass(cmds, *pipes->scatter, b, p, triangles, false); !s) return s;
           if (auto s = runPass(cmds, *pipes->sort, b, p, rays, false); !s) return s;
           if (auto s = runPass(cmds, *pipes->donor, b, p, rays, false); !s) return s;
         }
-        if (auto s = runPass(cmds, *pipes->paint, b, p, columns, true); !s) return s;
+        if (stamps) stamps->end(cmds, 1);
+        if (stamps) stamps->begin(cmds, 2);
+        vkCmdFillBuffer(cmds.cmd(), blocks.buffer->handle(), 0, block_bytes, DS_ENTRY_UNIFORM);
+        cmds.use(*blocks.buffer);
+        cmds.barrier();
+        paint.brickCapacity = p.brickCapacity;
+        paint.itemLimit = uint32_t(columns);
+        for (uint64_t g = 0; g < columns;) {
+          const uint32_t n = uint32_t(std::min<uint64_t>(columns - g, ctx.limits().max_group_count[0]));
+          paint.firstItem = uint32_t(g);
+          if (auto s = pipes->paint->dispatch(cmds, b, paint, n); !s) return s;
+          g += n;
+        }
+        if (stamps) stamps->end(cmds, 2);
+        if (stamps) stamps->begin(cmds, 3);
         if (auto s = runPass(cmds, *pipes->chunks, b, p, band_chunk_count, true); !s) return s;
-        if (stamps) stamps->end(cmds, 1 + uint32_t(attempt));
+        if (stamps) stamps->end(cmds, 3);
         return Ok{};
       });
       if (!second) return makeError(where, second.message());
-      addKernelTime(1 + uint32_t(attempt));
+      if (!stored) addKernelTime(1, &tm.store_sort_ms);
+      addKernelTime(2, &tm.paint_ms);
+      addKernelTime(3, &tm.chunks_ms);
       stored = true;
       dense = counter_words[0];
       live_blocks = counter_words[1];

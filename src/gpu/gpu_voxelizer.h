@@ -15,6 +15,10 @@ namespace dentsim::gpu {
 struct VoxelizeTiming {
   double total_ms = 0.0;      // host wall time of voxelizeGpu, uploads and read-back included
   double kernels_ms = 0.0;    // sum of kernel times from timestamp queries
+  double count_scan_ms = 0.0; // of which: counting hits and the prefix sum
+  double store_sort_ms = 0.0; //           storing, sorting and finding donors
+  double paint_ms = 0.0;      //           painting bricks
+  double chunks_ms = 0.0;     //           packing chunks
   double upload_ms = 0.0;     // triangles to the device
   double readback_ms = 0.0;   // bricks and index back to the CPU mirror
   uint32_t bands = 0;         // slabs of chunk rows the grid was processed in

@@ -65,8 +65,8 @@ struct VoxelizeParams {
   uint rayY0;          // offset 24
   uint rayX1;          // offset 28
   uint rayY1;          // offset 32
-  uint brickRow0;      // offset 36: first brick row (y) painted by this band
-  uint brickRows;      // offset 40: brick rows painted by this band
+  uint brickRow0;      // offset 36: first brick row (y) the paint pass visits
+  uint brickRows;      // offset 40: brick rows the paint pass visits
   uint brickCapacity;  // offset 44: dense bricks the pool holds
   uint holeRadius;     // offset 48: how far a leaky ray looks for a donor [rays]
   uint layerMaterials; // offset 52: material of layer l in bits 4l..4l+3
@@ -74,8 +74,8 @@ struct VoxelizeParams {
   uint scanCount;      // offset 60: counts to scan
   uint chunkRow0;      // offset 64: first chunk row of the band
   uint chunkRows;      // offset 68: chunk rows of the band
-  uint pad0;           // offset 72
-  uint pad1;           // offset 76
+  uint paintColumn0;   // offset 72: first brick column (x) the paint pass visits
+  uint paintColumns;   // offset 76: brick columns (x) the paint pass visits per brick row
 };
 
 // ---- hit keys -----------------------------------------------------------------------------------
