@@ -9,4 +9,10 @@ PeerMemory openvdbLabelTreeMemory(const BrickVolume&) {
   return p;
 }
 
+PeerVoxelize openvdbMeshToVolume(const TriangleMesh&, double, const Vec3d&, VdbInterior) {
+  PeerVoxelize p;
+  p.name = "OpenVDB (not installed at build time)";
+  return p;
+}
+
 }  // namespace dentsim::bench

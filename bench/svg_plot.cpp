@@ -30,26 +30,28 @@ std::string number(double v) {
 }  // namespace
 
 std::string svgLinePlot(const std::string& title, const std::string& x_label, const std::string& y_label,
-                        const std::vector<PlotSeries>& series, bool log_y) {
+                        const std::vector<PlotSeries>& series, bool log_y, bool log_x) {
   constexpr double kW = 640, kH = 400, kLeft = 80, kRight = 190, kTop = 40, kBottom = 60;
   const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"};
   std::set<double> xs;
   double ymin = HUGE_VAL, ymax = -HUGE_VAL;
+  auto shown = [&](double x, double y) { return (!log_y || y > 0) && (!log_x || x > 0); };
   for (const auto& s : series)
     for (auto [x, y] : s.points) {
-      if (log_y && y <= 0) continue;
+      if (!shown(x, y)) continue;
       xs.insert(x);
       ymin = std::min(ymin, y);
       ymax = std::max(ymax, y);
     }
-  if (xs.empty()) { xs.insert(0); ymin = 0; ymax = 1; }
+  if (xs.empty()) { xs.insert(1); ymin = 1; ymax = 10; }  // nothing to draw: any range valid on log axes too
   auto ty = [&](double y) { return log_y ? std::log10(y) : y; };
   double lo = ty(ymin), hi = ty(ymax);
   if (log_y) { lo = std::floor(lo); hi = std::ceil(hi); }
   if (hi - lo < 1e-12) { lo -= 1; hi += 1; }
   if (!log_y) lo = std::min(lo, 0.0);
-  const double xlo = *xs.begin(), xhi = *xs.rbegin() == xlo ? xlo + 1 : *xs.rbegin();
-  auto px = [&](double x) { return kLeft + (x - xlo) / (xhi - xlo) * (kW - kLeft - kRight); };
+  auto tx = [&](double x) { return log_x ? std::log10(x) : x; };
+  const double xlo = tx(*xs.begin()), xhi = tx(*xs.rbegin()) == xlo ? xlo + 1 : tx(*xs.rbegin());
+  auto px = [&](double x) { return kLeft + (tx(x) - xlo) / (xhi - xlo) * (kW - kLeft - kRight); };
   auto py = [&](double y) { return kH - kBottom - (ty(y) - lo) / (hi - lo) * (kH - kTop - kBottom); };
 
   std::ostringstream o;
@@ -74,16 +76,17 @@ std::string svgLinePlot(const std::string& title, const std::string& x_label, co
     << "</text>\n<text transform=\"translate(18," << (kTop + kH - kBottom) / 2
     << ") rotate(-90)\" text-anchor=\"middle\">" << escape(y_label) << "</text>\n";
   for (size_t i = 0; i < series.size(); ++i) {
-    const char* c = colours[i % 6];
-    o << "<polyline fill=\"none\" stroke=\"" << c << "\" stroke-width=\"2\" points=\"";
+    const char* c = colours[(series[i].colour >= 0 ? size_t(series[i].colour) : i) % 6];
+    const std::string dash = series[i].dash.empty() ? "" : " stroke-dasharray=\"" + series[i].dash + "\"";
+    o << "<polyline fill=\"none\" stroke=\"" << c << "\"" << dash << " stroke-width=\"2\" points=\"";
     for (auto [x, y] : series[i].points)
-      if (!log_y || y > 0) o << px(x) << "," << py(y) << " ";
+      if (shown(x, y)) o << px(x) << "," << py(y) << " ";
     o << "\"/>\n";
     for (auto [x, y] : series[i].points)
-      if (!log_y || y > 0) o << "<circle cx=\"" << px(x) << "\" cy=\"" << py(y) << "\" r=\"3\" fill=\"" << c << "\"/>\n";
+      if (shown(x, y)) o << "<circle cx=\"" << px(x) << "\" cy=\"" << py(y) << "\" r=\"3\" fill=\"" << c << "\"/>\n";
     const double ly = kTop + 10 + 20.0 * double(i);
     o << "<line x1=\"" << kW - kRight + 10 << "\" y1=\"" << ly << "\" x2=\"" << kW - kRight + 30 << "\" y2=\"" << ly
-      << "\" stroke=\"" << c << "\" stroke-width=\"2\"/>\n<text x=\"" << kW - kRight + 35 << "\" y=\"" << ly + 4 << "\">"
+      << "\" stroke=\"" << c << "\"" << dash << " stroke-width=\"2\"/>\n<text x=\"" << kW - kRight + 35 << "\" y=\"" << ly + 4 << "\">"
       << escape(series[i].name) << "</text>\n";
   }
   o << "</svg>\n";

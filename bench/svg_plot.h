@@ -10,10 +10,13 @@ namespace dentsim::bench {
 struct PlotSeries {
   std::string name;                               // legend text
   std::vector<std::pair<double, double>> points;  // (x, y), drawn in order
+  int colour = -1;                                // palette index (0..5); -1: the series' position
+  std::string dash{};                             // SVG stroke-dasharray ("6,4"); empty: solid
 };
 
-// An 640x400 SVG with axes, ticks at each distinct x, a legend, and a log10 y axis if log_y.
+// An 640x400 SVG with axes, ticks at each distinct x, a legend, and log10 axes where asked
+// (points at or below 0 on a log axis are left out).
 std::string svgLinePlot(const std::string& title, const std::string& x_label, const std::string& y_label,
-                        const std::vector<PlotSeries>& series, bool log_y);
+                        const std::vector<PlotSeries>& series, bool log_y, bool log_x = false);
 
 }  // namespace dentsim::bench
