@@ -5,6 +5,7 @@
 
 #include "gpu_fixture.h"
 #include "test_meshes.h"
+#include "voxelize_support.h"
 
 namespace dentsim::gpu::test {
 namespace {
@@ -28,17 +29,11 @@ class GpuVoxelizerTest : public GpuTest {
   // Voxelizes on both and expects identical voxels; returns the GPU volume.
   BrickVolume both(const std::vector<MeshLayer>& layers, int level, VoxelizeOptions options = {},
                    VolumeFrame* frame_out = nullptr, VoxelizeTiming* timing_out = nullptr) {
-    Bounds3 b;
-    for (const auto& l : layers) b.add(l.mesh->bounds());
-    auto frame = fitGridToLevel(b, level);
-    EXPECT_TRUE(frame.ok());
-    if (frame_out) *frame_out = *frame;
-    auto setup = makeRaySetup(layers, *frame, options);
-    EXPECT_TRUE(setup.ok());
-    auto cpu = voxelizeCpu(*setup, options);
+    const RaySetup setup = dentsim::test::raySetupFor(layers, level, options, frame_out);
+    auto cpu = voxelizeCpu(setup, options);
     EXPECT_TRUE(cpu.ok());
     VoxelizeTiming timing;
-    auto gpu = voxelizeGpu(ctx(), *setup, options, &timing);
+    auto gpu = voxelizeGpu(ctx(), setup, options, &timing);
     EXPECT_TRUE(gpu.ok()) << (gpu ? "" : gpu.message());
     if (!gpu || !cpu) return BrickVolume(level);
     EXPECT_EQ(firstDifference(*gpu, *cpu), "");

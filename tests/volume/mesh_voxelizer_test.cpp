@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "test_meshes.h"
+#include "voxelize_support.h"
 #include "volume/voxelize_layout.h"
 
 namespace dentsim {
@@ -17,14 +18,8 @@ using test::sphereVolume;
 // Voxelizes layers on a grid of `level` fitted to their union; returns the volume.
 BrickVolume voxelize(const std::vector<MeshLayer>& layers, int level, VolumeFrame* frame_out = nullptr,
                      VoxelizeOptions options = {}) {
-  Bounds3 b;
-  for (const auto& l : layers) b.add(l.mesh->bounds());
-  auto frame = fitGridToLevel(b, level);
-  EXPECT_TRUE(frame.ok());
-  if (frame_out) *frame_out = *frame;
-  auto setup = makeRaySetup(layers, *frame, options);
-  EXPECT_TRUE(setup.ok()) << (setup ? "" : setup.message());
-  auto v = voxelizeCpu(*setup, options);
+  const RaySetup setup = test::raySetupFor(layers, level, options, frame_out);
+  auto v = voxelizeCpu(setup, options);
   EXPECT_TRUE(v.ok());
   return std::move(v).value();
 }
