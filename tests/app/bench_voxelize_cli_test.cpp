@@ -13,31 +13,7 @@
 namespace dentsim {
 namespace {
 
-// Under the sanitizers lavapipe's JIT allocates memory that LeakSanitizer can neither attribute nor
-// suppress, which is why tests/CMakeLists.txt runs the GPU suite without leak checks. This run of the
-// binary drives the GPU, so it gets the same setting for as long as it lives; ASan's other checks
-// stay on. Later ASAN_OPTIONS entries override earlier ones.
-class NoLeakCheckForGpuChild {
- public:
-  NoLeakCheckForGpuChild() {
-    if (const char* old = std::getenv("ASAN_OPTIONS")) {
-      had_ = true;
-      old_ = old;
-    }
-    const std::string value = old_.empty() ? "detect_leaks=0" : old_ + ":detect_leaks=0";
-    ::setenv("ASAN_OPTIONS", value.c_str(), 1);
-  }
-  ~NoLeakCheckForGpuChild() {
-    if (had_) ::setenv("ASAN_OPTIONS", old_.c_str(), 1);
-    else ::unsetenv("ASAN_OPTIONS");
-  }
-  NoLeakCheckForGpuChild(const NoLeakCheckForGpuChild&) = delete;
-  NoLeakCheckForGpuChild& operator=(const NoLeakCheckForGpuChild&) = delete;
-
- private:
-  bool had_ = false;
-  std::string old_;
-};
+using test::NoLeakCheckForGpuChild;
 
 TEST(BenchVoxelizeCliTest, SmallRunWritesEveryRow) {
   test::TempDir dir;

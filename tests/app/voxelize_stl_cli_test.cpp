@@ -1,0 +1,100 @@
+// Tests of `dentsim voxelize` with STL layers: the GPU and the CPU reference agree, and bad files or flags fail in one line.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "io/stl_file.h"
+#include "test_meshes.h"
+#include "test_support.h"
+#include "volume/tooth_file.h"
+
+namespace dentsim {
+namespace {
+
+using test::NoLeakCheckForGpuChild;
+using test::runDentsim;
+using test::TempDir;
+
+void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
+  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+}
+
+// Two nested layers in cm, as a scanner might export them: a 1 cm cube of enamel around a
+// 0.5 cm sphere of pulp.
+class VoxelizeStlCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    writeBytes(dir_.file("outer.stl"), encodeStlBinary(test::box({0, 0, 0}, {1, 1, 1}), "outer"));
+    writeBytes(dir_.file("inner.stl"), encodeStlBinary(test::uvSphere({0.5, 0.5, 0.5}, 0.25, 48, 24), "inner"));
+  }
+  std::string layers() const {
+    return "--enamel " + dir_.file("outer.stl") + " --pulp " + dir_.file("inner.stl") + " --units cm --level 6";
+  }
+  TempDir dir_;
+};
+
+TEST_F(VoxelizeStlCli, GpuAndCpuWriteTheSameVoxels) {
+  const NoLeakCheckForGpuChild no_leak_check;
+  const auto gpu = runDentsim("voxelize " + layers() + " -o " + dir_.file("gpu.dvol"));
+  ASSERT_EQ(gpu.exit_code, 0) << gpu.output;
+  const auto cpu = runDentsim("voxelize " + layers() + " --cpu -o " + dir_.file("cpu.dvol"));
+  ASSERT_EQ(cpu.exit_code, 0) << cpu.output;
+  EXPECT_NE(cpu.output.find("CPU reference"), std::string::npos) << cpu.output;
+  auto a = loadTooth(dir_.file("gpu.dvol"));
+  auto b = loadTooth(dir_.file("cpu.dvol"));
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_TRUE(a->voxels == b->voxels);
+  // 10 mm cube minus a sphere of 2.5 mm radius, in mm^3: the units were applied.
+  const double vox = a->frame.voxel_mm;
+  const MaterialTotals t = a->voxels.materialTotals();
+  const double sphere = test::sphereVolume(2.5);
+  EXPECT_NEAR(t.volumeMm3(Material::Pulp, vox) / sphere, 1.0, 0.02);
+  EXPECT_NEAR(t.volumeMm3(Material::Enamel, vox) / (1000.0 - sphere), 1.0, 0.01);
+}
+
+TEST_F(VoxelizeStlCli, BadInputFailsInOneLineAndWritesNothing) {
+  const std::string out = dir_.file("never.dvol");
+  auto bytes = encodeStlBinary(test::box({0, 0, 0}, {1, 1, 1}), "cut");
+  bytes.resize(bytes.size() - 30);
+  writeBytes(dir_.file("cut.stl"), bytes);
+  struct Case {
+    std::string args, expect;
+  };
+  const Case cases[] = {
+      {"--tooth " + dir_.file("cut.stl") + " --cpu", "cut.stl"},
+      {"--tooth " + dir_.file("missing.stl") + " --cpu", "missing.stl"},
+      {"--tooth " + dir_.file("outer.stl") + " --units parsec --cpu", "--units"},
+      {layers() + " --labels x.nii.gz --cpu", "not both"},
+      {"--cpu", "nothing to voxelize"},
+      {layers() + " --scale -2 --cpu", "scale"},
+  };
+  for (const Case& c : cases) {
+    const auto r = runDentsim("voxelize " + c.args + " -o " + out);
+    EXPECT_EQ(r.exit_code, 1) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.expect), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_FALSE(std::filesystem::exists(out)) << c.args;
+  }
+}
+
+TEST_F(VoxelizeStlCli, OpenMeshAndOddUnitsAreVoxelizedWithWarnings) {
+  TriangleMesh open = test::uvSphere({0, 0, 0}, 5.0, 48, 24);
+  open.triangles.resize(open.triangles.size() - 48);  // the north polar fan
+  writeBytes(dir_.file("open.stl"), encodeStlBinary(open, "open"));
+  const auto r = runDentsim("voxelize --tooth " + dir_.file("open.stl") + " --level 6 --cpu -o " + dir_.file("open.dvol"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("48 open edges"), std::string::npos) << r.output;
+  auto t = loadTooth(dir_.file("open.dvol"));
+  ASSERT_TRUE(t.ok());
+  EXPECT_NEAR(t->voxels.materialTotals().volumeMm3(Material::Dentin, t->frame.voxel_mm) / test::sphereVolume(5.0), 1.0,
+              0.03);
+  // A 10 um tooth draws a units warning but is still voxelized.
+  const auto tiny = runDentsim("voxelize --tooth " + dir_.file("open.stl") + " --units um --level 5 --cpu -o " +
+                               dir_.file("tiny.dvol"));
+  EXPECT_EQ(tiny.exit_code, 0) << tiny.output;
+  EXPECT_NE(tiny.output.find("does not look like a tooth"), std::string::npos) << tiny.output;
+}
+
+}  // namespace
+}  // namespace dentsim
