@@ -27,6 +27,7 @@ int main(int argc, char** argv) {
   addExportCommand(root, action);
   addBenchCommand(root, action);
   addMakeToothCommand(root, action);
+  addMeshCommand(root, action);
   try {
     root.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
