@@ -21,6 +21,7 @@
 #include <new>
 
 #include "io/atomic_file.h"
+#include "io/parse_guard.h"
 
 namespace dentsim {
 namespace {
@@ -556,13 +557,7 @@ Result<PlyMesh> parseUnchecked(std::span<const uint8_t> bytes, const std::string
 }  // namespace
 
 Result<PlyMesh> parsePly(std::span<const uint8_t> bytes, const std::string& where, const PlyReadLimits& limits) {
-  try {
-    return parseUnchecked(bytes, where, limits);
-  } catch (const std::bad_alloc&) {
-    return makeError(where, "out of memory while reading the mesh (" + std::to_string(bytes.size()) + " bytes)");
-  } catch (const std::exception& e) {
-    return makeError(where, std::string("failed to read the mesh: ") + e.what());
-  }
+  return guardParse<PlyMesh>(where, bytes.size(), [&] { return parseUnchecked(bytes, where, limits); });
 }
 
 Result<PlyMesh> readPly(const std::string& path, const PlyReadLimits& limits) {

@@ -20,6 +20,7 @@
 #include <new>
 
 #include "io/atomic_file.h"
+#include "io/parse_guard.h"
 
 namespace dentsim {
 namespace {
@@ -408,13 +409,7 @@ Result<StlMesh> parseUnchecked(std::span<const uint8_t> bytes, const std::string
 }  // namespace
 
 Result<StlMesh> parseStl(std::span<const uint8_t> bytes, const std::string& where, const StlReadLimits& limits) {
-  try {
-    return parseUnchecked(bytes, where, limits);
-  } catch (const std::bad_alloc&) {
-    return makeError(where, "out of memory while reading the mesh (" + std::to_string(bytes.size()) + " bytes)");
-  } catch (const std::exception& e) {
-    return makeError(where, std::string("failed to read the mesh: ") + e.what());
-  }
+  return guardParse<StlMesh>(where, bytes.size(), [&] { return parseUnchecked(bytes, where, limits); });
 }
 
 Result<StlMesh> readStl(const std::string& path, const StlReadLimits& limits) {

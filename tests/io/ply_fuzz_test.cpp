@@ -13,6 +13,8 @@
 
 #include "io/ply_file.h"
 
+#include "fuzz_mutations.h"
+
 namespace dentsim {
 namespace {
 
@@ -65,7 +67,7 @@ void checkOutcome(const Result<PlyMesh>& r, int iteration, int* accepted, int* r
   }
 }
 
-size_t pick(std::mt19937& rng, size_t n) { return n == 0 ? 0 : size_t(rng() % n); }
+using test::pick;
 
 // Where the body starts, so that body mutations can aim past the header.
 size_t bodyStart(const std::vector<uint8_t>& bytes) {
@@ -77,41 +79,14 @@ size_t bodyStart(const std::vector<uint8_t>& bytes) {
 // One random byte-level change: flip a bit, write a boundary value, insert or delete a run, cut the
 // tail, or write a non-finite float or an extreme integer into the body.
 void mutateBytes(std::vector<uint8_t>& bytes, std::mt19937& rng) {
-  static const uint8_t kBoundary[] = {0x00, 0x01, 0x02, 0x03, 0x04, 0x0a, 0x0d, 0x20, 0x7f, 0x80, 0xff};
-  switch (rng() % 7) {
-    case 0:
-      if (!bytes.empty()) bytes[pick(rng, bytes.size())] ^= uint8_t(1u << (rng() % 8));
-      break;
-    case 1:
-      if (!bytes.empty()) bytes[pick(rng, bytes.size())] = kBoundary[rng() % std::size(kBoundary)];
-      break;
-    case 2: {
-      const size_t at = pick(rng, bytes.size() + 1);
-      std::vector<uint8_t> run(1 + pick(rng, 16));
-      for (uint8_t& b : run) b = uint8_t(rng());
-      bytes.insert(bytes.begin() + std::ptrdiff_t(at), run.begin(), run.end());
-      break;
-    }
-    case 3: {
-      if (bytes.empty()) break;
-      const size_t at = pick(rng, bytes.size());
-      const size_t n = std::min(bytes.size() - at, 1 + pick(rng, 30));
-      bytes.erase(bytes.begin() + std::ptrdiff_t(at), bytes.begin() + std::ptrdiff_t(at + n));
-      break;
-    }
-    case 4:
-      bytes.resize(pick(rng, bytes.size() + 1));
-      break;
-    default: {  // a 32-bit word in the body: NaN, infinities, huge, negative or out-of-range values
-      const size_t body = bodyStart(bytes);
-      if (bytes.size() < body + 4) break;
-      static const uint32_t kWords[] = {0x7fc00000u, 0x7f800000u, 0xff800000u, 0x7f7fffffu, 0xffffffffu,
-                                        0x80000000u, 6u, 5u, 0x00000001u};
-      const uint32_t w = kWords[rng() % std::size(kWords)];
-      std::memcpy(bytes.data() + body + pick(rng, bytes.size() - body - 3), &w, 4);
-      break;
-    }
-  }
+  if (test::mutateBytesGeneric(bytes, rng)) return;
+  // A 32-bit word in the body: NaN, infinities, huge, negative or out-of-range values.
+  const size_t body = bodyStart(bytes);
+  if (bytes.size() < body + 4) return;
+  static const uint32_t kWords[] = {0x7fc00000u, 0x7f800000u, 0xff800000u, 0x7f7fffffu, 0xffffffffu,
+                                    0x80000000u, 6u, 5u, 0x00000001u};
+  const uint32_t w = kWords[rng() % std::size(kWords)];
+  std::memcpy(bytes.data() + body + pick(rng, bytes.size() - body - 3), &w, 4);
 }
 
 // Splits text into lines, keeping each line's end, so that header lines can be swapped whole.
