@@ -3,17 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include "test_meshes.h"
+
 namespace dentsim::bench {
 namespace {
 
-// An axis-aligned box [lo, hi]^3 [mm] as 12 triangles, counter-clockwise seen from outside.
-TriangleMesh box(float lo, float hi) {
-  TriangleMesh m;
-  for (int i = 0; i < 8; ++i) m.positions.push_back({i & 1 ? hi : lo, i & 2 ? hi : lo, i & 4 ? hi : lo});
-  m.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                 {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-  return m;
-}
+// An axis-aligned cube [lo, hi]^3 [mm].
+TriangleMesh box(float lo, float hi) { return test::box({lo, lo, lo}, {hi, hi, hi}); }
 
 TEST(OpenvdbPeerTest, BlockOnVoxelFacesFillsExactly) {
   // Voxels of 0.1 mm from origin 0: centres at 0.05 + 0.1 i. The box [0.2, 0.8] holds the centres

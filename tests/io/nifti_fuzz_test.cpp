@@ -1,7 +1,6 @@
 // Bounded, deterministic mutation fuzzing of readNiftiLabels: hostile bytes never crash it, and every failure is one clear line.
 #include <gtest/gtest.h>
 
-#include <chrono>
 #include <fstream>
 #include <iterator>
 #include <random>
@@ -113,15 +112,11 @@ void fuzzSeed(const std::string& extension, uint32_t seed, int iterations) {
 }
 
 TEST(NiftiFuzzTest, MutatedUncompressedFiles) {
-  const auto start = std::chrono::steady_clock::now();
   fuzzSeed(".nii", 20240611u, 2500);
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 30.0);
 }
 
 TEST(NiftiFuzzTest, MutatedGzipFiles) {
-  const auto start = std::chrono::steady_clock::now();
   fuzzSeed(".nii.gz", 7u, 1500);
-  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 30.0);
 }
 
 }  // namespace

@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cctype>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <iterator>
@@ -179,32 +178,22 @@ void fuzz(Encode encode, bool ascii, uint32_t seed, int iterations) {
   EXPECT_GT(rejected, 0);
 }
 
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 TEST(PlyFuzzTest, MutatedBinaryFiles) {
-  const auto start = std::chrono::steady_clock::now();
   const Octahedron o;
   fuzz([&] { return encodePlyBinary(o.view(), "octahedron"); }, false, 20240611u, 3000);
-  EXPECT_LT(secondsSince(start), 10.0);
 }
 
 TEST(PlyFuzzTest, MutatedBinaryFilesWithoutOptionalProperties) {
-  const auto start = std::chrono::steady_clock::now();
   const Octahedron o;
   fuzz([&] { return encodePlyBinary(PlyView{o.positions, {}, {}, o.triangles}); }, false, 99u, 2000);
-  EXPECT_LT(secondsSince(start), 10.0);
 }
 
 TEST(PlyFuzzTest, MutatedAsciiFiles) {
-  const auto start = std::chrono::steady_clock::now();
   const Octahedron o;
   fuzz([&] {
     const std::string text = encodePlyAscii(o.view(), "octahedron");
     return std::vector<uint8_t>(text.begin(), text.end());
   }, true, 7u, 3000);
-  EXPECT_LT(secondsSince(start), 10.0);
 }
 
 }  // namespace

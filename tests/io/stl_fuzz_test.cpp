@@ -2,7 +2,6 @@
 #include <gtest/gtest.h>
 
 #include <cctype>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <iterator>
@@ -198,33 +197,21 @@ void fuzzAscii(uint32_t seed, int iterations, bool byte_edits) {
   EXPECT_GT(rejected, 0);
 }
 
-double secondsSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 TEST(StlFuzzTest, MutatedBinaryFiles) {
-  const auto start = std::chrono::steady_clock::now();
   fuzzBinary("dentsim fuzz seed", 20240611u, 2000);
-  EXPECT_LT(secondsSince(start), 10.0);
 }
 
 // A header that starts with "solid" sends every size mismatch down the ASCII path.
 TEST(StlFuzzTest, MutatedBinaryFilesWithSolidHeader) {
-  const auto start = std::chrono::steady_clock::now();
   fuzzBinary("solid octahedron", 99u, 1500);
-  EXPECT_LT(secondsSince(start), 10.0);
 }
 
 TEST(StlFuzzTest, MutatedAsciiTokens) {
-  const auto start = std::chrono::steady_clock::now();
   fuzzAscii(7u, 2500, false);
-  EXPECT_LT(secondsSince(start), 10.0);
 }
 
 TEST(StlFuzzTest, MutatedAsciiTokensAndBytes) {
-  const auto start = std::chrono::steady_clock::now();
   fuzzAscii(31337u, 1500, true);
-  EXPECT_LT(secondsSince(start), 10.0);
 }
 
 }  // namespace
