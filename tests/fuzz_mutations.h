@@ -1,7 +1,10 @@
-// Byte mutations shared by the parsers' bounded fuzz tests: flips, boundary bytes, inserted and cut runs, truncation.
+// Shared by the parsers' bounded fuzz tests: byte mutations (flips, boundary bytes, runs, truncation) and the rejection check.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <cstdint>
+#include <string>
 #include <iterator>
 #include <random>
 #include <vector>
@@ -41,6 +44,14 @@ inline bool mutateBytesGeneric(std::vector<uint8_t>& bytes, std::mt19937& rng) {
     default:
       return false;
   }
+}
+
+// A rejected file's error must be one non-empty line that starts with the source's name.
+inline void assertOneLineRejection(const std::string& message, const std::string& where, int iteration) {
+  ASSERT_EQ(message.rfind(where + ": ", 0), 0u) << message;
+  ASSERT_GT(message.size(), where.size() + 2) << "iteration " << iteration;
+  ASSERT_EQ(message.find('\n'), std::string::npos) << message;
+  ASSERT_EQ(message.find('\r'), std::string::npos) << message;
 }
 
 }  // namespace dentsim::test

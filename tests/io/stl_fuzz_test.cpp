@@ -47,10 +47,7 @@ void checkOutcome(const Result<StlMesh>& r, int iteration, int* accepted, int* r
       for (float v : p) ASSERT_TRUE(std::isfinite(v)) << "iteration " << iteration;
   } else {
     ++*rejected;
-    ASSERT_EQ(r.message().rfind(kWhere + ": ", 0), 0u) << r.message();
-    ASSERT_GT(r.message().size(), kWhere.size() + 2) << "iteration " << iteration;
-    ASSERT_EQ(r.message().find('\n'), std::string::npos) << r.message();
-    ASSERT_EQ(r.message().find('\r'), std::string::npos) << r.message();
+    test::assertOneLineRejection(r.message(), kWhere, iteration);
   }
 }
 
