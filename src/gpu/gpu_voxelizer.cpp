@@ -191,13 +191,11 @@ Result<BrickVolume> voxelizeGpu(Context& ctx, const RaySetup& setup, const Voxel
     VoxelizeParams p{};
     p.level = level;
     p.subsamples = S;
-    p.triangleCount = uint32_t(triangles);
     p.brickRow0 = cy * rows_per_chunk;
     p.brickRows = std::min(rows * rows_per_chunk, brick_dim - p.brickRow0);
     p.chunkRow0 = cy;
     p.chunkRows = rows;
     p.holeRadius = radius;
-    p.layerCount = uint32_t(setup.layer_material.size());
     p.layerMaterials = layerMaterialWord(setup);
     // The band's rays: its painted rows plus a halo of the hole radius, inside the footprint.
     const int64_t ray_row0 = int64_t(p.brickRow0) * DS_BRICK_DIM * S - radius;

@@ -58,7 +58,7 @@ using std::floor;
 struct VoxelizeParams {
   uint level;          // offset  0: grid 2^level voxels per side
   uint subsamples;     // offset  4: S, rays per voxel side
-  uint triangleCount;  // offset  8: triangles in the corner buffer
+  uint pad0;           // offset  8
   uint firstItem;      // offset 12: first triangle, ray or workgroup of this dispatch
   uint itemLimit;      // offset 16: one past the last item of the whole pass
   uint rayX0;          // offset 20: ray rectangle of this band, half-open, in grid rays
@@ -70,7 +70,7 @@ struct VoxelizeParams {
   uint brickCapacity;  // offset 44: dense bricks the pool holds
   uint holeRadius;     // offset 48: how far a leaky ray looks for a donor [rays]
   uint layerMaterials; // offset 52: material of layer l in bits 4l..4l+3
-  uint layerCount;     // offset 56
+  uint pad1;           // offset 56
   uint scanCount;      // offset 60: counts to scan
   uint chunkRow0;      // offset 64: first chunk row of the band
   uint chunkRows;      // offset 68: chunk rows of the band
