@@ -30,7 +30,7 @@ Result<Buffer> Buffer::create(Context& ctx, uint64_t size, MemoryKind kind, Buff
   const std::string where = "gpu: buffer '" + name + "'";
   if (size == 0) return makeError(where, "size 0 (Vulkan buffers hold at least one byte)");
   const DeviceLimits& lim = core.limits;
-  if (use == BufferUse::Storage && size > lim.max_storage_buffer_range)
+  if ((use == BufferUse::Storage || use == BufferUse::Geometry) && size > lim.max_storage_buffer_range)
     return makeError(where, formatBytes(size) + " is over this device's maxStorageBufferRange of " +
                                 formatBytes(lim.max_storage_buffer_range) + " for one storage binding");
   if (lim.max_memory_allocation_size && size > lim.max_memory_allocation_size)
@@ -48,6 +48,9 @@ Result<Buffer> Buffer::create(Context& ctx, uint64_t size, MemoryKind kind, Buff
   bci.size = size;
   bci.usage = VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
   if (use == BufferUse::Storage) bci.usage |= VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+  if (use == BufferUse::Geometry)
+    bci.usage |= VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_VERTEX_BUFFER_BIT |
+                 VK_BUFFER_USAGE_INDEX_BUFFER_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
   bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   DS_VK_TRY(vkCreateBuffer(core.device, &bci, nullptr, &b.buffer_), "vkCreateBuffer for " + b.name_);
 

@@ -23,6 +23,7 @@ enum class MemoryKind {
 enum class BufferUse {
   Storage,   // shader storage buffer (also a copy source and target)
   Transfer,  // staging only
+  Geometry,  // storage written by compute and read by draws: also vertex, index and indirect buffer
 };
 
 class Buffer {

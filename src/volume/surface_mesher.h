@@ -9,12 +9,14 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/interrupter.h"
 #include "core/result.h"
 #include "core/triangle_mesh.h"
 #include "volume/brick_volume.h"
+#include "volume/surface_layout.h"
 
 namespace dentsim {
 
@@ -23,6 +25,8 @@ struct SurfaceMesh {
   std::vector<Vec3f> positions;                   // [mm]
   std::vector<Vec3f> normals;                     // unit, pointing out of the solid
   std::vector<Material> tissue;                   // tissue at the surface, per vertex
+  std::vector<Material> across;                   // material on the outer side, per vertex: empty on
+                                                  // the outer surface, a tissue at an interface
   std::vector<std::array<uint32_t, 3>> triangles; // counter-clockwise seen from outside
 
   size_t triangleCount() const { return triangles.size(); }
@@ -40,5 +44,51 @@ struct SurfaceOptions {
 // Meshes the whole volume. Errors: an unsupported normal mode, cancellation.
 Result<SurfaceMesh> meshVolumeCpu(const ToothVolume& tooth, const SurfaceOptions& options,
                                   Interrupter& interrupter = nullInterrupter());
+
+// ---- per-block meshing (the GPU kernels' reference; layout in surface_layout.h) -------------------
+
+// A cell block's coordinate, each in [0, brickDim()].
+struct MeshBlock {
+  uint32_t x = 0, y = 0, z = 0;
+  uint32_t packed() const { return layout::meshBlockPack(x, y, z); }
+  static MeshBlock unpack(uint32_t b) { return {layout::meshBlockX(b), layout::meshBlockY(b), layout::meshBlockZ(b)}; }
+  friend bool operator==(const MeshBlock&, const MeshBlock&) = default;
+};
+
+// One block's part of the surface, as the GPU writes it into the block's slot.
+struct BlockMesh {
+  MeshBlock block;
+  std::vector<layout::MeshVertex> vertices;  // in local edge order
+  std::vector<uint32_t> indices;             // 3 per triangle, local to `vertices`
+};
+
+// Box side of a normal mode (8 -> 2, 64 -> 4, 216 -> 6); 0 for an unsupported mode.
+uint32_t normalBoxSide(int normal_neighbours);
+
+// Blocks that can hold surface: the bricks their corners read are not all inside or all outside.
+// Ordered by packed coordinate (z, then y, then x).
+std::vector<MeshBlock> activeMeshBlocks(const BrickVolume& volume, Material tissue);
+// Blocks whose cells or normals read a voxel of any of `bricks` (the 3^3 blocks around each),
+// sorted and unique.
+std::vector<MeshBlock> blocksReadingBricks(const BrickVolume& volume, std::span<const BrickCoord> bricks);
+// True when `block` can hold surface (the test activeMeshBlocks applies).
+bool meshBlockActive(const BrickVolume& volume, Material tissue, MeshBlock block);
+// The same test for many blocks at once, reading each brick once: active[i] for candidates[i].
+std::vector<bool> meshBlocksActive(const BrickVolume& volume, Material tissue, std::span<const MeshBlock> candidates);
+
+// Meshes one block exactly as the GPU does: same vertices in the same order, same triangles. The
+// positions agree with the GPU's up to the rounding of one division, the normals to their packing.
+BlockMesh meshBlockCpu(const BrickVolume& volume, MeshBlock block, Material tissue, uint32_t side);
+
+// The case table as the GPU reads it: DS_MESH_CASE_WORDS words per corner configuration.
+std::vector<uint32_t> packedMeshCaseTable();
+
+// The octahedral normal of MeshVertex.packed, unit length.
+Vec3f unpackMeshNormal(uint32_t packed);
+uint32_t packMeshNormal(Vec3f unit_normal);
+
+// Joins blocks into one mesh in millimetres, welding the copies of a vertex that neighbouring blocks
+// share (same position bits). Tissue per vertex from the packed word.
+SurfaceMesh weldBlockMeshes(std::span<const BlockMesh> blocks, const VolumeFrame& frame);
 
 }  // namespace dentsim

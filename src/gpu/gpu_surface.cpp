@@ -1,0 +1,492 @@
+// GpuSurface: the brick-volume mirror, the count and emit passes of surface_mesh.comp.glsl, and the slot pages.
+//
+// Contents
+//   1. Pipelines, the volume mirror and the slot pages
+//   2. One meshing round: count, read back, allocate slots, emit, draw records
+//   3. build, update, read-back
+#include "gpu/gpu_surface.h"
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cstring>
+#include <optional>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "core/buddy_allocator.h"
+#include "dentsim_compute_spirv_spirv.h"
+#include "gpu/compute.h"
+
+namespace dentsim::gpu {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using layout::MeshJob;
+using layout::MeshParams;
+
+double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+constexpr uint64_t kSlotUnit = 256;  // [B]; a multiple of the 16 B vertex, so vertexOffset is whole
+
+// A storage buffer that grows (never shrinks), keeping nothing: the caller refills it.
+struct Scratch {
+  std::optional<Buffer> buffer;
+  MemoryKind kind;
+  BufferUse use;
+  std::string name;
+
+  Status ensure(Context& ctx, uint64_t bytes) {
+    bytes = std::max<uint64_t>(bytes, 16);
+    if (buffer && buffer->size() >= bytes) return Ok{};
+    buffer.reset();
+    auto b = Buffer::create(ctx, std::bit_ceil(bytes), kind, use, name);
+    if (!b) return b.error();
+    buffer.emplace(std::move(b).value());
+    return Ok{};
+  }
+};
+
+// One page of slots: a pool buffer, its buddy allocator and its draw records.
+struct Page {
+  std::optional<Buffer> pool;
+  std::optional<BuddyAllocator> slots;
+  Scratch draws{{}, MemoryKind::HostVisible, BufferUse::Geometry, "surface draws"};
+  std::vector<SurfaceDraw> records;
+  std::vector<uint32_t> free_records;
+};
+
+// Where one block's triangles live.
+struct Slot {
+  uint32_t page = 0;
+  uint64_t offset = 0;     // [B] in the page's pool
+  uint32_t vertices = 0;
+  uint32_t triangles = 0;
+  uint32_t record = 0;     // draw record in the page
+};
+
+uint64_t slotBytesFor(uint32_t vertices, uint32_t triangles) {
+  return uint64_t(vertices) * sizeof(layout::MeshVertex) + uint64_t(triangles) * 3u * sizeof(uint32_t);
+}
+
+}  // namespace
+
+// ==== 1. state ====================================================================================
+struct GpuSurface::State {
+  Context* ctx = nullptr;
+  GpuSurfaceOptions options;
+  uint32_t side = 0;
+  std::optional<ComputePipeline> count, emit;
+  std::optional<Buffer> cases;
+  // The volume mirror: the three word arrays, with room to grow before a full re-upload.
+  Scratch chunks{{}, MemoryKind::DeviceLocal, BufferUse::Storage, "surface mirror chunks"};
+  Scratch blocks{{}, MemoryKind::DeviceLocal, BufferUse::Storage, "surface mirror blocks"};
+  Scratch bricks{{}, MemoryKind::DeviceLocal, BufferUse::Storage, "surface mirror bricks"};
+  Scratch staging{{}, MemoryKind::HostVisible, BufferUse::Transfer, "surface mirror staging"};
+  Scratch jobs{{}, MemoryKind::HostVisible, BufferUse::Storage, "surface jobs"};
+  Scratch counts{{}, MemoryKind::HostVisible, BufferUse::Storage, "surface counts"};
+  std::optional<TimestampPool> stamps;
+  std::vector<Page> pages;
+  std::unordered_map<uint32_t, Slot> slots;  // packed block -> slot
+  int level = -1;
+  uint64_t page_limit = 0;  // largest page [B], a power of two
+
+  Status uploadMirror(const BrickVolume& vol);
+  Status syncMirror(const BrickVolume& vol, std::span<const BrickCoord> dirty);
+  Status meshBlocks(const BrickVolume& vol, const std::vector<MeshBlock>& todo, SurfaceUpdateStats& stats);
+  Result<Slot> allocateSlot(uint32_t vertices, uint32_t triangles, bool& grew);
+  void freeSlot(uint32_t block);
+  Status growPage(Page& page);
+  Status writeDraws();
+  void fillStats(SurfaceUpdateStats& stats) const;
+};
+
+// ---- the volume mirror ----------------------------------------------------------------------------
+
+Status GpuSurface::State::uploadMirror(const BrickVolume& vol) {
+  // Headroom, so that the bricks a drill opens do not force a full upload every frame.
+  const auto room = [](size_t words) { return uint64_t(words + words / 4 + 1024) * 4u; };
+  Status s = chunks.ensure(*ctx, room(vol.chunkWords().size()));
+  if (s) s = blocks.ensure(*ctx, room(vol.blockWords().size()));
+  if (s) s = bricks.ensure(*ctx, room(vol.brickWords().size()));
+  if (!s) return s;
+  for (auto [buf, words] : {std::pair{&chunks, vol.chunkWords()}, {&blocks, vol.blockWords()}, {&bricks, vol.brickWords()}}) {
+    if (words.empty()) continue;
+    if (auto u = buf->buffer->upload(*ctx, std::as_bytes(words)); !u) return u;
+  }
+  level = vol.level();
+  return Ok{};
+}
+
+Status GpuSurface::State::syncMirror(const BrickVolume& vol, std::span<const BrickCoord> dirty) {
+  const auto fits = [](const Scratch& b, size_t words) { return b.buffer && b.buffer->size() >= words * 4u; };
+  if (!fits(chunks, vol.chunkWords().size()) || !fits(blocks, vol.blockWords().size()) ||
+      !fits(bricks, vol.brickWords().size()))
+    return uploadMirror(vol);
+
+  // The chunk table is small (16^3 words at level 10): send it whole. Then, per dirty brick, its
+  // index block and its dense brick; storage indices may have moved, which the entries carry.
+  struct Region {
+    Scratch* target;
+    uint64_t word;
+    uint64_t words;
+    const uint32_t* src;
+  };
+  std::vector<Region> regions;
+  regions.push_back({&chunks, 0, vol.chunkWords().size(), vol.chunkWords().data()});
+  std::unordered_set<uint32_t> seen_blocks, seen_bricks;
+  const uint32_t cd = vol.chunkDim();
+  for (const BrickCoord& c : dirty) {
+    const uint32_t chunk = vol.chunkWords()[layout::chunkCoordToIndex(c.x >> DS_CHUNK_LOG2, c.y >> DS_CHUNK_LOG2,
+                                                                       c.z >> DS_CHUNK_LOG2, cd)];
+    if (chunk & DS_ENTRY_UNIFORM) continue;
+    const uint32_t block = chunk & DS_ENTRY_INDEX_MASK;
+    if (seen_blocks.insert(block).second)
+      regions.push_back({&blocks, uint64_t(block) * DS_CHUNK_BRICKS, DS_CHUNK_BRICKS,
+                         vol.blockWords().data() + size_t(block) * DS_CHUNK_BRICKS});
+    const uint32_t entry = vol.blockWords()[size_t(block) * DS_CHUNK_BRICKS +
+                                            layout::brickCoordToOffset(c.x & (DS_CHUNK_DIM - 1), c.y & (DS_CHUNK_DIM - 1),
+                                                                       c.z & (DS_CHUNK_DIM - 1))];
+    if (entry & DS_ENTRY_UNIFORM) continue;
+    const uint32_t brick = entry & DS_ENTRY_INDEX_MASK;
+    if (seen_bricks.insert(brick).second)
+      regions.push_back({&bricks, uint64_t(brick) * DS_BRICK_WORDS, DS_BRICK_WORDS,
+                         vol.brickWords().data() + size_t(brick) * DS_BRICK_WORDS});
+  }
+  uint64_t total = 0;
+  for (const Region& r : regions) total += r.words * 4u;
+  if (auto s = staging.ensure(*ctx, total); !s) return s;
+  auto* dst = static_cast<uint8_t*>(staging.buffer->mapped());
+  uint64_t at = 0;
+  std::vector<std::pair<Scratch*, VkBufferCopy>> copies;
+  for (const Region& r : regions) {
+    std::memcpy(dst + at, r.src, r.words * 4u);
+    copies.push_back({r.target, VkBufferCopy{at, r.word * 4u, r.words * 4u}});
+    at += r.words * 4u;
+  }
+  return submitAndWait(*ctx, "surface mirror sync", [&](Commands& cmds) -> Status {
+    cmds.use(*staging.buffer);
+    for (Scratch* t : {&chunks, &blocks, &bricks}) cmds.use(*t->buffer);
+    for (const auto& [target, copy] : copies)
+      vkCmdCopyBuffer(cmds.cmd(), staging.buffer->handle(), target->buffer->handle(), 1, &copy);
+    cmds.barrier();
+    return Ok{};
+  });
+}
+
+// ---- slot pages -----------------------------------------------------------------------------------
+
+Status GpuSurface::State::growPage(Page& page) {
+  const uint64_t old_bytes = page.slots->capacity();
+  auto bigger = Buffer::create(*ctx, old_bytes * 2, MemoryKind::DeviceLocal, BufferUse::Geometry, "surface pool");
+  if (!bigger) return bigger.error();
+  Status s = submitAndWait(*ctx, "surface pool growth", [&](Commands& cmds) -> Status {
+    cmds.use(*page.pool);
+    cmds.use(*bigger);
+    const VkBufferCopy copy{0, 0, old_bytes};
+    vkCmdCopyBuffer(cmds.cmd(), page.pool->handle(), bigger->handle(), 1, &copy);
+    cmds.barrier();
+    return Ok{};
+  });
+  if (!s) return s;
+  page.pool.emplace(std::move(bigger).value());
+  page.slots->grow();
+  return Ok{};
+}
+
+Result<Slot> GpuSurface::State::allocateSlot(uint32_t vertices, uint32_t triangles, bool& grew) {
+  const uint64_t bytes = slotBytesFor(vertices, triangles);
+  if (bytes > page_limit)
+    return makeError("gpu surface", "a block needs " + formatBytes(bytes) + ", over one page");
+  for (uint32_t p = 0;; ++p) {
+    if (p == pages.size()) {
+      Page page;
+      const uint64_t first = std::min(page_limit, std::bit_ceil(std::max(options.initial_pool_bytes, kSlotUnit)));
+      auto pool = Buffer::create(*ctx, first, MemoryKind::DeviceLocal, BufferUse::Geometry, "surface pool");
+      if (!pool) return pool.error();
+      page.pool.emplace(std::move(pool).value());
+      page.slots.emplace(kSlotUnit, first);
+      pages.push_back(std::move(page));
+    }
+    Page& page = pages[p];
+    std::optional<uint64_t> at = page.slots->allocate(bytes);
+    // Grow the last page before opening another, up to one binding's worth.
+    while (!at && p + 1 == pages.size() && page.slots->capacity() < page_limit) {
+      if (auto s = growPage(page); !s) return s.error();
+      grew = true;
+      at = page.slots->allocate(bytes);
+    }
+    if (!at) continue;
+    Slot slot;
+    slot.page = p;
+    slot.offset = *at;
+    slot.vertices = vertices;
+    slot.triangles = triangles;
+    if (!page.free_records.empty()) {
+      slot.record = page.free_records.back();
+      page.free_records.pop_back();
+    } else {
+      slot.record = uint32_t(page.records.size());
+      page.records.push_back({});
+    }
+    return slot;
+  }
+}
+
+void GpuSurface::State::freeSlot(uint32_t block) {
+  auto it = slots.find(block);
+  if (it == slots.end()) return;
+  Page& page = pages[it->second.page];
+  page.slots->release(it->second.offset);
+  page.records[it->second.record] = SurfaceDraw{0, 0, 0, 0, 0};
+  page.free_records.push_back(it->second.record);
+  slots.erase(it);
+}
+
+// Draw records are small and host-visible: rewritten whole after each round (freed ones are zero).
+Status GpuSurface::State::writeDraws() {
+  for (Page& page : pages) {
+    if (auto r = page.draws.ensure(*ctx, page.records.size() * sizeof(SurfaceDraw)); !r) return r;
+    if (!page.records.empty())
+      std::memcpy(page.draws.buffer->mapped(), page.records.data(), page.records.size() * sizeof(SurfaceDraw));
+  }
+  return Ok{};
+}
+
+void GpuSurface::State::fillStats(SurfaceUpdateStats& stats) const {
+  stats.blocks_live = uint32_t(slots.size());
+  stats.triangles = stats.vertices = stats.pool_bytes = stats.slot_bytes = stats.used_bytes = 0;
+  for (const auto& [block, slot] : slots) {
+    stats.triangles += slot.triangles;
+    stats.vertices += slot.vertices;
+    stats.used_bytes += slotBytesFor(slot.vertices, slot.triangles);
+    stats.slot_bytes += pages[slot.page].slots->slotBytesAt(slot.offset);
+  }
+  for (const Page& p : pages) stats.pool_bytes += p.slots->capacity();
+}
+
+// ==== 2. one meshing round =======================================================================
+Status GpuSurface::State::meshBlocks(const BrickVolume& vol, const std::vector<MeshBlock>& todo,
+                                     SurfaceUpdateStats& stats) {
+  stats.blocks_meshed = uint32_t(todo.size());
+  if (todo.empty()) return Ok{};
+  const uint32_t n = uint32_t(todo.size());
+  Status s = jobs.ensure(*ctx, uint64_t(n) * sizeof(MeshJob));
+  if (s) s = counts.ensure(*ctx, uint64_t(n) * 8u);
+  if (!s) return s;
+  auto* job_words = static_cast<MeshJob*>(jobs.buffer->mapped());
+  for (uint32_t i = 0; i < n; ++i) job_words[i] = MeshJob{todo[i].packed(), 0, 0, 0};
+
+  MeshParams params{};
+  params.grid = vol.gridInfo();
+  params.jobCount = n;
+  params.tissue = uint32_t(options.tissue);
+  params.side = side;
+  const uint32_t max_groups = options.max_groups_per_dispatch ? options.max_groups_per_dispatch
+                                                              : ctx->limits().max_group_count[0];
+  std::array<Buffer*, DS_MESH_BINDING_COUNT> bindings{};
+
+  // Dispatches `jobs_now` jobs (the first ones in the jobs buffer), split by the group-count limit.
+  const auto run = [&](ComputePipeline& pipe, Buffer& surface, uint32_t jobs_now, uint32_t pair, const char* what,
+                       double& kernel_ms) -> Status {
+    bindings = {&*chunks.buffer, &*blocks.buffer, &*bricks.buffer, &*jobs.buffer, &*counts.buffer, &surface, &*cases};
+    params.jobCount = jobs_now;
+    Status r = submitAndWait(*ctx, what, [&](Commands& cmds) -> Status {
+      if (stamps) stamps->begin(cmds, pair);
+      for (uint32_t first = 0; first < jobs_now; first += max_groups) {
+        params.firstJob = first;
+        const uint32_t groups = std::min(max_groups, jobs_now - first);
+        if (auto d = pipe.dispatch(cmds, std::span<Buffer* const>(bindings), params, groups); !d) return d;
+      }
+      if (stamps) stamps->end(cmds, pair);
+      return Ok{};
+    });
+    if (r && stamps) {
+      if (auto ns = stamps->elapsedNs(pair)) kernel_ms += *ns * 1e-6;
+    }
+    return r;
+  };
+
+  // Count: the pool is not written; any page's pool (or the counts buffer) fills the binding.
+  auto t0 = Clock::now();
+  Buffer& dummy_surface = pages.empty() ? *counts.buffer : *pages[0].pool;
+  if (auto r = run(*count, dummy_surface, n, 0, "surface count", stats.count_kernel_ms); !r) return r;
+  stats.count_ms = msSince(t0);
+
+  // Allocate: a block keeps its slot while it fits and is not four times too large.
+  t0 = Clock::now();
+  const auto* cnt = static_cast<const uint32_t*>(counts.buffer->mapped());
+  std::vector<std::vector<uint32_t>> per_page;  // job indices by page
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t block = todo[i].packed();
+    const uint32_t v = cnt[2 * i], t = cnt[2 * i + 1];
+    if (t == 0) {
+      freeSlot(block);
+      continue;
+    }
+    auto it = slots.find(block);
+    const uint64_t need = slotBytesFor(v, t);
+    if (it != slots.end()) {
+      const uint64_t have = pages[it->second.page].slots->slotBytesAt(it->second.offset);
+      if (have < need || have > 4 * std::max(need, kSlotUnit)) {
+        freeSlot(block);
+        it = slots.end();
+      }
+    }
+    if (it == slots.end()) {
+      auto slot = allocateSlot(v, t, stats.pool_grew);
+      if (!slot) return slot.error();
+      it = slots.emplace(block, *slot).first;
+    }
+    Slot& slot = it->second;
+    slot.vertices = v;
+    slot.triangles = t;
+    const uint64_t index_byte = slot.offset + uint64_t(v) * sizeof(layout::MeshVertex);
+    job_words[i] = MeshJob{block, uint32_t(slot.offset / 4u), v, uint32_t(index_byte / 4u)};
+    pages[slot.page].records[slot.record] =
+        SurfaceDraw{3u * t, 1u, uint32_t(index_byte / 4u), int32_t(slot.offset / sizeof(layout::MeshVertex)), block};
+    if (per_page.size() <= slot.page) per_page.resize(slot.page + 1);
+    per_page[slot.page].push_back(i);
+  }
+
+  // Emit, one page at a time (each page is its own binding), listing only that page's jobs.
+  std::vector<MeshJob> all(job_words, job_words + n);
+  for (uint32_t p = 0; p < per_page.size(); ++p) {
+    if (per_page[p].empty()) continue;
+    const uint32_t m = uint32_t(per_page[p].size());
+    for (uint32_t k = 0; k < m; ++k) job_words[k] = all[per_page[p][k]];
+    if (auto e = run(*emit, *pages[p].pool, m, 1, "surface emit", stats.emit_kernel_ms); !e) return e;
+  }
+  stats.emit_ms = msSince(t0);
+  return Ok{};
+}
+
+// ==== 3. build, update, read-back ================================================================
+Result<GpuSurface> GpuSurface::create(Context& ctx, const GpuSurfaceOptions& options) {
+  auto state = std::make_unique<State>();
+  state->ctx = &ctx;
+  state->options = options;
+  state->side = normalBoxSide(options.normal_neighbours);
+  if (state->side == 0)
+    return makeError("gpu surface", "normal_neighbours must be 8, 64 or 216, not " + std::to_string(options.normal_neighbours));
+  const DeviceLimits& lim = ctx.limits();
+  uint64_t limit = lim.max_storage_buffer_range;
+  if (lim.max_memory_allocation_size) limit = std::min(limit, lim.max_memory_allocation_size);
+  if (options.max_page_bytes) limit = std::min(limit, std::max(options.max_page_bytes, kSlotUnit));
+  state->page_limit = std::bit_floor(limit);
+
+  const std::span<const uint32_t> spirv{surface_mesh_comp_spv, surface_mesh_comp_spv_words};
+  auto count = ComputePipeline::create(ctx, PipelineDesc{"surface_count", spirv, DS_MESH_BINDING_COUNT, {{0, 0}}});
+  if (!count) return count.error();
+  state->count.emplace(std::move(count).value());
+  auto emit = ComputePipeline::create(ctx, PipelineDesc{"surface_emit", spirv, DS_MESH_BINDING_COUNT, {{0, 1}}});
+  if (!emit) return emit.error();
+  state->emit.emplace(std::move(emit).value());
+
+  const std::vector<uint32_t> table = packedMeshCaseTable();
+  auto cases = Buffer::create(ctx, table.size() * 4u, MemoryKind::DeviceLocal, BufferUse::Storage, "surface case table");
+  if (!cases) return cases.error();
+  if (auto s = cases->upload(ctx, std::as_bytes(std::span<const uint32_t>(table))); !s) return s.error();
+  state->cases.emplace(std::move(cases).value());
+  if (TimestampPool::supported(ctx)) {
+    auto stamps = TimestampPool::create(ctx, 2, "surface timestamps");
+    if (stamps) state->stamps.emplace(std::move(stamps).value());
+  }
+  return GpuSurface(std::move(state));
+}
+
+Status GpuSurface::build(const BrickVolume& volume, SurfaceUpdateStats* stats_out) {
+  State& s = *state_;
+  if (volume.level() > 12)
+    return makeError("gpu surface", "level " + std::to_string(volume.level()) + " is over 12, the most a mesh block can address");
+  SurfaceUpdateStats stats;
+  stats.timestamps = s.stamps.has_value();
+  const auto t0 = Clock::now();
+  s.slots.clear();
+  s.pages.clear();
+  if (auto u = s.uploadMirror(volume); !u) return u;
+  stats.upload_ms = msSince(t0);
+  const std::vector<MeshBlock> todo = activeMeshBlocks(volume, s.options.tissue);
+  if (auto m = s.meshBlocks(volume, todo, stats); !m) return m;
+  if (auto w = s.writeDraws(); !w) return w;
+  stats.total_ms = msSince(t0);
+  s.fillStats(stats);
+  if (stats_out) *stats_out = stats;
+  return Ok{};
+}
+
+Status GpuSurface::update(const BrickVolume& volume, std::span<const BrickCoord> dirty, SurfaceUpdateStats* stats_out) {
+  State& s = *state_;
+  if (s.level < 0) return makeError("gpu surface", "update before build");
+  if (volume.level() != s.level)
+    return makeError("gpu surface", "update of a level-" + std::to_string(volume.level()) + " volume on a level-" +
+                                        std::to_string(s.level) + " surface; build again");
+  SurfaceUpdateStats stats;
+  stats.timestamps = s.stamps.has_value();
+  stats.dirty_bricks = uint32_t(dirty.size());
+  const auto t0 = Clock::now();
+  if (dirty.empty()) {
+    s.fillStats(stats);
+    if (stats_out) *stats_out = stats;
+    return Ok{};
+  }
+  if (auto u = s.syncMirror(volume, dirty); !u) return u;
+  stats.upload_ms = msSince(t0);
+  const std::vector<MeshBlock> around = blocksReadingBricks(volume, dirty);
+  const std::vector<bool> active = meshBlocksActive(volume, s.options.tissue, around);
+  std::vector<MeshBlock> todo;
+  for (size_t i = 0; i < around.size(); ++i) {
+    if (active[i])
+      todo.push_back(around[i]);
+    else
+      s.freeSlot(around[i].packed());
+  }
+  if (auto m = s.meshBlocks(volume, todo, stats); !m) return m;
+  if (auto w = s.writeDraws(); !w) return w;
+  stats.total_ms = msSince(t0);
+  s.fillStats(stats);
+  if (stats_out) *stats_out = stats;
+  return Ok{};
+}
+
+uint32_t GpuSurface::pageCount() const { return uint32_t(state_->pages.size()); }
+Buffer& GpuSurface::pool(uint32_t page) { return *state_->pages.at(page).pool; }
+Buffer& GpuSurface::draws(uint32_t page) { return *state_->pages.at(page).draws.buffer; }
+uint32_t GpuSurface::drawCount(uint32_t page) const { return uint32_t(state_->pages.at(page).records.size()); }
+uint64_t GpuSurface::liveBlocks() const { return state_->slots.size(); }
+
+Result<std::vector<BlockMesh>> GpuSurface::downloadBlocks() {
+  State& s = *state_;
+  std::vector<std::vector<uint32_t>> words(s.pages.size());
+  for (size_t p = 0; p < s.pages.size(); ++p) {
+    words[p].resize(s.pages[p].pool->size() / 4u);
+    if (auto d = s.pages[p].pool->download(*s.ctx, std::as_writable_bytes(std::span<uint32_t>(words[p]))); !d)
+      return d.error();
+  }
+  std::vector<uint32_t> order;
+  order.reserve(s.slots.size());
+  for (const auto& [block, slot] : s.slots) order.push_back(block);
+  std::sort(order.begin(), order.end());
+  std::vector<BlockMesh> out;
+  out.reserve(order.size());
+  for (uint32_t block : order) {
+    const Slot& slot = s.slots.at(block);
+    BlockMesh m;
+    m.block = MeshBlock::unpack(block);
+    const uint32_t* w = words[slot.page].data() + slot.offset / 4u;
+    m.vertices.resize(slot.vertices);
+    std::memcpy(m.vertices.data(), w, size_t(slot.vertices) * sizeof(layout::MeshVertex));
+    m.indices.assign(w + size_t(slot.vertices) * DS_MESH_VERTEX_WORDS,
+                     w + size_t(slot.vertices) * DS_MESH_VERTEX_WORDS + size_t(slot.triangles) * 3u);
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
+GpuSurface::GpuSurface(std::unique_ptr<State> state) : state_(std::move(state)) {}
+GpuSurface::GpuSurface(GpuSurface&&) noexcept = default;
+GpuSurface& GpuSurface::operator=(GpuSurface&&) noexcept = default;
+GpuSurface::~GpuSurface() = default;
+
+}  // namespace dentsim::gpu

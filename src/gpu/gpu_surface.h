@@ -1,0 +1,101 @@
+// GpuSurface: the tooth's surface kept on the GPU by marching cubes, re-meshed per dirty brick into per-block slots.
+//
+// Contents
+//   1. Options and statistics
+//   2. GpuSurface: full build, incremental update, what the renderer binds, read-back for tests
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+#include "gpu/buffer.h"
+#include "gpu/context.h"
+#include "volume/surface_layout.h"
+#include "volume/brick_volume.h"
+#include "volume/surface_mesher.h"
+
+namespace dentsim::gpu {
+
+// ---- 1. options and statistics ----------------------------------------------------------------------
+
+struct GpuSurfaceOptions {
+  int normal_neighbours = 216;                  // 8, 64 or 216; see SurfaceOptions
+  Material tissue = Material::Empty;            // Empty: all tissue; else that tissue's own surface
+  uint64_t initial_pool_bytes = 4ull << 20;     // first size of the slot pool; it doubles on demand [B]
+  uint32_t max_groups_per_dispatch = 0;         // 0: the device limit; tests lower it to split dispatches
+  uint64_t max_page_bytes = 0;                  // 0: one storage binding; tests lower it to open pages [B]
+};
+
+// What one build or update did.
+struct SurfaceUpdateStats {
+  uint32_t dirty_bricks = 0;      // bricks the caller named
+  uint32_t blocks_meshed = 0;     // cell blocks dispatched (dirty bricks widened by the normals' reach)
+  uint32_t blocks_live = 0;       // blocks holding triangles after the update
+  uint64_t triangles = 0;         // triangles in the whole surface after the update
+  uint64_t vertices = 0;          // vertices in the whole surface (face copies counted per block)
+  uint64_t pool_bytes = 0;        // size of the slot pool [B]
+  uint64_t slot_bytes = 0;        // bytes held by live slots, rounded to their size class [B]
+  uint64_t used_bytes = 0;        // bytes the live blocks' vertices and indices fill [B]
+  bool pool_grew = false;         // the pool was reallocated (its contents copied on the GPU)
+  double upload_ms = 0.0;         // wall time to sync the dirty bricks to the GPU mirror [ms]
+  double count_ms = 0.0;          // wall time of the count pass incl. read-back [ms]
+  double emit_ms = 0.0;           // wall time of the slot allocation and emit pass [ms]
+  double total_ms = 0.0;          // wall time of the whole call [ms]
+  bool timestamps = false;        // the kernel times below are valid
+  double count_kernel_ms = 0.0;   // GPU time of the count dispatches [ms]
+  double emit_kernel_ms = 0.0;    // GPU time of the emit dispatches [ms]
+};
+
+// One indexed draw per live block, as vkCmdDrawIndexedIndirect reads it (VkDrawIndexedIndirectCommand).
+struct SurfaceDraw {
+  uint32_t index_count;
+  uint32_t instance_count;
+  uint32_t first_index;
+  int32_t vertex_offset;
+  uint32_t first_instance;  // the block, packed as layout::meshBlockPack
+};
+
+// ---- 2. GpuSurface ----------------------------------------------------------------------------------
+
+class GpuSurface {
+ public:
+  // Creates the pipelines and empty buffers. Errors: a bad normal mode, a Vulkan failure.
+  static Result<GpuSurface> create(Context& ctx, const GpuSurfaceOptions& options);
+
+  // Uploads the whole volume and meshes every block that can hold surface, dropping all slots.
+  // Levels DS_MIN_LEVEL..12 (block coordinates must fit 10 bits).
+  Status build(const BrickVolume& volume, SurfaceUpdateStats* stats = nullptr);
+
+  // The volume changed only inside `dirty` bricks since the last build or update: syncs those bricks
+  // to the GPU mirror and re-meshes the blocks whose cells or normals read them. The result equals
+  // build() on the same volume, triangle for triangle. Errors: no build yet, a different level.
+  Status update(const BrickVolume& volume, std::span<const BrickCoord> dirty, SurfaceUpdateStats* stats = nullptr);
+
+  // What the renderer binds, per page: a pool holds live blocks' vertices (MeshVertex) each followed
+  // by the block's indices (uint32, local to the block); its draw buffer holds drawCount(page)
+  // SurfaceDraw records, freed ones with index_count 0. A page is one storage binding, so it never
+  // exceeds maxStorageBufferRange; more surface opens another page. Everything stays on the GPU.
+  uint32_t pageCount() const;
+  Buffer& pool(uint32_t page);
+  Buffer& draws(uint32_t page);
+  uint32_t drawCount(uint32_t page) const;
+  uint64_t liveBlocks() const;  // blocks holding triangles
+
+  // Reads every live block back (for tests and export), ordered by block.
+  Result<std::vector<BlockMesh>> downloadBlocks();
+
+  GpuSurface(GpuSurface&&) noexcept;
+  GpuSurface& operator=(GpuSurface&&) noexcept;
+  ~GpuSurface();
+
+ private:
+  struct State;
+  explicit GpuSurface(std::unique_ptr<State> state);
+  std::unique_ptr<State> state_;
+};
+
+}  // namespace dentsim::gpu
