@@ -11,6 +11,8 @@
 // edge order, triangles by a scan in cell order, and both go into the job's slot.
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 #include "brick_layout.h"
 #include "surface_layout.h"
 
@@ -60,6 +62,28 @@ uint rawVoxel(ivec3 l) {
   return denseVoxel(entry & DS_ENTRY_INDEX_MASK, brickCoordToOffset(o.x, o.y, o.z));
 }
 
+// F of the voxels x0 .. x0+n-1 (local, all in one brick along x) of local row (y, z), into out[].
+// Reads two words of a dense brick row at most; bricks outside the grid are empty tiles, so the
+// apron needs no bounds checks.
+void rowSegment(uint x0, uint n, uint y, uint z, out uint f[8]) {
+  ivec3 g = localBase + ivec3(x0, y, z);
+  ivec3 s = (g >> int(DS_BRICK_LOG2)) - (ivec3(blockCoord) - 1);
+  uint entry = brickEntries[(s.z * 3 + s.y) * 3 + s.x];
+  if (entryIsTile(entry)) {
+    uint v = countedFill(tileVoxel(entry));
+    for (uint i = 0u; i < 8u; ++i) f[i] = v;
+    return;
+  }
+  uvec3 o = uvec3(g) & uvec3(DS_BRICK_DIM - 1u);
+  uint word0 = (entry & DS_ENTRY_INDEX_MASK) * DS_BRICK_WORDS + (brickCoordToOffset(0u, o.y, o.z) >> 2u);
+  uint w0 = brickWords[word0], w1 = brickWords[word0 + 1u];
+  for (uint i = 0u; i < 8u; ++i) {
+    uint x = o.x + i;
+    uint w = x < 4u ? w0 : w1;
+    f[i] = i < n ? countedFill((w >> ((x & 3u) * 8u)) & 0xffu) : 0u;
+  }
+}
+
 uint cornerF(uint c) { return (cornerFill[c >> 2u] >> ((c & 3u) * 8u)) & 0xffu; }
 bool cornerInside(uint c) { return 2u * cornerF(c) > DS_FILL_FULL; }
 uint cornerIndex(uvec3 c) { return (c.z * CD + c.y) * CD + c.x; }
@@ -82,21 +106,26 @@ uint cellConfig(uvec3 cell) {
 }
 
 // Exclusive scan of one value per invocation over the workgroup; returns this one's prefix and
-// leaves the total in totals[slot].
+// leaves the total in totals[slot]. Subgroups scan themselves; one invocation scans the subgroup
+// totals (at most 64 of them), so the whole scan costs three barriers.
 uint exclusiveScan(uint value, uint slot) {
-  uint lane = gl_LocalInvocationID.x;
-  scanBuf[lane] = value;
+  uint inSubgroup = subgroupExclusiveAdd(value);
+  uint subgroupTotal = subgroupAdd(value);
+  if (subgroupElect()) scanBuf[gl_SubgroupID] = subgroupTotal;
   barrier();
-  for (uint offset = 1u; offset < GROUP; offset <<= 1u) {
-    uint add = lane >= offset ? scanBuf[lane - offset] : 0u;
-    barrier();
-    scanBuf[lane] += add;
-    barrier();
+  if (gl_LocalInvocationID.x == 0u) {
+    uint run = 0u;
+    for (uint i = 0u; i < gl_NumSubgroups; ++i) {
+      uint t = scanBuf[i];
+      scanBuf[i] = run;
+      run += t;
+    }
+    totals[slot] = run;
   }
-  if (lane == GROUP - 1u) totals[slot] = scanBuf[lane];
-  uint inclusive = scanBuf[lane];
   barrier();
-  return inclusive - value;
+  uint prefix = scanBuf[gl_SubgroupID] + inSubgroup;
+  barrier();
+  return prefix;
 }
 
 // ---- emit-pass helpers -------------------------------------------------------------------------
@@ -187,22 +216,38 @@ void main() {
   if (lane < 2u) totals[lane] = 0u;
   barrier();
 
+  // Local x 0..4 lie in brick b-1, 5..12 in brick b, 13..17 in brick b+1.
+  const uint segStart[3] = uint[3](0u, DS_MESH_APRON, DS_MESH_APRON + DS_MESH_BLOCK_CELLS);
+  const uint segCount[3] = uint[3](DS_MESH_APRON, DS_MESH_BLOCK_CELLS, LD - DS_MESH_APRON - DS_MESH_BLOCK_CELLS);
   if (EMIT != 0u) {
-    for (uint i = lane; i < LOCAL_VOXELS; i += GROUP)
-      sat[i] = countedFill(rawVoxel(ivec3(i % LD, (i / LD) % LD, i / (LD * LD))));
     for (uint i = lane; i < (DS_MESH_EDGES + 1u) / 2u; i += GROUP) vertexIndex[i] = 0u;
-    barrier();
-    for (uint c = lane; c < CORNERS; c += GROUP) {
-      uvec3 l = uvec3(c % CD, (c / CD) % CD, c / (CD * CD)) + C0;
-      atomicOr(cornerFill[c >> 2u], sat[(l.z * LD + l.y) * LD + l.x] << ((c & 3u) * 8u));
+    // One invocation per row of 18 voxels: F, the corners' bytes, and the prefix sum along x.
+    if (lane < LD * LD) {
+      uint y = lane % LD, z = lane / LD;
+      uint base = (z * LD + y) * LD;
+      bool cornerRow = y >= C0 && y < C0 + CD && z >= C0 && z < C0 + CD;
+      uint run = 0u;
+      for (uint seg = 0u; seg < 3u; ++seg) {
+        uint f[8];
+        rowSegment(segStart[seg], segCount[seg], y, z, f);
+        for (uint i = 0u; i < segCount[seg]; ++i) {
+          uint x = segStart[seg] + i;
+          if (cornerRow && x >= C0 && x < C0 + CD) {
+            uint c = cornerIndex(uvec3(x, y, z) - C0);
+            atomicOr(cornerFill[c >> 2u], f[i] << ((c & 3u) * 8u));
+          }
+          run += f[i];
+          sat[base + x] = run;
+        }
+      }
     }
     barrier();
-    // Prefix sums along x, y, then z; one invocation per line of 18.
-    for (uint axis = 0u; axis < 3u; ++axis) {
+    // Prefix sums along y, then z; one invocation per line of 18.
+    for (uint axis = 1u; axis < 3u; ++axis) {
       if (lane < LD * LD) {
         uint a = lane % LD, b = lane / LD;
-        uint stride = axis == 0u ? 1u : (axis == 1u ? LD : LD * LD);
-        uint start = axis == 0u ? (b * LD + a) * LD : (axis == 1u ? b * LD * LD + a : b * LD + a);
+        uint stride = axis == 1u ? LD : LD * LD;
+        uint start = axis == 1u ? b * LD * LD + a : b * LD + a;
         uint run = sat[start];
         for (uint k = 1u; k < LD; ++k) {
           run += sat[start + k * stride];
@@ -212,9 +257,19 @@ void main() {
       barrier();
     }
   } else {
-    for (uint c = lane; c < CORNERS; c += GROUP) {
-      uvec3 l = uvec3(c % CD, (c / CD) % CD, c / (CD * CD)) + C0;
-      atomicOr(cornerFill[c >> 2u], countedFill(rawVoxel(ivec3(l))) << ((c & 3u) * 8u));
+    // Corners only: local x 4 (brick b-1) and 5..12 (brick b) of each corner row.
+    if (lane < CD * CD) {
+      uint y = C0 + lane % CD, z = C0 + lane / CD;
+      for (uint seg = 0u; seg < 2u; ++seg) {
+        uint x0 = seg == 0u ? C0 : DS_MESH_APRON;
+        uint n = seg == 0u ? 1u : DS_MESH_BLOCK_CELLS;
+        uint f[8];
+        rowSegment(x0, n, y, z, f);
+        for (uint i = 0u; i < n; ++i) {
+          uint c = cornerIndex(uvec3(x0 + i, y, z) - C0);
+          atomicOr(cornerFill[c >> 2u], f[i] << ((c & 3u) * 8u));
+        }
+      }
     }
     barrier();
   }
@@ -276,7 +331,9 @@ void main() {
         surface[w + 0u] = floatBitsToUint(pos.x);
         surface[w + 1u] = floatBitsToUint(pos.y);
         surface[w + 2u] = floatBitsToUint(pos.z);
-        surface[w + 3u] = packOctahedral(normal) | (voxelMaterial(inVoxel) << 24u) | (voxelMaterial(outVoxel) << 28u);
+        uint outMaterial = voxelMaterial(outVoxel);
+        uint across = (params.tissue != 0u && outMaterial != params.tissue) ? outMaterial : 0u;
+        surface[w + 3u] = packOctahedral(normal) | (voxelMaterial(inVoxel) << 24u) | (across << 28u);
       }
       ++vertex;
     }

@@ -1,4 +1,4 @@
-// dentsim mesh: extracts a .dvol tooth's surface (all tissue or one) and writes it as STL or as PLY with normals and tissue colours.
+// dentsim mesh: extracts a .dvol tooth's surface (all tissue, one, or every tissue's own for a layered view) as STL or PLY.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -7,7 +7,9 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/gpu_choice.h"
 #include "app/terminal_progress.h"
+#include "gpu/gpu_surface.h"
 #include "io/ply_file.h"
 #include "io/stl_file.h"
 #include "volume/surface_mesher.h"
@@ -21,6 +23,9 @@ struct MeshOptions {
   std::string output;    // .stl or .ply path
   std::string normals = "8";  // gradient neighbourhood [voxels]: "8", "64" or "216"
   std::string tissue;    // empty: the outer surface of all tissue
+  bool interfaces = false;  // every tissue's own closed surface, interfaces included
+  bool cpu = false;         // the CPU reference instead of the GPU
+  std::string device;       // Vulkan device override
 };
 
 enum class MeshFormat { Stl, Ply };
@@ -57,6 +62,28 @@ Status writeSurface(const std::string& path, MeshFormat format, const SurfaceMes
   return writePly(path, PlyView{surface.positions, surface.normals, colours, surface.triangles}, "dentsim mesh " + label);
 }
 
+// One surface on the GPU when there is one, else by the CPU reference (the same triangles; the GPU
+// stores normals packed to 12 bits per coordinate).
+Result<SurfaceMesh> meshOnce(std::optional<gpu::Context>& ctx, const ToothVolume& tooth, const SurfaceOptions& so,
+                             Interrupter& progress, std::vector<gpu::SurfaceUpdateStats>& stats) {
+  if (!ctx) return meshVolumeCpu(tooth, so, progress);
+  auto surface = gpu::GpuSurface::create(*ctx, {.normal_neighbours = so.normal_neighbours, .tissue = so.tissue});
+  if (!surface) return surface.error();
+  if (Status built = surface->build(tooth.voxels, &stats.emplace_back()); !built) return built.error();
+  auto blocks = surface->downloadBlocks();
+  if (!blocks) return blocks.error();
+  return weldBlockMeshes(*blocks, tooth.frame);
+}
+
+void appendSurface(SurfaceMesh& to, const SurfaceMesh& from) {
+  const uint32_t base = uint32_t(to.positions.size());
+  to.positions.insert(to.positions.end(), from.positions.begin(), from.positions.end());
+  to.normals.insert(to.normals.end(), from.normals.begin(), from.normals.end());
+  to.tissue.insert(to.tissue.end(), from.tissue.begin(), from.tissue.end());
+  to.across.insert(to.across.end(), from.across.begin(), from.across.end());
+  for (const auto& t : from.triangles) to.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+}
+
 int runMesh(const MeshOptions& o) {
   // Every argument is checked before the volume is read, so a typo costs nothing.
   MeshFormat format{};
@@ -68,20 +95,60 @@ int runMesh(const MeshOptions& o) {
   else return fail("--normals " + o.normals + ": expected 8, 64 or 216 voxels");
   if (!o.tissue.empty() && (!parseMaterial(o.tissue, &so.tissue) || so.tissue == Material::Empty))
     return fail("--tissue: unknown tissue '" + o.tissue + "' (expected enamel, dentin, pulp or caries)");
-  const std::string label = o.tissue.empty() ? "all tissue" : materialName(so.tissue);
+  if (o.interfaces && !o.tissue.empty()) return fail("--interfaces meshes every tissue; it excludes --tissue");
+  const std::string label = o.interfaces ? "each tissue" : o.tissue.empty() ? "all tissue" : materialName(so.tissue);
 
   Result<ToothVolume> tooth = loadTooth(o.input);
   if (!tooth) return fail(tooth.message());
+  std::optional<gpu::Context> ctx;
+  if (!o.cpu) {
+    auto opened = openGpuOrFallBack(o.device, "meshing on the CPU");
+    if (!opened) return fail(opened.message());
+    ctx = std::move(*opened);
+  }
+  const std::string engine = ctx ? "GPU (" + ctx->device().name + ")" : "CPU reference";
   TerminalProgress progress;
   const auto t0 = std::chrono::steady_clock::now();
-  Result<SurfaceMesh> surface = meshVolumeCpu(*tooth, so, progress);
-  if (!surface) return fail(o.input + ": " + surface.message());
+  SurfaceMesh surface;
+  std::vector<gpu::SurfaceUpdateStats> stats;  // per GPU build
+  std::vector<std::string> parts;  // per tissue, for --interfaces
+  if (o.interfaces) {
+    // The layered view: each tissue's own closed surface. Where two tissues meet, both carry the
+    // interface (e.g. the enamel-dentin junction), and each vertex names the tissue across it.
+    const MaterialTotals totals = tooth->voxels.materialTotals();
+    for (Material m : {Material::Enamel, Material::Dentin, Material::Pulp, Material::Caries}) {
+      if (totals.voxels[size_t(m)] == 0) continue;
+      SurfaceOptions one = so;
+      one.tissue = m;
+      Result<SurfaceMesh> part = meshOnce(ctx, *tooth, one, progress, stats);
+      if (!part) return fail(o.input + ": " + part.message());
+      const size_t inner = size_t(std::count_if(part->across.begin(), part->across.end(),
+                                                [](Material a) { return a != Material::Empty; }));
+      parts.push_back(materialName(m) + " " + std::to_string(part->triangleCount()) + " triangles (" +
+                      std::to_string(part->positions.empty() ? 0 : 100 * inner / part->positions.size()) +
+                      "% of vertices on an interface)");
+      appendSurface(surface, *part);
+    }
+  } else {
+    Result<SurfaceMesh> one = meshOnce(ctx, *tooth, so, progress, stats);
+    if (!one) return fail(o.input + ": " + one.message());
+    surface = std::move(*one);
+  }
   const double mesh_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-  if (surface->triangles.empty())
+  if (surface.triangles.empty())
     return fail(o.input + ": no surface to write (the volume holds no " + (o.tissue.empty() ? "tissue" : label) + ")");
-  if (Status written = writeSurface(o.output, format, *surface, label); !written) return fail(written.message());
-  std::printf("%s: %zu triangles, %zu vertices (%s, normals from %d voxels), meshed in %.0f ms\n", o.output.c_str(),
-              surface->triangleCount(), surface->positions.size(), label.c_str(), so.normal_neighbours, mesh_ms);
+  if (Status written = writeSurface(o.output, format, surface, label); !written) return fail(written.message());
+  std::printf("%s: %zu triangles, %zu vertices (%s, normals from %d voxels), meshed on the %s in %.0f ms\n",
+              o.output.c_str(), surface.triangleCount(), surface.positions.size(), label.c_str(), so.normal_neighbours,
+              engine.c_str(), mesh_ms);
+  for (const std::string& p : parts) std::printf("  %s\n", p.c_str());
+  for (const gpu::SurfaceUpdateStats& st : stats) {
+    std::printf("  GPU: %u blocks; upload %.0f ms, count %.0f ms, emit %.0f ms", st.blocks_meshed, st.upload_ms,
+                st.count_ms, st.emit_ms);
+    if (st.timestamps) std::printf(" (kernels: count %.1f ms, emit %.1f ms)", st.count_kernel_ms, st.emit_kernel_ms);
+    std::printf("; slots %s in a pool of %s\n", gpu::formatBytes(st.slot_bytes).c_str(),
+                gpu::formatBytes(st.pool_bytes).c_str());
+  }
   return 0;
 }
 
@@ -96,6 +163,10 @@ void addMeshCommand(CLI::App& root, Action& action) {
   cmd->add_option("--normals", opts->normals, "Gradient neighbourhood for the normals: 8, 64 or 216 voxels")
       ->capture_default_str();
   cmd->add_option("--tissue", opts->tissue, "Mesh only this tissue: enamel, dentin, pulp or caries (default: all)");
+  cmd->add_flag("--interfaces", opts->interfaces,
+                "Each tissue's own surface, interfaces between tissues included (a layered view)");
+  cmd->add_flag("--cpu", opts->cpu, "Mesh with the CPU reference instead of the GPU");
+  cmd->add_option("--device", opts->device, "Vulkan device index or name substring (also DENTSIM_DEVICE)");
   cmd->add_option("-o,--output", opts->output, "Output mesh (.stl, or .ply with normals and colours)")->required();
   cmd->callback([opts, &action] { action = [opts] { return runMesh(*opts); }; });
 }

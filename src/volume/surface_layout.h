@@ -45,7 +45,8 @@ struct MeshVertex {
   float y;      // offset  4
   float z;      // offset  8
   uint packed;  // offset 12: bits 0..11 and 12..23 octahedral normal (unorm12 u, v),
-                //            bits 24..27 tissue at the surface, 28..31 material across it
+                //            bits 24..27 tissue at the surface, 28..31 the tissue across it when
+                //            one tissue is meshed and another meets it there (else empty)
 };
 #define DS_MESH_VERTEX_WORDS 4u
 

@@ -467,8 +467,8 @@ std::vector<MeshBlock> blocksReadingBricks(const BrickVolume& vol, std::span<con
 
 namespace {
 
-BlockMesh meshBlockWith(const BrickVolume& vol, const internal::FieldTable& field, MeshBlock b, uint32_t side,
-                        internal::LocalBlock& block, std::vector<Vec3f>* float_normals) {
+BlockMesh meshBlockWith(const BrickVolume& vol, const internal::FieldTable& field, Material tissue, MeshBlock b,
+                        uint32_t side, internal::LocalBlock& block, std::vector<Vec3f>* float_normals) {
   using namespace internal;
   loadBlock(vol, field, b, block);
   BlockMesh out;
@@ -514,8 +514,11 @@ BlockMesh meshBlockWith(const BrickVolume& vol, const internal::FieldTable& fiel
           }
           const Voxel in_voxel = block.voxels[size_t(a_in ? LocalBlock::index(p[0], p[1], p[2]) : LocalBlock::index(q[0], q[1], q[2]))];
           const Voxel out_voxel = block.voxels[size_t(a_in ? LocalBlock::index(q[0], q[1], q[2]) : LocalBlock::index(p[0], p[1], p[2]))];
-          v.packed = packOctahedral(normal) | uint32_t(voxelMaterial(in_voxel)) << 24 |
-                     uint32_t(voxelMaterial(out_voxel)) << 28;
+          // Across: the other tissue at an interface of one tissue's surface; the outer surface
+          // (and every vertex of the all-tissue surface) has empty space across.
+          const Material out_material = voxelMaterial(out_voxel);
+          const Material across = tissue != Material::Empty && out_material != tissue ? out_material : Material::Empty;
+          v.packed = packOctahedral(normal) | uint32_t(voxelMaterial(in_voxel)) << 24 | uint32_t(across) << 28;
           out.vertices.push_back(v);
           if (float_normals) float_normals->push_back(normal);
         }
@@ -544,7 +547,7 @@ BlockMesh meshBlockWith(const BrickVolume& vol, const internal::FieldTable& fiel
 
 BlockMesh meshBlockCpu(const BrickVolume& vol, MeshBlock b, Material tissue, uint32_t side) {
   auto block = std::make_unique<internal::LocalBlock>();
-  return meshBlockWith(vol, internal::makeFieldTable(tissue), b, side, *block, nullptr);
+  return meshBlockWith(vol, internal::makeFieldTable(tissue), tissue, b, side, *block, nullptr);
 }
 
 namespace {
@@ -620,7 +623,7 @@ Result<SurfaceMesh> meshVolumeCpu(const ToothVolume& tooth, const SurfaceOptions
       return makeError("surface mesher", "cancelled");
     }
     normals.clear();
-    welder.add(meshBlockWith(tooth.voxels, field, blocks[i], side, *local, &normals), &normals);
+    welder.add(meshBlockWith(tooth.voxels, field, options.tissue, blocks[i], side, *local, &normals), &normals);
   }
   interrupter.progress(1.0);
   interrupter.end();

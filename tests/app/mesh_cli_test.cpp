@@ -133,6 +133,57 @@ TEST_F(MeshCli, TissuesAreMeshedAndColouredApart) {
   EXPECT_TRUE(std::all_of(inner->colours->begin(), inner->colours->end(), [](const Rgb8& c) { return c == kPulp; }));
 }
 
+// The layered view: the enamel shell (the cube with the pulp's cavity) and the pulp, each closed; the
+// pulp wall appears in both, facing opposite ways, so the enamel's volume is the cube less the pulp.
+TEST_F(MeshCli, InterfacesGiveEachTissueItsOwnClosedSurface) {
+  const auto r = runDentsim("mesh " + file("layered.dvol") + " --interfaces -o " + file("layers.ply"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("enamel"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("pulp"), std::string::npos) << r.output;
+  Result<PlyMesh> layers = readPly(file("layers.ply"));
+  ASSERT_TRUE(layers.ok()) << layers.message();
+  ASSERT_TRUE(layers->colours.has_value());
+  // Split by colour and check each shell.
+  for (const auto& [colour, volume] : {std::pair{kEnamel, 1000.0 - test::sphereVolume(2.5)},
+                                       std::pair{kPulp, test::sphereVolume(2.5)}}) {
+    TriangleMesh part;
+    std::vector<int64_t> remap(layers->mesh.positions.size(), -1);
+    for (const auto& t : layers->mesh.triangles) {
+      if (!((*layers->colours)[t[0]] == colour)) continue;
+      std::array<uint32_t, 3> out{};
+      for (int k = 0; k < 3; ++k) {
+        if (remap[t[size_t(k)]] < 0) {
+          remap[t[size_t(k)]] = int64_t(part.positions.size());
+          part.positions.push_back(layers->mesh.positions[t[size_t(k)]]);
+        }
+        out[size_t(k)] = uint32_t(remap[t[size_t(k)]]);
+      }
+      part.triangles.push_back(out);
+    }
+    ASSERT_FALSE(part.triangles.empty());
+    expectClosedWithVolume(part, volume, 0.05);
+  }
+  // Refused together with --tissue, in one line.
+  const auto both = runDentsim("mesh " + file("layered.dvol") + " --interfaces --tissue pulp -o " + file("x.ply"));
+  EXPECT_NE(both.exit_code, 0);
+  EXPECT_NE(both.output.find("--interfaces"), std::string::npos) << both.output;
+}
+
+// Where a Vulkan device exists the default path meshes on the GPU; it must give the CPU reference's
+// triangles. Without one, both runs take the CPU path and the test still checks the fallback works.
+TEST_F(MeshCli, GpuAndCpuPathsGiveTheSameTriangles) {
+  const auto gpu = runDentsim("mesh " + file("sphere.dvol") + " --normals 64 -o " + file("g.stl"));
+  ASSERT_EQ(gpu.exit_code, 0) << gpu.output;
+  const auto cpu = runDentsim("mesh " + file("sphere.dvol") + " --normals 64 --cpu -o " + file("c.stl"));
+  ASSERT_EQ(cpu.exit_code, 0) << cpu.output;
+  Result<StlMesh> g = readStl(file("g.stl"));
+  Result<StlMesh> c = readStl(file("c.stl"));
+  ASSERT_TRUE(g.ok() && c.ok());
+  ASSERT_EQ(g->mesh.triangles.size(), c->mesh.triangles.size());
+  for (size_t i = 0; i < c->mesh.positions.size(); ++i)
+    for (size_t a = 0; a < 3; ++a) ASSERT_NEAR(g->mesh.positions[i][a], c->mesh.positions[i][a], 1e-5);
+}
+
 TEST_F(MeshCli, BadInputFailsInOneLineAndWritesNothing) {
   struct Case {
     std::string args, output, expect;
