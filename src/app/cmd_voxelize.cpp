@@ -35,6 +35,7 @@ struct VoxelizeOptions {
   std::string label_map;     // "1=caries,2=enamel,3=dentin"
   double voxel_size = 0.0;   // labels: source voxel edge (overrides the header); STL: output voxel edge [mm]; 0: unset
   int level = 0;             // fit into a 2^level grid; 0: unset
+  std::string frame_of;      // STL: take the grid of this .dvol (excludes level and voxel_size); empty: fit one
   std::string fill_enclosed; // tissue for empty space the tooth encloses; empty: none
   double seal_mm = 0.2;       // closing radius for --fill-enclosed [mm]; about the apical foramen radius
   std::string output;        // .dvol path
@@ -85,7 +86,34 @@ Result<LoadedLayer> loadLayer(const std::string& path, Material material, double
   return layer;
 }
 
+// The grid of an existing volume, so that a voxelization compares with it voxel for voxel. The whole
+// frame is kept, scanner matrix and source box included: the grid is the same, so an export of the
+// result overlays the same scan.
+Result<VolumeFrame> referenceFrame(const std::string& path) {
+  Result<ToothVolume> reference = loadTooth(path);
+  if (!reference) return makeError("--frame-of", reference.message());
+  return reference->frame;
+}
+
+// True when the bounds lie within the frame's grid box (to a thousandth of a voxel).
+bool gridHolds(const VolumeFrame& f, const Bounds3& bounds) {
+  const double side = double(f.dim()) * f.voxel_mm;
+  const double slack = 1e-3 * f.voxel_mm;
+  for (int a = 0; a < 3; ++a)
+    if (bounds.lo[a] < f.origin_mm[a] - slack || bounds.hi[a] > f.origin_mm[a] + side + slack) return false;
+  return true;
+}
+
 int runVoxelizeMeshes(const VoxelizeOptions& o) {
+  // The reference grid is read first: a bad file then fails before any mesh is loaded.
+  std::optional<VolumeFrame> reference;
+  if (!o.frame_of.empty()) {
+    if (o.level > 0 || o.voxel_size > 0.0)
+      return fail("--frame-of takes the grid of " + o.frame_of + "; leave out --level and --voxel-size");
+    Result<VolumeFrame> f = referenceFrame(o.frame_of);
+    if (!f) return fail(f.message());
+    reference = *f;
+  }
   LengthUnit unit{};
   if (!parseLengthUnit(o.units, &unit)) return fail("--units: unknown unit '" + o.units + "' (expected mm, cm, m or um)");
   if (!(o.scale > 0.0) || !std::isfinite(o.scale)) return fail("--scale must be a positive number");
@@ -113,9 +141,13 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
   std::vector<MeshLayer> layers;
   for (const LoadedLayer& l : loaded) layers.push_back({l.material, &l.mesh, l.path});
 
-  Result<VolumeFrame> frame = o.voxel_size > 0.0 ? fitGridToVoxelSize(bounds, o.voxel_size)
-                                                 : fitGridToLevel(bounds, o.level > 0 ? o.level : 9);
+  Result<VolumeFrame> frame = reference            ? Result<VolumeFrame>(*reference)
+                             : o.voxel_size > 0.0 ? fitGridToVoxelSize(bounds, o.voxel_size)
+                                                  : fitGridToLevel(bounds, o.level > 0 ? o.level : 9);
   if (!frame) return fail(frame.message());
+  if (reference && !gridHolds(*reference, bounds))
+    std::fprintf(stderr, "dentsim: warning: the meshes reach outside the grid of %s; what lies outside is dropped\n",
+                 o.frame_of.c_str());
   dentsim::VoxelizeOptions vo;
   vo.subsamples = o.subsamples;
   vo.hole_radius = o.hole_radius;
@@ -146,6 +178,7 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
   ToothVolume tooth{*frame, std::move(*voxels).value()};
   if (Status saved = saveTooth(o.output, tooth); !saved) return fail(saved.message());
   printSummary(tooth, o.output);
+  if (reference) std::printf("  grid of %s\n", o.frame_of.c_str());
   std::printf("  voxelized on the %s, %d x %d rays per voxel, in %.0f ms", engine.c_str(), o.subsamples, o.subsamples,
               voxelize_ms);
   if (timing.bands > 0)
@@ -166,6 +199,7 @@ int runVoxelize(const VoxelizeOptions& o) {
   if (!meshes && o.labels.empty())
     return fail("nothing to voxelize: give --enamel/--dentin/--pulp/--caries STL layers, --tooth, or --labels");
   if (meshes) return runVoxelizeMeshes(o);
+  if (!o.frame_of.empty()) return fail("--frame-of applies to STL layers; --labels keeps the label volume's grid");
   if (o.label_map.empty()) return fail("--labels needs --label-map");
   Result<LabelMap> map = parseLabelMap(o.label_map);
   if (!map) return fail("--label-map: " + map.message());
@@ -222,6 +256,10 @@ void addVoxelizeCommand(CLI::App& root, Action& action) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--level", opts->level, "Fit the tooth into a 2^N grid (STL default 9)")
       ->check(CLI::Range(DS_MIN_LEVEL, DS_MAX_LEVEL));
+  // Checked in runVoxelizeMeshes rather than with CLI11's excludes(), so a clash is a one-line error.
+  cmd->add_option("--frame-of", opts->frame_of,
+                  "STL: voxelize into the grid of this volume (.dvol: same level, voxel size and origin), so the "
+                  "two compare voxel for voxel; excludes --level and --voxel-size");
   cmd->add_option("--fill-enclosed", opts->fill_enclosed,
                   "Tissue for empty space the tooth encloses (e.g. pulp)");
   cmd->add_option("--seal-mm", opts->seal_mm,

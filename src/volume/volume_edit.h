@@ -22,8 +22,8 @@ struct EditResult {
 // approximated by the signed distance of the voxel centre to the sphere over one voxel
 // (c = clamp(0.5 - d / voxel, 0, 1), d > 0 outside). A voxel whose fill reaches 0 becomes empty.
 // Voxels outside the grid are ignored.
-// Cost: only bricks that reach the ball's shell are read; a brick wholly inside it becomes an empty
-// tile without a copy, and each changed brick is written once. Preconditions (asserted): frame is
+// Cost: only bricks that reach the ball are read; a brick whose voxel centres all lie deeper than
+// half a voxel inside becomes an empty tile without a copy, and each changed brick is written once. Preconditions (asserted): frame is
 // the volume's frame (same level), radius_mm >= 0, a finite centre.
 EditResult carveBall(BrickVolume& volume, const VolumeFrame& frame, const std::array<double, 3>& centre_mm,
                      double radius_mm);

@@ -179,10 +179,11 @@ TEST(VolumeEdit, MatchesTheRuleVoxelForVoxel) {
     std::array<double, 3> centre;
     double radius;
   };
-  // Balls across bricks, at and off voxel centres, thinner than a voxel, and wider than a brick.
+  // Balls across bricks, at and off voxel centres, thinner than a voxel, wider than a brick, and
+  // wide enough (14.25 voxels) to hold whole bricks, tiles and dense ones, inside its inner sphere.
   const std::vector<Cut> cuts{{{0.0, 2.5, 4.0}, 0.25},   {{0.03125, 2.46875, 4.21875}, 0.40625},
                               {{-0.5, 1.0, 3.0}, 0.0625}, {{1.0, 2.0, 4.0}, 1.28125},
-                              {{0.5, 2.5, 3.5}, 0.0}};
+                              {{0.5, 2.5, 3.5}, 0.0},     {{1.0, 2.0, 4.0}, 1.78125}};
   for (size_t i = 0; i < cuts.size(); ++i) {
     BrickVolume v = randomTooth(level, uint32_t(11 + i));
     const Expected e = carveByReference(v, f, cuts[i].centre, cuts[i].radius);
