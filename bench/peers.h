@@ -1,8 +1,9 @@
-// Peer libraries measured beside dentsim in the same run; each is compiled in only when installed.
+// Peer libraries measured beside dentsim in the same run (OpenVDB, VTK); each is compiled in only when installed.
 #pragma once
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "core/triangle_mesh.h"
 #include "volume/brick_volume.h"
@@ -43,5 +44,30 @@ struct PeerVoxelize {
 // NarrowBand: OpenVDB's default half-width of 3 voxels on both sides.
 PeerVoxelize openvdbMeshToVolume(const TriangleMesh& mesh, double voxel_mm, const Vec3d& origin_mm,
                                  VdbInterior interior = VdbInterior::Filled);
+
+// ---- VTK ----------------------------------------------------------------------------------------
+
+// One marching-cubes surface of the same voxels by VTK's vtkFlyingEdges3D.
+struct PeerMesh {
+  bool available = false;      // it ran
+  std::string name;            // "VTK 9.1.0 vtkFlyingEdges3D (TBB)"
+  std::string skipped;         // why it did not run (not built in, not enough memory); empty when it ran
+  int threads = 0;             // threads vtkSMPTools estimates it uses
+  uint64_t image_bytes = 0;    // bytes of the dense image (one per voxel) [B]
+  double image_ms = 0.0;       // time to copy the bricks into the dense image [ms]
+  std::vector<double> runs_ms; // (repeats) time of the filter's Update() alone [ms]
+  double ms = 0.0;             // median of runs_ms [ms]
+  uint64_t triangles = 0;      // triangles of the result
+  uint64_t points = 0;         // points of the result: one per crossed lattice edge
+};
+
+// Copies the voxels into a dense vtkImageData (one unsigned char per voxel, the fill 0..31, a voxel
+// of another tissue than `tissue` counting as 0; Material::Empty counts every tissue), one point per
+// voxel centre in voxel units, and runs vtkFlyingEdges3D at 15.5, which is phi = 0.5, with gradient
+// normals on: `repeats` times on the same image, a new filter each time. Voxels outside the grid are
+// not seen, so a solid touching the grid border stays open there where dentsim's surface closes.
+// Skips, saying so, when the image and the filter's per-voxel edge cases would not fit in the memory
+// available now. Touches no dentsim data.
+PeerMesh vtkFlyingEdges(const BrickVolume& volume, Material tissue = Material::Empty, int repeats = 1);
 
 }  // namespace dentsim::bench

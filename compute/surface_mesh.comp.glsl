@@ -62,26 +62,40 @@ uint rawVoxel(ivec3 l) {
   return denseVoxel(entry & DS_ENTRY_INDEX_MASK, brickCoordToOffset(o.x, o.y, o.z));
 }
 
-// F of the voxels x0 .. x0+n-1 (local, all in one brick along x) of local row (y, z), into out[].
-// Reads two words of a dense brick row at most; bricks outside the grid are empty tiles, so the
-// apron needs no bounds checks.
-void rowSegment(uint x0, uint n, uint y, uint z, out uint f[8]) {
+// Where the voxels of local row (y, z) from x0 on lie: a tile's value, or the two words of the dense
+// brick row holding them. The row stays inside one brick; bricks outside the grid are empty tiles,
+// so the apron needs no bounds checks.
+struct RowWords {
+  bool tile;
+  uint value;   // the tile's F
+  uint w0, w1;  // the brick row's voxels 0..3 and 4..7
+  uint x;       // brick-local x of x0
+};
+
+RowWords rowWords(uint x0, uint y, uint z) {
   ivec3 g = localBase + ivec3(x0, y, z);
   ivec3 s = (g >> int(DS_BRICK_LOG2)) - (ivec3(blockCoord) - 1);
   uint entry = brickEntries[(s.z * 3 + s.y) * 3 + s.x];
-  if (entryIsTile(entry)) {
-    uint v = countedFill(tileVoxel(entry));
-    for (uint i = 0u; i < 8u; ++i) f[i] = v;
-    return;
-  }
+  RowWords r;
   uvec3 o = uvec3(g) & uvec3(DS_BRICK_DIM - 1u);
-  uint word0 = (entry & DS_ENTRY_INDEX_MASK) * DS_BRICK_WORDS + (brickCoordToOffset(0u, o.y, o.z) >> 2u);
-  uint w0 = brickWords[word0], w1 = brickWords[word0 + 1u];
-  for (uint i = 0u; i < 8u; ++i) {
-    uint x = o.x + i;
-    uint w = x < 4u ? w0 : w1;
-    f[i] = i < n ? countedFill((w >> ((x & 3u) * 8u)) & 0xffu) : 0u;
+  r.x = o.x;
+  r.tile = entryIsTile(entry);
+  r.value = countedFill(tileVoxel(entry));
+  r.w0 = 0u;
+  r.w1 = 0u;
+  if (!r.tile) {
+    uint word0 = (entry & DS_ENTRY_INDEX_MASK) * DS_BRICK_WORDS + (brickCoordToOffset(0u, o.y, o.z) >> 2u);
+    r.w0 = brickWords[word0];
+    r.w1 = brickWords[word0 + 1u];
   }
+  return r;
+}
+
+// F of the i-th voxel from x0 in the row.
+uint rowFill(RowWords r, uint i) {
+  if (r.tile) return r.value;
+  uint x = r.x + i;
+  return countedFill(((x < 4u ? r.w0 : r.w1) >> ((x & 3u) * 8u)) & 0xffu);
 }
 
 uint cornerF(uint c) { return (cornerFill[c >> 2u] >> ((c & 3u) * 8u)) & 0xffu; }
@@ -228,15 +242,15 @@ void main() {
       bool cornerRow = y >= C0 && y < C0 + CD && z >= C0 && z < C0 + CD;
       uint run = 0u;
       for (uint seg = 0u; seg < 3u; ++seg) {
-        uint f[8];
-        rowSegment(segStart[seg], segCount[seg], y, z, f);
+        RowWords r = rowWords(segStart[seg], y, z);
         for (uint i = 0u; i < segCount[seg]; ++i) {
           uint x = segStart[seg] + i;
+          uint f = rowFill(r, i);
           if (cornerRow && x >= C0 && x < C0 + CD) {
             uint c = cornerIndex(uvec3(x, y, z) - C0);
-            atomicOr(cornerFill[c >> 2u], f[i] << ((c & 3u) * 8u));
+            atomicOr(cornerFill[c >> 2u], f << ((c & 3u) * 8u));
           }
-          run += f[i];
+          run += f;
           sat[base + x] = run;
         }
       }
@@ -263,11 +277,10 @@ void main() {
       for (uint seg = 0u; seg < 2u; ++seg) {
         uint x0 = seg == 0u ? C0 : DS_MESH_APRON;
         uint n = seg == 0u ? 1u : DS_MESH_BLOCK_CELLS;
-        uint f[8];
-        rowSegment(x0, n, y, z, f);
+        RowWords r = rowWords(x0, y, z);
         for (uint i = 0u; i < n; ++i) {
           uint c = cornerIndex(uvec3(x0 + i, y, z) - C0);
-          atomicOr(cornerFill[c >> 2u], f[i] << ((c & 3u) * 8u));
+          atomicOr(cornerFill[c >> 2u], rowFill(r, i) << ((c & 3u) * 8u));
         }
       }
     }

@@ -12,9 +12,9 @@ packages=(
   libnifti2-dev zlib1g-dev libzstd-dev libxxhash-dev
   libcli11-dev libstb-dev nlohmann-json3-dev libmeshoptimizer-dev
 )
-# Benchmark peers: measured beside dentsim in the same run (docs/PERFORMANCE.md).
+# Benchmark peers, measured beside dentsim in the same run (docs/PERFORMANCE.md): OpenVDB and VTK.
 if [[ "${DENTSIM_NO_PEERS:-0}" != 1 ]]; then
-  packages+=(libopenvdb-dev libtbb-dev libboost-iostreams-dev libblosc-dev)
+  packages+=(libopenvdb-dev libtbb-dev libboost-iostreams-dev libblosc-dev libvtk9-dev)
 fi
 
 missing=()

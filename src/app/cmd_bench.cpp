@@ -1,17 +1,21 @@
-// `dentsim bench memory` and `bench voxelize`: brick bytes and voxelization time beside the paper and OpenVDB, as JSON, Markdown and SVG.
+// `dentsim bench memory`, `bench voxelize` and `bench mesh`: brick bytes, voxelization and meshing time beside the paper, OpenVDB and VTK.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <thread>
 
 #include "app/commands.h"
 #include "app/terminal_progress.h"
 #include "bench/memory_bench.h"
+#include "bench/mesh_bench.h"
 #include "bench/voxelize_bench.h"
+#include "app/gpu_choice.h"
 #include "gpu/context.h"
+#include "gpu/gpu_surface.h"
 #include "gpu/gpu_voxelizer.h"
 #include "io/nifti_labels.h"
 #include "model/builtin_assets.h"
@@ -36,6 +40,17 @@ struct VoxelizeBenchOptions {
   bool no_peers = false;                                 // skip OpenVDB
   int subsamples = 2;                                    // VoxelizeOptions::subsamples
   std::string device;                                    // Vulkan device override
+};
+
+struct MeshBenchOptions {
+  bench::MeshBenchSettings settings;
+  std::string out = "docs/bench";  // folder for JSON, Markdown and SVG
+  bool no_warmup = false;
+  bool no_peers = false;
+  bool no_bur = false;
+  bool no_normals = false;
+  bool cpu = false;                // the CPU reference instead of the GPU mesher
+  std::string device;              // Vulkan device override
 };
 
 std::string defaultDataDir() {
@@ -221,6 +236,113 @@ int runVoxelizeBench(const VoxelizeBenchOptions& o) {
   return 0;
 }
 
+// ---- bench mesh --------------------------------------------------------------------------------
+
+// The GPU mesher as a bench runner. One GpuSurface for the mode being measured; a new one when the
+// mode changes, so that three level-10 surfaces never sit in memory at once.
+bench::MeshRunner gpuMeshRunner(gpu::Context& context) {
+  struct Held {
+    std::optional<gpu::GpuSurface> surface;
+    int normals = 0;
+  };
+  auto held = std::make_shared<Held>();
+  const auto timing = [](double ms, const gpu::SurfaceUpdateStats& st) {
+    return bench::MeshTiming{ms, st.timestamps ? st.count_kernel_ms + st.emit_kernel_ms : 0.0, st.triangles,
+                             st.blocks_meshed};
+  };
+  bench::MeshRunner r;
+  r.name = "GPU mesher (GpuSurface)";
+  r.full = [&context, held, timing](const ToothVolume& tooth, int normals) -> Result<bench::MeshTiming> {
+    if (!held->surface || held->normals != normals) {
+      held->surface.reset();
+      auto s = gpu::GpuSurface::create(context, {.normal_neighbours = normals});
+      if (!s) return s.error();
+      held->surface.emplace(std::move(s).value());
+      held->normals = normals;
+    }
+    gpu::SurfaceUpdateStats st;
+    const auto t0 = std::chrono::steady_clock::now();
+    if (Status b = held->surface->build(tooth.voxels, &st); !b) return b.error();
+    return timing(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), st);
+  };
+  r.update = [held, timing](const ToothVolume& tooth, std::span<const BrickCoord> dirty,
+                            int normals) -> Result<bench::MeshTiming> {
+    if (!held->surface || held->normals != normals) return makeError("bench mesh", "update before a full build");
+    gpu::SurfaceUpdateStats st;
+    const auto t0 = std::chrono::steady_clock::now();
+    if (Status u = held->surface->update(tooth.voxels, dirty, &st); !u) return u.error();
+    return timing(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), st);
+  };
+  return r;
+}
+
+int runMeshBench(MeshBenchOptions o) {
+  std::error_code ec;
+  std::filesystem::create_directories(o.out, ec);
+  if (ec) return fail(o.out + ": cannot create output folder: " + ec.message());
+  o.settings.warmup = !o.no_warmup;
+  o.settings.peers = !o.no_peers;
+  o.settings.bur = !o.no_bur;
+  o.settings.normal_errors = !o.no_normals;
+
+  std::optional<gpu::Context> context;
+  if (!o.cpu) {
+    auto opened = openGpuOrFallBack(o.device, "measuring the CPU reference mesher");
+    if (!opened) return fail(opened.message());
+    context = std::move(*opened);
+  }
+  const MolarModel model = loadMolarForBench();
+  const std::vector<MeshLayer> layers{{Material::Enamel, &model.molar.enamel, "enamel"},
+                                      {Material::Dentin, &model.molar.dentin, "dentin"},
+                                      {Material::Pulp, &model.molar.pulp, "pulp"},
+                                      {Material::Caries, &model.molar.caries, "caries"}};
+  Bounds3 bounds;
+  for (const MeshLayer& l : layers) bounds.add(l.mesh->bounds());
+  // The molar is voxelized on the GPU where there is one (the CPU reference gives the same voxels).
+  bench::VolumeMaker maker = bench::cpuVolumeMaker(layers);
+  if (context) {
+    maker = [&context, &layers, bounds](int level) -> Result<ToothVolume> {
+      auto frame = fitGridToLevel(bounds, level);
+      if (!frame) return frame.error();
+      VoxelizeOptions vo;
+      auto setup = makeRaySetup(layers, *frame, vo);
+      if (!setup) return setup.error();
+      auto voxels = gpu::voxelizeGpu(*context, *setup, vo);
+      if (!voxels) return voxels.error();
+      voxels->compact();
+      return ToothVolume{*frame, std::move(voxels).value()};
+    };
+  }
+  const bench::MeshRunner runner = context ? gpuMeshRunner(*context) : bench::cpuReferenceRunner();
+
+  bench::MeshReportInfo info;
+  info.model = model.description;
+  const auto& st = o.settings;
+  info.command = "dentsim bench mesh --levels " + joined(st.levels) + " --normals " + joined(st.normal_modes) +
+                 " --repeat " + std::to_string(st.repeats) + " --frames " + std::to_string(st.bur_path.frames) +
+                 (o.no_peers ? " --no-peers" : "") + (o.no_bur ? " --no-bur" : "") +
+                 (o.no_normals ? " --no-normals" : "") + (o.cpu ? " --cpu" : "");
+  info.cpu = cpuModel();
+  info.cpu_threads = int(std::thread::hardware_concurrency());
+  info.device = context ? context->device().name + (context->device().driver_info.empty()
+                                                        ? ""
+                                                        : " (" + context->device().driver_info + ")")
+                        : "none";
+  info.runner = runner.name;
+  info.settings = o.settings;
+  std::printf("mesh bench: %s\n%s; CPU %s, %d threads\n", info.model.c_str(), info.runner.c_str(), info.cpu.c_str(),
+              info.cpu_threads);
+  auto report = bench::runMeshBench(o.settings, maker, runner, [](const std::string& line) {
+    std::printf("%s\n", line.c_str());
+    std::fflush(stdout);
+  });
+  if (!report) return fail(report.message());
+  if (Status w = bench::writeMeshReport(o.out, info, *report); !w) return fail(w.message());
+  std::printf("\n%s", bench::meshReportMarkdown(info, *report).c_str());
+  std::printf("wrote %s/mesh.json, mesh.md, mesh.svg, mesh_bur.svg\n", o.out.c_str());
+  return 0;
+}
+
 }  // namespace
 
 void addBenchCommand(CLI::App& root, Action& action) {
@@ -251,6 +373,35 @@ void addBenchCommand(CLI::App& root, Action& action) {
       ->check(CLI::Range(1, 4))->capture_default_str();
   voxelize->add_option("--device", vopts->device, "Device index or name substring (also DENTSIM_DEVICE)");
   voxelize->callback([vopts, &action] { action = [vopts] { return runVoxelizeBench(*vopts); }; });
+
+  auto mopts = std::make_shared<MeshBenchOptions>();
+  auto& ms = mopts->settings;
+  CLI::App* mesh = bench->add_subcommand("mesh", "Time to re-mesh a 1/32^3 part and the whole surface of the molar at "
+                                                 "levels 8-10 per normal mode (paper Fig. 15), beside VTK Flying "
+                                                 "Edges; a bur path; normal errors of a sphere and torus");
+  mesh->add_option("--levels", ms.levels, "Octree levels")->delimiter(',')->check(CLI::Range(5, 12))->capture_default_str();
+  mesh->add_option("--normals", ms.normal_modes, "Normal modes (8, 64, 216)")->delimiter(',')
+      ->check(CLI::IsMember({8, 64, 216}))->capture_default_str();
+  mesh->add_option("--repeat", ms.repeats, "Timed runs per measurement (median)")->check(CLI::Range(1, 100))
+      ->capture_default_str();
+  mesh->add_option("--part-divisor", ms.part_divisor, "The part is a cube of side dim / this")
+      ->check(CLI::Range(1, 1024))->capture_default_str();
+  mesh->add_option("--frames", ms.bur_path.frames, "Frames of the bur path")->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  mesh->add_option("--bur-level", ms.bur_path.level, "Level of the bur path")->check(CLI::Range(5, 12))
+      ->capture_default_str();
+  mesh->add_option("--bur-normals", ms.bur_path.normals, "Normal mode of the bur path")
+      ->check(CLI::IsMember({8, 64, 216}))->capture_default_str();
+  mesh->add_option("--normals-levels", ms.normals.levels, "Levels of the normal-error solids")->delimiter(',')
+      ->check(CLI::Range(4, 10))->capture_default_str();
+  mesh->add_flag("--no-warmup", mopts->no_warmup, "No untimed run before each series");
+  mesh->add_flag("--no-peers", mopts->no_peers, "Skip VTK");
+  mesh->add_flag("--no-bur", mopts->no_bur, "Skip the bur path");
+  mesh->add_flag("--no-normals", mopts->no_normals, "Skip the normal-error table");
+  mesh->add_flag("--cpu", mopts->cpu, "Measure the CPU reference mesher instead of the GPU");
+  mesh->add_option("--out", mopts->out, "Output folder")->capture_default_str();
+  mesh->add_option("--device", mopts->device, "Device index or name substring (also DENTSIM_DEVICE)");
+  mesh->callback([mopts, &action] { action = [mopts] { return runMeshBench(*mopts); }; });
 }
 
 }  // namespace dentsim::app

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/gpu_choice.h"
 #include "app/terminal_progress.h"
 #include "gpu/gpu_voxelizer.h"
 #include "io/mesh_units.h"
@@ -38,6 +39,7 @@ struct VoxelizeOptions {
   std::string frame_of;      // STL: take the grid of this .dvol (excludes level and voxel_size); empty: fit one
   std::string fill_enclosed; // tissue for empty space the tooth encloses; empty: none
   double seal_mm = 0.2;       // closing radius for --fill-enclosed [mm]; about the apical foramen radius
+  long long min_piece = 0;    // labels: relabel pieces of one tissue smaller than this [voxels]; 0: off
   std::string output;        // .dvol path
 };
 
@@ -52,6 +54,24 @@ void printSummary(const ToothVolume& tooth, const std::string& output) {
     std::printf("  %-7s %14.4f mm^3  (%llu voxels)\n", materialName(mat).c_str(), totals.volumeMm3(mat, f.voxel_mm),
                 static_cast<unsigned long long>(totals.voxels[m]));
   }
+}
+
+// One line for the clean-up: what was relabelled, by tissue before and after. Silent when it was off.
+void printCleanup(const PieceCleanup& c, long long min_piece) {
+  if (min_piece <= 0) return;
+  std::string from, into;
+  for (uint32_t m = 0; m < DS_TISSUE_COUNT; ++m) {
+    const std::string name = materialName(static_cast<Material>(m));
+    if (c.pieces[m] > 0)
+      from += (from.empty() ? "" : ", ") + name + " " + std::to_string(c.pieces[m]) + " (" +
+              std::to_string(c.voxels[m]) + " voxels)";
+    if (c.voxels_into[m] > 0)
+      into += (into.empty() ? "" : ", ") + name + " " + std::to_string(c.voxels_into[m]);
+  }
+  if (from.empty())
+    std::printf("  pieces under %lld voxels relabelled: none\n", min_piece);
+  else
+    std::printf("  pieces under %lld voxels relabelled: %s; voxels now %s\n", min_piece, from.c_str(), into.c_str());
 }
 
 struct LoadedLayer {
@@ -160,16 +180,11 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
   gpu::VoxelizeTiming timing;
   const auto t0 = std::chrono::steady_clock::now();
   if (!o.cpu) {
-    gpu::ContextOptions co;
-    co.device_override = o.device;
-    auto ctx = gpu::Context::create(gpu::withEnvironment(co));
-    if (ctx) {
-      voxels.emplace(gpu::voxelizeGpu(*ctx, *setup, vo, &timing, progress));
-      engine = "GPU (" + ctx->device().name + ")";
-    } else if (gpu::isNoDeviceError(ctx.error()) && o.device.empty()) {
-      std::fprintf(stderr, "dentsim: warning: %s; voxelizing on the CPU instead\n", ctx.message().c_str());
-    } else {
-      return fail(ctx.message());
+    auto ctx = openGpuOrFallBack(o.device, "voxelizing on the CPU");
+    if (!ctx) return fail(ctx.message());
+    if (*ctx) {
+      voxels.emplace(gpu::voxelizeGpu(**ctx, *setup, vo, &timing, progress));
+      engine = "GPU (" + (*ctx)->device().name + ")";
     }
   }
   if (!voxels) voxels.emplace(voxelizeCpu(*setup, vo, progress));
@@ -201,6 +216,7 @@ int runVoxelize(const VoxelizeOptions& o) {
   if (meshes) return runVoxelizeMeshes(o);
   if (!o.frame_of.empty()) return fail("--frame-of applies to STL layers; --labels keeps the label volume's grid");
   if (o.label_map.empty()) return fail("--labels needs --label-map");
+  if (o.min_piece < 0) return fail("--min-piece must be 0 or more voxels, not " + std::to_string(o.min_piece));
   Result<LabelMap> map = parseLabelMap(o.label_map);
   if (!map) return fail("--label-map: " + map.message());
   LabelImportOptions import;
@@ -215,15 +231,18 @@ int runVoxelize(const VoxelizeOptions& o) {
     import.fill_enclosed = m;
     import.seal_mm = o.seal_mm;
   }
+  import.min_piece_voxels = o.min_piece;
 
   Result<LabelImage> image = readNiftiLabels(o.labels);
   if (!image) return fail(image.message());
   TerminalProgress progress;
-  Result<ToothVolume> tooth = importLabels(*image, import, progress);
+  LabelImportReport report;
+  Result<ToothVolume> tooth = importLabels(*image, import, progress, &report);
   if (!tooth) return fail(tooth.message());
   image = Error{};  // frees the labels before the save compacts and encodes the bricks
   if (Status saved = saveTooth(o.output, *tooth); !saved) return fail(saved.message());
   printSummary(*tooth, o.output);
+  printCleanup(report.cleanup, o.min_piece);
   return 0;
 }
 
@@ -266,6 +285,11 @@ void addVoxelizeCommand(CLI::App& root, Action& action) {
                   "With --fill-enclosed: seal openings (root canal apices) narrower than about twice this "
                   "radius before filling; 0 fills only fully closed space [mm]")
       ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  // Checked in runVoxelize rather than with a CLI11 range, so a negative value is a one-line error.
+  cmd->add_option("--min-piece", opts->min_piece,
+                  "Labels: before filling, relabel each 6-connected piece of one tissue (empty included) smaller "
+                  "than N source voxels to the tissue most of its faces touch; 0 keeps every piece [voxels]")
       ->capture_default_str();
   cmd->add_option("-o,--output", opts->output, "Output volume (.dvol)")->required();
   cmd->callback([opts, &action] { action = [opts] { return runVoxelize(*opts); }; });
