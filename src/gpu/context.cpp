@@ -265,6 +265,9 @@ DeviceLimits queryLimits(VkPhysicalDevice pd, uint32_t queue_family) {
   out.max_per_stage_storage_buffers = l.maxPerStageDescriptorStorageBuffers;
   out.min_storage_buffer_offset_alignment = l.minStorageBufferOffsetAlignment;
   out.subgroup_size = subgroup.subgroupSize;
+  out.subgroup_arithmetic_in_compute = (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) != 0 &&
+                                       (subgroup.supportedOperations & VK_SUBGROUP_FEATURE_ARITHMETIC_BIT) != 0;
+  out.max_compute_shared_memory = l.maxComputeSharedMemorySize;
   out.timestamp_period = l.timestampPeriod;
   out.timestamp_compute_and_graphics = l.timestampComputeAndGraphics == VK_TRUE;
 

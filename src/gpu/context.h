@@ -76,6 +76,8 @@ struct DeviceLimits {
   uint32_t max_per_stage_storage_buffers = 0;
   uint64_t min_storage_buffer_offset_alignment = 0;  // [B]
   uint32_t subgroup_size = 0;                    // VkPhysicalDeviceSubgroupProperties [invocations]
+  bool subgroup_arithmetic_in_compute = false;   // subgroup add/scan in compute shaders
+  uint32_t max_compute_shared_memory = 0;        // maxComputeSharedMemorySize [B]
   float timestamp_period = 0.0f;                 // [ns per tick]
   bool timestamp_compute_and_graphics = false;
   uint32_t timestamp_valid_bits = 0;             // of the compute queue family; 0 = no timestamps

@@ -28,6 +28,12 @@ using layout::MeshParams;
 
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
+// Shared memory of surface_mesh.comp.glsl [B]: prefix sums of 18^3 voxels, corner bytes, 16-bit
+// vertex indices of 2187 edges, 27 brick entries, the scan buffer and two totals.
+constexpr uint32_t kKernelSharedBytes =
+    4u * (DS_MESH_LOCAL_DIM * DS_MESH_LOCAL_DIM * DS_MESH_LOCAL_DIM + (729u + 3u) / 4u + (DS_MESH_EDGES + 1u) / 2u + 27u +
+          DS_MESH_GROUP_SIZE + 2u);
+
 constexpr uint64_t kSlotUnit = 256;  // [B]; a multiple of the 16 B vertex, so vertexOffset is whole
 
 // A storage buffer that grows (never shrinks), keeping nothing: the caller refills it.
@@ -371,6 +377,13 @@ Result<GpuSurface> GpuSurface::create(Context& ctx, const GpuSurfaceOptions& opt
   if (state->side == 0)
     return makeError("gpu surface", "normal_neighbours must be 8, 64 or 216, not " + std::to_string(options.normal_neighbours));
   const DeviceLimits& lim = ctx.limits();
+  // What surface_mesh.comp.glsl needs: its shared arrays and subgroup scans.
+  if (!lim.subgroup_arithmetic_in_compute)
+    return makeError("gpu surface", "this device has no subgroup arithmetic in compute shaders, which the mesher's scans use");
+  if (lim.max_compute_shared_memory < kKernelSharedBytes)
+    return makeError("gpu surface", "the mesher needs " + formatBytes(kKernelSharedBytes) +
+                                        " of shared memory per workgroup; this device has " +
+                                        formatBytes(lim.max_compute_shared_memory));
   uint64_t limit = lim.max_storage_buffer_range;
   if (lim.max_memory_allocation_size) limit = std::min(limit, lim.max_memory_allocation_size);
   if (options.max_page_bytes) limit = std::min(limit, std::max(options.max_page_bytes, kSlotUnit));
