@@ -3,11 +3,16 @@
 
 #include <unistd.h>
 
+#include <gtest/gtest.h>
+
 #include <array>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <string>
+#include <vector>
 
 namespace dentsim::test {
 
@@ -79,5 +84,26 @@ class NoLeakCheckForGpuChild {
   bool had_ = false;
   std::string old_;
 };
+
+// Writes `bytes` to `path`, replacing it: how tests forge input files.
+inline void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+}
+
+// The CLI's failure contract: a non-zero exit, one line "dentsim: ..." naming the culprit and the
+// problem, and (when `output` is given) no output file.
+inline void expectCleanFailure(const CommandResult& r, const std::string& names, const std::string& problem,
+                               const std::string& output = "") {
+  EXPECT_NE(r.exit_code, 0) << r.output;
+  EXPECT_EQ(r.output.rfind("dentsim: ", 0), 0u) << r.output;
+  EXPECT_NE(r.output.find(names), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(problem), std::string::npos) << r.output;
+  ASSERT_FALSE(r.output.empty());
+  EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << r.output;
+  if (!output.empty()) {
+    EXPECT_FALSE(std::filesystem::exists(output)) << output;
+  }
+}
 
 }  // namespace dentsim::test

@@ -64,7 +64,7 @@ void printCleanup(const PieceCleanup& c, long long min_piece) {
     const std::string name = materialName(static_cast<Material>(m));
     if (c.pieces[m] > 0)
       from += (from.empty() ? "" : ", ") + name + " " + std::to_string(c.pieces[m]) + " (" +
-              std::to_string(c.voxels[m]) + " voxels)";
+              std::to_string(c.voxels[m]) + (c.voxels[m] == 1 ? " voxel)" : " voxels)");
     if (c.voxels_into[m] > 0)
       into += (into.empty() ? "" : ", ") + name + " " + std::to_string(c.voxels_into[m]);
   }

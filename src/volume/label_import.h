@@ -1,11 +1,13 @@
-// Segmented label images (CT) into the brick volume and back: label maps, import with optional resampling, export.
+// Segmented label images (CT) into the brick volume and back: label maps, import with optional clean-up and resampling, export.
 //
 // Contents
 //   1. Label maps ("1=caries,2=enamel,3=dentin")
-//   2. importLabels: a LabelImage into a ToothVolume
+//   2. importLabels: a LabelImage into a ToothVolume (what it changed in a LabelImportReport)
 //   3. exportLabels: a ToothVolume back into a LabelImage (Material codes as labels)
 #pragma once
 
+#include <array>
+#include <cstdint>
 #include <map>
 #include <optional>
 #include <string>
@@ -34,7 +36,19 @@ struct LabelImportOptions {
   std::optional<double> source_pitch_mm;    // overrides the header pitch (isotropic) [mm]
   std::optional<Material> fill_enclosed;    // empty voxels enclosed by the tooth become this
   double seal_mm = 0.0;                     // closing radius for fill_enclosed; 0: plain flood [mm]
+  int64_t min_piece_voxels = 0;             // relabel pieces smaller than this [source voxels]; 0: off
   std::string where;                        // names the source in errors (the file path)
+};
+
+// What the small-piece clean-up relabelled. Arrays are indexed by Material code (0 empty .. 4 caries).
+struct PieceCleanup {
+  std::array<uint64_t, DS_MATERIAL_COUNT> pieces{};       // pieces relabelled, by their tissue before
+  std::array<uint64_t, DS_MATERIAL_COUNT> voxels{};       // voxels in those pieces, by their tissue before
+  std::array<uint64_t, DS_MATERIAL_COUNT> voxels_into{};  // the same voxels, by the tissue they became
+};
+
+struct LabelImportReport {
+  PieceCleanup cleanup;  // all zero when min_piece_voxels is 0
 };
 
 // Builds a tooth from labels.
@@ -45,7 +59,7 @@ struct LabelImportOptions {
 // with each column rescaled to the source pitch (direction and sign kept, offset unchanged).
 //
 // With resampling (a level, or a voxel size other than the pitch): the tissue's bounding box
-// (non-empty voxels after mapping and filling) is centred in the grid with a margin of 2 target
+// (non-empty voxels after mapping, cleaning and filling) is centred in the grid with a margin of 2 target
 // voxels on every side. With `level` N the voxel is the largest box extent [mm] / (2^N - 4); with
 // `voxel_mm` the level is the smallest that fits box + margin. Each target voxel takes n^3 point
 // samples (n = clamp(ceil(voxel / pitch), 1, 4) per axis), nearest-neighbour into the source:
@@ -54,6 +68,19 @@ struct LabelImportOptions {
 // sample is solid; no solid sample: empty. The frame then has no source box (the grids differ),
 // and scanner_from_grid maps target voxel centres into the source's scanner space.
 //
+// min_piece_voxels (> 0) cleans the segmentation first, on the source grid after mapping, before
+// fill_enclosed and resampling. A piece is a 6-connected set of source voxels of one tissue (labels
+// mapped to the same tissue count as one; empty is a tissue too, so small holes are pieces). Every
+// piece with fewer voxels than min_piece_voxels takes the tissue that most of its faces touch outside
+// the piece: each face between a piece voxel and a voxel outside it is one vote, faces on the image
+// border do not vote, and ties go to the inner tissue (pulp > caries > dentin > enamel > empty), as
+// in resampling. Pieces are taken in scan order of their first voxel (i fastest, then j, then k) and
+// relabelled at once, so a piece relabelled earlier votes with its new tissue; a speck enclosed by a
+// small shell is thus decided after the shell, and follows the shell's new tissue. A piece with no
+// votes (the whole image) is kept. Memory: one bit per source voxel, the piece while it is below the
+// limit, and a flood front. Single isolated voxels in a 34 um CT are segmentation noise that no
+// surface holds (a lone voxel meshes to 1/6 of a voxel), which is what this is for.
+//
 // fill_enclosed works on the source grid before resampling: an empty voxel not 6-connected to the
 // image border through empty voxels becomes that tissue (an explicit queue; no recursion). Real
 // teeth have open root canals (apical foramina), so with seal_mm > 0 the dentin (or, with no dentin,
@@ -61,10 +88,11 @@ struct LabelImportOptions {
 // are sealed for the flood, and only empty voxels deeper than the flood's reach back become filled.
 //
 // Errors (one line, naming options.where): a non-zero label not in the map (with its voxel count),
-// an anisotropic pitch without a target size, a grid beyond DS_MAX_LEVEL, no tissue to fit, a
-// cancel through `interrupter`.
+// an anisotropic pitch without a target size, a negative min_piece_voxels, a grid beyond
+// DS_MAX_LEVEL, no tissue to fit, a cancel through `interrupter`. `report`, when given, receives
+// what the clean-up changed (reset first, also on error).
 Result<ToothVolume> importLabels(const LabelImage& image, const LabelImportOptions& options,
-                                 Interrupter& interrupter = nullInterrupter());
+                                 Interrupter& interrupter = nullInterrupter(), LabelImportReport* report = nullptr);
 
 // ---- 3. export ------------------------------------------------------------------------------
 enum class ExportRegion {

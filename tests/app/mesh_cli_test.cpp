@@ -17,10 +17,8 @@ namespace {
 
 using test::runDentsim;
 using test::TempDir;
+using test::writeBytes;
 
-void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-}
 
 // The palette cmd_mesh.cpp documents, for the tissues these tests build.
 constexpr Rgb8 kEnamel{240, 238, 228};

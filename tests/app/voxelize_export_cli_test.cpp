@@ -37,15 +37,6 @@ size_t entries(const std::filesystem::path& dir) {
   return n;
 }
 
-// Failure contract: exit code 1, one line "dentsim: <file>: <problem>", and no output file.
-void expectCleanFailure(const test::CommandResult& r, const std::string& names, const std::string& problem) {
-  EXPECT_NE(r.exit_code, 0) << r.output;
-  EXPECT_EQ(r.output.rfind("dentsim: ", 0), 0u) << r.output;
-  EXPECT_NE(r.output.find(names), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find(problem), std::string::npos) << r.output;
-  ASSERT_FALSE(r.output.empty());
-  EXPECT_EQ(r.output.find('\n'), r.output.size() - 1) << r.output;
-}
 
 TEST(VoxelizeExportCliTest, RoundTripReproducesTheLabels) {
   test::TempDir dir;
@@ -97,12 +88,12 @@ TEST(VoxelizeExportCliTest, BadInputsFailCleanly) {
   test::TempDir dir;
   const std::string dvol = dir.file("out.dvol");
   const std::string missing = dir.file("missing.nii.gz");
-  expectCleanFailure(test::runDentsim("voxelize --labels " + missing + " --label-map 1=caries -o " + dvol), missing,
+  test::expectCleanFailure(test::runDentsim("voxelize --labels " + missing + " --label-map 1=caries -o " + dvol), missing,
                      "cannot open");
 
   const std::string text = dir.file("notes.nii");
   { std::ofstream(text) << std::string(600, 'x') << "\n"; }
-  expectCleanFailure(test::runDentsim("voxelize --labels " + text + " --label-map 1=caries -o " + dvol), text,
+  test::expectCleanFailure(test::runDentsim("voxelize --labels " + text + " --label-map 1=caries -o " + dvol), text,
                      "not a NIfTI file");
 
   const std::string good = dir.file("good.nii");
@@ -110,13 +101,13 @@ TEST(VoxelizeExportCliTest, BadInputsFailCleanly) {
   const std::string cut = dir.file("cut.nii");
   std::filesystem::copy_file(good, cut);
   std::filesystem::resize_file(cut, std::filesystem::file_size(good) - 10);
-  expectCleanFailure(test::runDentsim("voxelize --labels " + cut + " --label-map 1=caries,2=enamel,3=dentin -o " + dvol),
+  test::expectCleanFailure(test::runDentsim("voxelize --labels " + cut + " --label-map 1=caries,2=enamel,3=dentin -o " + dvol),
                      cut, "truncated");
 
   // Label 3 (22 voxels) is in the data but not in the map.
-  expectCleanFailure(test::runDentsim("voxelize --labels " + good + " --label-map 1=caries,2=enamel -o " + dvol), good,
+  test::expectCleanFailure(test::runDentsim("voxelize --labels " + good + " --label-map 1=caries,2=enamel -o " + dvol), good,
                      "label 3 (22 voxels) is not in the label map");
-  expectCleanFailure(test::runDentsim("voxelize --labels " + good + " --label-map 1=caries,2=bone -o " + dvol),
+  test::expectCleanFailure(test::runDentsim("voxelize --labels " + good + " --label-map 1=caries,2=bone -o " + dvol),
                      "--label-map", "unknown tissue 'bone'");
 
   const std::string bad_dvol = dir.file("bad.dvol");

@@ -15,10 +15,8 @@ namespace {
 using test::NoLeakCheckForGpuChild;
 using test::runDentsim;
 using test::TempDir;
+using test::writeBytes;
 
-void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
-  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-}
 
 // Two nested layers in cm, as a scanner might export them: a 1 cm cube of enamel around a
 // 0.5 cm sphere of pulp.

@@ -32,10 +32,6 @@ std::vector<uint8_t> readBytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
-void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
-}
 template <class T>
 void poke(std::vector<uint8_t>& bytes, size_t offset, T value) {
   std::memcpy(bytes.data() + offset, &value, sizeof(T));
@@ -97,7 +93,7 @@ TEST_F(NiftiLabelsTest, QformAloneGivesTheSameMatrix) {
   std::vector<uint8_t> bytes = validBytes();
   poke<int16_t>(bytes, kSformCode, 0);
   const std::string p = dir.file("qform.nii");
-  writeBytes(p, bytes);
+  test::writeBytes(p, bytes);
   Result<LabelImage> back = readNiftiLabels(p);
   ASSERT_TRUE(back.ok()) << back.message();
   expectSame(smallImage(), *back, 1e-5);
@@ -138,7 +134,7 @@ TEST_F(NiftiLabelsTest, MissingUncompressedDoesNotFallBackToGzipSibling) {
 
 TEST_F(NiftiLabelsTest, EmptyFile) {
   const std::string p = dir.file("empty.nii");
-  writeBytes(p, {});
+  test::writeBytes(p, {});
   expectError(readNiftiLabels(p), p, "empty file");
 }
 
@@ -146,19 +142,19 @@ TEST_F(NiftiLabelsTest, TextFile) {
   const std::string p = dir.file("notes.nii");
   std::string text;
   for (int i = 0; i < 40; ++i) text += "this is a text file, not a label volume\n";
-  writeBytes(p, std::vector<uint8_t>(text.begin(), text.end()));
+  test::writeBytes(p, std::vector<uint8_t>(text.begin(), text.end()));
   expectError(readNiftiLabels(p), p, "not a NIfTI file");
 }
 
 TEST_F(NiftiLabelsTest, ShortTextFile) {
   const std::string p = dir.file("short.nii");
-  writeBytes(p, {'h', 'i', '\n'});
+  test::writeBytes(p, {'h', 'i', '\n'});
   expectError(readNiftiLabels(p), p, "not a NIfTI file");
 }
 
 TEST_F(NiftiLabelsTest, WrongExtension) {
   const std::string p = dir.file("labels.raw");
-  writeBytes(p, validBytes());
+  test::writeBytes(p, validBytes());
   expectError(readNiftiLabels(p), p, "expected .nii or .nii.gz");
 }
 
@@ -166,7 +162,7 @@ TEST_F(NiftiLabelsTest, TruncatedUncompressed) {
   std::vector<uint8_t> bytes = validBytes();
   bytes.resize(bytes.size() - 7);  // the last 7 voxels are missing
   const std::string p = dir.file("cut.nii");
-  writeBytes(p, bytes);
+  test::writeBytes(p, bytes);
   expectError(readNiftiLabels(p), p, "truncated");
 }
 
@@ -174,7 +170,7 @@ TEST_F(NiftiLabelsTest, TruncatedHeader) {
   std::vector<uint8_t> bytes = validBytes();
   bytes.resize(200);
   const std::string p = dir.file("cuthdr.nii");
-  writeBytes(p, bytes);
+  test::writeBytes(p, bytes);
   expectError(readNiftiLabels(p), p, "truncated");
 }
 
@@ -195,7 +191,7 @@ TEST_F(NiftiLabelsTest, TruncatedGzip) {
   std::vector<uint8_t> bytes = readBytes(whole);
   bytes.resize(bytes.size() / 2);
   const std::string p = dir.file("cut.nii.gz");
-  writeBytes(p, bytes);
+  test::writeBytes(p, bytes);
   expectError(readNiftiLabels(p), p, "truncated");
 }
 
@@ -210,7 +206,7 @@ TEST_F(NiftiLabelsTest, FloatLabelsMustBeWholeNumbers) {
   whole.resize(kHeaderAndExt + values.size() * 4);
   std::memcpy(whole.data() + kHeaderAndExt, values.data(), values.size() * 4);
   const std::string ok_path = dir.file("float_ok.nii");
-  writeBytes(ok_path, whole);
+  test::writeBytes(ok_path, whole);
   Result<LabelImage> ok = readNiftiLabels(ok_path);
   ASSERT_TRUE(ok.ok()) << ok.message();
   EXPECT_EQ(ok->labels, im.labels);
@@ -218,7 +214,7 @@ TEST_F(NiftiLabelsTest, FloatLabelsMustBeWholeNumbers) {
   values[17] = 2.5f;
   std::memcpy(whole.data() + kHeaderAndExt, values.data(), values.size() * 4);
   const std::string bad = dir.file("float_bad.nii");
-  writeBytes(bad, whole);
+  test::writeBytes(bad, whole);
   expectError(readNiftiLabels(bad), bad, "whole numbers");
 }
 
@@ -227,7 +223,7 @@ TEST_F(NiftiLabelsTest, UnsupportedDatatype) {
   poke<int16_t>(bytes, kDatatype, 32);  // DT_COMPLEX64
   poke<int16_t>(bytes, kBitpix, 64);
   const std::string p = dir.file("complex.nii");
-  writeBytes(p, bytes);
+  test::writeBytes(p, bytes);
   expectError(readNiftiLabels(p), p, "unsupported datatype");
 }
 
@@ -236,7 +232,7 @@ TEST_F(NiftiLabelsTest, FourDimensional) {
   poke<int16_t>(bytes, kDim, 4);
   poke<int16_t>(bytes, kDim + 8, 1);  // t = 1: still one 3D volume
   const std::string one = dir.file("t1.nii");
-  writeBytes(one, bytes);
+  test::writeBytes(one, bytes);
   Result<LabelImage> r = readNiftiLabels(one);
   ASSERT_TRUE(r.ok()) << r.message();
   EXPECT_EQ(r->labels, smallImage().labels);
@@ -244,7 +240,7 @@ TEST_F(NiftiLabelsTest, FourDimensional) {
   poke<int16_t>(bytes, kDim + 8, 2);  // t = 2: a time series
   bytes.resize(kHeaderAndExt + 120);
   const std::string two = dir.file("t2.nii");
-  writeBytes(two, bytes);
+  test::writeBytes(two, bytes);
   expectError(readNiftiLabels(two), two, "wrong dimensionality");
 }
 
@@ -252,7 +248,7 @@ TEST_F(NiftiLabelsTest, TwoDimensional) {
   std::vector<uint8_t> bytes = validBytes();
   poke<int16_t>(bytes, kDim, 2);
   const std::string p = dir.file("flat.nii");
-  writeBytes(p, bytes);
+  test::writeBytes(p, bytes);
   expectError(readNiftiLabels(p), p, "wrong dimensionality");
 }
 
@@ -261,7 +257,7 @@ TEST_F(NiftiLabelsTest, AbsurdDimensions) {
   std::vector<uint8_t> bytes = validBytes();
   for (size_t a = 1; a <= 3; ++a) poke<int16_t>(bytes, kDim + 2 * a, 30000);
   const std::string p = dir.file("huge.nii");
-  writeBytes(p, bytes);
+  test::writeBytes(p, bytes);
   expectError(readNiftiLabels(p), p, "oversized dimensions");
 }
 
@@ -269,7 +265,7 @@ TEST_F(NiftiLabelsTest, DimensionsWithinVoxelLimitButPastFileSize) {
   std::vector<uint8_t> bytes = validBytes();
   for (size_t a = 1; a <= 3; ++a) poke<int16_t>(bytes, kDim + 2 * a, 500);
   const std::string p = dir.file("promise.nii");
-  writeBytes(p, bytes);
+  test::writeBytes(p, bytes);
   expectError(readNiftiLabels(p), p, "truncated");
 }
 
@@ -277,7 +273,7 @@ TEST_F(NiftiLabelsTest, NegativeDimension) {
   std::vector<uint8_t> bytes = validBytes();
   poke<int16_t>(bytes, kDim + 4, -4);
   const std::string p = dir.file("neg.nii");
-  writeBytes(p, bytes);
+  test::writeBytes(p, bytes);
   Result<LabelImage> r = readNiftiLabels(p);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.message().rfind(p + ": ", 0), 0u) << r.message();
@@ -287,13 +283,13 @@ TEST_F(NiftiLabelsTest, ScaledLabelsAreRefused) {
   std::vector<uint8_t> bytes = validBytes();
   poke<float>(bytes, kSclSlope, 2.0f);
   const std::string p = dir.file("scaled.nii");
-  writeBytes(p, bytes);
+  test::writeBytes(p, bytes);
   expectError(readNiftiLabels(p), p, "scaled");
 }
 
 TEST_F(NiftiLabelsTest, LimitsAreHonoured) {
   const std::string p = dir.file("small.nii");
-  writeBytes(p, validBytes());
+  test::writeBytes(p, validBytes());
   NiftiReadLimits limits;
   limits.max_voxels = 59;  // one fewer than the 60 voxels of the file
   expectError(readNiftiLabels(p, limits), p, "exceed the limit");
@@ -312,7 +308,7 @@ TEST_F(NiftiLabelsTest, WideLabelsOutsideInt16AreRefused) {
   bytes.resize(kHeaderAndExt + 240);
   std::memcpy(bytes.data() + kHeaderAndExt, values.data(), 240);
   const std::string p = dir.file("wide.nii");
-  writeBytes(p, bytes);
+  test::writeBytes(p, bytes);
   expectError(readNiftiLabels(p), p, "label 40000");
 }
 

@@ -1,9 +1,10 @@
-// Tests of src/volume/label_import.cpp: label maps, direct and resampled import, enclosed-space filling, export, against hand counts.
+// Tests of src/volume/label_import.cpp: label maps, direct and resampled import, small-piece clean-up, enclosed-space filling, export, against hand counts.
 #include "volume/label_import.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 
 namespace dentsim {
 namespace {
@@ -181,6 +182,205 @@ TEST(LabelImportTest, CancelIsAnError) {
   ASSERT_TRUE(importLabels(im, opt, never).ok());
   EXPECT_GT(never.calls, 2);
   EXPECT_DOUBLE_EQ(never.last, 1.0);
+}
+
+// ---- small pieces -----------------------------------------------------------------------------
+
+// Voxels whose exported label (a Material code) differs from the input's, as index -> new code.
+std::map<size_t, Label> changedVoxels(const LabelImage& in, const ToothVolume& tooth) {
+  const LabelImage out = exportLabels(tooth);
+  EXPECT_EQ(out.dims, in.dims);
+  std::map<size_t, Label> changed;
+  for (size_t i = 0; i < in.labels.size() && i < out.labels.size(); ++i)
+    if (out.labels[i] != renumbered(in.labels[i])) changed[i] = out.labels[i];
+  return changed;
+}
+
+// A 12 x 10 x 8 image: dentin at x = 0..5, enamel at x = 6..8, empty at x = 9..11, and in it one
+// example of each case the clean-up must handle. Every small piece is a single voxel unless noted.
+class LabelCleanupTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    im_ = blankImage({12, 10, 8}, 0.1);
+    fillBox(im_, {0, 0, 0}, {5, 9, 7}, 3);
+    fillBox(im_, {6, 0, 0}, {8, 9, 7}, 2);
+    // A caries speck inside dentin: 6 dentin faces.
+    fillBox(im_, {2, 4, 4}, {2, 4, 4}, 1);
+    // An empty hole inside dentin: empty is a tissue too, so the hole is a piece.
+    fillBox(im_, {2, 2, 2}, {2, 2, 2}, 0);
+    // A 3-voxel caries line at x = 3..5 touching enamel at its end: 14 faces, 13 dentin and 1 enamel.
+    fillBox(im_, {3, 8, 5}, {5, 8, 5}, 1);
+    // A 20-voxel caries block (5 x 2 x 2) against the enamel (4 faces) and the top border (10 faces
+    // that do not vote); the other 34 faces are dentin.
+    fillBox(im_, {1, 5, 6}, {5, 6, 7}, 1);
+    // A tie between dentin and enamel: a caries speck in the enamel at x = 6 with two dentin bumps
+    // beside it (part of the dentin through x = 5), so 3 dentin and 3 enamel faces. The inner wins.
+    fillBox(im_, {6, 4, 4}, {6, 4, 4}, 3);
+    fillBox(im_, {6, 6, 4}, {6, 6, 4}, 3);
+    fillBox(im_, {6, 5, 4}, {6, 5, 4}, 1);
+    // A tie between enamel and empty: a dentin speck in the empty space at x = 9 with two enamel
+    // bumps beside it, so 3 enamel and 3 empty faces. A tissue beats empty.
+    fillBox(im_, {9, 4, 4}, {9, 4, 4}, 2);
+    fillBox(im_, {9, 6, 4}, {9, 6, 4}, 2);
+    fillBox(im_, {9, 5, 4}, {9, 5, 4}, 3);
+    // At the image border: a caries speck in a corner (3 dentin faces, the other 3 are the border),
+    // an enamel speck in another corner, and a 2-voxel empty pocket on an edge (6 dentin faces). What
+    // lies beyond the border is unknown, so it does not vote, not even for empty.
+    fillBox(im_, {0, 0, 0}, {0, 0, 0}, 1);
+    fillBox(im_, {0, 9, 7}, {0, 9, 7}, 2);
+    fillBox(im_, {0, 0, 4}, {0, 0, 5}, 0);
+    opt_.map = ctMap();
+    opt_.where = "pieces.nii";
+  }
+
+  // What min_piece_voxels 4 (or anything from 4 to 20) changes: every piece above but the block.
+  std::map<size_t, Label> expectedUnder20() const {
+    std::map<size_t, Label> e;
+    for (auto [x, y, z] : {std::array<int, 3>{2, 4, 4}, {2, 2, 2}, {3, 8, 5}, {4, 8, 5}, {5, 8, 5}, {6, 5, 4},
+                           {0, 0, 0}, {0, 9, 7}, {0, 0, 4}, {0, 0, 5}})
+      e[im_.index(x, y, z)] = DS_MAT_DENTIN;
+    e[im_.index(9, 5, 4)] = DS_MAT_ENAMEL;
+    return e;
+  }
+
+  LabelImage im_;
+  LabelImportOptions opt_;
+};
+
+TEST_F(LabelCleanupTest, OffByDefaultAndWithZero) {
+  EXPECT_EQ(opt_.min_piece_voxels, 0);
+  LabelImportReport report;
+  report.cleanup.pieces[DS_MAT_CARIES] = 99;  // reset by the import
+  Result<ToothVolume> tooth = importLabels(im_, opt_, nullInterrupter(), &report);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  EXPECT_TRUE(changedVoxels(im_, *tooth).empty());
+  for (uint32_t m = 0; m < DS_MATERIAL_COUNT; ++m) {
+    EXPECT_EQ(report.cleanup.pieces[m], 0u) << m;
+    EXPECT_EQ(report.cleanup.voxels_into[m], 0u) << m;
+  }
+  // No piece is smaller than one voxel, so 1 changes nothing either.
+  opt_.min_piece_voxels = 1;
+  tooth = importLabels(im_, opt_, nullInterrupter(), &report);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  EXPECT_TRUE(changedVoxels(im_, *tooth).empty());
+}
+
+TEST_F(LabelCleanupTest, PiecesUnderFourTakeTheMajorityOfTheirFaces) {
+  opt_.min_piece_voxels = 4;
+  LabelImportReport report;
+  Result<ToothVolume> tooth = importLabels(im_, opt_, nullInterrupter(), &report);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  EXPECT_EQ(changedVoxels(im_, *tooth), expectedUnder20());
+
+  const PieceCleanup& c = report.cleanup;
+  // Caries: the speck, the line, the dentin/enamel tie and the corner speck (1 + 3 + 1 + 1 voxels).
+  EXPECT_EQ(c.pieces[DS_MAT_CARIES], 4u);
+  EXPECT_EQ(c.voxels[DS_MAT_CARIES], 6u);
+  EXPECT_EQ(c.pieces[DS_MAT_ENAMEL], 1u);  // the corner speck
+  EXPECT_EQ(c.voxels[DS_MAT_ENAMEL], 1u);
+  EXPECT_EQ(c.pieces[DS_MAT_DENTIN], 1u);  // the speck in the empty space
+  EXPECT_EQ(c.voxels[DS_MAT_DENTIN], 1u);
+  EXPECT_EQ(c.pieces[DS_MAT_EMPTY], 2u);   // the hole and the edge pocket
+  EXPECT_EQ(c.voxels[DS_MAT_EMPTY], 3u);
+  EXPECT_EQ(c.voxels_into[DS_MAT_DENTIN], 10u);
+  EXPECT_EQ(c.voxels_into[DS_MAT_ENAMEL], 1u);
+  EXPECT_EQ(c.voxels_into[DS_MAT_CARIES], 0u);
+  EXPECT_EQ(c.voxels_into[DS_MAT_EMPTY], 0u);
+  EXPECT_EQ(tooth->voxels.materialTotals().voxels[DS_MAT_CARIES], 20u);  // the block stays
+
+  // The clean-up works on the source grid, so resampling sees the cleaned labels and the report is
+  // the same.
+  LabelImportReport resampled;
+  opt_.level = 5;
+  ASSERT_TRUE(importLabels(im_, opt_, nullInterrupter(), &resampled).ok());
+  EXPECT_EQ(resampled.cleanup.pieces, c.pieces);
+  EXPECT_EQ(resampled.cleanup.voxels_into, c.voxels_into);
+}
+
+TEST_F(LabelCleanupTest, TheLimitIsExclusive) {
+  // A piece of exactly min_piece_voxels stays; one more and it goes.
+  opt_.min_piece_voxels = 20;
+  Result<ToothVolume> tooth = importLabels(im_, opt_);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  EXPECT_EQ(changedVoxels(im_, *tooth), expectedUnder20());
+
+  opt_.min_piece_voxels = 21;
+  LabelImportReport report;
+  tooth = importLabels(im_, opt_, nullInterrupter(), &report);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  std::map<size_t, Label> expected = expectedUnder20();
+  for (int z = 6; z <= 7; ++z)
+    for (int y = 5; y <= 6; ++y)
+      for (int x = 1; x <= 5; ++x) expected[im_.index(x, y, z)] = DS_MAT_DENTIN;  // 34 dentin faces to 4
+  EXPECT_EQ(changedVoxels(im_, *tooth), expected);
+  EXPECT_EQ(report.cleanup.pieces[DS_MAT_CARIES], 5u);
+  EXPECT_EQ(report.cleanup.voxels[DS_MAT_CARIES], 26u);
+  EXPECT_EQ(tooth->voxels.materialTotals().voxels[DS_MAT_CARIES], 0u);
+}
+
+TEST_F(LabelCleanupTest, HolesAreCleanedBeforeTheEnclosedFill) {
+  // Without the clean-up the hole is enclosed, so it becomes a pulp speck. (The edge pocket is not:
+  // the fill floods from the border, while the clean-up lets only voxels in the image vote.)
+  opt_.fill_enclosed = Material::Pulp;
+  Result<ToothVolume> tooth = importLabels(im_, opt_);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  EXPECT_EQ(tooth->voxels.materialTotals().voxels[DS_MAT_PULP], 1u);
+  EXPECT_EQ(tooth->voxels.voxel(2, 2, 2), makeVoxel(Material::Pulp));
+  // With it the hole is dentin before the fill runs, and nothing is left to fill.
+  opt_.min_piece_voxels = 4;
+  tooth = importLabels(im_, opt_);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  EXPECT_EQ(tooth->voxels.materialTotals().voxels[DS_MAT_PULP], 0u);
+  EXPECT_EQ(tooth->voxels.voxel(2, 2, 2), makeVoxel(Material::Dentin));
+}
+
+TEST_F(LabelCleanupTest, NegativeLimitIsAnErrorAndCancelIsHeard) {
+  opt_.min_piece_voxels = -1;
+  Result<ToothVolume> r = importLabels(im_, opt_);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.message(), "pieces.nii: minimum piece size must be 0 or more voxels, not -1");
+  // The label codes report twice; the third report is the clean-up's.
+  opt_.min_piece_voxels = 4;
+  CountingInterrupter stop_in_cleanup(2);
+  r = importLabels(im_, opt_, stop_in_cleanup);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.message(), "pieces.nii: import cancelled");
+  EXPECT_EQ(stop_in_cleanup.calls, 3);
+}
+
+TEST(LabelCleanupOrderTest, ASpeckInsideASmallShellFollowsTheShell) {
+  // An enamel voxel at the centre of a 3^3 caries shell (26 voxels) inside a 7^3 dentin cube. With a
+  // limit of 27 the shell comes first in scan order (its first voxel, (2,2,2), precedes the centre)
+  // and turns to dentin; the centre then sees 6 dentin faces. Decided on the input labels instead,
+  // it would have become caries, a new speck inside the dentin.
+  LabelImage im = blankImage({7, 7, 7}, 0.1);
+  fillBox(im, {0, 0, 0}, {6, 6, 6}, 3);
+  fillBox(im, {2, 2, 2}, {4, 4, 4}, 1);
+  fillBox(im, {3, 3, 3}, {3, 3, 3}, 2);
+  LabelImportOptions opt;
+  opt.map = ctMap();
+  opt.min_piece_voxels = 27;
+  LabelImportReport report;
+  Result<ToothVolume> tooth = importLabels(im, opt, nullInterrupter(), &report);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  EXPECT_EQ(tooth->voxels.materialTotals().voxels[DS_MAT_DENTIN], 343u);
+  EXPECT_EQ(report.cleanup.voxels[DS_MAT_CARIES], 26u);
+  EXPECT_EQ(report.cleanup.voxels[DS_MAT_ENAMEL], 1u);
+  EXPECT_EQ(report.cleanup.voxels_into[DS_MAT_DENTIN], 27u);
+}
+
+TEST(LabelCleanupOrderTest, AnImageThatIsOnePieceIsKept) {
+  // No face of the piece has a voxel outside it, and the border does not vote: nothing to go by.
+  LabelImage im = blankImage({2, 2, 2}, 0.1);
+  fillBox(im, {0, 0, 0}, {1, 1, 1}, 1);
+  LabelImportOptions opt;
+  opt.map = ctMap();
+  opt.min_piece_voxels = 100;
+  LabelImportReport report;
+  Result<ToothVolume> tooth = importLabels(im, opt, nullInterrupter(), &report);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  EXPECT_EQ(tooth->voxels.materialTotals().voxels[DS_MAT_CARIES], 8u);
+  EXPECT_EQ(report.cleanup.pieces[DS_MAT_CARIES], 0u);
 }
 
 // ---- enclosed space ---------------------------------------------------------------------------
