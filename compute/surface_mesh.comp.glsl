@@ -213,6 +213,41 @@ uint packOctahedral(vec3 n) {
   return qu | (qv << 12u);
 }
 
+// Writes vertex `vertex` of the job's slot: the crossing of the edge from corner c along `axis`.
+void emitVertex(uint vertex, uint c, uint axis, MeshJob job) {
+  if (vertex >= job.vertexCount) return;  // the count pass disagreed: never write past the slot
+  uvec3 cc = uvec3(c % CD, (c / CD) % CD, c / (CD * CD));
+  ivec3 p = ivec3(cc + C0);
+  ivec3 q = p;
+  q[axis] += 1;
+  uint fa = cornerF(c);
+  uvec3 cq = cc;
+  cq[axis] += 1u;
+  uint fb = cornerF(cornerIndex(cq));
+  bool aInside = 2u * fa > DS_FILL_FULL;
+  precise float t = float(int(DS_FILL_FULL) - 2 * int(fa)) / float(2 * (int(fb) - int(fa)));
+  ivec3 g = ivec3(blockCoord) * int(DS_MESH_BLOCK_CELLS) - 1 + ivec3(cc);
+  precise vec3 pos = vec3(g) + 0.5;
+  pos[axis] = pos[axis] + t;
+
+  ivec3 n = normalSums(p, axis, int(params.side));
+  vec3 normal;
+  if (n == ivec3(0)) {
+    normal = vec3(0.0);
+    normal[axis] = aInside ? 1.0 : -1.0;
+  } else {
+    normal = -normalize(vec3(n));
+  }
+  uint inVoxel = rawVoxel(aInside ? p : q), outVoxel = rawVoxel(aInside ? q : p);
+  uint w = job.slotWord + vertex * DS_MESH_VERTEX_WORDS;
+  surface[w + 0u] = floatBitsToUint(pos.x);
+  surface[w + 1u] = floatBitsToUint(pos.y);
+  surface[w + 2u] = floatBitsToUint(pos.z);
+  uint outMaterial = voxelMaterial(outVoxel);
+  uint across = (params.tissue != 0u && outMaterial != params.tissue) ? outMaterial : 0u;
+  surface[w + 3u] = packOctahedral(normal) | (voxelMaterial(inVoxel) << 24u) | (across << 28u);
+}
+
 void main() {
   uint jobIndex = params.firstJob + gl_WorkGroupID.x;
   if (jobIndex >= params.jobCount) return;  // the whole workgroup leaves together
@@ -310,45 +345,38 @@ void main() {
 
   // ---- vertices --------------------------------------------------------------------------------
   uint vertex = exclusiveScan(myEdges, 0u);
-  int side = int(params.side);
-  for (uint c = cornerBegin; c < cornerEnd; ++c) {
+  uint vertexTotal = totals[0];
+  for (uint c = cornerBegin, v = vertex; c < cornerEnd; ++c) {
     uvec3 cc = uvec3(c % CD, (c / CD) % CD, c / (CD * CD));
-    for (uint axis = 0u; axis < 3u; ++axis) {
-      if (!edgeCrosses(cc, axis)) continue;
-      uint edge = c * 3u + axis;
-      atomicOr(vertexIndex[edge >> 1u], vertex << ((edge & 1u) * 16u));
-      if (vertex < job.vertexCount) {
-        ivec3 p = ivec3(cc + C0);
-        ivec3 q = p;
-        q[axis] += 1;
-        uint fa = cornerF(c);
-        uvec3 cq = cc;
-        cq[axis] += 1u;
-        uint fb = cornerF(cornerIndex(cq));
-        bool aInside = 2u * fa > DS_FILL_FULL;
-        precise float t = float(int(DS_FILL_FULL) - 2 * int(fa)) / float(2 * (int(fb) - int(fa)));
-        ivec3 g = ivec3(blockCoord) * int(DS_MESH_BLOCK_CELLS) - 1 + ivec3(cc);
-        precise vec3 pos = vec3(g) + 0.5;
-        pos[axis] = pos[axis] + t;
-
-        ivec3 n = normalSums(p, axis, side);
-        vec3 normal;
-        if (n == ivec3(0)) {
-          normal = vec3(0.0);
-          normal[axis] = aInside ? 1.0 : -1.0;
-        } else {
-          normal = -normalize(vec3(n));
-        }
-        uint inVoxel = rawVoxel(aInside ? p : q), outVoxel = rawVoxel(aInside ? q : p);
-        uint w = job.slotWord + vertex * DS_MESH_VERTEX_WORDS;
-        surface[w + 0u] = floatBitsToUint(pos.x);
-        surface[w + 1u] = floatBitsToUint(pos.y);
-        surface[w + 2u] = floatBitsToUint(pos.z);
-        uint outMaterial = voxelMaterial(outVoxel);
-        uint across = (params.tissue != 0u && outMaterial != params.tissue) ? outMaterial : 0u;
-        surface[w + 3u] = packOctahedral(normal) | (voxelMaterial(inVoxel) << 24u) | (across << 28u);
+    for (uint axis = 0u; axis < 3u; ++axis)
+      if (edgeCrosses(cc, axis)) {
+        uint edge = c * 3u + axis;
+        atomicOr(vertexIndex[edge >> 1u], v << ((edge & 1u) * 16u));
+        ++v;
       }
-      ++vertex;
+  }
+  // Vertices are few and scattered over the corners; computing each where its corner lies would
+  // run the normal's box sums in nearly every SIMD batch. Instead the edges are listed in vertex
+  // order (16 bits each in scanBuf, a round of up to 2 x GROUP at a time) and invocation k
+  // computes vertex k: the work fills the first batches only.
+  const uint ROUND = 2u * GROUP;
+  for (uint first = 0u; first < vertexTotal; first += ROUND) {
+    barrier();
+    scanBuf[lane] = 0u;
+    barrier();
+    for (uint c = cornerBegin, v = vertex; c < cornerEnd; ++c) {
+      uvec3 cc = uvec3(c % CD, (c / CD) % CD, c / (CD * CD));
+      for (uint axis = 0u; axis < 3u; ++axis)
+        if (edgeCrosses(cc, axis)) {
+          if (v >= first && v < first + ROUND)
+            atomicOr(scanBuf[(v - first) >> 1u], (c * 3u + axis) << (((v - first) & 1u) * 16u));
+          ++v;
+        }
+    }
+    barrier();
+    for (uint k = lane; k < min(vertexTotal - first, ROUND); k += GROUP) {
+      uint edge = (scanBuf[k >> 1u] >> ((k & 1u) * 16u)) & 0xffffu;
+      emitVertex(first + k, edge / 3u, edge % 3u, job);
     }
   }
   barrier();
