@@ -61,6 +61,7 @@ struct Page {
   Scratch draws{{}, MemoryKind::HostVisible, BufferUse::Geometry, "surface draws"};
   std::vector<SurfaceDraw> records;
   std::vector<uint32_t> free_records;
+  std::vector<uint32_t> changed;  // records to copy to `draws` at the next writeDraws
 };
 
 // Where one block's triangles live.
@@ -246,16 +247,25 @@ void GpuSurface::State::freeSlot(uint32_t block) {
   Page& page = pages[it->second.page];
   page.slots->release(it->second.offset);
   page.records[it->second.record] = SurfaceDraw{0, 0, 0, 0, 0};
+  page.changed.push_back(it->second.record);
   page.free_records.push_back(it->second.record);
   slots.erase(it);
 }
 
-// Draw records are small and host-visible: rewritten whole after each round (freed ones are zero).
+// Draw records are host-visible: a round copies the records it changed (freed ones are zero), or
+// all of them when the buffer had to grow.
 Status GpuSurface::State::writeDraws() {
   for (Page& page : pages) {
+    const Buffer* before = page.draws.buffer ? &*page.draws.buffer : nullptr;
+    const uint64_t old_size = before ? before->size() : 0;
     if (auto r = page.draws.ensure(*ctx, page.records.size() * sizeof(SurfaceDraw)); !r) return r;
-    if (!page.records.empty())
-      std::memcpy(page.draws.buffer->mapped(), page.records.data(), page.records.size() * sizeof(SurfaceDraw));
+    auto* out = static_cast<SurfaceDraw*>(page.draws.buffer->mapped());
+    if (page.draws.buffer->size() != old_size || !before) {
+      if (!page.records.empty()) std::memcpy(out, page.records.data(), page.records.size() * sizeof(SurfaceDraw));
+    } else {
+      for (uint32_t r : page.changed) out[r] = page.records[r];
+    }
+    page.changed.clear();
   }
   return Ok{};
 }
@@ -352,6 +362,7 @@ Status GpuSurface::State::meshBlocks(const BrickVolume& vol, const std::vector<M
     job_words[i] = MeshJob{block, uint32_t(slot.offset / 4u), v, uint32_t(index_byte / 4u)};
     pages[slot.page].records[slot.record] =
         SurfaceDraw{3u * t, 1u, uint32_t(index_byte / 4u), int32_t(slot.offset / sizeof(layout::MeshVertex)), block};
+    pages[slot.page].changed.push_back(slot.record);
     if (per_page.size() <= slot.page) per_page.resize(slot.page + 1);
     per_page[slot.page].push_back(i);
   }

@@ -130,6 +130,25 @@ constexpr double kNormalStepDeg = 0.25;
   return ::testing::AssertionSuccess();
 }
 
+// The draw records name exactly the live blocks, each with its triangles' index count.
+::testing::AssertionResult drawsMatch(GpuSurface& surface, const std::vector<BlockMesh>& blocks) {
+  std::map<uint32_t, uint32_t> expected;  // packed block -> index count
+  for (const BlockMesh& b : blocks) expected[b.block.packed()] = uint32_t(b.indices.size());
+  std::map<uint32_t, uint32_t> seen;
+  for (uint32_t p = 0; p < surface.pageCount(); ++p) {
+    const auto* draws = static_cast<const SurfaceDraw*>(surface.draws(p).mapped());
+    for (uint32_t i = 0; i < surface.drawCount(p); ++i) {
+      if (draws[i].index_count == 0) continue;
+      if (draws[i].instance_count != 1) return ::testing::AssertionFailure() << "record " << i << " has no instance";
+      seen[draws[i].first_instance] = draws[i].index_count;
+    }
+  }
+  if (seen != expected)
+    return ::testing::AssertionFailure() << "the live draw records (" << seen.size() << ") do not name the live blocks ("
+                                         << expected.size() << ") with their index counts";
+  return ::testing::AssertionSuccess();
+}
+
 class GpuSurfaceTest : public GpuTest {};
 
 TEST_F(GpuSurfaceTest, MatchesTheCpuReferenceOnRandomVolumes) {
@@ -226,6 +245,7 @@ TEST_F(GpuSurfaceTest, IncrementalUpdatesEqualFullBuildsAfterRandomEdits) {
     auto full = gpuBlocks(ctx(), vol, {.normal_neighbours = 216});
     ASSERT_TRUE(full.ok()) << full.message();
     EXPECT_TRUE(identical(*incremental, *full)) << "after edit " << edit << " (" << e.dirty.size() << " dirty bricks)";
+    EXPECT_TRUE(drawsMatch(*surface, *incremental)) << "after edit " << edit;
     if (!e.dirty.empty()) {
       EXPECT_GT(stats.blocks_meshed, 0u);
     }
