@@ -134,6 +134,19 @@ bench::DentsimVoxelizer gpuVoxelizer(gpu::Context& context, const VoxelizeOption
 struct MolarModel {
   MolarLayers molar;
   std::string description;
+
+  // Views of the four layers for the voxelizer; valid while this lives.
+  std::vector<MeshLayer> layers() const {
+    return {{Material::Enamel, &molar.enamel, "enamel"},
+            {Material::Dentin, &molar.dentin, "dentin"},
+            {Material::Pulp, &molar.pulp, "pulp"},
+            {Material::Caries, &molar.caries, "caries"}};
+  }
+  Bounds3 bounds() const {
+    Bounds3 b;
+    for (const MeshLayer& l : layers()) b.add(l.mesh->bounds());
+    return b;
+  }
 };
 MolarModel loadMolarForBench() {
   MolarModel m;
@@ -175,12 +188,8 @@ int runVoxelizeBench(const VoxelizeBenchOptions& o) {
   if (!context) return fail(context.message());
 
   const MolarModel model = loadMolarForBench();
-  const std::vector<MeshLayer> layers{{Material::Enamel, &model.molar.enamel, "enamel"},
-                                      {Material::Dentin, &model.molar.dentin, "dentin"},
-                                      {Material::Pulp, &model.molar.pulp, "pulp"},
-                                      {Material::Caries, &model.molar.caries, "caries"}};
-  Bounds3 bounds;
-  for (const MeshLayer& l : layers) bounds.add(l.mesh->bounds());
+  const std::vector<MeshLayer> layers = model.layers();
+  const Bounds3 bounds = model.bounds();
 
   VoxelizeOptions voxelize;
   voxelize.subsamples = o.subsamples;
@@ -292,12 +301,8 @@ int runMeshBench(MeshBenchOptions o) {
     context = std::move(*opened);
   }
   const MolarModel model = loadMolarForBench();
-  const std::vector<MeshLayer> layers{{Material::Enamel, &model.molar.enamel, "enamel"},
-                                      {Material::Dentin, &model.molar.dentin, "dentin"},
-                                      {Material::Pulp, &model.molar.pulp, "pulp"},
-                                      {Material::Caries, &model.molar.caries, "caries"}};
-  Bounds3 bounds;
-  for (const MeshLayer& l : layers) bounds.add(l.mesh->bounds());
+  const std::vector<MeshLayer> layers = model.layers();
+  const Bounds3 bounds = model.bounds();
   // The molar is voxelized on the GPU where there is one (the CPU reference gives the same voxels).
   bench::VolumeMaker maker = bench::cpuVolumeMaker(layers);
   if (context) {

@@ -106,6 +106,9 @@ struct GpuSurface::State {
   void freeSlot(uint32_t block);
   Status growPage(Page& page);
   Status writeDraws();
+  // Meshes `todo`, publishes the draws and the statistics of the round begun at t0.
+  Status finishRound(const BrickVolume& vol, const std::vector<MeshBlock>& todo, SurfaceUpdateStats& stats,
+                     Clock::time_point t0, SurfaceUpdateStats* stats_out);
   void fillStats(SurfaceUpdateStats& stats) const;
 };
 
@@ -379,6 +382,16 @@ Status GpuSurface::State::meshBlocks(const BrickVolume& vol, const std::vector<M
   return Ok{};
 }
 
+Status GpuSurface::State::finishRound(const BrickVolume& vol, const std::vector<MeshBlock>& todo,
+                                      SurfaceUpdateStats& stats, Clock::time_point t0, SurfaceUpdateStats* stats_out) {
+  if (auto m = meshBlocks(vol, todo, stats); !m) return m;
+  if (auto w = writeDraws(); !w) return w;
+  stats.total_ms = msSince(t0);
+  fillStats(stats);
+  if (stats_out) *stats_out = stats;
+  return Ok{};
+}
+
 // ==== 3. build, update, read-back ================================================================
 Result<GpuSurface> GpuSurface::create(Context& ctx, const GpuSurfaceOptions& options) {
   auto state = std::make_unique<State>();
@@ -432,12 +445,7 @@ Status GpuSurface::build(const BrickVolume& volume, SurfaceUpdateStats* stats_ou
   if (auto u = s.uploadMirror(volume); !u) return u;
   stats.upload_ms = msSince(t0);
   const std::vector<MeshBlock> todo = activeMeshBlocks(volume, s.options.tissue);
-  if (auto m = s.meshBlocks(volume, todo, stats); !m) return m;
-  if (auto w = s.writeDraws(); !w) return w;
-  stats.total_ms = msSince(t0);
-  s.fillStats(stats);
-  if (stats_out) *stats_out = stats;
-  return Ok{};
+  return s.finishRound(volume, todo, stats, t0, stats_out);
 }
 
 Status GpuSurface::update(const BrickVolume& volume, std::span<const BrickCoord> dirty, SurfaceUpdateStats* stats_out) {
@@ -466,12 +474,7 @@ Status GpuSurface::update(const BrickVolume& volume, std::span<const BrickCoord>
     else
       s.freeSlot(around[i].packed());
   }
-  if (auto m = s.meshBlocks(volume, todo, stats); !m) return m;
-  if (auto w = s.writeDraws(); !w) return w;
-  stats.total_ms = msSince(t0);
-  s.fillStats(stats);
-  if (stats_out) *stats_out = stats;
-  return Ok{};
+  return s.finishRound(volume, todo, stats, t0, stats_out);
 }
 
 uint32_t GpuSurface::pageCount() const { return uint32_t(state_->pages.size()); }
