@@ -32,6 +32,7 @@ Result<TissueOverlap> roundTrip(const TempDir& dir, const std::string& dvol, Mat
   const std::string name = materialName(tissue);
   const std::string stl = dir.file(name + ".stl");
   const std::string back = dir.file(name + "_back.dvol");
+  const test::NoLeakCheckForGpuChild no_leak_check;  // mesh runs on the GPU where there is one
   const test::CommandResult m = runDentsim("mesh " + dvol + " --tissue " + name + " -o " + stl);
   if (m.exit_code != 0) return Error{"mesh: " + m.output};
   const test::CommandResult v =
