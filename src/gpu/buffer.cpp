@@ -1,6 +1,7 @@
 // Buffer creation, host copies, staging copies for device-local memory, and retirement to the context.
 #include "gpu/buffer.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cstring>
 
@@ -178,6 +179,16 @@ void Buffer::release() {
   memory_ = VK_NULL_HANDLE;
   mapped_ = nullptr;
   core_.reset();
+}
+
+Status GrowingBuffer::ensure(Context& ctx, uint64_t bytes) {
+  bytes = std::max<uint64_t>(bytes, 16);
+  if (buffer && buffer->size() >= bytes) return Ok{};
+  buffer.reset();
+  auto b = Buffer::create(ctx, bytes, kind, use, name);
+  if (!b) return b.error();
+  buffer.emplace(std::move(b).value());
+  return Ok{};
 }
 
 }  // namespace dentsim::gpu

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -67,6 +68,18 @@ class Buffer {
   void* mapped_ = nullptr;
   std::string name_;
   uint64_t last_use_ = 0;  // serial of the last submission that used it
+};
+
+// A buffer that grows (never shrinks) to the largest size asked of it, keeping nothing across a
+// regrowth: for scratch arrays whose size changes from call to call.
+struct GrowingBuffer {
+  std::optional<Buffer> buffer;
+  MemoryKind kind = MemoryKind::DeviceLocal;
+  std::string name;
+  BufferUse use = BufferUse::Storage;
+
+  // At least `bytes` (and 16) bytes; a new, empty buffer when the old one is too small.
+  Status ensure(Context& ctx, uint64_t bytes);
 };
 
 // "128 MiB", "3.5 KiB", "17 B": sizes in error messages and reports.

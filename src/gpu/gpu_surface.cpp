@@ -36,29 +36,11 @@ constexpr uint32_t kKernelSharedBytes =
 
 constexpr uint64_t kSlotUnit = 256;  // [B]; a multiple of the 16 B vertex, so vertexOffset is whole
 
-// A storage buffer that grows (never shrinks), keeping nothing: the caller refills it.
-struct Scratch {
-  std::optional<Buffer> buffer;
-  MemoryKind kind;
-  BufferUse use;
-  std::string name;
-
-  Status ensure(Context& ctx, uint64_t bytes) {
-    bytes = std::max<uint64_t>(bytes, 16);
-    if (buffer && buffer->size() >= bytes) return Ok{};
-    buffer.reset();
-    auto b = Buffer::create(ctx, std::bit_ceil(bytes), kind, use, name);
-    if (!b) return b.error();
-    buffer.emplace(std::move(b).value());
-    return Ok{};
-  }
-};
-
 // One page of slots: a pool buffer, its buddy allocator and its draw records.
 struct Page {
   std::optional<Buffer> pool;
   std::optional<BuddyAllocator> slots;
-  Scratch draws{{}, MemoryKind::HostVisible, BufferUse::Geometry, "surface draws"};
+  GrowingBuffer draws{{}, MemoryKind::HostVisible, "surface draws", BufferUse::Geometry};
   std::vector<SurfaceDraw> records;
   std::vector<uint32_t> free_records;
   std::vector<uint32_t> changed;  // records to copy to `draws` at the next writeDraws
@@ -87,12 +69,12 @@ struct GpuSurface::State {
   std::optional<ComputePipeline> count, emit;
   std::optional<Buffer> cases;
   // The volume mirror: the three word arrays, with room to grow before a full re-upload.
-  Scratch chunks{{}, MemoryKind::DeviceLocal, BufferUse::Storage, "surface mirror chunks"};
-  Scratch blocks{{}, MemoryKind::DeviceLocal, BufferUse::Storage, "surface mirror blocks"};
-  Scratch bricks{{}, MemoryKind::DeviceLocal, BufferUse::Storage, "surface mirror bricks"};
-  Scratch staging{{}, MemoryKind::HostVisible, BufferUse::Transfer, "surface mirror staging"};
-  Scratch jobs{{}, MemoryKind::HostVisible, BufferUse::Storage, "surface jobs"};
-  Scratch counts{{}, MemoryKind::HostVisible, BufferUse::Storage, "surface counts"};
+  GrowingBuffer chunks{{}, MemoryKind::DeviceLocal, "surface mirror chunks", BufferUse::Storage};
+  GrowingBuffer blocks{{}, MemoryKind::DeviceLocal, "surface mirror blocks", BufferUse::Storage};
+  GrowingBuffer bricks{{}, MemoryKind::DeviceLocal, "surface mirror bricks", BufferUse::Storage};
+  GrowingBuffer staging{{}, MemoryKind::HostVisible, "surface mirror staging", BufferUse::Transfer};
+  GrowingBuffer jobs{{}, MemoryKind::HostVisible, "surface jobs", BufferUse::Storage};
+  GrowingBuffer counts{{}, MemoryKind::HostVisible, "surface counts", BufferUse::Storage};
   std::optional<TimestampPool> stamps;
   std::vector<Page> pages;
   std::unordered_map<uint32_t, Slot> slots;  // packed block -> slot
@@ -101,13 +83,13 @@ struct GpuSurface::State {
 
   Status uploadMirror(const BrickVolume& vol);
   Status syncMirror(const BrickVolume& vol, std::span<const BrickCoord> dirty);
-  Status meshBlocks(const BrickVolume& vol, const std::vector<MeshBlock>& todo, SurfaceUpdateStats& stats);
+  Status meshBlocks(const BrickVolume& vol, const std::vector<MeshBlock>& to_mesh, SurfaceUpdateStats& stats);
   Result<Slot> allocateSlot(uint32_t vertices, uint32_t triangles, bool& grew);
   void freeSlot(uint32_t block);
   Status growPage(Page& page);
   Status writeDraws();
-  // Meshes `todo`, publishes the draws and the statistics of the round begun at t0.
-  Status finishRound(const BrickVolume& vol, const std::vector<MeshBlock>& todo, SurfaceUpdateStats& stats,
+  // Meshes `to_mesh`, publishes the draws and the statistics of the round begun at t0.
+  Status finishRound(const BrickVolume& vol, const std::vector<MeshBlock>& to_mesh, SurfaceUpdateStats& stats,
                      Clock::time_point t0, SurfaceUpdateStats* stats_out);
   void fillStats(SurfaceUpdateStats& stats) const;
 };
@@ -130,7 +112,7 @@ Status GpuSurface::State::uploadMirror(const BrickVolume& vol) {
 }
 
 Status GpuSurface::State::syncMirror(const BrickVolume& vol, std::span<const BrickCoord> dirty) {
-  const auto fits = [](const Scratch& b, size_t words) { return b.buffer && b.buffer->size() >= words * 4u; };
+  const auto fits = [](const GrowingBuffer& b, size_t words) { return b.buffer && b.buffer->size() >= words * 4u; };
   if (!fits(chunks, vol.chunkWords().size()) || !fits(blocks, vol.blockWords().size()) ||
       !fits(bricks, vol.brickWords().size()))
     return uploadMirror(vol);
@@ -138,7 +120,7 @@ Status GpuSurface::State::syncMirror(const BrickVolume& vol, std::span<const Bri
   // The chunk table is small (16^3 words at level 10): send it whole. Then, per dirty brick, its
   // index block and its dense brick; storage indices may have moved, which the entries carry.
   struct Region {
-    Scratch* target;
+    GrowingBuffer* target;
     uint64_t word;
     uint64_t words;
     const uint32_t* src;
@@ -166,10 +148,10 @@ Status GpuSurface::State::syncMirror(const BrickVolume& vol, std::span<const Bri
   }
   uint64_t total = 0;
   for (const Region& r : regions) total += r.words * 4u;
-  if (auto s = staging.ensure(*ctx, total); !s) return s;
+  if (auto s = staging.ensure(*ctx, std::bit_ceil(total)); !s) return s;
   auto* dst = static_cast<uint8_t*>(staging.buffer->mapped());
   uint64_t at = 0;
-  std::vector<std::pair<Scratch*, VkBufferCopy>> copies;
+  std::vector<std::pair<GrowingBuffer*, VkBufferCopy>> copies;
   for (const Region& r : regions) {
     std::memcpy(dst + at, r.src, r.words * 4u);
     copies.push_back({r.target, VkBufferCopy{at, r.word * 4u, r.words * 4u}});
@@ -177,7 +159,7 @@ Status GpuSurface::State::syncMirror(const BrickVolume& vol, std::span<const Bri
   }
   return submitAndWait(*ctx, "surface mirror sync", [&](Commands& cmds) -> Status {
     cmds.use(*staging.buffer);
-    for (Scratch* t : {&chunks, &blocks, &bricks}) cmds.use(*t->buffer);
+    for (GrowingBuffer* t : {&chunks, &blocks, &bricks}) cmds.use(*t->buffer);
     for (const auto& [target, copy] : copies)
       vkCmdCopyBuffer(cmds.cmd(), staging.buffer->handle(), target->buffer->handle(), 1, &copy);
     cmds.barrier();
@@ -261,7 +243,7 @@ Status GpuSurface::State::writeDraws() {
   for (Page& page : pages) {
     const Buffer* before = page.draws.buffer ? &*page.draws.buffer : nullptr;
     const uint64_t old_size = before ? before->size() : 0;
-    if (auto r = page.draws.ensure(*ctx, page.records.size() * sizeof(SurfaceDraw)); !r) return r;
+    if (auto r = page.draws.ensure(*ctx, std::bit_ceil(page.records.size() * sizeof(SurfaceDraw))); !r) return r;
     auto* out = static_cast<SurfaceDraw*>(page.draws.buffer->mapped());
     if (page.draws.buffer->size() != old_size || !before) {
       if (!page.records.empty()) std::memcpy(out, page.records.data(), page.records.size() * sizeof(SurfaceDraw));
@@ -286,16 +268,16 @@ void GpuSurface::State::fillStats(SurfaceUpdateStats& stats) const {
 }
 
 // ==== 2. one meshing round =======================================================================
-Status GpuSurface::State::meshBlocks(const BrickVolume& vol, const std::vector<MeshBlock>& todo,
+Status GpuSurface::State::meshBlocks(const BrickVolume& vol, const std::vector<MeshBlock>& to_mesh,
                                      SurfaceUpdateStats& stats) {
-  stats.blocks_meshed = uint32_t(todo.size());
-  if (todo.empty()) return Ok{};
-  const uint32_t n = uint32_t(todo.size());
-  Status s = jobs.ensure(*ctx, uint64_t(n) * sizeof(MeshJob));
-  if (s) s = counts.ensure(*ctx, uint64_t(n) * 8u);
+  stats.blocks_meshed = uint32_t(to_mesh.size());
+  if (to_mesh.empty()) return Ok{};
+  const uint32_t n = uint32_t(to_mesh.size());
+  Status s = jobs.ensure(*ctx, std::bit_ceil(uint64_t(n) * sizeof(MeshJob)));
+  if (s) s = counts.ensure(*ctx, std::bit_ceil(uint64_t(n) * 8u));
   if (!s) return s;
   auto* job_words = static_cast<MeshJob*>(jobs.buffer->mapped());
-  for (uint32_t i = 0; i < n; ++i) job_words[i] = MeshJob{todo[i].packed(), 0, 0, 0};
+  for (uint32_t i = 0; i < n; ++i) job_words[i] = MeshJob{to_mesh[i].packed(), 0, 0, 0};
 
   MeshParams params{};
   params.grid = vol.gridInfo();
@@ -338,7 +320,7 @@ Status GpuSurface::State::meshBlocks(const BrickVolume& vol, const std::vector<M
   const auto* cnt = static_cast<const uint32_t*>(counts.buffer->mapped());
   std::vector<std::vector<uint32_t>> per_page;  // job indices by page
   for (uint32_t i = 0; i < n; ++i) {
-    const uint32_t block = todo[i].packed();
+    const uint32_t block = to_mesh[i].packed();
     const uint32_t v = cnt[2 * i], t = cnt[2 * i + 1];
     if (t == 0) {
       freeSlot(block);
@@ -382,9 +364,9 @@ Status GpuSurface::State::meshBlocks(const BrickVolume& vol, const std::vector<M
   return Ok{};
 }
 
-Status GpuSurface::State::finishRound(const BrickVolume& vol, const std::vector<MeshBlock>& todo,
+Status GpuSurface::State::finishRound(const BrickVolume& vol, const std::vector<MeshBlock>& to_mesh,
                                       SurfaceUpdateStats& stats, Clock::time_point t0, SurfaceUpdateStats* stats_out) {
-  if (auto m = meshBlocks(vol, todo, stats); !m) return m;
+  if (auto m = meshBlocks(vol, to_mesh, stats); !m) return m;
   if (auto w = writeDraws(); !w) return w;
   stats.total_ms = msSince(t0);
   fillStats(stats);
@@ -444,8 +426,8 @@ Status GpuSurface::build(const BrickVolume& volume, SurfaceUpdateStats* stats_ou
   s.pages.clear();
   if (auto u = s.uploadMirror(volume); !u) return u;
   stats.upload_ms = msSince(t0);
-  const std::vector<MeshBlock> todo = activeMeshBlocks(volume, s.options.tissue);
-  return s.finishRound(volume, todo, stats, t0, stats_out);
+  const std::vector<MeshBlock> to_mesh = activeMeshBlocks(volume, s.options.tissue);
+  return s.finishRound(volume, to_mesh, stats, t0, stats_out);
 }
 
 Status GpuSurface::update(const BrickVolume& volume, std::span<const BrickCoord> dirty, SurfaceUpdateStats* stats_out) {
@@ -467,14 +449,14 @@ Status GpuSurface::update(const BrickVolume& volume, std::span<const BrickCoord>
   stats.upload_ms = msSince(t0);
   const std::vector<MeshBlock> around = blocksReadingBricks(volume, dirty);
   const std::vector<bool> active = meshBlocksActive(volume, s.options.tissue, around);
-  std::vector<MeshBlock> todo;
+  std::vector<MeshBlock> to_mesh;
   for (size_t i = 0; i < around.size(); ++i) {
     if (active[i])
-      todo.push_back(around[i]);
+      to_mesh.push_back(around[i]);
     else
       s.freeSlot(around[i].packed());
   }
-  return s.finishRound(volume, todo, stats, t0, stats_out);
+  return s.finishRound(volume, to_mesh, stats, t0, stats_out);
 }
 
 uint32_t GpuSurface::pageCount() const { return uint32_t(state_->pages.size()); }

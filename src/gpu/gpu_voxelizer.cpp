@@ -57,23 +57,6 @@ Result<Pipelines> makePipelines(Context& ctx, uint32_t subsamples) {
   return p;
 }
 
-// A storage buffer that grows (never shrinks) to the size a band asks for.
-struct GrowingBuffer {
-  std::optional<Buffer> buffer;
-  MemoryKind kind = MemoryKind::DeviceLocal;
-  std::string name;
-
-  Status ensure(Context& ctx, uint64_t bytes) {
-    bytes = std::max<uint64_t>(bytes, 16);
-    if (buffer && buffer->size() >= bytes) return Ok{};
-    buffer.reset();
-    auto b = Buffer::create(ctx, bytes, kind, BufferUse::Storage, name);
-    if (!b) return b.error();
-    buffer.emplace(std::move(b).value());
-    return Ok{};
-  }
-};
-
 // Runs `items` items of a pass: one invocation per item, or with `per_group` one workgroup per item.
 Status runPass(Commands& cmds, ComputePipeline& pipe, std::span<Buffer* const> bindings, VoxelizeParams params,
                uint64_t items, bool per_group) {
