@@ -371,8 +371,6 @@ uint32_t normalBoxSide(int normal_neighbours) {
   }
 }
 
-uint32_t packMeshNormal(Vec3f n) { return internal::packOctahedral(n); }
-
 Vec3f unpackMeshNormal(uint32_t packed) {
   float u = float(packed & 4095u) / 4095.f * 2.f - 1.f;
   float v = float((packed >> 12) & 4095u) / 4095.f * 2.f - 1.f;
@@ -420,10 +418,6 @@ std::vector<MeshBlock> activeMeshBlocks(const BrickVolume& vol, Material tissue)
       for (int64_t x = 0; x <= bd; ++x)
         if (blockActiveBy(x, y, z, state)) blocks.push_back({uint32_t(x), uint32_t(y), uint32_t(z)});
   return blocks;
-}
-
-bool meshBlockActive(const BrickVolume& vol, Material tissue, MeshBlock block) {
-  return meshBlocksActive(vol, tissue, std::span<const MeshBlock>(&block, 1))[0];
 }
 
 std::vector<bool> meshBlocksActive(const BrickVolume& vol, Material tissue, std::span<const MeshBlock> candidates) {

@@ -71,9 +71,8 @@ std::vector<MeshBlock> activeMeshBlocks(const BrickVolume& volume, Material tiss
 // Blocks whose cells or normals read a voxel of any of `bricks` (the 3^3 blocks around each),
 // sorted and unique.
 std::vector<MeshBlock> blocksReadingBricks(const BrickVolume& volume, std::span<const BrickCoord> bricks);
-// True when `block` can hold surface (the test activeMeshBlocks applies).
-bool meshBlockActive(const BrickVolume& volume, Material tissue, MeshBlock block);
-// The same test for many blocks at once, reading each brick once: active[i] for candidates[i].
+// Whether each of `candidates` can hold surface (the test activeMeshBlocks applies), reading each
+// brick once: active[i] for candidates[i].
 std::vector<bool> meshBlocksActive(const BrickVolume& volume, Material tissue, std::span<const MeshBlock> candidates);
 
 // Meshes one block exactly as the GPU does: same vertices in the same order, same triangles. The
@@ -85,7 +84,6 @@ std::vector<uint32_t> packedMeshCaseTable();
 
 // The octahedral normal of MeshVertex.packed, unit length.
 Vec3f unpackMeshNormal(uint32_t packed);
-uint32_t packMeshNormal(Vec3f unit_normal);
 
 // Joins blocks into one mesh in millimetres, welding the copies of a vertex that neighbouring blocks
 // share (same position bits). Tissue per vertex from the packed word.
