@@ -7,8 +7,14 @@
 // Count pass: the 9^3 corner voxels decide which edges cross the surface and each cell's case; the
 // workgroup writes (vertices, triangles) for its job. Emit pass: the 18^3 voxels the block reads go
 // into shared memory as F (the fill that counts as solid) and are turned into 3-D prefix sums, from
-// which every normal is a handful of exact integer box sums; vertices get their index by a scan in
-// edge order, triangles by a scan in cell order, and both go into the job's slot.
+// which every normal is exact integer box sums; vertices get their index by a scan in edge order,
+// triangles by a scan in cell order, and both go into the job's slot.
+//
+// Both passes work on bit masks of corner rows (9 corners along x): a row's inside mask gives its
+// crossing edges as a 27-bit mask in edge order, so counting is a popcount, a vertex's index is the
+// row's first vertex plus a popcount, and vertex k finds its edge by a search over 81 rows. Shared
+// memory is gathered and scattered lane by lane on software devices, so the kernel keeps its
+// per-cell and per-vertex reads of it few.
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
@@ -18,6 +24,7 @@
 
 layout(local_size_x = DS_MESH_GROUP_SIZE, local_size_y = 1, local_size_z = 1) in;
 layout(constant_id = 0) const uint EMIT = 0u;
+layout(constant_id = 1) const int SIDE = 2;        // emit: normal box side, DS_MESH_SIDE_*
 
 layout(push_constant) uniform PushConstants { MeshParams params; };
 
@@ -33,13 +40,16 @@ const uint LOCAL_VOXELS = LD * LD * LD;            // 5832
 const uint CD = DS_MESH_CORNER_DIM;                // 9 corners per side
 const uint CORNERS = CD * CD * CD;                 // 729
 const uint C0 = DS_MESH_APRON - 1u;                // local index of corner 0
+const uint ROWS = CD * CD;                        // 81 corner rows, row (y, z) = z * 9 + y
 const uint GROUP = DS_MESH_GROUP_SIZE;
 
 shared uint sat[LOCAL_VOXELS];                     // emit: F, then inclusive prefix sums
-shared uint cornerFill[(CORNERS + 3u) / 4u];       // F of each corner, one byte each
-shared uint vertexIndex[(DS_MESH_EDGES + 1u) / 2u];  // emit: vertex of each edge, 16 bits each
+shared uint cornerFill[CORNERS];                   // emit: F of each corner
+shared uint rowInside[ROWS];                       // bit x: corner (x, row) is inside
+shared uint rowEdges[ROWS];                        // bit 3x + a: the edge from corner (x, row) along a crosses
+shared uint rowFirst[ROWS];                        // emit: the row's first vertex
 shared uint brickEntries[27];                      // bricks b-1 .. b+1
-shared uint scanBuf[GROUP];
+shared uint scanBuf[GROUP];                        // subgroup totals of a scan
 shared uint totals[2];
 
 uvec3 blockCoord;
@@ -98,30 +108,34 @@ uint rowFill(RowWords r, uint i) {
   return countedFill(((x < 4u ? r.w0 : r.w1) >> ((x & 3u) * 8u)) & 0xffu);
 }
 
-uint cornerF(uint c) { return (cornerFill[c >> 2u] >> ((c & 3u) * 8u)) & 0xffu; }
-bool cornerInside(uint c) { return 2u * cornerF(c) > DS_FILL_FULL; }
-uint cornerIndex(uvec3 c) { return (c.z * CD + c.y) * CD + c.x; }
+uint cornerF(uint c) { return cornerFill[c]; }
+uint insideMask(uint f, uint x) { return 2u * f > DS_FILL_FULL ? 1u << x : 0u; }
 
-// Whether the edge from corner c along `axis` exists in this block and crosses the surface.
-bool edgeCrosses(uvec3 c, uint axis) {
-  if (c[axis] >= DS_MESH_BLOCK_CELLS) return false;
-  uvec3 q = c;
-  q[axis] += 1u;
-  return cornerInside(cornerIndex(c)) != cornerInside(cornerIndex(q));
+// The crossing edges of corner row `row` as bit 3x + a, from the inside masks: an edge exists in
+// the block only while its far corner does, so x-edges stop at x = 7 and rows y = 8 or z = 8 have
+// no y- or z-edges.
+uint crossingEdges(uint row) {
+  uint r = rowInside[row];
+  uint y = row % CD, z = row / CD;
+  uint ex = (r ^ (r >> 1u)) & 0xffu;
+  uint ey = y + 1u < CD ? (r ^ rowInside[row + 1u]) : 0u;
+  uint ez = z + 1u < CD ? (r ^ rowInside[row + CD]) : 0u;
+  uint m = 0u;
+  for (uint x = 0u; x < CD; ++x)
+    m |= (((ex >> x) & 1u) | (((ey >> x) & 1u) << 1u) | (((ez >> x) & 1u) << 2u)) << (3u * x);
+  return m;
 }
 
+// Marching-cubes configuration of cell (x, y, z): bit k for corner (k & 1, k >> 1 & 1, k >> 2 & 1).
 uint cellConfig(uvec3 cell) {
-  uint config = 0u;
-  for (uint k = 0u; k < 8u; ++k) {
-    uvec3 c = cell + uvec3(k & 1u, (k >> 1u) & 1u, (k >> 2u) & 1u);
-    if (cornerInside(cornerIndex(c))) config |= 1u << k;
-  }
-  return config;
+  uint row = cell.z * CD + cell.y;
+  return ((rowInside[row] >> cell.x) & 3u) | (((rowInside[row + 1u] >> cell.x) & 3u) << 2u) |
+         (((rowInside[row + CD] >> cell.x) & 3u) << 4u) | (((rowInside[row + CD + 1u] >> cell.x) & 3u) << 6u);
 }
 
 // Exclusive scan of one value per invocation over the workgroup; returns this one's prefix and
 // leaves the total in totals[slot]. Subgroups scan themselves; one invocation scans the subgroup
-// totals (at most 64 of them), so the whole scan costs three barriers.
+// totals, so the whole scan costs three barriers.
 uint exclusiveScan(uint value, uint slot) {
   uint inSubgroup = subgroupExclusiveAdd(value);
   uint subgroupTotal = subgroupAdd(value);
@@ -144,58 +158,80 @@ uint exclusiveScan(uint value, uint slot) {
 
 // ---- emit-pass helpers -------------------------------------------------------------------------
 
-uint satAt(int x, int y, int z) { return sat[(uint(z) * LD + uint(y)) * LD + uint(x)]; }
+// Prefix sum at flat local index i; a negative index lies below the block's reads, where the sum is
+// 0. The load always reads a valid word and the select drops it, which keeps the code branch-free.
+int satAt(int i) {
+  int v = int(sat[max(i, 0)]);
+  return i < 0 ? 0 : v;
+}
+// Offset of coordinate `coord` along an axis of stride `stride`; below 0 it poisons the index.
+int satOffset(int coord, int stride) { return coord < 0 ? -(1 << 24) : coord * stride; }
 
-// Sum of F over the inclusive local box [lo, hi].
-int boxSum(ivec3 lo, ivec3 hi) {
-  int sum = 0;
-  for (int k = 0; k < 8; ++k) {
-    ivec3 p = ivec3((k & 1) != 0 ? hi.x : lo.x - 1, (k & 2) != 0 ? hi.y : lo.y - 1, (k & 4) != 0 ? hi.z : lo.z - 1);
-    if (any(lessThan(p, ivec3(0)))) continue;
-    int lows = ((k & 1) != 0 ? 0 : 1) + ((k & 2) != 0 ? 0 : 1) + ((k & 4) != 0 ? 0 : 1);
-    int v = int(satAt(p.x, p.y, p.z));
-    sum += (lows & 1) != 0 ? -v : v;
-  }
-  return sum;
+// Sums over lists of prefix-sum offsets, with the signs the lists carry (see normalSums): "plain"
+// lists are + - + -, "diff" lists + - - +. Scalar and vector arguments only, so that the whole
+// normal compiles to straight-line code without local arrays.
+int plain4(int o, ivec4 q) { return satAt(o + q.x) - satAt(o + q.y) + satAt(o + q.z) - satAt(o + q.w); }
+int diff4(int o, ivec4 q) { return satAt(o + q.x) - satAt(o + q.y) - satAt(o + q.z) + satAt(o + q.w); }
+int plainPlain(int o, ivec4 u, ivec4 w) {
+  return plain4(o + u.x, w) - plain4(o + u.y, w) + plain4(o + u.z, w) - plain4(o + u.w, w);
+}
+int diffPlain(int o, ivec4 u, ivec4 w) {
+  return plain4(o + u.x, w) - plain4(o + u.y, w) - plain4(o + u.z, w) + plain4(o + u.w, w);
+}
+int plainDiff(int o, ivec4 u, ivec4 w) {
+  return diff4(o + u.x, w) - diff4(o + u.y, w) + diff4(o + u.z, w) - diff4(o + u.w, w);
+}
+
+// Offsets of the lists along one axis of stride s about coordinate x.
+ivec2 plainEdgeList(int x, int s) { return ivec2(satOffset(x + SIDE / 2, s), satOffset(x - SIDE / 2, s)); }
+ivec4 diffEdgeList(int x, int s) {
+  const int H = SIDE / 2;
+  return ivec4(satOffset(x + H + 1, s), satOffset(x - H + 1, s), satOffset(x + H - 1, s), satOffset(x - H - 1, s));
+}
+ivec4 plainList(int x, int s) {
+  const int H = SIDE / 2;
+  return ivec4(satOffset(x + H, s), satOffset(x - H - 1, s), satOffset(x + H - 1, s), satOffset(x - H, s));
+}
+ivec4 diffListFull(int x, int s) {
+  const int H = SIDE / 2;
+  return ivec4(satOffset(x + H + 1, s), satOffset(x - H, s), satOffset(x + H - 1, s), satOffset(x - H - 2, s));
+}
+ivec4 diffListInner(int x, int s) {
+  const int H = SIDE / 2;
+  return ivec4(satOffset(x + H, s), satOffset(x - H + 1, s), satOffset(x + H - 2, s), satOffset(x - H - 1, s));
 }
 
 // The integer normal sums of meshBlockCpu (normalSums): minus this is the normal's direction.
-ivec3 normalSums(ivec3 p, uint axis, int side) {
-  int h = side / 2;
-  ivec3 lo0, hi0, lo1, hi1;  // full and inner ranges per axis
-  ivec3 count;
-  for (uint d = 0u; d < 3u; ++d) {
-    if (d == axis) {
-      lo0[d] = p[d] - h + 1; hi0[d] = p[d] + h;
-      lo1[d] = lo0[d]; hi1[d] = hi0[d];
-      count[d] = 1;
-    } else {
-      lo0[d] = p[d] - h; hi0[d] = p[d] + h;
-      lo1[d] = p[d] - h + 1; hi1[d] = p[d] + h - 1;
-      count[d] = 2;
-    }
-  }
-  ivec3 n = ivec3(0);
-  for (uint c = 0u; c < 3u; ++c) {
-    uint u = (c + 1u) % 3u, w = (c + 2u) % 3u;
-    int sum = 0;
-    for (int rc = 0; rc < count[c]; ++rc)
-      for (int ru = 0; ru < count[u]; ++ru)
-        for (int rw = 0; rw < count[w]; ++rw) {
-          ivec3 lo, hi;
-          lo[u] = ru == 0 ? lo0[u] : lo1[u];
-          hi[u] = ru == 0 ? hi0[u] : hi1[u];
-          lo[w] = rw == 0 ? lo0[w] : lo1[w];
-          hi[w] = rw == 0 ? hi0[w] : hi1[w];
-          lo[c] = (rc == 0 ? lo0[c] : lo1[c]) + 1;
-          hi[c] = (rc == 0 ? hi0[c] : hi1[c]) + 1;
-          int plus = boxSum(lo, hi);
-          lo[c] -= 2;
-          hi[c] -= 2;
-          sum += plus - boxSum(lo, hi);
-        }
-    n[c] = sum;
-  }
+//
+// Each box sum of the CPU's formula is 8 signed prefix sums, one corner per axis; gathered per axis,
+// a component is a product of per-axis lists of (coordinate, sign), summed over all combinations.
+// In a frame whose first axis is the edge's, with H = SIDE / 2 and the edge from p:
+//   along the edge, plain:       +(a+H) -(a-H)
+//   along the edge, differenced: +(a+H+1) -(a-H+1) -(a+H-1) +(a-H-1)
+//   across, plain (full + inner range):       +(u+H) -(u-H-1) +(u+H-1) -(u-H)
+//   across, differenced (full + inner range): +(u+H+1) -(u-H) -(u+H-1) +(u-H-2) +(u+H) -(u-H+1) -(u+H-2) +(u-H-1)
+// The sums are integers, so their order does not matter and the CPU's box-by-box sums agree exactly.
+ivec3 normalSums(ivec3 p, uint axis) {
+  uint u = axis == 2u ? 0u : axis + 1u, w = axis == 0u ? 2u : axis - 1u;
+  ivec3 stride = ivec3(1, int(LD), int(LD * LD));
+  int sa = stride[axis], su = stride[u], sw = stride[w];
+  int pa = p[axis], pu = p[u], pw = p[w];
+  ivec2 plainA = plainEdgeList(pa, sa);
+  ivec4 diffA = diffEdgeList(pa, sa);
+  ivec4 plainU = plainList(pu, su), plainW = plainList(pw, sw);
+
+  int nA = plainPlain(diffA.x, plainU, plainW) - plainPlain(diffA.y, plainU, plainW) -
+           plainPlain(diffA.z, plainU, plainW) + plainPlain(diffA.w, plainU, plainW);
+  ivec4 diffUFull = diffListFull(pu, su), diffUInner = diffListInner(pu, su);
+  int nU = diffPlain(plainA.x, diffUFull, plainW) + diffPlain(plainA.x, diffUInner, plainW) -
+           diffPlain(plainA.y, diffUFull, plainW) - diffPlain(plainA.y, diffUInner, plainW);
+  ivec4 diffWFull = diffListFull(pw, sw), diffWInner = diffListInner(pw, sw);
+  int nW = plainDiff(plainA.x, plainU, diffWFull) + plainDiff(plainA.x, plainU, diffWInner) -
+           plainDiff(plainA.y, plainU, diffWFull) - plainDiff(plainA.y, plainU, diffWInner);
+  ivec3 n;
+  n[axis] = nA;
+  n[u] = nU;
+  n[w] = nW;
   return n;
 }
 
@@ -221,16 +257,14 @@ void emitVertex(uint vertex, uint c, uint axis, MeshJob job) {
   ivec3 q = p;
   q[axis] += 1;
   uint fa = cornerF(c);
-  uvec3 cq = cc;
-  cq[axis] += 1u;
-  uint fb = cornerF(cornerIndex(cq));
+  uint fb = cornerF(c + (axis == 0u ? 1u : axis == 1u ? CD : CD * CD));
   bool aInside = 2u * fa > DS_FILL_FULL;
   precise float t = float(int(DS_FILL_FULL) - 2 * int(fa)) / float(2 * (int(fb) - int(fa)));
   ivec3 g = ivec3(blockCoord) * int(DS_MESH_BLOCK_CELLS) - 1 + ivec3(cc);
   precise vec3 pos = vec3(g) + 0.5;
   pos[axis] = pos[axis] + t;
 
-  ivec3 n = normalSums(p, axis, int(params.side));
+  ivec3 n = normalSums(p, axis);
   vec3 normal;
   if (n == ivec3(0)) {
     normal = vec3(0.0);
@@ -248,6 +282,19 @@ void emitVertex(uint vertex, uint c, uint axis, MeshJob job) {
   surface[w + 3u] = packOctahedral(normal) | (voxelMaterial(inVoxel) << 24u) | (across << 28u);
 }
 
+// Vertex k's edge: the last row whose first vertex is at most k (rows without edges share their
+// successor's first vertex and come before it), then the (k - first)-th set bit of its edge mask.
+void edgeOfVertex(uint k, out uint corner, out uint axis) {
+  uint row = 0u;
+  for (uint step = 64u; step > 0u; step >>= 1u)
+    if (row + step < ROWS && rowFirst[row + step] <= k) row += step;
+  uint j = k - rowFirst[row], m = rowEdges[row], bit = 0u;
+  for (uint step = 16u; step > 0u; step >>= 1u)
+    if (bit + step < 3u * CD && bitCount(m & ((1u << (bit + step)) - 1u)) <= j) bit += step;
+  corner = row * CD + bit / 3u;
+  axis = bit % 3u;
+}
+
 void main() {
   uint jobIndex = params.firstJob + gl_WorkGroupID.x;
   if (jobIndex >= params.jobCount) return;  // the whole workgroup leaves together
@@ -261,7 +308,6 @@ void main() {
     bool inGrid = all(greaterThanEqual(b, ivec3(0))) && all(lessThan(b, ivec3(params.grid.brickDim)));
     brickEntries[lane] = inGrid ? brickEntryAt(uvec3(b), params.grid) : (DS_ENTRY_UNIFORM | 0u);
   }
-  for (uint i = lane; i < (CORNERS + 3u) / 4u; i += GROUP) cornerFill[i] = 0u;
   if (lane < 2u) totals[lane] = 0u;
   barrier();
 
@@ -269,12 +315,13 @@ void main() {
   const uint segStart[3] = uint[3](0u, DS_MESH_APRON, DS_MESH_APRON + DS_MESH_BLOCK_CELLS);
   const uint segCount[3] = uint[3](DS_MESH_APRON, DS_MESH_BLOCK_CELLS, LD - DS_MESH_APRON - DS_MESH_BLOCK_CELLS);
   if (EMIT != 0u) {
-    for (uint i = lane; i < (DS_MESH_EDGES + 1u) / 2u; i += GROUP) vertexIndex[i] = 0u;
-    // One invocation per row of 18 voxels: F, the corners' bytes, and the prefix sum along x.
+    // One invocation per row of 18 voxels: F, the corners' F and inside mask, and the prefix sum along x.
     if (lane < LD * LD) {
       uint y = lane % LD, z = lane / LD;
       uint base = (z * LD + y) * LD;
       bool cornerRow = y >= C0 && y < C0 + CD && z >= C0 && z < C0 + CD;
+      uint row = (z - C0) * CD + (y - C0);
+      uint inside = 0u;
       uint run = 0u;
       for (uint seg = 0u; seg < 3u; ++seg) {
         RowWords r = rowWords(segStart[seg], y, z);
@@ -282,53 +329,32 @@ void main() {
           uint x = segStart[seg] + i;
           uint f = rowFill(r, i);
           if (cornerRow && x >= C0 && x < C0 + CD) {
-            uint c = cornerIndex(uvec3(x, y, z) - C0);
-            atomicOr(cornerFill[c >> 2u], f << ((c & 3u) * 8u));
+            cornerFill[row * CD + x - C0] = f;
+            inside |= insideMask(f, x - C0);
           }
           run += f;
           sat[base + x] = run;
         }
       }
-    }
-    barrier();
-    // Prefix sums along y, then z; one invocation per line of 18.
-    for (uint axis = 1u; axis < 3u; ++axis) {
-      if (lane < LD * LD) {
-        uint a = lane % LD, b = lane / LD;
-        uint stride = axis == 1u ? LD : LD * LD;
-        uint start = axis == 1u ? b * LD * LD + a : b * LD + a;
-        uint run = sat[start];
-        for (uint k = 1u; k < LD; ++k) {
-          run += sat[start + k * stride];
-          sat[start + k * stride] = run;
-        }
-      }
-      barrier();
+      if (cornerRow) rowInside[row] = inside;
     }
   } else {
     // Corners only: local x 4 (brick b-1) and 5..12 (brick b) of each corner row.
-    if (lane < CD * CD) {
+    if (lane < ROWS) {
       uint y = C0 + lane % CD, z = C0 + lane / CD;
-      for (uint seg = 0u; seg < 2u; ++seg) {
-        uint x0 = seg == 0u ? C0 : DS_MESH_APRON;
-        uint n = seg == 0u ? 1u : DS_MESH_BLOCK_CELLS;
-        RowWords r = rowWords(x0, y, z);
-        for (uint i = 0u; i < n; ++i) {
-          uint c = cornerIndex(uvec3(x0 + i, y, z) - C0);
-          atomicOr(cornerFill[c >> 2u], rowFill(r, i) << ((c & 3u) * 8u));
-        }
-      }
+      RowWords r0 = rowWords(C0, y, z), r1 = rowWords(DS_MESH_APRON, y, z);
+      uint inside = insideMask(rowFill(r0, 0u), 0u);
+      for (uint i = 0u; i < DS_MESH_BLOCK_CELLS; ++i) inside |= insideMask(rowFill(r1, i), i + 1u);
+      rowInside[lane] = inside;
     }
-    barrier();
   }
+  barrier();
 
-  // Each invocation owns a contiguous run of corners, so a scan over invocations is edge order.
-  uint cornerBegin = lane * CORNERS / GROUP, cornerEnd = (lane + 1u) * CORNERS / GROUP;
   uint myEdges = 0u;
-  for (uint c = cornerBegin; c < cornerEnd; ++c) {
-    uvec3 cc = uvec3(c % CD, (c / CD) % CD, c / (CD * CD));
-    for (uint axis = 0u; axis < 3u; ++axis)
-      if (edgeCrosses(cc, axis)) ++myEdges;
+  if (lane < ROWS) {
+    uint m = crossingEdges(lane);
+    rowEdges[lane] = m;
+    myEdges = bitCount(m);
   }
   uvec3 cell = uvec3(lane % DS_MESH_BLOCK_CELLS, (lane / DS_MESH_BLOCK_CELLS) % DS_MESH_BLOCK_CELLS,
                      lane / (DS_MESH_BLOCK_CELLS * DS_MESH_BLOCK_CELLS));
@@ -336,50 +362,42 @@ void main() {
   uint myTriangles = cases[config * DS_MESH_CASE_WORDS];
 
   if (EMIT == 0u) {
-    atomicAdd(totals[0], myEdges);
-    atomicAdd(totals[1], myTriangles);
+    uint edges = subgroupAdd(myEdges), triangles = subgroupAdd(myTriangles);
+    if (subgroupElect()) {
+      atomicAdd(totals[0], edges);
+      atomicAdd(totals[1], triangles);
+    }
     barrier();
     if (lane == 0u) counts[jobIndex] = uvec2(totals[0], totals[1]);
     return;
   }
 
-  // ---- vertices --------------------------------------------------------------------------------
-  uint vertex = exclusiveScan(myEdges, 0u);
-  uint vertexTotal = totals[0];
-  for (uint c = cornerBegin, v = vertex; c < cornerEnd; ++c) {
-    uvec3 cc = uvec3(c % CD, (c / CD) % CD, c / (CD * CD));
-    for (uint axis = 0u; axis < 3u; ++axis)
-      if (edgeCrosses(cc, axis)) {
-        uint edge = c * 3u + axis;
-        atomicOr(vertexIndex[edge >> 1u], v << ((edge & 1u) * 16u));
-        ++v;
+  // Prefix sums along y, then z; one invocation per line of 18. The scan's first barrier ends the z pass.
+  for (uint axis = 1u; axis < 3u; ++axis) {
+    if (lane < LD * LD) {
+      uint a = lane % LD, b = lane / LD;
+      uint stride = axis == 1u ? LD : LD * LD;
+      uint start = axis == 1u ? b * LD * LD + a : b * LD + a;
+      uint run = sat[start];
+      for (uint k = 1u; k < LD; ++k) {
+        run += sat[start + k * stride];
+        sat[start + k * stride] = run;
       }
-  }
-  // Vertices are few and scattered over the corners; computing each where its corner lies would
-  // run the normal's box sums in nearly every SIMD batch. Instead the edges are listed in vertex
-  // order (16 bits each in scanBuf, a round of up to 2 x GROUP at a time) and invocation k
-  // computes vertex k: the work fills the first batches only.
-  const uint ROUND = 2u * GROUP;
-  for (uint first = 0u; first < vertexTotal; first += ROUND) {
-    barrier();
-    scanBuf[lane] = 0u;
-    barrier();
-    for (uint c = cornerBegin, v = vertex; c < cornerEnd; ++c) {
-      uvec3 cc = uvec3(c % CD, (c / CD) % CD, c / (CD * CD));
-      for (uint axis = 0u; axis < 3u; ++axis)
-        if (edgeCrosses(cc, axis)) {
-          if (v >= first && v < first + ROUND)
-            atomicOr(scanBuf[(v - first) >> 1u], (c * 3u + axis) << (((v - first) & 1u) * 16u));
-          ++v;
-        }
     }
-    barrier();
-    for (uint k = lane; k < min(vertexTotal - first, ROUND); k += GROUP) {
-      uint edge = (scanBuf[k >> 1u] >> ((k & 1u) * 16u)) & 0xffffu;
-      emitVertex(first + k, edge / 3u, edge % 3u, job);
-    }
+    if (axis == 1u) barrier();
   }
+
+  // ---- vertices --------------------------------------------------------------------------------
+  uint first = exclusiveScan(myEdges, 0u);
+  if (lane < ROWS) rowFirst[lane] = first;
   barrier();
+  uint vertexTotal = totals[0];
+  // Invocation k computes vertex k, so the normals' box sums fill the first SIMD batches only.
+  for (uint k = lane; k < vertexTotal; k += GROUP) {
+    uint corner, axis;
+    edgeOfVertex(k, corner, axis);
+    emitVertex(k, corner, axis, job);
+  }
 
   // ---- triangles -------------------------------------------------------------------------------
   uint triangle = exclusiveScan(myTriangles, 1u);
@@ -394,8 +412,8 @@ void main() {
       if (axis == 0u) corner += uvec3(0u, which & 1u, which >> 1u);
       else if (axis == 1u) corner += uvec3(which & 1u, 0u, which >> 1u);
       else corner += uvec3(which & 1u, which >> 1u, 0u);
-      uint edge = cornerIndex(corner) * 3u + axis;
-      uint index = (vertexIndex[edge >> 1u] >> ((edge & 1u) * 16u)) & 0xffffu;
+      uint row = corner.z * CD + corner.y, bit = corner.x * 3u + axis;
+      uint index = rowFirst[row] + bitCount(rowEdges[row] & ((1u << bit) - 1u));
       surface[job.indexWord + (triangle + t) * 3u + k] = index;
     }
   }

@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cstring>
 #include <optional>
+#include <string>
 #include <unordered_map>
 #include <unordered_set>
 
@@ -28,11 +29,10 @@ using layout::MeshParams;
 
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
 
-// Shared memory of surface_mesh.comp.glsl [B]: prefix sums of 18^3 voxels, corner bytes, 16-bit
-// vertex indices of 2187 edges, 27 brick entries, the scan buffer and two totals.
+// Shared memory of surface_mesh.comp.glsl [B]: prefix sums of 18^3 voxels, the F of 9^3 corners,
+// three words for each of the 81 corner rows, 27 brick entries, the scan buffer and two totals.
 constexpr uint32_t kKernelSharedBytes =
-    4u * (DS_MESH_LOCAL_DIM * DS_MESH_LOCAL_DIM * DS_MESH_LOCAL_DIM + (729u + 3u) / 4u + (DS_MESH_EDGES + 1u) / 2u + 27u +
-          DS_MESH_GROUP_SIZE + 2u);
+    4u * (DS_MESH_LOCAL_DIM * DS_MESH_LOCAL_DIM * DS_MESH_LOCAL_DIM + 729u + 3u * 81u + 27u + DS_MESH_GROUP_SIZE + 2u);
 
 constexpr uint64_t kSlotUnit = 256;  // [B]; a multiple of the 16 B vertex, so vertexOffset is whole
 
@@ -283,7 +283,6 @@ Status GpuSurface::State::meshBlocks(const BrickVolume& vol, const std::vector<M
   params.grid = vol.gridInfo();
   params.jobCount = n;
   params.tissue = uint32_t(options.tissue);
-  params.side = side;
   const uint32_t max_groups = options.max_groups_per_dispatch ? options.max_groups_per_dispatch
                                                               : ctx->limits().max_group_count[0];
   std::array<Buffer*, DS_MESH_BINDING_COUNT> bindings{};
@@ -399,7 +398,7 @@ Result<GpuSurface> GpuSurface::create(Context& ctx, const GpuSurfaceOptions& opt
   auto count = ComputePipeline::create(ctx, PipelineDesc{"surface_count", spirv, DS_MESH_BINDING_COUNT, {{0, 0}}});
   if (!count) return count.error();
   state->count.emplace(std::move(count).value());
-  auto emit = ComputePipeline::create(ctx, PipelineDesc{"surface_emit", spirv, DS_MESH_BINDING_COUNT, {{0, 1}}});
+  auto emit = ComputePipeline::create(ctx, PipelineDesc{"surface_emit", spirv, DS_MESH_BINDING_COUNT, {{0, 1}, {1, state->side}}});
   if (!emit) return emit.error();
   state->emit.emplace(std::move(emit).value());
 
@@ -488,6 +487,13 @@ Result<std::vector<BlockMesh>> GpuSurface::downloadBlocks() {
     std::memcpy(m.vertices.data(), w, size_t(slot.vertices) * sizeof(layout::MeshVertex));
     m.indices.assign(w + size_t(slot.vertices) * DS_MESH_VERTEX_WORDS,
                      w + size_t(slot.vertices) * DS_MESH_VERTEX_WORDS + size_t(slot.triangles) * 3u);
+    // The welder indexes vertices by these; a device that wrote garbage must not take the host down.
+    for (uint32_t index : m.indices)
+      if (index >= slot.vertices)
+        return makeError("GPU surface", "block (" + std::to_string(m.block.x) + ", " + std::to_string(m.block.y) +
+                                            ", " + std::to_string(m.block.z) + ") names vertex " +
+                                            std::to_string(index) + " of " + std::to_string(slot.vertices) +
+                                            ": the device wrote a corrupt slot");
     out.push_back(std::move(m));
   }
   return out;

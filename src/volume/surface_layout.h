@@ -82,7 +82,7 @@ struct MeshParams {
   GridInfo grid;     // offset  0
   uint jobCount;     // offset 16: jobs in this dispatch
   uint tissue;       // offset 20: 0: every tissue counts as solid; else only this material
-  uint side;         // offset 24: normal box side, DS_MESH_SIDE_*
+  uint reserved;     // offset 24: 0 (the emit pass takes the normal box side as specialization constant 1)
   uint firstJob;     // offset 28: job of workgroup 0
 };
 
