@@ -211,6 +211,8 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
 int runVoxelize(const VoxelizeOptions& o) {
   const bool meshes = !(o.enamel.empty() && o.dentin.empty() && o.pulp.empty() && o.caries.empty() && o.tooth.empty());
   if (meshes && !o.labels.empty()) return fail("give either STL layers or --labels, not both");
+  if (meshes && (o.min_piece != 0 || !o.label_map.empty() || !o.fill_enclosed.empty()))
+    return fail("--min-piece, --label-map and --fill-enclosed apply to --labels, not to STL layers");
   if (!meshes && o.labels.empty())
     return fail("nothing to voxelize: give --enamel/--dentin/--pulp/--caries STL layers, --tooth, or --labels");
   if (meshes) return runVoxelizeMeshes(o);

@@ -64,6 +64,8 @@ TEST_F(VoxelizeStlCli, BadInputFailsInOneLineAndWritesNothing) {
       {"--tooth " + dir_.file("missing.stl") + " --cpu", "missing.stl"},
       {"--tooth " + dir_.file("outer.stl") + " --units parsec --cpu", "--units"},
       {layers() + " --labels x.nii.gz --cpu", "not both"},
+      {layers() + " --min-piece 3 --cpu", "apply to --labels"},
+      {layers() + " --fill-enclosed pulp --cpu", "apply to --labels"},
       {"--cpu", "nothing to voxelize"},
       {layers() + " --scale -2 --cpu", "scale"},
   };
