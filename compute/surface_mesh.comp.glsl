@@ -108,7 +108,6 @@ uint rowFill(RowWords r, uint i) {
   return countedFill(((x < 4u ? r.w0 : r.w1) >> ((x & 3u) * 8u)) & 0xffu);
 }
 
-uint cornerF(uint c) { return cornerFill[c]; }
 uint insideMask(uint f, uint x) { return 2u * f > DS_FILL_FULL ? 1u << x : 0u; }
 
 // The crossing edges of corner row `row` as bit 3x + a, from the inside masks: an edge exists in
@@ -256,8 +255,8 @@ void emitVertex(uint vertex, uint c, uint axis, MeshJob job) {
   ivec3 p = ivec3(cc + C0);
   ivec3 q = p;
   q[axis] += 1;
-  uint fa = cornerF(c);
-  uint fb = cornerF(c + (axis == 0u ? 1u : axis == 1u ? CD : CD * CD));
+  uint fa = cornerFill[c];
+  uint fb = cornerFill[c + (axis == 0u ? 1u : axis == 1u ? CD : CD * CD)];
   bool aInside = 2u * fa > DS_FILL_FULL;
   precise float t = float(int(DS_FILL_FULL) - 2 * int(fa)) / float(2 * (int(fb) - int(fa)));
   ivec3 g = ivec3(blockCoord) * int(DS_MESH_BLOCK_CELLS) - 1 + ivec3(cc);
@@ -353,7 +352,7 @@ void main() {
   uint myEdges = 0u;
   if (lane < ROWS) {
     uint m = crossingEdges(lane);
-    rowEdges[lane] = m;
+    if (EMIT != 0u) rowEdges[lane] = m;  // only the emit pass looks edges up again
     myEdges = bitCount(m);
   }
   uvec3 cell = uvec3(lane % DS_MESH_BLOCK_CELLS, (lane / DS_MESH_BLOCK_CELLS) % DS_MESH_BLOCK_CELLS,
