@@ -3,11 +3,13 @@
 // Entry points:
 //   loadBuiltinMolar()       the four molar layers parsed from the embedded STL files
 //   loadBuiltinTool(name)    one tool ("round_bur_010", see toolCatalog()) parsed likewise
-//   builtinAssetBytes(path)  raw embedded bytes by path under assets/ ("teeth/molar_enamel.stl")
-//   generateAssets()         what `dentsim make-tooth` writes: every asset file, freshly generated
+//   builtinAssetBytes(path)  raw embedded bytes by path under assets/ ("teeth/molar_enamel.stl",
+//                            "presets/default.json")
+//   generateAssets()         what `dentsim make-tooth` writes: every mesh asset file, freshly generated
 //
 // The embedded bytes are whatever assets/ held when the library was built; generateAssets()
-// reproduces them byte for byte (a test checks this). When assets/ is empty (bootstrapping),
+// reproduces teeth/ and tools/ byte for byte (a test checks this). presets/ holds the SimParams
+// presets, which src/sim writes and checks (tests/sim/sim_params_test.cpp). When assets/ is empty (bootstrapping),
 // the loaders return an error that says to run `dentsim make-tooth --out assets`.
 #pragma once
 
