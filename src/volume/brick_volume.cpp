@@ -123,6 +123,11 @@ uint32_t BrickVolume::allocBrick(Voxel fill_value) {
 
 void BrickVolume::freeBrick(uint32_t index) { free_bricks_.push_back(index); }
 
+void BrickVolume::reserveSpare(size_t blocks, size_t bricks) {
+  blocks_.reserve(blocks_.size() + blocks * DS_CHUNK_BRICKS);
+  bricks_.reserve(bricks_.size() + bricks * DS_BRICK_WORDS);
+}
+
 void BrickVolume::setVoxel(uint32_t x, uint32_t y, uint32_t z, Voxel v) {
   assert(x < dim() && y < dim() && z < dim());
   assert(validVoxel(v));

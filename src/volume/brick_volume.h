@@ -103,6 +103,17 @@ class BrickVolume {
   // Calls fn for every brick, dense or tile, in the same order.
   void forEachBrick(const std::function<void(const BrickView&)>& fn) const;
 
+  // Reserves room for `blocks` more index blocks and `bricks` more dense bricks beyond those in use,
+  // so that setVoxel() can turn that many tiles dense without allocating (the haptic thread relies
+  // on it). spareBlocks()/spareBricks() say how much reserved room is left.
+  void reserveSpare(size_t blocks, size_t bricks);
+  size_t spareBlocks() const {
+    return free_blocks_.size() + (blocks_.capacity() - blocks_.size()) / DS_CHUNK_BRICKS;
+  }
+  size_t spareBricks() const {
+    return free_bricks_.size() + (bricks_.capacity() - bricks_.size()) / DS_BRICK_WORDS;
+  }
+
   // Turns dense bricks whose voxels became equal into tiles, and blocks whose entries became one
   // tile into chunk tiles; then packs the pools so no free slot remains.
   void compact();

@@ -1,0 +1,66 @@
+// Cutter: removes tissue under a bur's cutting head at the rate hardness x cutting ability x turbine speed x time.
+//
+// Each step, the voxels under the head are those within `reach` of a cutting point in contact, or
+// of the segment from that point out to the tissue surface. The step removes
+//   demand = removal_rate * ability * speed * dt          [mm^3 at hardness 1]
+// spread over those voxels in proportion to each one's fill times its tissue's hardness, so that
+//   removed = demand * (fill-weighted mean hardness of the voxels under the head).
+// With one tissue that is exactly removal_rate * hardness * ability * speed * dt, however many
+// voxels the head touches; in mixed contact the softer tissue goes faster. A voxel's fill is 5
+// bits, so the fractional part of each voxel's share is rounded up or down at random, with a hash
+// of the voxel and the step as the dice: unbiased, allocation-free and the same on every replay.
+//
+// Every changed voxel is written to the volume at once and pushed to the EditChannel. A step that
+// could overflow the channel or the volume's reserved bricks is not cut at all (counted as
+// deferred), so the two copies of the voxels never disagree.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/volume_frame.h"
+#include "sim/contact.h"
+#include "sim/edit_channel.h"
+#include "sim/sim_params.h"
+#include "sim/voxel_field.h"
+#include "volume/brick_volume.h"
+
+namespace dentsim {
+
+struct CutStep {
+  uint32_t candidates = 0;        // tissue voxels under the head
+  uint32_t voxels_changed = 0;    // voxels whose byte changed (edits pushed)
+  double demand_mm3 = 0.0;        // removal_rate * ability * speed * dt [mm^3]
+  double expected_mm3 = 0.0;      // demand * mean hardness: what the step should remove [mm^3]
+  double removed_mm3 = 0.0;       // what it did remove, from the fill change [mm^3]
+  bool deferred = false;          // not cut: no room in the channel or the volume's reserve
+};
+
+class Cutter {
+ public:
+  // Preallocates for up to max_candidates voxels a step; cut() never allocates.
+  explicit Cutter(size_t max_candidates = 1 << 16);
+
+  // One step of cutting by the contacts flagged `cutting`. speed in [0,1], dt [s]. edits may be null
+  // (nothing mirrors this volume). `step` seeds the rounding. field must read `volume`; it is
+  // invalidated when the volume's storage changes.
+  CutStep cut(BrickVolume& volume, VoxelField& field, std::span<const ContactPoint> contacts, const SimParams& params,
+              double ability, double speed, double dt, uint64_t step, EditChannel* edits);
+
+ private:
+  struct Candidate {
+    uint64_t index;   // linear voxel index
+    Voxel value;      // its byte before the cut
+  };
+  // Inserts into the step's voxel set; false when already present or the set is full.
+  bool insert(uint64_t key);
+
+  std::vector<Candidate> candidates_;
+  std::vector<uint64_t> set_keys_;     // open-addressing table, stamped per step
+  std::vector<uint32_t> set_stamps_;
+  std::vector<uint64_t> brick_keys_;   // distinct bricks a step touches (tile ones need reserve)
+  uint32_t stamp_ = 0;
+};
+
+}  // namespace dentsim

@@ -1,0 +1,37 @@
+// ForceOutput: the latest force for one pen, stamped by the haptic loop, which a device reads as zero once it is stale.
+//
+// The haptic loop publishes a wrench every step; a device's I/O thread asks for the wrench to send
+// at its own time. If the loop has not published for longer than `stale_after`, the answer is zero:
+// a stalled loop (a page fault, a debugger, a starved core) can never leave the pen pushing. With
+// stale_after = 1 ms and a device polling at 1 kHz, a stall reaches the pen as zero force within
+// 2 ms. Lock-free: a sequence lock, one writer, any number of readers, nobody waits on a lock.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+
+#include "core/rigid.h"
+
+namespace dentsim {
+
+class ForceOutput {
+ public:
+  struct Command {
+    Wrench wrench;           // what to send: the published wrench, or zero when stale
+    int64_t stamp_ns = 0;    // when the loop published it (steady clock) [ns]
+    bool stale = true;       // nothing published, or older than the limit: wrench is zero
+  };
+
+  // Writer (the haptic loop).
+  void publish(const Wrench& w, int64_t stamp_ns);
+  // Readers (device threads, tests): the command for time now_ns.
+  Command current(int64_t now_ns, int64_t stale_after_ns) const;
+
+ private:
+  std::atomic<uint64_t> seq_{0};
+  std::atomic<double> values_[6]{};
+  std::atomic<int64_t> stamp_ns_{0};
+  std::atomic<bool> published_{false};
+};
+
+}  // namespace dentsim

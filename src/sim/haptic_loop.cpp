@@ -1,0 +1,187 @@
+// HapticLoop: the haptic step as a table of contents, and the real-time thread with absolute deadlines.
+#include "sim/haptic_loop.h"
+
+#include <sys/prctl.h>
+#include <time.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <system_error>
+
+namespace dentsim {
+
+namespace {
+// Spare storage reserved in the volume before the loop runs, so cutting never allocates: enough
+// for a bur to open this many new bricks and chunk blocks before the reserve must be renewed.
+constexpr size_t kSpareBricks = 16384;  // 8 MiB of bricks
+constexpr size_t kSpareBlocks = 256;    // 512 KiB of index blocks
+}  // namespace
+
+int64_t steadyNowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+// ---- step times ---------------------------------------------------------------------------------------
+
+void StepTimes::add(int64_t ns) {
+  const int64_t bin = std::clamp<int64_t>(ns / 500, 0, kBins - 1);
+  ++bins_[size_t(bin)];
+  ++count_;
+  sum_ns_ += ns;
+  max_ns_ = std::max(max_ns_, ns);
+}
+
+double StepTimes::percentileUs(double p) const {
+  if (count_ == 0) return 0.0;
+  const auto rank = uint64_t(std::ceil(std::clamp(p, 0.0, 100.0) / 100.0 * double(count_)));
+  uint64_t seen = 0;
+  for (int i = 0; i < kBins; ++i) {
+    seen += bins_[size_t(i)];
+    if (seen >= std::max<uint64_t>(rank, 1)) return std::min(0.5 * (i + 1), maxUs());  // bin's upper edge
+  }
+  return maxUs();
+}
+
+// ---- set-up -------------------------------------------------------------------------------------------
+
+HapticLoop::HapticLoop(BrickVolume& volume, const VolumeFrame& frame, const SimParams& params, const ToolModel& drill,
+                       const ToolModel* mirror, EditChannel* edits)
+    : volume_(volume),
+      frame_(frame),
+      field_(volume, frame),
+      params_(params),
+      cutter_(size_t{1} << 17),
+      edits_(edits),
+      state_(HapticState{}) {
+  active_params_ = &params_.read();
+  tools_ = {&drill, mirror};
+  proxies_[0] = std::make_unique<ToolProxy>(drill);
+  if (mirror != nullptr) proxies_[1] = std::make_unique<ToolProxy>(*mirror);
+  volume_.reserveSpare(kSpareBlocks, kSpareBricks);
+  totals_.tools[0].present = true;
+  totals_.tools[1].present = mirror != nullptr;
+}
+
+HapticLoop::~HapticLoop() { stop(); }
+
+void HapticLoop::attach(PenRole role, PenSource* pen) { pens_[size_t(role)] = pen; }
+
+void HapticLoop::placeTool(PenRole role, const Pose& grip) {
+  if (proxies_[size_t(role)]) proxies_[size_t(role)]->reset(grip);
+}
+
+void HapticLoop::setParams(const SimParams& params) { params_.publish(params); }
+
+// ---- the step -----------------------------------------------------------------------------------------
+
+const StepReport& HapticLoop::step() {
+  if (hook_ != nullptr) hook_(step_, hook_user_);
+  if (params_.fresh()) active_params_ = &params_.read();
+  const SimParams& p = *active_params_;
+  const double dt = 1.0 / p.device.rate_hz;
+  const double t = totals_.t_s;
+  report_.stepped = {false, false};
+  report_.cut = CutStep{};
+
+  // 1. Read the pens.
+  std::array<PenReading, 2> readings{};
+  for (size_t r = 0; r < 2; ++r) {
+    if (tools_[r] == nullptr || pens_[r] == nullptr) continue;
+    report_.stepped[r] = pens_[r]->read(t, &readings[r]);
+    if (!report_.stepped[r]) counters_.pen_dropouts.fetch_add(1, std::memory_order_relaxed);
+  }
+
+  // 2. Contact and coupling, each tool against the voxels as they are now.
+  for (size_t r = 0; r < 2; ++r)
+    if (report_.stepped[r]) report_.tools[r] = proxies_[r]->step(field_, p, readings[r], dt);
+
+  // 3. Cut under the drill's head; the next step's contact already feels it.
+  report_.speed = report_.stepped[0] ? std::clamp(readings[0].pedal, 0.0, 1.0) : 0.0;
+  if (report_.stepped[0] && tools_[0]->cuts && report_.speed > 0) {
+    report_.cut = cutter_.cut(volume_, field_, report_.tools[0].contacts, p, p.cuttingAbility(tools_[0]->name),
+                              report_.speed, dt, step_, edits_);
+  }
+
+  // 4. Command the forces: a pen without a reading this step gets zero.
+  const int64_t now = steadyNowNs();
+  for (size_t r = 0; r < 2; ++r) {
+    const Wrench w = report_.stepped[r] ? report_.tools[r].display : Wrench{};
+    forces_[r].publish(w, now);
+    if (pens_[r] != nullptr) pens_[r]->display(w, t);
+  }
+
+  // 5. Hand off the state.
+  for (size_t r = 0; r < 2; ++r) {
+    ToolState& ts = totals_.tools[r];
+    ts.pen_ok = report_.stepped[r];
+    if (report_.stepped[r]) ts.pen = readings[r].grip;
+    if (proxies_[r]) ts.tool = proxies_[r]->toolPose();
+    ts.display = report_.stepped[r] ? report_.tools[r].display : Wrench{};
+    ts.contacts = report_.stepped[r] ? report_.tools[r].stats.contacts : 0;
+    ts.points_tested = report_.stepped[r] ? report_.tools[r].stats.points_tested : 0;
+  }
+  totals_.step = ++step_;
+  totals_.t_s = t + dt;
+  totals_.pedal = report_.speed;
+  totals_.rpm = report_.speed * p.turbine.max_rpm;
+  totals_.removed_mm3 += report_.cut.removed_mm3;
+  totals_.voxels_changed += report_.cut.voxels_changed;
+  totals_.deferred_cuts += report_.cut.deferred ? 1 : 0;
+  state_.publish(totals_);
+  return report_;
+}
+
+// ---- the thread ---------------------------------------------------------------------------------------
+
+Status HapticLoop::start() {
+  if (running()) return makeError("haptic loop", "already running");
+  stop_requested_.store(false);
+  try {
+    thread_ = std::thread([this] { run(); });
+  } catch (const std::system_error& e) {
+    return makeError("haptic loop", std::string("cannot start its thread: ") + e.what());
+  }
+  return Ok{};
+}
+
+void HapticLoop::stop() {
+  if (!running()) return;
+  stop_requested_.store(true);
+  thread_.join();
+}
+
+void HapticLoop::run() {
+  // Wake-ups as close to the deadline as the kernel allows; real-time priority where permitted.
+  prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
+  sched_param sp{};
+  sp.sched_priority = 80;
+  (void)pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);
+
+  auto period_ns = [&] { return int64_t(std::llround(1e9 / active_params_->device.rate_hz)); };
+  int64_t deadline = steadyNowNs();
+  while (!stop_requested_.load(std::memory_order_relaxed)) {
+    deadline += period_ns();
+    const int64_t t0 = steadyNowNs();
+    step();
+    const int64_t t1 = steadyNowNs();
+    times_.add(t1 - t0);
+    counters_.steps.fetch_add(1, std::memory_order_relaxed);
+    if (t1 - t0 > counters_.max_step_ns.load(std::memory_order_relaxed))
+      counters_.max_step_ns.store(t1 - t0, std::memory_order_relaxed);
+    if (t1 > deadline) {
+      counters_.missed_deadlines.fetch_add(1, std::memory_order_relaxed);
+      // Far behind (a stall): start a new schedule instead of running a burst of catch-up steps.
+      if (t1 - deadline > 4 * period_ns()) deadline = t1;
+      continue;
+    }
+    timespec ts{};
+    ts.tv_sec = time_t(deadline / 1'000'000'000);
+    ts.tv_nsec = long(deadline % 1'000'000'000);
+    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+    }
+  }
+}
+
+}  // namespace dentsim

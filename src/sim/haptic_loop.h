@@ -1,0 +1,171 @@
+// HapticLoop: the 1 kHz step (read the pens, contact and coupling, cut, command forces, hand off) and the thread that runs it.
+//
+// Contents
+//   1. HapticState (the snapshot other threads read) and StepReport (what one step did)
+//   2. HapticLoop: set-up, step() for deterministic callers, start()/stop() for the real-time thread
+//   3. StepTimes: a fixed histogram of step durations for p50/p99/max without allocating
+//
+// The loop owns the tooth's CPU voxels while it runs: it is their only writer, and cuts land in
+// them at once, so the next contact test already feels the removed material. Everything it hands
+// out goes through lock-free channels: the state snapshot (triple buffer), the voxel edits
+// (EditChannel), the pens' forces (ForceOutput, which turns stale into zero) and parameter changes
+// (triple buffer, applied at the start of a step). A step never allocates, blocks, writes a file or
+// throws; faults set counters and zero the force.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+#include <memory>
+#include <thread>
+#include <vector>
+
+#include "core/result.h"
+#include "core/rigid.h"
+#include "core/triple_buffer.h"
+#include "core/volume_frame.h"
+#include "sim/cutter.h"
+#include "sim/edit_channel.h"
+#include "sim/force_output.h"
+#include "sim/pen.h"
+#include "sim/sim_params.h"
+#include "sim/tool_proxy.h"
+#include "sim/voxel_field.h"
+#include "volume/brick_volume.h"
+
+namespace dentsim {
+
+// ---- 1. state ---------------------------------------------------------------------------------------
+
+// One tool as the other threads see it.
+struct ToolState {
+  bool present = false;    // a tool is attached to this pen
+  bool pen_ok = false;     // the pen gave a reading this step
+  Pose pen;                // the pen's grip frame
+  Pose tool;               // the proxy's tool frame (what the renderer draws)
+  Wrench display;          // what the pen was told to render (clamped), moment about the grip
+  uint32_t contacts = 0;   // shell points in tissue
+  uint32_t points_tested = 0;  // shell points sampled this step
+};
+
+struct HapticState {
+  uint64_t step = 0;                   // steps run
+  double t_s = 0.0;                    // loop time [s] = step / rate
+  std::array<ToolState, 2> tools{};    // by PenRole
+  double pedal = 0.0;                  // turbine speed [0..1]
+  double rpm = 0.0;                    // turbine speed [1/min]
+  double removed_mm3 = 0.0;            // tissue removed since start [mm^3]
+  uint64_t voxels_changed = 0;         // voxel edits since start
+  uint64_t deferred_cuts = 0;          // steps whose cut waited for room
+};
+
+// What one step did, for tests and benchmarks.
+struct StepReport {
+  std::array<ProxyStep, 2> tools{};    // by PenRole; empty when no tool or no reading
+  std::array<bool, 2> stepped{};       // the tool was stepped
+  CutStep cut;
+  double speed = 0.0;                  // turbine speed used [0..1]
+};
+
+// ---- 3. step times -----------------------------------------------------------------------------------
+
+class StepTimes {
+ public:
+  static constexpr int kBins = 20000;  // 0.5 us bins up to 10 ms; longer steps land in the last bin
+  void add(int64_t ns);
+  uint64_t count() const { return count_; }
+  double percentileUs(double p) const;  // p in [0,100]
+  double maxUs() const { return double(max_ns_) / 1000.0; }
+  double meanUs() const { return count_ ? double(sum_ns_) / double(count_) / 1000.0 : 0.0; }
+
+ private:
+  std::vector<uint32_t> bins_ = std::vector<uint32_t>(kBins, 0u);
+  uint64_t count_ = 0;
+  int64_t max_ns_ = 0;
+  int64_t sum_ns_ = 0;
+};
+
+// Counters the loop keeps while its thread runs; readable from any thread.
+struct LoopCounters {
+  std::atomic<uint64_t> steps{0};            // steps run by the thread
+  std::atomic<uint64_t> missed_deadlines{0}; // steps that ended after their deadline
+  std::atomic<uint64_t> pen_dropouts{0};     // steps where an attached pen gave no reading
+  std::atomic<int64_t> max_step_ns{0};       // longest step [ns]
+};
+
+// ---- 2. the loop -------------------------------------------------------------------------------------
+
+class HapticLoop {
+ public:
+  // `volume` is the tooth's CPU copy: the loop edits it and must be its only user while running.
+  // `edits` (may be null) receives every voxel edit for the GPU side. `mirror` may be null.
+  // Reserves spare bricks in `volume` so cutting never allocates.
+  HapticLoop(BrickVolume& volume, const VolumeFrame& frame, const SimParams& params, const ToolModel& drill,
+             const ToolModel* mirror, EditChannel* edits);
+  ~HapticLoop();
+  HapticLoop(const HapticLoop&) = delete;
+  HapticLoop& operator=(const HapticLoop&) = delete;
+
+  // Attaches a pen to a tool (null detaches). Only while the thread is stopped.
+  void attach(PenRole role, PenSource* pen);
+  // Puts a tool's proxy on its pen's current reading (or on `grip` when given).
+  void placeTool(PenRole role, const Pose& grip);
+
+  // One step at loop time step() / rate. Deterministic: the same pens and volume give the same result.
+  const StepReport& step();
+
+  // Runs step() on a thread at the parameter set's rate, with absolute deadlines.
+  Status start();
+  void stop();
+  bool running() const { return thread_.joinable(); }
+
+  // Any thread: new parameters, applied at the start of the next step.
+  void setParams(const SimParams& params);
+  // Consumer thread (one): the latest snapshot.
+  const HapticState& latest() { return state_.read(); }
+  // Any thread: the force for a pen, zero once stale (device I/O threads read this).
+  const ForceOutput& forceOutput(PenRole role) const { return forces_[size_t(role)]; }
+  const LoopCounters& counters() const { return counters_; }
+  // The step-time histogram of the thread's steps (read after stop()).
+  const StepTimes& stepTimes() const { return times_; }
+  uint64_t stepsRun() const { return step_; }
+  double dt() const { return 1.0 / active_params_->device.rate_hz; }
+  ToolProxy* proxy(PenRole role) { return proxies_[size_t(role)].get(); }
+
+  // A hook the tests use to stall a step: called at its start, in the loop's thread.
+  void setStepHook(void (*hook)(uint64_t step, void* user), void* user) {
+    hook_ = hook;
+    hook_user_ = user;
+  }
+
+ private:
+  void run();
+
+  BrickVolume& volume_;
+  VolumeFrame frame_;
+  VoxelField field_;
+  TripleBuffer<SimParams> params_;
+  const SimParams* active_params_ = nullptr;
+  std::array<std::unique_ptr<ToolProxy>, 2> proxies_;
+  std::array<PenSource*, 2> pens_{};
+  std::array<const ToolModel*, 2> tools_{};
+  double drill_ability_ = 0.0;
+  Cutter cutter_;
+  EditChannel* edits_;
+  std::array<ForceOutput, 2> forces_;
+  TripleBuffer<HapticState> state_;
+  HapticState totals_;        // the loop's own running state, published each step
+  StepReport report_;
+  LoopCounters counters_;
+  StepTimes times_;
+  uint64_t step_ = 0;
+  std::thread thread_;
+  std::atomic<bool> stop_requested_{false};
+  void (*hook_)(uint64_t, void*) = nullptr;
+  void* hook_user_ = nullptr;
+};
+
+// The steady clock the loop stamps forces with [ns].
+int64_t steadyNowNs();
+
+}  // namespace dentsim

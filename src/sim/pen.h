@@ -1,0 +1,48 @@
+// PenSource: what the haptic loop reads a pen through, and ScriptedPen, which plays a timed pen path with no hardware.
+//
+// The loop calls read() once a step with its own clock and display() with the force it wants
+// rendered; neither may block. Hardware drivers (devices/) implement the same interface behind
+// their safety layer; the scripted pen lets every test and benchmark drill without a device.
+#pragma once
+
+#include <cstddef>
+
+#include "core/rigid.h"
+#include "io/pen_path_file.h"
+#include "sim/tool_proxy.h"
+
+namespace dentsim {
+
+class PenSource {
+ public:
+  virtual ~PenSource() = default;
+  // The pen's state at loop time t_s [s]. False when it has none (the tool then stays where it is).
+  virtual bool read(double t_s, PenReading* out) = 0;
+  // The wrench the pen should render from now on (force [N], moment about the grip [N mm]).
+  virtual void display(const Wrench& wrench, double t_s) {
+    (void)wrench;
+    (void)t_s;
+  }
+};
+
+// Plays one pen's samples from a pen path: position interpolated linearly and rotation by slerp
+// between samples, velocities from the segment, buttons and pedal held from the latest sample.
+// Before the first sample it holds the first; after the last, the last, at rest.
+class ScriptedPen final : public PenSource {
+ public:
+  // Takes the samples of `role` from the path (there may be none: read() then returns false).
+  ScriptedPen(const PenPath& path, PenRole role);
+
+  bool read(double t_s, PenReading* out) override;
+  void display(const Wrench& wrench, double t_s) override;
+
+  double endTime() const;                     // time of the last sample [s]; 0 when empty
+  const Wrench& lastDisplayed() const { return last_; }  // the latest wrench the loop sent
+
+ private:
+  std::vector<PenSample> samples_;  // this pen's samples, in time order
+  size_t cursor_ = 0;               // segment of the last read: reads move forward in time mostly
+  Wrench last_;
+};
+
+}  // namespace dentsim

@@ -1,0 +1,57 @@
+// Shared fixtures of the sim tests: a flat tissue block in a small grid and a spherical bur.
+#pragma once
+
+#include <cmath>
+#include <numbers>
+
+#include "core/volume_frame.h"
+#include "sim/sim_params.h"
+#include "sim/tool_library.h"
+#include "test_meshes.h"
+#include "volume/brick_volume.h"
+
+namespace dentsim::test {
+
+// A 128^3 grid of 0.0125 mm voxels (1.6 mm a side, the voxel of a level-10 molar) whose voxels with
+// z < surface_z are solid `m`: the tissue's surface is the plane z = surface_z * 0.0125 mm.
+struct Block {
+  static constexpr int kLevel = 7;
+  static constexpr double kVoxel = 0.0125;
+  BrickVolume volume{kLevel};
+  VolumeFrame frame = VolumeFrame::axisAligned(kLevel, kVoxel, {0, 0, 0});
+  double surface_mm = 0.0;
+};
+
+inline Block flatBlock(Material m, uint32_t surface_z = 64) {
+  Block b;
+  b.surface_mm = surface_z * Block::kVoxel;
+  const uint32_t bd = b.volume.brickDim();
+  for (uint32_t bz = 0; bz < bd; ++bz)
+    for (uint32_t by = 0; by < bd; ++by)
+      for (uint32_t bx = 0; bx < bd; ++bx) {
+        if ((bz + 1) * DS_BRICK_DIM <= surface_z) {
+          b.volume.setBrickUniform({bx, by, bz}, makeVoxel(m));
+        } else if (bz * DS_BRICK_DIM < surface_z) {
+          for (uint32_t z = bz * DS_BRICK_DIM; z < surface_z; ++z)
+            for (uint32_t y = by * DS_BRICK_DIM; y < (by + 1) * DS_BRICK_DIM; ++y)
+              for (uint32_t x = bx * DS_BRICK_DIM; x < (bx + 1) * DS_BRICK_DIM; ++x) b.volume.setVoxel(x, y, z, makeVoxel(m));
+        }
+      }
+  return b;
+}
+
+// A round bur head: a sphere of radius r [mm] centred at (0, 0, r), so the tip is at the tool origin;
+// every point cuts; the grip is at `grip_local`.
+inline ToolModel sphereBur(double r, double spacing_mm, Vec3 grip_local = {0, 0, 0}) {
+  PointShellParams spacing;
+  spacing.head_spacing_mm = spacing_mm;
+  spacing.shank_spacing_mm = spacing_mm;
+  auto tool = makeToolModel("test_sphere", test::uvSphere({0, 0, r}, r, 192, 96), 2 * r + 1.0, grip_local, spacing);
+  return std::move(*tool);
+}
+
+// Tissue-on-sphere spring force for a sphere of radius r pressed d deep into a flat surface:
+// the integral of stiffness * depth over the spherical cap, k * pi * r * d^2 [N].
+inline double capSpringForce(double k, double r, double d) { return k * std::numbers::pi * r * d * d; }
+
+}  // namespace dentsim::test
