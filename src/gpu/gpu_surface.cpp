@@ -6,6 +6,8 @@
 //   3. build, update, read-back
 #include "gpu/gpu_surface.h"
 
+#include <array>
+
 #include <algorithm>
 #include <bit>
 #include <chrono>
@@ -80,6 +82,7 @@ struct GpuSurface::State {
   std::unordered_map<uint32_t, Slot> slots;  // packed block -> slot
   int level = -1;
   uint64_t page_limit = 0;  // largest page [B], a power of two
+  std::array<size_t, 3> mirror_words{};  // chunk, block and brick words the mirror holds since the last sync
 
   Status uploadMirror(const BrickVolume& vol);
   Status syncMirror(const BrickVolume& vol, std::span<const BrickCoord> dirty);
@@ -108,6 +111,7 @@ Status GpuSurface::State::uploadMirror(const BrickVolume& vol) {
     if (auto u = buf->buffer->upload(*ctx, std::as_bytes(words)); !u) return u;
   }
   level = vol.level();
+  mirror_words = {vol.chunkWords().size(), vol.blockWords().size(), vol.brickWords().size()};
   return Ok{};
 }
 
@@ -157,6 +161,7 @@ Status GpuSurface::State::syncMirror(const BrickVolume& vol, std::span<const Bri
     copies.push_back({r.target, VkBufferCopy{at, r.word * 4u, r.words * 4u}});
     at += r.words * 4u;
   }
+  mirror_words = {vol.chunkWords().size(), vol.blockWords().size(), vol.brickWords().size()};
   return submitAndWait(*ctx, "surface mirror sync", [&](Commands& cmds) -> Status {
     cmds.use(*staging.buffer);
     for (GrowingBuffer* t : {&chunks, &blocks, &bricks}) cmds.use(*t->buffer);
@@ -463,6 +468,48 @@ Buffer& GpuSurface::pool(uint32_t page) { return *state_->pages.at(page).pool; }
 Buffer& GpuSurface::draws(uint32_t page) { return *state_->pages.at(page).draws.buffer; }
 uint32_t GpuSurface::drawCount(uint32_t page) const { return uint32_t(state_->pages.at(page).records.size()); }
 uint64_t GpuSurface::liveBlocks() const { return state_->slots.size(); }
+
+Result<BrickVolume> GpuSurface::downloadVolume() {
+  State& s = *state_;
+  if (s.level < 0) return makeError("surface mirror", "nothing uploaded yet");
+  std::array<std::vector<uint32_t>, 3> words;
+  const std::array<GrowingBuffer*, 3> buffers{&s.chunks, &s.blocks, &s.bricks};
+  for (size_t i = 0; i < 3; ++i) {
+    words[i].resize(s.mirror_words[i]);
+    if (words[i].empty()) continue;
+    if (auto d = buffers[i]->buffer->download(*s.ctx, std::as_writable_bytes(std::span<uint32_t>(words[i]))); !d)
+      return d.error();
+  }
+  // Walk the index as the kernels do, so storage nothing references is ignored.
+  BrickVolume out(s.level);
+  const uint32_t cd = out.chunkDim(), span = std::min<uint32_t>(out.brickDim(), DS_CHUNK_DIM);
+  const auto bad = [](const char* what) { return makeError("surface mirror", std::string(what) + " out of range"); };
+  for (uint32_t cz = 0; cz < cd; ++cz)
+    for (uint32_t cy = 0; cy < cd; ++cy)
+      for (uint32_t cx = 0; cx < cd; ++cx) {
+        const uint32_t centry = words[0][layout::chunkCoordToIndex(cx, cy, cz, cd)];
+        for (uint32_t bz = 0; bz < span; ++bz)
+          for (uint32_t by = 0; by < span; ++by)
+            for (uint32_t bx = 0; bx < span; ++bx) {
+              const BrickCoord c{cx * DS_CHUNK_DIM + bx, cy * DS_CHUNK_DIM + by, cz * DS_CHUNK_DIM + bz};
+              if (centry & DS_ENTRY_UNIFORM) {
+                out.setBrickUniform(c, Voxel(centry & 0xffu));
+                continue;
+              }
+              const size_t e = size_t(centry & DS_ENTRY_INDEX_MASK) * DS_CHUNK_BRICKS + layout::brickCoordToOffset(bx, by, bz);
+              if (e >= words[1].size()) return bad("an index block");
+              const uint32_t bentry = words[1][e];
+              if (bentry & DS_ENTRY_UNIFORM) {
+                out.setBrickUniform(c, Voxel(bentry & 0xffu));
+                continue;
+              }
+              const size_t w = size_t(bentry & DS_ENTRY_INDEX_MASK) * DS_BRICK_WORDS;
+              if (w + DS_BRICK_WORDS > words[2].size()) return bad("a brick");
+              out.setBrick(c, reinterpret_cast<const Voxel*>(words[2].data() + w));
+            }
+      }
+  return out;
+}
 
 Result<std::vector<BlockMesh>> GpuSurface::downloadBlocks() {
   State& s = *state_;

@@ -85,6 +85,10 @@ class GpuSurface {
   uint32_t drawCount(uint32_t page) const;
   uint64_t liveBlocks() const;  // blocks holding triangles
 
+  // Reads the GPU's copy of the voxels back (for tests): after build() or update() it equals the
+  // volume those were given. Errors: nothing uploaded yet, a Vulkan failure, an index out of range.
+  Result<BrickVolume> downloadVolume();
+
   // Reads every live block back (for tests and export), ordered by block.
   Result<std::vector<BlockMesh>> downloadBlocks();
 
