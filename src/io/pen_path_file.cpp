@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/atomic_file.h"
+#include "io/parse_guard.h"
 
 namespace dentsim {
 namespace {
@@ -41,22 +42,7 @@ constexpr size_t kCsvPenColumn = 1;
 constexpr size_t kCsvButtonsColumn = 9;
 static_assert(size_t(std::count(kPenPathCsvHeader.begin(), kPenPathCsvHeader.end(), ',')) + 1 == kCsvColumns);
 
-// A token from the file, shortened and with unprintable bytes escaped so the message stays one line.
-std::string quote(std::string_view token, size_t max_shown = 32) {
-  std::string out = "\"";
-  for (size_t i = 0; i < token.size() && i < max_shown; ++i) {
-    const auto c = uint8_t(token[i]);
-    if (c < 0x20 || c >= 0x7f) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", unsigned(c));
-      out += buf;
-    } else {
-      out += char(c);
-    }
-  }
-  if (token.size() > max_shown) out += "...";
-  return out + "\"";
-}
+std::string quote(std::string_view token, size_t max_shown = 32) { return quoteToken(token, max_shown); }
 
 // The shortest text that reads back to the same double ("0.1", "1e-300", "-0", "inf", "nan").
 std::string numberText(double v) {
@@ -202,17 +188,6 @@ void sortByTime(PenPath& path) {
     std::stable_sort(path.samples.begin(), path.samples.end(), earlier);
 }
 
-// Runs a reader so that exhausted memory or a stray exception becomes a one-line error.
-template <class Parse>
-Result<PenPath> guarded(const std::string& where, size_t bytes, Parse&& parse) {
-  try {
-    return parse();
-  } catch (const std::bad_alloc&) {
-    return makeError(where, "out of memory while reading the pen path (" + std::to_string(bytes) + " bytes)");
-  } catch (const std::exception& e) {
-    return makeError(where, "failed to read the pen path: " + quote(e.what(), 200));
-  }
-}
 
 // ---- 3. CSV reader --------------------------------------------------------------------------
 
@@ -625,11 +600,11 @@ bool looksLikeJson(const std::string& path, std::string_view text) {
 }  // namespace
 
 Result<PenPath> parsePenPathCsv(std::string_view text, const std::string& where, const PenPathReadLimits& limits) {
-  return guarded(where, text.size(), [&] { return CsvReader(where, limits).read(text); });
+  return guardParse<PenPath>(where, text.size(), [&] { return CsvReader(where, limits).read(text); }, "the pen path");
 }
 
 Result<PenPath> parsePenPathJson(std::string_view text, const std::string& where, const PenPathReadLimits& limits) {
-  return guarded(where, text.size(), [&] { return JsonReader(where, limits).read(text); });
+  return guardParse<PenPath>(where, text.size(), [&] { return JsonReader(where, limits).read(text); }, "the pen path");
 }
 
 Result<PenPath> loadPenPath(const std::string& path, const PenPathReadLimits& limits) {

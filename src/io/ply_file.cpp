@@ -108,23 +108,7 @@ void store(std::vector<uint8_t>& out, T v) {
 
 bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r' || c == '\v' || c == '\f'; }
 
-// A token from the file, shortened and with unprintable bytes escaped so the message stays one line.
-std::string quote(std::string_view token) {
-  constexpr size_t kMaxShown = 32;
-  std::string out = "\"";
-  for (size_t i = 0; i < token.size() && i < kMaxShown; ++i) {
-    const auto c = uint8_t(token[i]);
-    if (c < 0x20 || c >= 0x7f) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", unsigned(c));
-      out += buf;
-    } else {
-      out += char(c);
-    }
-  }
-  if (token.size() > kMaxShown) out += "...";
-  return out + "\"";
-}
+std::string quote(std::string_view token) { return quoteToken(token); }
 
 std::vector<std::string_view> splitWords(std::string_view line) {
   std::vector<std::string_view> words;

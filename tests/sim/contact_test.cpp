@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <tuple>
+#include <vector>
+
 #include "sim/point_shell.h"
 #include "sim/voxel_field.h"
 #include "sim_fixtures.h"
@@ -21,6 +24,23 @@ constexpr double kR = 0.5;  // bur radius [mm]
 Pose pressed(const Block& b, double depth, double x = 0.8, double y = 0.8) {
   return Pose{{x, y, b.surface_mm - depth}, Quat{}};
 }
+
+// A 0.5 mm sphere pressed 0.03 mm into a flat block of `tissue`, with its contact set.
+struct Pressed {
+  explicit Pressed(Material tissue)
+      : block(flatBlock(tissue)), field(block.volume, block.frame), bur(sphereBur(kR, 0.03)), finder(bur.shell.size()) {
+    pose = pressed(block, 0.03);
+    auto found = finder.find(field, bur.shell, pose);
+    contacts.assign(found.begin(), found.end());
+  }
+  Block block;
+  VoxelField field;
+  ToolModel bur;
+  ContactFinder finder;
+  SimParams params = defaultSimParams();
+  Pose pose;
+  std::vector<ContactPoint> contacts;
+};
 
 TEST(VoxelField, FlatSurfaceFieldIsZeroOnThePlaneWithUnitGradient) {
   Block b = flatBlock(Material::Enamel);
@@ -75,13 +95,8 @@ TEST(Contact, SpringForceScalesWithTheTissueStiffness) {
 }
 
 TEST(Contact, FrictionOpposesSlidingWithTheCoulombMagnitude) {
-  Block b = flatBlock(Material::Dentin);
-  VoxelField field(b.volume, b.frame);
-  const ToolModel bur = sphereBur(kR, 0.03);
-  SimParams params = defaultSimParams();
-  ContactFinder finder(bur.shell.size());
-  const Pose pose = pressed(b, 0.03);
-  auto contacts = finder.find(field, bur.shell, pose);
+  const Pressed p(Material::Dentin);
+  const auto& [contacts, params, pose] = std::tie(p.contacts, p.params, p.pose);
   const double mu = params.tissue(Material::Dentin).friction;
   for (const Vec3 v : {Vec3{20, 0, 0}, Vec3{0, -15, 0}, Vec3{12, 9, 0}}) {
     const ContactForce f = contactForce(contacts, params, ToolMotion{pose.position, v, {}});
@@ -97,13 +112,8 @@ TEST(Contact, FrictionOpposesSlidingWithTheCoulombMagnitude) {
 }
 
 TEST(Contact, DampingGrowsWithTheSpeedIntoTheTissueAndNeverPulls) {
-  Block b = flatBlock(Material::Enamel);
-  VoxelField field(b.volume, b.frame);
-  const ToolModel bur = sphereBur(kR, 0.03);
-  SimParams params = defaultSimParams();
-  ContactFinder finder(bur.shell.size());
-  const Pose pose = pressed(b, 0.03);
-  auto contacts = finder.find(field, bur.shell, pose);
+  const Pressed p(Material::Enamel);
+  const auto& [contacts, params, pose] = std::tie(p.contacts, p.params, p.pose);
   const double alpha = params.tissue(Material::Enamel).damping_s_per_mm;
   const double spring = contactForce(contacts, params, ToolMotion{pose.position, {}, {}}).wrench.force.z;
   // Moving in at v: Hunt-Crossley scales every point's spring by (1 + alpha v).
