@@ -1,4 +1,4 @@
-// `dentsim bench memory`, `bench voxelize` and `bench mesh`: brick bytes, voxelization and meshing time beside the paper, OpenVDB and VTK.
+// `dentsim bench memory`, `bench voxelize`, `bench mesh` and `bench haptic`: brick bytes, voxelization and meshing time beside the paper, OpenVDB and VTK, and the haptic step time.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -10,6 +10,7 @@
 
 #include "app/commands.h"
 #include "app/terminal_progress.h"
+#include "bench/haptic_bench.h"
 #include "bench/memory_bench.h"
 #include "bench/mesh_bench.h"
 #include "bench/voxelize_bench.h"
@@ -50,6 +51,15 @@ struct MeshBenchOptions {
   bool no_bur = false;
   bool no_normals = false;
   bool cpu = false;                // the CPU reference instead of the GPU mesher
+  std::string device;              // Vulkan device override
+};
+
+struct HapticBenchOptions {
+  bench::HapticBenchSettings settings;
+  std::vector<int> levels{9, 10};  // octree levels of the molar
+  std::string out = "docs/bench";  // folder for JSON, Markdown and SVG
+  bool cpu_voxelize = false;       // voxelize with the CPU reference even where there is a GPU
+  bool no_step_only = false;       // skip the back-to-back run
   std::string device;              // Vulkan device override
 };
 
@@ -247,6 +257,23 @@ int runVoxelizeBench(const VoxelizeBenchOptions& o) {
 
 // ---- bench mesh --------------------------------------------------------------------------------
 
+// The molar at a level: the GPU voxelizer on `context`, or the CPU reference when it is null (the
+// same voxels). `context` and `layers` must outlive the maker.
+bench::VolumeMaker molarVolumeMaker(gpu::Context* context, const std::vector<MeshLayer>& layers, Bounds3 bounds) {
+  if (context == nullptr) return bench::cpuVolumeMaker(layers);
+  return [context, &layers, bounds](int level) -> Result<ToothVolume> {
+    auto frame = fitGridToLevel(bounds, level);
+    if (!frame) return frame.error();
+    VoxelizeOptions vo;
+    auto setup = makeRaySetup(layers, *frame, vo);
+    if (!setup) return setup.error();
+    auto voxels = gpu::voxelizeGpu(*context, *setup, vo);
+    if (!voxels) return voxels.error();
+    voxels->compact();
+    return ToothVolume{*frame, std::move(voxels).value()};
+  };
+}
+
 // The GPU mesher as a bench runner. One GpuSurface for the mode being measured; a new one when the
 // mode changes, so that three level-10 surfaces never sit in memory at once.
 bench::MeshRunner gpuMeshRunner(gpu::Context& context) {
@@ -304,20 +331,7 @@ int runMeshBench(MeshBenchOptions o) {
   const std::vector<MeshLayer> layers = model.layers();
   const Bounds3 bounds = model.bounds();
   // The molar is voxelized on the GPU where there is one (the CPU reference gives the same voxels).
-  bench::VolumeMaker maker = bench::cpuVolumeMaker(layers);
-  if (context) {
-    maker = [&context, &layers, bounds](int level) -> Result<ToothVolume> {
-      auto frame = fitGridToLevel(bounds, level);
-      if (!frame) return frame.error();
-      VoxelizeOptions vo;
-      auto setup = makeRaySetup(layers, *frame, vo);
-      if (!setup) return setup.error();
-      auto voxels = gpu::voxelizeGpu(*context, *setup, vo);
-      if (!voxels) return voxels.error();
-      voxels->compact();
-      return ToothVolume{*frame, std::move(voxels).value()};
-    };
-  }
+  const bench::VolumeMaker maker = molarVolumeMaker(context ? &*context : nullptr, layers, bounds);
   const bench::MeshRunner runner = context ? gpuMeshRunner(*context) : bench::cpuReferenceRunner();
 
   bench::MeshReportInfo info;
@@ -345,6 +359,63 @@ int runMeshBench(MeshBenchOptions o) {
   if (Status w = bench::writeMeshReport(o.out, info, *report); !w) return fail(w.message());
   std::printf("\n%s", bench::meshReportMarkdown(info, *report).c_str());
   std::printf("wrote %s/mesh.json, mesh.md, mesh.svg, mesh_bur.svg\n", o.out.c_str());
+  return 0;
+}
+
+// ---- bench haptic ------------------------------------------------------------------------------
+
+// The three load averages of /proc/loadavg ("0.52 0.60 0.71"), or "unknown".
+std::string loadAverage() {
+  std::ifstream in("/proc/loadavg");
+  std::string one, five, fifteen;
+  if (!(in >> one >> five >> fifteen)) return "unknown";
+  return one + " " + five + " " + fifteen;
+}
+
+int runHapticBenchCommand(HapticBenchOptions o) {
+  std::error_code ec;
+  std::filesystem::create_directories(o.out, ec);
+  if (ec) return fail(o.out + ": cannot create output folder: " + ec.message());
+  o.settings.step_only = !o.no_step_only;
+
+  std::optional<gpu::Context> context;
+  if (!o.cpu_voxelize) {
+    auto opened = openGpuOrFallBack(o.device, "voxelizing with the CPU reference");
+    if (!opened) return fail(opened.message());
+    context = std::move(*opened);
+  }
+  const MolarModel model = loadMolarForBench();
+  const std::vector<MeshLayer> layers = model.layers();
+  const bench::VolumeMaker maker = molarVolumeMaker(context ? &*context : nullptr, layers, model.bounds());
+
+  bench::HapticReportInfo info;
+  info.model = model.description;
+  info.command = "dentsim bench haptic --levels " + joined(o.levels) + " --laps " +
+                 joined(std::vector<double>{o.settings.path.laps}) + (o.cpu_voxelize ? " --cpu-voxelize" : "") +
+                 (o.no_step_only ? " --no-step-only" : "");
+  info.cpu = cpuModel();
+  info.cpu_threads = int(std::thread::hardware_concurrency());
+  info.voxelizer = context ? "the GPU voxelizer on " + context->device().name : std::string("the CPU reference");
+  info.settings = o.settings;
+  info.load_before = loadAverage();
+  std::printf("haptic bench: %s\n%s; CPU %s, %d threads; load average %s\n", info.model.c_str(),
+              info.voxelizer.c_str(), info.cpu.c_str(), info.cpu_threads, info.load_before.c_str());
+  std::fflush(stdout);
+
+  std::vector<bench::HapticBenchRow> rows;
+  for (int level : o.levels) {
+    auto row = bench::runHapticBench(level, maker, o.settings, [](const std::string& line) {
+      std::printf("%s\n", line.c_str());
+      std::fflush(stdout);
+    });
+    if (!row) return fail(row.message());
+    rows.push_back(std::move(row).value());
+  }
+  info.load_after = loadAverage();
+  if (Status w = bench::writeHapticReport(o.out, info, rows); !w) return fail(w.message());
+  std::printf("\n%s\nload average before %s, after %s\n", bench::hapticRowsTable(rows, o.settings).c_str(),
+              info.load_before.c_str(), info.load_after.c_str());
+  std::printf("wrote %s/haptic.json, haptic.md, haptic.svg\n", o.out.c_str());
   return 0;
 }
 
@@ -407,6 +478,20 @@ void addBenchCommand(CLI::App& root, Action& action) {
   mesh->add_option("--out", mopts->out, "Output folder")->capture_default_str();
   mesh->add_option("--device", mopts->device, "Device index or name substring (also DENTSIM_DEVICE)");
   mesh->callback([mopts, &action] { action = [mopts] { return runMeshBench(*mopts); }; });
+
+  auto hopts = std::make_shared<HapticBenchOptions>();
+  CLI::App* haptic = bench->add_subcommand("haptic", "Step time of the 1 kHz haptic loop while a 1 mm round bur "
+                                                     "prepares a class I cavity in the molar (thread and step-only "
+                                                     "runs, missed deadlines, points per step)");
+  haptic->add_option("--levels", hopts->levels, "Octree levels")->delimiter(',')->check(CLI::Range(5, 11))
+      ->capture_default_str();
+  haptic->add_option("--laps", hopts->settings.path.laps, "Laps of the cavity outline")->check(CLI::Range(0.05, 20.0))
+      ->capture_default_str();
+  haptic->add_flag("--cpu-voxelize", hopts->cpu_voxelize, "Voxelize the molar with the CPU reference");
+  haptic->add_flag("--no-step-only", hopts->no_step_only, "Skip the back-to-back run on the bench thread");
+  haptic->add_option("--out", hopts->out, "Output folder")->capture_default_str();
+  haptic->add_option("--device", hopts->device, "Device index or name substring (also DENTSIM_DEVICE)");
+  haptic->callback([hopts, &action] { action = [hopts] { return runHapticBenchCommand(*hopts); }; });
 }
 
 }  // namespace dentsim::app

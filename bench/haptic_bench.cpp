@@ -1,0 +1,724 @@
+// Haptic benchmark: the scripted cavity preparation, the loop's thread and step-only runs, and their JSON, Markdown and SVG report.
+//
+// Contents
+//   1. Probing the volume: tissue bounds, column surfaces, the bur's resting height
+//   2. The cavity preparation path
+//   3. Step statistics: time summaries and the per-step load
+//   4. One level: thread run, step-only run
+//   5. JSON
+//   6. Markdown
+//   7. SVG and files
+#include "bench/haptic_bench.h"
+
+#include <pthread.h>
+#include <sched.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <numbers>
+#include <optional>
+#include <sstream>
+#include <stop_token>
+#include <system_error>
+#include <thread>
+
+#include "bench/svg_plot.h"
+#include "io/atomic_file.h"
+#include "sim/edit_channel.h"
+#include "sim/haptic_loop.h"
+#include "sim/pen.h"
+#include "sim/sim_params.h"
+#include "sim/tool_library.h"
+#include "sim/voxel_field.h"
+
+namespace dentsim::bench {
+
+// ---- 1. probing the volume -------------------------------------------------------------------------
+namespace {
+
+// The box of the bricks holding any tissue, simulation frame [mm]; empty when there is none.
+struct TissueBox {
+  Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL};
+  Vec3 hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  bool empty() const { return lo.x > hi.x; }
+};
+
+TissueBox tissueBox(const BrickVolume& volume, const VolumeFrame& frame) {
+  uint32_t lo[3] = {UINT32_MAX, UINT32_MAX, UINT32_MAX}, hi[3] = {0, 0, 0};
+  volume.forEachBrick([&](const BrickView& b) {
+    if (b.uniform && voxelFill(b.value) == 0) return;
+    const uint32_t c[3] = {b.coord.x, b.coord.y, b.coord.z};
+    for (size_t a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], c[a]);
+      hi[a] = std::max(hi[a], c[a]);
+    }
+  });
+  TissueBox box;
+  if (lo[0] > hi[0]) return box;
+  const double brick_mm = frame.voxel_mm * DS_BRICK_DIM;
+  for (int a = 0; a < 3; ++a) {
+    box.lo[a] = frame.origin_mm[size_t(a)] + double(lo[a]) * brick_mm;
+    box.hi[a] = frame.origin_mm[size_t(a)] + double(hi[a] + 1) * brick_mm;
+  }
+  return box;
+}
+
+// Column probes of one volume: the topmost crossing of the haptic field's surface (phi = 0, what the
+// student feels and sees), searched downward from above the tissue one voxel at a time.
+class SurfaceProbe {
+ public:
+  SurfaceProbe(const BrickVolume& volume, const VolumeFrame& frame, const TissueBox& box)
+      : field_(volume, frame), top_mm_(box.hi.z + frame.voxel_mm), bottom_mm_(box.lo.z - frame.voxel_mm) {}
+
+  // Height [mm] of the surface in the column through (x, y); nullopt when the column holds no tissue.
+  std::optional<double> surface(double x, double y) {
+    const double step = field_.voxelMm();
+    auto inside = [&](double z) { return field_.sample(field_.toVoxel({x, y, z})).phi > 0; };
+    if (inside(top_mm_)) return top_mm_;
+    const auto steps = int64_t(std::ceil((top_mm_ - bottom_mm_) / step));
+    for (int64_t i = 1; i <= steps; ++i) {
+      double below = top_mm_ - double(i) * step;
+      if (!inside(below)) continue;
+      double above = below + step;
+      for (int k = 0; k < 12; ++k) {  // to 1/4096 voxel
+        const double mid = 0.5 * (above + below);
+        (inside(mid) ? below : above) = mid;
+      }
+      return 0.5 * (above + below);
+    }
+    return std::nullopt;
+  }
+
+  // The tip height of a ball of radius r [mm] coming down over (x, y): the highest of the columns
+  // under it, each lowered by the ball's sag at its distance from the axis.
+  std::optional<double> restingTip(double x, double y, double r) {
+    constexpr double kRings[] = {0.0, 0.35, 0.7, 0.95};  // ring radius / r
+    constexpr int kSpokes = 12;
+    std::optional<double> best;
+    for (double ring : kRings) {
+      const double rho = ring * r;
+      const int spokes = ring == 0.0 ? 1 : kSpokes;
+      const double sag = r - std::sqrt(r * r - rho * rho);
+      for (int k = 0; k < spokes; ++k) {
+        const double angle = 2.0 * std::numbers::pi * double(k) / kSpokes;
+        const std::optional<double> h = surface(x + rho * std::cos(angle), y + rho * std::sin(angle));
+        if (h && (!best || *h - sag > *best)) best = *h - sag;
+      }
+    }
+    return best;
+  }
+
+ private:
+  VoxelField field_;
+  double top_mm_;
+  double bottom_mm_;
+};
+
+}  // namespace
+
+std::optional<double> restingTipHeight(const BrickVolume& volume, const VolumeFrame& frame, double x_mm, double y_mm,
+                                       double radius_mm) {
+  const TissueBox box = tissueBox(volume, frame);
+  if (box.empty()) return std::nullopt;
+  SurfaceProbe probe(volume, frame, box);
+  return probe.restingTip(x_mm, y_mm, radius_mm);
+}
+
+// ---- 2. the cavity preparation path ----------------------------------------------------------------
+
+Result<CavityPath> cavityPreparationPath(const BrickVolume& volume, const VolumeFrame& frame,
+                                         const CavityPathSettings& s) {
+  const std::string where = "cavity path";
+  if (!(s.bur_radius_mm > 0) || !(s.speed_mm_s > 0) || !(s.laps > 0) || !(s.sample_s > 0) ||
+      !(s.oval_x_mm > 0) || !(s.oval_y_mm > 0) || !(s.fossa_grid_mm > 0) || s.fossa_search_mm < 0 ||
+      !(s.hold_s > 0) || !(s.descent_s > 0) || s.dwell_s < 0 || !(s.lift_s > 0))
+    return makeError(where, "radius, speed, laps, sample period, oval, grid, hold, descent and lift must be > 0; "
+                            "search and dwell >= 0");
+  const TissueBox box = tissueBox(volume, frame);
+  if (box.empty()) return makeError(where, "the volume holds no tissue");
+  SurfaceProbe probe(volume, frame, box);
+  const double r = s.bur_radius_mm;
+
+  // The fossa: where the bur comes to rest lowest near the centre of the crown.
+  CavityPath out;
+  out.crown_centre_mm = {0.5 * (box.lo.x + box.hi.x), 0.5 * (box.lo.y + box.hi.y), box.hi.z};
+  const auto n = int(std::floor(s.fossa_search_mm / s.fossa_grid_mm));
+  std::optional<Vec3> fossa;
+  for (int j = -n; j <= n; ++j)
+    for (int i = -n; i <= n; ++i) {
+      if (i * i + j * j > n * n) continue;
+      const double x = out.crown_centre_mm.x + s.fossa_grid_mm * i, y = out.crown_centre_mm.y + s.fossa_grid_mm * j;
+      const std::optional<double> z = probe.restingTip(x, y, r);
+      if (z && (!fossa || *z < fossa->z)) fossa = Vec3{x, y, *z};
+    }
+  if (!fossa) return makeError(where, "no tissue under the bur within " + std::to_string(s.fossa_search_mm) +
+                                          " mm of the crown's centre");
+  out.fossa_mm = *fossa;
+
+  const Vec3 grip{0.0, 0.0, s.grip_z_mm};
+  auto add = [&](double t, const Vec3& tip, double pedal) {
+    PenSample sample;
+    sample.t_s = t;
+    sample.pen = PenRole::Drill;
+    sample.pose.position = tip + grip;  // the bur is vertical: the grip is straight above the tip
+    sample.pedal = pedal;
+    out.path.samples.push_back(sample);
+  };
+  // Samples every sample_s over (t0, t0 + span], the last exactly at the end; f(t, u) with u in (0, 1].
+  auto segment = [&](double t0, double span, const auto& f) {
+    const auto count = std::max<int64_t>(1, int64_t(std::ceil(span / s.sample_s - 1e-9)));
+    for (int64_t k = 1; k <= count; ++k) {
+      const double u = double(k) / double(count);
+      f(t0 + u * span, u);
+    }
+    return t0 + span;
+  };
+
+  // The bur cuts at a rate that does not depend on the force, so a bur held still sinks until it
+  // meets the pen's target: a plunge at the fossa would bore a hole as deep as the press. So the bur
+  // comes down on the outline itself and keeps moving; the target follows the untouched surface
+  // press_mm below the bur's resting height, and a lap's groove is shallow beside the press.
+  const double a = 0.5 * s.oval_x_mm, b = 0.5 * s.oval_y_mm;
+  std::optional<double> start_z = probe.restingTip(fossa->x + a, fossa->y, r);
+  if (!start_z) return makeError(where, "no tissue under the outline's start");
+  const Vec3 start_tip{fossa->x + a, fossa->y, *start_z};
+  auto rest = [&](double x, double y) { return probe.restingTip(x, y, r).value_or(start_tip.z); };
+
+  // Above the outline's distal end (+x); the turbine starts at the end of the hold, then the pen
+  // comes down to press and stays a moment.
+  const Vec3 above = start_tip + Vec3{0, 0, s.approach_mm};
+  const Vec3 pressed = start_tip - Vec3{0, 0, s.press_mm};
+  add(0.0, above, 0.0);
+  double t = segment(0.0, s.hold_s, [&](double ts, double u) { add(ts, above, u < 1.0 ? 0.0 : 1.0); });
+  out.cut_start_s = t;
+  t = segment(t, s.descent_s, [&](double ts, double u) { add(ts, above + (pressed - above) * u, 1.0); });
+  if (s.dwell_s > 0) t = segment(t, s.dwell_s, [&](double ts, double) { add(ts, pressed, 1.0); });
+
+  // The laps: arc length against angle, so the bur keeps its speed along the oval.
+  constexpr int kArcSteps = 2048;
+  std::vector<double> arc(kArcSteps + 1, 0.0);
+  auto oval = [&](double theta) { return Vec3{fossa->x + a * std::cos(theta), fossa->y + b * std::sin(theta), 0.0}; };
+  for (int k = 1; k <= kArcSteps; ++k) {
+    const Vec3 p0 = oval(2.0 * std::numbers::pi * (k - 1) / kArcSteps), p1 = oval(2.0 * std::numbers::pi * k / kArcSteps);
+    arc[size_t(k)] = arc[size_t(k - 1)] + norm(p1 - p0);
+  }
+  out.outline_mm = arc.back();
+  const double total = s.laps * out.outline_mm;
+  t = segment(t, total / s.speed_mm_s, [&](double ts, double u) {
+    const double along = u * total;
+    const double in_lap = std::fmod(along, out.outline_mm);
+    const auto k = size_t(std::upper_bound(arc.begin(), arc.end(), in_lap) - arc.begin());
+    const size_t k1 = std::clamp<size_t>(k, 1, kArcSteps);
+    const double span = arc[k1] - arc[k1 - 1];
+    const double frac = span > 0 ? (in_lap - arc[k1 - 1]) / span : 0.0;
+    const Vec3 p = oval(2.0 * std::numbers::pi * (double(k1 - 1) + frac) / kArcSteps);
+    const double deeper = s.step_down_mm * along / out.outline_mm;
+    // The last sample lets go of the pedal: the bur stops as it lifts.
+    add(ts, {p.x, p.y, rest(p.x, p.y) - s.press_mm - deeper}, u < 1.0 ? 1.0 : 0.0);
+  });
+  out.cut_end_s = t;
+
+  // Lift off.
+  const Vec3 last = out.path.samples.back().pose.position - grip;
+  const Vec3 up{last.x, last.y, rest(last.x, last.y) + s.approach_mm};
+  t = segment(t, s.lift_s, [&](double ts, double u) { add(ts, last + (up - last) * u, 0.0); });
+  out.duration_s = t;
+  return out;
+}
+
+// ---- 3. step statistics ----------------------------------------------------------------------------
+namespace {
+
+StepTimeSummary summarize(const StepTimes& times) {
+  StepTimeSummary s;
+  s.steps = times.count();
+  s.p50_us = times.percentileUs(50.0);
+  s.p90_us = times.percentileUs(90.0);
+  s.p99_us = times.percentileUs(99.0);
+  s.p999_us = times.percentileUs(99.9);
+  s.max_us = times.maxUs();
+  s.mean_us = times.meanUs();
+  for (int k = 0; k <= 8; ++k) {
+    const double nines = 0.5 * k;
+    s.tail.emplace_back(nines, times.percentileUs(100.0 * (1.0 - std::pow(10.0, -nines))));
+  }
+  return s;
+}
+
+// Sums of the drill's per-step state, turned into a StepLoad at the end.
+struct LoadSums {
+  uint64_t steps = 0;
+  uint64_t points = 0;
+  uint32_t points_max = 0;
+  uint64_t contacts = 0;
+  uint32_t contacts_max = 0;
+  uint64_t contact_steps = 0;
+  double force_sum = 0.0;
+  double force_max = 0.0;
+  double lowest_tip = HUGE_VAL;
+
+  void add(const ToolState& t) {
+    ++steps;
+    points += t.points_tested;
+    points_max = std::max(points_max, t.points_tested);
+    contacts += t.contacts;
+    contacts_max = std::max(contacts_max, t.contacts);
+    if (t.contacts > 0) {
+      ++contact_steps;
+      const double f = norm(t.display.force);
+      force_sum += f;
+      force_max = std::max(force_max, f);
+    }
+    lowest_tip = std::min(lowest_tip, t.tool.position.z);  // the round bur's tip is its frame's origin
+  }
+  StepLoad load() const {
+    StepLoad l;
+    l.steps = steps;
+    l.points_mean = steps ? double(points) / double(steps) : 0.0;
+    l.points_max = points_max;
+    l.contacts_mean = steps ? double(contacts) / double(steps) : 0.0;
+    l.contacts_max = contacts_max;
+    l.contact_steps = contact_steps;
+    l.force_mean_n = contact_steps ? force_sum / double(contact_steps) : 0.0;
+    l.force_max_n = force_max;
+    l.lowest_tip_mm = std::isfinite(lowest_tip) ? lowest_tip : 0.0;
+    return l;
+  }
+};
+
+// What the step hook gathers on the loop's own thread. At the start of step N (N >= 1) the newest
+// snapshot is the one step N-1 published: the hook is the snapshot's only reader while the thread
+// runs, so every step is seen once (the last one after stop()). Costs a few tens of ns a step.
+struct ThreadProbe {
+  HapticLoop* loop = nullptr;
+  LoadSums sums;
+  int policy = -1;      // the thread's scheduling policy at its first step
+  int priority = 0;
+};
+
+void probeStep(uint64_t step, void* user) {
+  auto* probe = static_cast<ThreadProbe*>(user);
+  if (step == 0) {
+    sched_param sp{};
+    int policy = 0;
+    if (pthread_getschedparam(pthread_self(), &policy, &sp) == 0) {
+      probe->policy = policy;
+      probe->priority = sp.sched_priority;
+    }
+  }
+  if (step > 0) probe->sums.add(probe->loop->latest().tools[size_t(PenRole::Drill)]);
+}
+
+std::string schedulerName(int policy, int priority) {
+  switch (policy) {
+    case SCHED_FIFO: return "SCHED_FIFO " + std::to_string(priority);
+    case SCHED_RR: return "SCHED_RR " + std::to_string(priority);
+    case SCHED_OTHER: return "SCHED_OTHER";
+    default: return policy < 0 ? "unknown" : "policy " + std::to_string(policy);
+  }
+}
+
+double secondsSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+// ---- 4. one level ----------------------------------------------------------------------------------
+
+Result<HapticBenchRow> runHapticBench(int level, const VolumeMaker& make_volume, const HapticBenchSettings& s,
+                                      const std::function<void(const std::string&)>& log) {
+  const std::string where = "bench haptic";
+  auto say = [&](const std::string& line) {
+    if (log) log(line);
+  };
+  HapticBenchRow row;
+  row.level = level;
+  row.tool = s.tool;
+
+  // The tooth, the bur and the path.
+  auto start = std::chrono::steady_clock::now();
+  auto tooth = make_volume(level);
+  if (!tooth) return tooth.error();
+  row.make_volume_s = secondsSince(start);
+  row.voxel_mm = tooth->frame.voxel_mm;
+  row.dense_bricks = tooth->voxels.stats().dense_bricks;
+  const SimParams params = defaultSimParams();
+  auto tool = loadToolModel(s.tool, params.point_shell);
+  if (!tool) return tool.error();
+  if (!tool->cuts) return makeError(where, s.tool + " does not cut: the benchmark needs a bur");
+  row.shell_points = tool->shell.size();
+  row.shell_cutting_points = tool->shell.cuttingCount();
+  row.shell_clusters = tool->shell.clusters.size();
+  start = std::chrono::steady_clock::now();
+  auto path = cavityPreparationPath(tooth->voxels, tooth->frame, s.path);
+  if (!path) return path.error();
+  row.path = *path;
+  row.path_s = secondsSince(start);
+  {
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "level %d: %.4f mm voxels (made in %.1f s), %s shell %llu points; fossa at (%.2f, %.2f, %.2f) mm, "
+                  "path %.2f s",
+                  level, row.voxel_mm, row.make_volume_s, s.tool.c_str(),
+                  static_cast<unsigned long long>(row.shell_points), path->fossa_mm.x, path->fossa_mm.y,
+                  path->fossa_mm.z, path->duration_s);
+    say(line);
+  }
+  // Untouched copies: the step-only run cuts the same tooth again; the mirror replays the edits.
+  std::optional<BrickVolume> pristine, mirror;
+  if (s.step_only) pristine = tooth->voxels;
+  if (s.replay_edits) mirror = tooth->voxels;
+
+  const double rate = params.device.rate_hz;
+  const auto needed = uint64_t(std::ceil(path->duration_s * rate - 1e-9)) + 1;  // loop time past the end
+
+  // ---- the real-time thread, with a drain thread beside it ----
+  {
+    EditChannel edits;
+    ScriptedPen pen(path->path, PenRole::Drill);
+    HapticLoop loop(tooth->voxels, tooth->frame, params, *tool, nullptr, &edits);
+    loop.attach(PenRole::Drill, &pen);
+    loop.placeTool(PenRole::Drill, path->path.samples.front().pose);
+    ThreadProbe probe;
+    probe.loop = &loop;
+    loop.setStepHook(&probeStep, &probe);
+
+    std::atomic<uint64_t> drained{0}, drains{0};
+    const auto drain_period = std::chrono::duration<double, std::milli>(s.drain_period_ms);
+    BrickVolume* mirror_volume = mirror ? &*mirror : nullptr;
+    auto drain_loop = [&edits, &drained, &drains, drain_period, mirror_volume](std::stop_token stop) {
+      std::vector<uint64_t> batch;
+      batch.reserve(size_t{1} << 16);
+      auto once = [&] {
+        batch.clear();
+        const size_t got = edits.drain(&batch);
+        if (got == 0) return;
+        drained.fetch_add(got, std::memory_order_relaxed);
+        drains.fetch_add(1, std::memory_order_relaxed);
+        if (mirror_volume != nullptr) applyVoxelEdits(*mirror_volume, batch, nullptr);
+      };
+      while (!stop.stop_requested()) {
+        once();
+        std::this_thread::sleep_for(drain_period);
+      }
+      once();  // the loop has stopped: whatever is left
+    };
+    std::jthread drainer;
+    try {
+      drainer = std::jthread(drain_loop);
+    } catch (const std::system_error& e) {
+      return makeError(where, std::string("cannot start the drain thread: ") + e.what());
+    }
+
+    say("level " + std::to_string(level) + ": running the loop on its thread for " +
+        std::to_string(needed) + " steps");
+    start = std::chrono::steady_clock::now();
+    if (Status st = loop.start(); !st) return st.error();
+    const double limit_s = s.max_wall_factor * path->duration_s + 5.0;
+    bool late = false;
+    while (loop.counters().steps.load(std::memory_order_relaxed) < needed) {
+      std::this_thread::sleep_for(std::chrono::duration<double, std::milli>(s.poll_period_ms));
+      if (secondsSince(start) > limit_s) {
+        late = true;
+        break;
+      }
+    }
+    loop.stop();
+    row.wall_s = secondsSince(start);
+    drainer.request_stop();
+    drainer.join();
+    if (late)
+      return makeError(where, "the loop ran " + std::to_string(loop.counters().steps.load()) + " of " +
+                                  std::to_string(needed) + " steps in " + std::to_string(row.wall_s) + " s");
+
+    row.thread = summarize(loop.stepTimes());
+    row.missed_deadlines = loop.counters().missed_deadlines.load();
+    row.pen_dropouts = loop.counters().pen_dropouts.load();
+    row.scheduler = schedulerName(probe.policy, probe.priority);
+    const HapticState& state = loop.latest();  // the thread has stopped: this thread reads now
+    probe.sums.add(state.tools[size_t(PenRole::Drill)]);
+    row.load = probe.sums.load();
+    row.removed_mm3 = state.removed_mm3;
+    row.voxels_changed = state.voxels_changed;
+    row.deferred_cuts = state.deferred_cuts;
+    row.edits_drained = drained.load();
+    row.drains = drains.load();
+    if (mirror) {
+      row.mirror_checked = true;
+      row.mirror_equal = *mirror == tooth->voxels;
+    }
+  }
+  mirror.reset();
+  row.p99_met = row.thread.p99_us < s.goal_p99_us;
+  row.max_met = row.thread.max_us < s.goal_max_us;
+  {
+    char line[256];
+    std::snprintf(line, sizeof line,
+                  "level %d thread (%s): %llu steps, p50 %.1f us, p99 %.1f us, max %.1f us, %llu missed; "
+                  "%.0f points/step, removed %.3f mm^3",
+                  level, row.scheduler.c_str(), static_cast<unsigned long long>(row.thread.steps), row.thread.p50_us,
+                  row.thread.p99_us, row.thread.max_us, static_cast<unsigned long long>(row.missed_deadlines),
+                  row.load.points_mean, row.removed_mm3);
+    say(line);
+  }
+
+  // ---- the same steps back to back on this thread ----
+  if (pristine) {
+    EditChannel edits;
+    ScriptedPen pen(path->path, PenRole::Drill);
+    HapticLoop loop(*pristine, tooth->frame, params, *tool, nullptr, &edits);
+    loop.attach(PenRole::Drill, &pen);
+    loop.placeTool(PenRole::Drill, path->path.samples.front().pose);
+    StepTimes times;
+    LoadSums sums;
+    std::vector<uint64_t> sink;
+    sink.reserve(size_t{1} << 16);
+    const uint64_t steps = row.thread.steps;  // the very steps the thread ran
+    for (uint64_t i = 0; i < steps; ++i) {
+      const int64_t t0 = steadyNowNs();
+      loop.step();
+      times.add(steadyNowNs() - t0);
+      sums.add(loop.latest().tools[size_t(PenRole::Drill)]);
+      sink.clear();
+      edits.drain(&sink);
+    }
+    row.has_step_only = true;
+    row.step_only = summarize(times);
+    row.step_only_load = sums.load();
+    row.step_only_removed_mm3 = loop.latest().removed_mm3;
+    row.step_only_voxels_changed = loop.latest().voxels_changed;
+    char line[256];
+    std::snprintf(line, sizeof line, "level %d step only: p50 %.1f us, p99 %.1f us, max %.1f us, mean %.1f us", level,
+                  row.step_only.p50_us, row.step_only.p99_us, row.step_only.max_us, row.step_only.mean_us);
+    say(line);
+  }
+  return row;
+}
+
+// ---- 5. JSON ---------------------------------------------------------------------------------------
+namespace {
+
+nlohmann::json timesJson(const StepTimeSummary& t) {
+  nlohmann::json tail = nlohmann::json::array();
+  for (auto [nines, us] : t.tail) tail.push_back({{"nines", nines}, {"us", us}});
+  return {{"steps", t.steps},   {"p50_us", t.p50_us}, {"p90_us", t.p90_us},   {"p99_us", t.p99_us},
+          {"p999_us", t.p999_us}, {"max_us", t.max_us}, {"mean_us", t.mean_us}, {"tail", tail}};
+}
+
+nlohmann::json loadJson(const StepLoad& l) {
+  return {{"steps", l.steps},
+          {"points_tested_mean", l.points_mean},
+          {"points_tested_max", l.points_max},
+          {"contacts_mean", l.contacts_mean},
+          {"contacts_max", l.contacts_max},
+          {"contact_steps", l.contact_steps},
+          {"force_mean_n", l.force_mean_n},
+          {"force_max_n", l.force_max_n},
+          {"lowest_tip_mm", l.lowest_tip_mm}};
+}
+
+nlohmann::json vecJson(const Vec3& v) { return nlohmann::json::array({v.x, v.y, v.z}); }
+
+}  // namespace
+
+nlohmann::json hapticReportJson(const HapticReportInfo& info, const std::vector<HapticBenchRow>& rows) {
+  const HapticBenchSettings& s = info.settings;
+  const CavityPathSettings& p = s.path;
+  nlohmann::json levels = nlohmann::json::array();
+  nlohmann::json goal = nullptr;
+  for (const HapticBenchRow& r : rows) {
+    nlohmann::json step_only = nullptr;
+    if (r.has_step_only)
+      step_only = {{"times", timesJson(r.step_only)},
+                   {"load", loadJson(r.step_only_load)},
+                   {"removed_mm3", r.step_only_removed_mm3},
+                   {"voxels_changed", r.step_only_voxels_changed}};
+    levels.push_back({{"level", r.level},
+                      {"voxel_mm", r.voxel_mm},
+                      {"dense_bricks", r.dense_bricks},
+                      {"make_volume_s", r.make_volume_s},
+                      {"tool", {{"name", r.tool},
+                                {"shell_points", r.shell_points},
+                                {"cutting_points", r.shell_cutting_points},
+                                {"clusters", r.shell_clusters}}},
+                      {"path", {{"crown_centre_mm", vecJson(r.path.crown_centre_mm)},
+                                {"fossa_tip_mm", vecJson(r.path.fossa_mm)},
+                                {"duration_s", r.path.duration_s},
+                                {"cut_start_s", r.path.cut_start_s},
+                                {"cut_end_s", r.path.cut_end_s},
+                                {"outline_mm", r.path.outline_mm},
+                                {"samples", r.path.path.samples.size()},
+                                {"build_s", r.path_s}}},
+                      {"thread", {{"times", timesJson(r.thread)},
+                                  {"missed_deadlines", r.missed_deadlines},
+                                  {"pen_dropouts", r.pen_dropouts},
+                                  {"scheduler", r.scheduler},
+                                  {"wall_s", r.wall_s},
+                                  {"load", loadJson(r.load)},
+                                  {"removed_mm3", r.removed_mm3},
+                                  {"voxels_changed", r.voxels_changed},
+                                  {"deferred_cuts", r.deferred_cuts},
+                                  {"edits_drained", r.edits_drained},
+                                  {"drains", r.drains},
+                                  {"mirror_checked", r.mirror_checked},
+                                  {"mirror_equal", r.mirror_equal}}},
+                      {"step_only", step_only},
+                      {"p99_met", r.p99_met},
+                      {"max_met", r.max_met}});
+    if (r.level == s.goal_level) goal = {{"p99_met", r.p99_met}, {"max_met", r.max_met}};
+  }
+  return {{"benchmark", "haptic"},
+          {"model", info.model},
+          {"command", info.command},
+          {"machine", {{"cpu", info.cpu},
+                       {"cpu_threads", info.cpu_threads},
+                       {"voxelizer", info.voxelizer},
+                       {"loadavg_before", info.load_before},
+                       {"loadavg_after", info.load_after}}},
+          {"settings", {{"tool", s.tool},
+                        {"rate_hz", defaultSimParams().device.rate_hz},
+                        {"step_only", s.step_only},
+                        {"replay_edits", s.replay_edits},
+                        {"drain_period_ms", s.drain_period_ms},
+                        {"poll_period_ms", s.poll_period_ms},
+                        {"path", {{"bur_radius_mm", p.bur_radius_mm},
+                                  {"approach_mm", p.approach_mm},
+                                  {"press_mm", p.press_mm},
+                                  {"step_down_mm", p.step_down_mm},
+                                  {"oval_mm", {p.oval_x_mm, p.oval_y_mm}},
+                                  {"speed_mm_s", p.speed_mm_s},
+                                  {"laps", p.laps},
+                                  {"hold_s", p.hold_s},
+                                  {"descent_s", p.descent_s},
+                                  {"dwell_s", p.dwell_s},
+                                  {"lift_s", p.lift_s},
+                                  {"sample_s", p.sample_s}}},
+                        {"statistic", "percentiles of all steps, 0.5 us bins (upper edge)"}}},
+          {"levels", levels},
+          {"goals", {{"level", s.goal_level},
+                     {"p99_under_us", s.goal_p99_us},
+                     {"max_under_us", s.goal_max_us},
+                     {"met", goal}}}};
+}
+
+// ---- 6. Markdown -----------------------------------------------------------------------------------
+namespace {
+
+std::string fmt(const char* format, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+std::string count(uint64_t v) { return std::to_string(v); }
+
+}  // namespace
+
+std::string hapticRowsTable(const std::vector<HapticBenchRow>& rows, const HapticBenchSettings& s) {
+  std::ostringstream o;
+  o << "| level | voxel [mm] | run | steps | missed 1 ms | p50 [us] | p99 [us] | max [us] | mean [us] | "
+       "points / step (mean, max) | contacts / step (mean, max) | removed [mm^3] | edits | deferred | goals |\n"
+       "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const HapticBenchRow& r : rows) {
+    const bool goal_row = r.level == s.goal_level;
+    o << "| " << r.level << " | " << fmt("%.4f", r.voxel_mm) << " | thread (" << r.scheduler << ") | "
+      << count(r.thread.steps) << " | " << count(r.missed_deadlines) << " | " << fmt("%.1f", r.thread.p50_us) << " | "
+      << fmt("%.1f", r.thread.p99_us) << " | " << fmt("%.1f", r.thread.max_us) << " | "
+      << fmt("%.1f", r.thread.mean_us) << " | " << fmt("%.0f", r.load.points_mean) << ", " << r.load.points_max
+      << " | " << fmt("%.0f", r.load.contacts_mean) << ", " << r.load.contacts_max << " | "
+      << fmt("%.3f", r.removed_mm3) << " | " << count(r.voxels_changed) << " | " << count(r.deferred_cuts) << " | ";
+    if (goal_row)
+      o << "p99 " << (r.p99_met ? "met" : "missed") << ", max " << (r.max_met ? "met" : "missed");
+    else
+      o << "(level " << s.goal_level << " only)";
+    o << " |\n";
+    if (r.has_step_only)
+      o << "| " << r.level << " | " << fmt("%.4f", r.voxel_mm) << " | step only | " << count(r.step_only.steps)
+        << " | - | " << fmt("%.1f", r.step_only.p50_us) << " | " << fmt("%.1f", r.step_only.p99_us) << " | "
+        << fmt("%.1f", r.step_only.max_us) << " | " << fmt("%.1f", r.step_only.mean_us) << " | "
+        << fmt("%.0f", r.step_only_load.points_mean) << ", " << r.step_only_load.points_max << " | "
+        << fmt("%.0f", r.step_only_load.contacts_mean) << ", " << r.step_only_load.contacts_max << " | "
+        << fmt("%.3f", r.step_only_removed_mm3) << " | " << count(r.step_only_voxels_changed) << " | - | - |\n";
+  }
+  return o.str();
+}
+
+std::string hapticReportMarkdown(const HapticReportInfo& info, const std::vector<HapticBenchRow>& rows) {
+  const HapticBenchSettings& s = info.settings;
+  const CavityPathSettings& p = s.path;
+  std::ostringstream o;
+  o << "Model: " << info.model << ", voxelized by " << info.voxelizer << ". CPU " << info.cpu << ", "
+    << info.cpu_threads << " hardware threads; load average before " << info.load_before << ", after "
+    << info.load_after << ".\n\n"
+    << "A scripted class I preparation with " << s.tool << " held vertically (a ScriptedPen, samples every "
+    << fmt("%g", p.sample_s * 1000) << " ms): the central fossa is where the bur rests lowest within "
+    << fmt("%g", p.fossa_search_mm) << " mm of the crown's centre; the pen starts " << fmt("%g", p.approach_mm)
+    << " mm above the bur's resting height over the +x end of a " << fmt("%g", p.oval_x_mm) << " x "
+    << fmt("%g", p.oval_y_mm) << " mm oval around the fossa, the pedal goes to 1, the target comes down to "
+    << fmt("%g", p.press_mm) << " mm below the resting height (coupling 1 N/mm), then traces " << fmt("%g", p.laps)
+    << " laps of the oval at " << fmt("%g", p.speed_mm_s) << " mm/s, " << fmt("%g", p.press_mm)
+    << " mm below the untouched surface and " << fmt("%g", p.step_down_mm)
+    << " mm deeper per lap; then pedal up and lift. The cutting rate does not depend on the force, so the bur "
+       "sinks toward the target as fast as it removes tissue: the force shown drops below the press as it does.\n\n"
+    << "Thread: HapticLoop::start(), the loop on its own thread at 1 kHz with absolute deadlines, until its time "
+       "passes the path's end; a second thread drains the voxel edits every "
+    << fmt("%g", s.drain_period_ms) << " ms" << (s.replay_edits ? " into a mirror copy, as the renderer would" : "")
+    << ". Step times are HapticLoop::stepTimes() (0.5 us bins; a percentile is its bin's upper edge); a missed "
+       "deadline is a step that ended after its 1 ms slot. Points / step: shell points sampled against the field "
+       "(clusters in empty 64^3 chunks are skipped), from every step's snapshot. Step only: the same steps on the "
+       "bench thread, back to back, no deadlines: the compute alone. Goals (level "
+    << s.goal_level << "): p99 under " << fmt("%g", s.goal_p99_us) << " us and max under " << fmt("%g", s.goal_max_us)
+    << " us on the thread.\n\n";
+  if (!info.command.empty()) o << "Command: `" << info.command << "`\n\n";
+  o << hapticRowsTable(rows, s) << "\n";
+  o << "| level | shell points (cutting) | fossa tip [mm] | path [s] | contact steps | force in contact (mean, max) "
+       "[N] | lowest tip [mm] | drained edits | mirror | wall [s] |\n|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const HapticBenchRow& r : rows)
+    o << "| " << r.level << " | " << r.shell_points << " (" << r.shell_cutting_points << ") | ("
+      << fmt("%.2f", r.path.fossa_mm.x) << ", " << fmt("%.2f", r.path.fossa_mm.y) << ", "
+      << fmt("%.2f", r.path.fossa_mm.z) << ") | " << fmt("%.2f", r.path.duration_s) << " | " << r.load.contact_steps
+      << " | " << fmt("%.2f", r.load.force_mean_n) << ", " << fmt("%.2f", r.load.force_max_n) << " | "
+      << fmt("%.3f", r.load.lowest_tip_mm) << " | " << r.edits_drained << " | "
+      << (r.mirror_checked ? (r.mirror_equal ? "equal" : "DIFFERS") : "not checked") << " | "
+      << fmt("%.2f", r.wall_s) << " |\n";
+  return o.str();
+}
+
+// ---- 7. SVG and files ------------------------------------------------------------------------------
+
+std::string hapticRowsSvg(const std::vector<HapticBenchRow>& rows, const HapticBenchSettings& s) {
+  std::vector<PlotSeries> series;
+  double nines_max = 4.0;
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const HapticBenchRow& r = rows[i];
+    PlotSeries thread{"level " + std::to_string(r.level) + ", thread", r.thread.tail, int(i), ""};
+    series.push_back(std::move(thread));
+    if (r.has_step_only)
+      series.push_back({"level " + std::to_string(r.level) + ", step only", r.step_only.tail, int(i), "7,4"});
+    for (auto [n, us] : r.thread.tail) nines_max = std::max(nines_max, n);
+  }
+  series.push_back({"p99 goal", {{2.0, s.goal_p99_us}, {nines_max, s.goal_p99_us}}, 4, "2,3"});
+  series.push_back({"1 ms deadline", {{0.0, s.goal_max_us}, {nines_max, s.goal_max_us}}, 5, "2,3"});
+  return svgLinePlot("Haptic step time, " + s.tool + " preparing a cavity",
+                     "percentile 100 (1 - 10^-x): 0 = min, 1 = p90, 2 = p99, 3 = p99.9", "step time [us] (log)", series,
+                     /*log_y=*/true);
+}
+
+Status writeHapticReport(const std::string& dir, const HapticReportInfo& info, const std::vector<HapticBenchRow>& rows) {
+  const std::vector<std::pair<std::string, std::string>> files{
+      {"haptic.json", hapticReportJson(info, rows).dump(2) + "\n"},
+      {"haptic.md", hapticReportMarkdown(info, rows)},
+      {"haptic.svg", hapticRowsSvg(rows, info.settings)}};
+  for (const auto& [name, text] : files) {
+    const auto* bytes = reinterpret_cast<const uint8_t*>(text.data());
+    if (auto st = writeFileAtomic(dir + "/" + name, std::span<const uint8_t>(bytes, text.size())); !st) return st;
+  }
+  return Ok{};
+}
+
+}  // namespace dentsim::bench
