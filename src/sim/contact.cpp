@@ -13,8 +13,8 @@ namespace {
 constexpr double kMinGradient = 0.3;
 // Beyond this field value the point is treated as deep (the ramp across the surface is saturating).
 constexpr double kShallowPhi = 0.45;
-constexpr double kMarchStep = 0.75;  // [voxel]
-constexpr int kBisections = 5;
+constexpr double kMarchStep = 1.5;  // [voxel]
+constexpr int kBisections = 4;
 
 void addOuter(Mat6& m, const double* j, double w) {
   for (int r = 0; r < 6; ++r) {
@@ -65,7 +65,7 @@ bool ContactFinder::resolve(VoxelField& field, const Vec3& u, const Vec3& inward
     (field.sample(u + inward * mid).phi > 0 ? t_in : t_out) = mid;
   }
   const double t_exit = 0.5 * (t_in + t_out);
-  const FieldSample exit = field.sample(u + inward * t_exit);
+  const FieldSample exit = field.sample(u + inward * t_exit, true);
   const double ge = norm(exit.gradient);
   Vec3 n = ge > 1e-9 ? -exit.gradient / ge : inward;
   double along = dot(inward, n);

@@ -30,7 +30,8 @@ double segmentDistance2(const Vec3& p, const Vec3& a, const Vec3& b) {
 
 }  // namespace
 
-Cutter::Cutter(size_t max_candidates) {
+Cutter::Cutter(size_t max_candidates, size_t max_voxels_per_step)
+    : max_voxels_(std::min(max_voxels_per_step, max_candidates)) {
   candidates_.reserve(max_candidates);
   brick_keys_.reserve(max_candidates);
   size_t table = 16;
@@ -68,7 +69,12 @@ CutStep Cutter::cut(BrickVolume& volume, VoxelField& field, std::span<const Cont
   candidates_.clear();
   const int64_t dim = int64_t(volume.dim());
   const double rho = std::max(params.cutting.reach_mm / field.voxelMm(), 0.5);  // [voxel]
-  for (const ContactPoint& cp : contacts) {
+  // A step takes at most max_voxels_ voxels, starting from a contact that moves on every step, so a
+  // buried head costs a bounded time and, over a few steps, every contact gets its turn.
+  const size_t n = contacts.size();
+  const size_t first = n > 0 ? size_t(step % n) : 0;
+  for (size_t k = 0; k < n && candidates_.size() < max_voxels_; ++k) {
+    const ContactPoint& cp = contacts[(first + k) % n];
     if (!cp.cutting) continue;
     const Vec3 a = field.toVoxel(cp.position);
     const Vec3 b = field.toVoxel(cp.position + cp.normal * cp.depth_mm);
@@ -86,7 +92,7 @@ CutStep Cutter::cut(BrickVolume& volume, VoxelField& field, std::span<const Cont
           if (!insert(key)) continue;
           const Voxel v = field.voxel(x, y, z);
           if (v == 0 || params.tissue(voxelMaterial(v)).hardness <= 0) continue;
-          if (candidates_.size() == candidates_.capacity()) break;
+          if (candidates_.size() == max_voxels_) break;
           candidates_.push_back({key, v});
         }
   }
@@ -101,6 +107,21 @@ CutStep Cutter::cut(BrickVolume& volume, VoxelField& field, std::span<const Cont
   out.expected_mm3 = out.demand_mm3 * hard_fill_sum / fill_sum;
 
   // ---- room: the channel takes every edit, the volume's reserve every tile turned dense ----
+  if (edits != nullptr && edits->freeSlots() < candidates_.size()) {
+    out.deferred = true;
+    return out;
+  }
+  if (volume.spareBricks() < candidates_.size() || volume.spareBlocks() < candidates_.size()) {
+    if (!roomForBricks(volume)) {
+      out.deferred = true;
+      return out;
+    }
+  }
+  return remove(volume, field, params, step, edits, fill_sum, out);
+}
+
+bool Cutter::roomForBricks(const BrickVolume& volume) {
+  const uint64_t dim = volume.dim();
   brick_keys_.clear();
   for (const Candidate& c : candidates_) {
     const uint64_t x = c.index % uint64_t(dim), y = (c.index / uint64_t(dim)) % uint64_t(dim), z = c.index / uint64_t(dim) / uint64_t(dim);
@@ -118,13 +139,12 @@ CutStep Cutter::cut(BrickVolume& volume, VoxelField& field, std::span<const Cont
   std::sort(brick_keys_.begin(), brick_keys_.begin() + std::ptrdiff_t(bricks));
   const size_t chunks = size_t(std::unique(brick_keys_.begin(), brick_keys_.begin() + std::ptrdiff_t(bricks)) -
                                brick_keys_.begin());
-  if ((edits != nullptr && edits->freeSlots() < candidates_.size()) || volume.spareBricks() < bricks ||
-      volume.spareBlocks() < chunks) {
-    out.deferred = true;
-    return out;
-  }
+  return volume.spareBricks() >= bricks && volume.spareBlocks() >= chunks;
+}
 
-  // ---- remove ----
+CutStep Cutter::remove(BrickVolume& volume, VoxelField& field, const SimParams& params, uint64_t step,
+                       EditChannel* edits, double fill_sum, CutStep out) {
+  const uint64_t dim = volume.dim();
   const double unit_mm3 = field.frame().voxelVolumeMm3() / DS_FILL_FULL;
   const double per_fill = out.demand_mm3 / (unit_mm3 * fill_sum);  // fill units lost per unit held, at hardness 1
   for (const Candidate& c : candidates_) {

@@ -39,8 +39,9 @@ struct CutStep {
 
 class Cutter {
  public:
-  // Preallocates for up to max_candidates voxels a step; cut() never allocates.
-  explicit Cutter(size_t max_candidates = 1 << 16);
+  // Preallocates for up to max_candidates voxels a step; cut() never allocates. A step cuts at most
+  // max_voxels_per_step voxels (the contacts take turns), which bounds its time when the head is buried.
+  explicit Cutter(size_t max_candidates = 1 << 16, size_t max_voxels_per_step = 2048);
 
   // One step of cutting by the contacts flagged `cutting`. speed in [0,1], dt [s]. edits may be null
   // (nothing mirrors this volume). `step` seeds the rounding. field must read `volume`; it is
@@ -55,7 +56,13 @@ class Cutter {
   };
   // Inserts into the step's voxel set; false when already present or the set is full.
   bool insert(uint64_t key);
+  // Whether the volume's reserve holds every brick and index block the candidates could open.
+  bool roomForBricks(const BrickVolume& volume);
+  // Takes the step's removal from the candidates (their fill summing to fill_sum) and records it in out.
+  CutStep remove(BrickVolume& volume, VoxelField& field, const SimParams& params, uint64_t step, EditChannel* edits,
+                 double fill_sum, CutStep out);
 
+  size_t max_voxels_;
   std::vector<Candidate> candidates_;
   std::vector<uint64_t> set_keys_;     // open-addressing table, stamped per step
   std::vector<uint32_t> set_stamps_;

@@ -15,7 +15,7 @@ namespace {
 // Spare storage reserved in the volume before the loop runs, so cutting never allocates: enough
 // for a bur to open this many new bricks and chunk blocks before the reserve must be renewed.
 constexpr size_t kSpareBricks = 16384;  // 8 MiB of bricks
-constexpr size_t kSpareBlocks = 256;    // 512 KiB of index blocks
+constexpr size_t kSpareBlocks = 4096;   // 8 MiB of index blocks
 }  // namespace
 
 int64_t steadyNowNs() {

@@ -49,7 +49,7 @@ Voxel VoxelField::voxel(int64_t x, int64_t y, int64_t z) {
   return cached_voxels_[layout::brickCoordToOffset(uint32_t(x) & m, uint32_t(y) & m, uint32_t(z) & m)];
 }
 
-FieldSample VoxelField::sample(const Vec3& u) {
+FieldSample VoxelField::sample(const Vec3& u, bool with_outside) {
   const double fx = std::floor(u.x), fy = std::floor(u.y), fz = std::floor(u.z);
   const auto x0 = int64_t(fx), y0 = int64_t(fy), z0 = int64_t(fz);
   const double tx = u.x - fx, ty = u.y - fy, tz = u.z - fz;
@@ -92,6 +92,8 @@ FieldSample VoxelField::sample(const Vec3& u) {
   const double f0 = f00 + ty * (f10 - f00), f1 = f01 + ty * (f11 - f01);
   FieldSample s;
   s.phi = f0 + tz * (f1 - f0) - 0.5;
+  // Most samples of a step are outside tissue: they need no gradient and no material.
+  if (s.phi <= 0 && !with_outside) return s;
   const double ex00 = f[1] - f[0], ex10 = f[3] - f[2], ex01 = f[5] - f[4], ex11 = f[7] - f[6];
   const double ex0 = ex00 + ty * (ex10 - ex00), ex1 = ex01 + ty * (ex11 - ex01);
   s.gradient.x = ex0 + tz * (ex1 - ex0);

@@ -43,8 +43,9 @@ class VoxelField {
 
   // The voxel at integer coordinates; empty outside the grid.
   Voxel voxel(int64_t x, int64_t y, int64_t z);
-  // The field at continuous voxel coordinate u.
-  FieldSample sample(const Vec3& u);
+  // The field at continuous voxel coordinate u. Outside tissue (phi <= 0) the gradient and material
+  // are left zero and empty unless with_outside is set.
+  FieldSample sample(const Vec3& u, bool with_outside = false);
   // True when every voxel of the 64^3 chunks overlapping the box [lo, hi] (voxel coordinates) is
   // empty, read from the chunk table alone: the coarse test that lets a cluster of points skip.
   bool chunksEmpty(const Vec3& lo, const Vec3& hi) const;
