@@ -48,7 +48,7 @@ TEST(VoxelField, FlatSurfaceFieldIsZeroOnThePlaneWithUnitGradient) {
   // Across the surface (between the last solid and first empty voxel centres) the field is linear.
   for (double dz : {-0.4, -0.1, 0.0, 0.25, 0.45}) {
     const Vec3 u = field.toVoxel({0.8, 0.8, b.surface_mm + dz * Block::kVoxel});
-    const FieldSample s = field.sample(u);
+    const FieldSample s = field.sample(u, true);
     EXPECT_NEAR(s.phi, -dz, 1e-12) << dz;
     EXPECT_NEAR(s.gradient.z, -1.0, 1e-12);
     EXPECT_EQ(s.material, Material::Enamel);
