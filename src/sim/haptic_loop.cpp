@@ -49,14 +49,13 @@ double StepTimes::percentileUs(double p) const {
 HapticLoop::HapticLoop(BrickVolume& volume, const VolumeFrame& frame, const SimParams& params, const ToolModel& drill,
                        const ToolModel* mirror, EditChannel* edits)
     : volume_(volume),
-      frame_(frame),
       field_(volume, frame),
       params_(params),
       cutter_(size_t{1} << 17),
       edits_(edits),
       state_(HapticState{}) {
-  active_params_ = &params_.read();
   tools_ = {&drill, mirror};
+  activate(params_.read());
   proxies_[0] = std::make_unique<ToolProxy>(drill);
   if (mirror != nullptr) proxies_[1] = std::make_unique<ToolProxy>(*mirror);
   volume_.reserveSpare(kSpareBlocks, kSpareBricks);
@@ -74,11 +73,16 @@ void HapticLoop::placeTool(PenRole role, const Pose& grip) {
 
 void HapticLoop::setParams(const SimParams& params) { params_.publish(params); }
 
+void HapticLoop::activate(const SimParams& params) {
+  active_params_ = &params;
+  drill_ability_ = params.cuttingAbility(tools_[0]->name);  // a map lookup: once per change, not per step
+}
+
 // ---- the step -----------------------------------------------------------------------------------------
 
 const StepReport& HapticLoop::step() {
   if (hook_ != nullptr) hook_(step_, hook_user_);
-  if (params_.fresh()) active_params_ = &params_.read();
+  if (params_.fresh()) activate(params_.read());
   const SimParams& p = *active_params_;
   const double dt = 1.0 / p.device.rate_hz;
   const double t = totals_.t_s;
@@ -100,7 +104,7 @@ const StepReport& HapticLoop::step() {
   // 3. Cut under the drill's head; the next step's contact already feels it.
   report_.speed = report_.stepped[0] ? std::clamp(readings[0].pedal, 0.0, 1.0) : 0.0;
   if (report_.stepped[0] && tools_[0]->cuts && report_.speed > 0) {
-    report_.cut = cutter_.cut(volume_, field_, report_.tools[0].contacts, p, p.cuttingAbility(tools_[0]->name),
+    report_.cut = cutter_.cut(volume_, field_, report_.tools[0].contacts, p, drill_ability_,
                               report_.speed, dt, step_, edits_);
   }
 

@@ -140,16 +140,17 @@ class HapticLoop {
 
  private:
   void run();
+  // Makes `params` the active set and resolves what the step would otherwise look up by name.
+  void activate(const SimParams& params);
 
   BrickVolume& volume_;
-  VolumeFrame frame_;
   VoxelField field_;
   TripleBuffer<SimParams> params_;
   const SimParams* active_params_ = nullptr;
   std::array<std::unique_ptr<ToolProxy>, 2> proxies_;
   std::array<PenSource*, 2> pens_{};
   std::array<const ToolModel*, 2> tools_{};
-  double drill_ability_ = 0.0;
+  double drill_ability_ = 0.0;  // the drill's cutting ability under the active parameters
   Cutter cutter_;
   EditChannel* edits_;
   std::array<ForceOutput, 2> forces_;
