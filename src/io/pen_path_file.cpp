@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <initializer_list>
 #include <iterator>
 #include <limits>
 #include <new>
@@ -653,6 +654,16 @@ void appendJsonNumber(std::string& out, double v) {
   if (out.find_first_of(".e", start) == std::string::npos) out += ".0";
 }
 
+// [a,b,...] with each number as appendJsonNumber writes it.
+void appendJsonArray(std::string& out, std::initializer_list<double> values) {
+  out += '[';
+  for (const double* v = values.begin(); v != values.end(); ++v) {
+    if (v != values.begin()) out += ',';
+    appendJsonNumber(out, *v);
+  }
+  out += ']';
+}
+
 constexpr size_t kCsvBytesPerSample = 160;   // a row of shortest doubles, generous [B]
 constexpr size_t kJsonBytesPerSample = 260;  // a sample object, generous [B]
 
@@ -697,21 +708,11 @@ std::string penPathJson(const PenPath& path) {
     appendJsonNumber(out, s.t_s);
     out += ",\"pen\":\"";
     out += penRoleName(s.pen);
-    out += "\",\"position_mm\":[";
-    appendJsonNumber(out, p.x);
-    out += ',';
-    appendJsonNumber(out, p.y);
-    out += ',';
-    appendJsonNumber(out, p.z);
-    out += "],\"rotation_wxyz\":[";
-    appendJsonNumber(out, q.w);
-    out += ',';
-    appendJsonNumber(out, q.x);
-    out += ',';
-    appendJsonNumber(out, q.y);
-    out += ',';
-    appendJsonNumber(out, q.z);
-    out += "],\"buttons\":" + std::to_string(s.buttons) + ",\"pedal\":";
+    out += "\",\"position_mm\":";
+    appendJsonArray(out, {p.x, p.y, p.z});
+    out += ",\"rotation_wxyz\":";
+    appendJsonArray(out, {q.w, q.x, q.y, q.z});
+    out += ",\"buttons\":" + std::to_string(s.buttons) + ",\"pedal\":";
     appendJsonNumber(out, s.pedal);
     out += '}';
   }
