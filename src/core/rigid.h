@@ -4,6 +4,7 @@
 // simulation frame: world = position + rotation * local.
 #pragma once
 
+#include <array>
 #include <cmath>
 
 namespace dentsim {
@@ -56,6 +57,12 @@ struct Quat {
     const Vec3 u{x, y, z};
     const Vec3 t = 2.0 * cross(u, v);
     return v + w * t + cross(u, t);
+  }
+  // The same rotation as a row-major 3x3 matrix, for rotating many vectors by one quaternion.
+  constexpr std::array<double, 9> matrix() const {
+    return {1 - 2 * (y * y + z * z), 2 * (x * y - w * z),     2 * (x * z + w * y),
+            2 * (x * y + w * z),     1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
+            2 * (x * z - w * y),     2 * (y * z + w * x),     1 - 2 * (x * x + y * y)};
   }
   Quat normalized() const {
     const double n = std::sqrt(w * w + x * x + y * y + z * z);

@@ -14,7 +14,11 @@ constexpr double kMinGradient = 0.3;
 // Beyond this field value the point is treated as deep (the ramp across the surface is saturating).
 constexpr double kShallowPhi = 0.45;
 constexpr double kMarchStep = 1.5;  // [voxel]
-constexpr int kBisections = 4;
+// Clearances are stored in floats: shrunk by more than their rounding in a 2048-voxel grid.
+constexpr double kClearanceMargin = 2e-3;  // [voxel]
+// Looking around a point for a longer clearance costs up to ~100 ns; a step does it for at most
+// this many points (a bur arriving from free space), the rest get the short bound and come back.
+constexpr uint32_t kLookAroundsPerStep = 512;
 
 void addOuter(Mat6& m, const double* j, double w) {
   for (int r = 0; r < 6; ++r) {
@@ -32,8 +36,13 @@ void tangents(const Vec3& n, Vec3* t1, Vec3* t2) {
 
 }  // namespace
 
-ContactFinder::ContactFinder(size_t max_points, double max_march_voxels) : max_march_voxels_(max_march_voxels) {
+ContactFinder::ContactFinder(size_t max_points, double max_march_voxels)
+    : clearance_(max_points), max_march_voxels_(max_march_voxels) {
   contacts_.reserve(max_points);
+}
+
+void ContactFinder::forgetClearances() {
+  for (Clearance& c : clearance_) c.r2 = -1;
 }
 
 bool ContactFinder::resolve(VoxelField& field, const Vec3& u, const Vec3& inward, const FieldSample& s0,
@@ -46,13 +55,16 @@ bool ContactFinder::resolve(VoxelField& field, const Vec3& u, const Vec3& inward
     return true;
   }
   // Deep: march along the inward normal, the way out of the tissue the tool came in by.
-  double t_in = 0.0, t_out = -1.0;
+  double t_in = 0.0, t_out = -1.0, phi_in = s0.phi, phi_out = 0.0;
   for (double t = kMarchStep; t <= max_march_voxels_ + 1e-9; t += kMarchStep) {
-    if (field.sample(u + inward * t).phi <= 0) {
+    const double phi = field.sample(u + inward * t).phi;
+    if (phi <= 0) {
       t_out = t;
+      phi_out = phi;
       break;
     }
     t_in = t;
+    phi_in = phi;
   }
   if (t_out < 0) {
     // Deeper than the march reaches: push along the inward normal with the largest depth we resolve.
@@ -60,11 +72,9 @@ bool ContactFinder::resolve(VoxelField& field, const Vec3& u, const Vec3& inward
     out->depth_mm = max_march_voxels_ * field.voxelMm();
     return true;
   }
-  for (int i = 0; i < kBisections; ++i) {
-    const double mid = 0.5 * (t_in + t_out);
-    (field.sample(u + inward * mid).phi > 0 ? t_in : t_out) = mid;
-  }
-  const double t_exit = 0.5 * (t_in + t_out);
+  // The surface lies where the field crosses zero between the last two samples: interpolate it,
+  // and the sample there corrects what the interpolation misses (its residual phi / |grad|).
+  const double t_exit = t_in + (t_out - t_in) * phi_in / (phi_in - phi_out);
   const FieldSample exit = field.sample(u + inward * t_exit, true);
   const double ge = norm(exit.gradient);
   Vec3 n = ge > 1e-9 ? -exit.gradient / ge : inward;
@@ -81,13 +91,27 @@ bool ContactFinder::resolve(VoxelField& field, const Vec3& u, const Vec3& inward
 
 std::span<const ContactPoint> ContactFinder::find(VoxelField& field, const PointShell& shell, const Pose& tool_pose,
                                                   ContactStats* stats) {
-  assert(shell.size() <= contacts_.capacity());
+  assert(shell.size() <= contacts_.capacity() && shell.size() <= clearance_.size());
+  if (&shell != clearance_shell_ || &field != clearance_field_) {
+    forgetClearances();
+    clearance_shell_ = &shell;
+    clearance_field_ = &field;
+  }
   contacts_.clear();
   ContactStats st;
+  uint32_t looks = 0;
+  // Tool frame straight to voxel coordinates: u = (R q) / voxel + origin's voxel coordinate.
   const double inv_voxel = 1.0 / field.voxelMm();
+  std::array<double, 9> m = tool_pose.rotation.matrix();
+  for (double& e : m) e *= inv_voxel;
+  const Vec3 t = field.toVoxel(tool_pose.position);
+  auto toVoxel = [&](const Vec3& q) {
+    return Vec3{m[0] * q.x + m[1] * q.y + m[2] * q.z + t.x, m[3] * q.x + m[4] * q.y + m[5] * q.z + t.y,
+                m[6] * q.x + m[7] * q.y + m[8] * q.z + t.z};
+  };
   for (const ShellCluster& cluster : shell.clusters) {
     // Whole cluster in empty chunks: nothing to test.
-    const Vec3 c = field.toVoxel(tool_pose.apply(cluster.centre));
+    const Vec3 c = toVoxel(cluster.centre);
     const double r = cluster.radius * inv_voxel + 1.0;
     if (field.chunksEmpty(c - Vec3{r, r, r}, c + Vec3{r, r, r})) {
       ++st.clusters_skipped;
@@ -95,14 +119,27 @@ std::span<const ContactPoint> ContactFinder::find(VoxelField& field, const Point
     }
     ++st.clusters_tested;
     for (uint32_t i = cluster.first; i < cluster.first + cluster.count; ++i) {
+      const Vec3 u = toVoxel(shell.positions[i]);
+      Clearance& cl = clearance_[i];
+      const double dx = u.x - double(cl.x), dy = u.y - double(cl.y), dz = u.z - double(cl.z);
+      if (dx * dx + dy * dy + dz * dz < double(cl.r2)) {
+        ++st.points_clear;
+        continue;
+      }
       ++st.points_tested;
-      const Vec3 p = tool_pose.apply(shell.positions[i]);
-      const Vec3 u = field.toVoxel(p);
+      const double phi = field.phi(u);
+      if (phi <= 0) {
+        const bool look = looks < kLookAroundsPerStep;
+        looks += look ? 1 : 0;
+        const double reach = field.clearance(u, phi, look) - kClearanceMargin;
+        cl = {float(u.x), float(u.y), float(u.z), reach > 0 ? float(reach * reach) : -1.0f};
+        continue;
+      }
+      cl.r2 = -1;
       const FieldSample s = field.sample(u);
-      if (s.phi <= 0) continue;
       ContactPoint cp;
       cp.point = i;
-      cp.position = p;
+      cp.position = field.toMm(u);
       cp.area_mm2 = shell.area_mm2[i];
       cp.material = s.material;
       cp.cutting = shell.cutting[i] != 0;

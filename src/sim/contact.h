@@ -47,6 +47,7 @@ struct ContactStats {
   uint32_t clusters_tested = 0;   // clusters whose points were tested
   uint32_t clusters_skipped = 0;  // clusters skipped: only empty chunks around them
   uint32_t points_tested = 0;     // points sampled against the field
+  uint32_t points_clear = 0;      // points not sampled: still within their clearance
   uint32_t contacts = 0;          // points inside tissue
 };
 
@@ -55,15 +56,28 @@ class ContactFinder {
   // Preallocates for a shell of up to max_points points; find() never allocates.
   explicit ContactFinder(size_t max_points, double max_march_voxels = 12.0);
 
-  // The intersection set of `shell` placed by `tool_pose` (tool frame to simulation frame).
+  // The intersection set of `shell` placed by `tool_pose` (tool frame to simulation frame). Between
+  // calls tissue may only be removed (cutting), or forgetClearances() must be called first.
   std::span<const ContactPoint> find(VoxelField& field, const PointShell& shell, const Pose& tool_pose,
                                      ContactStats* stats = nullptr);
+
+  // Tissue was added or replaced: sample every point again.
+  void forgetClearances();
 
  private:
   // Depth and normal of one point known to be inside tissue; false when it is not inside after all.
   bool resolve(VoxelField& field, const Vec3& u, const Vec3& inward, const FieldSample& s0, ContactPoint* out) const;
 
+  // Where a point was last sampled outside tissue, in voxel coordinates, and the square of its
+  // clearance there [voxel^2]; negative: sample it. Floats: the bound is shrunk by their rounding.
+  struct Clearance {
+    float x = 0, y = 0, z = 0, r2 = -1;
+  };
+
   std::vector<ContactPoint> contacts_;
+  std::vector<Clearance> clearance_;
+  const PointShell* clearance_shell_ = nullptr;  // the shell clearance_ belongs to
+  const VoxelField* clearance_field_ = nullptr;  // and the field
   double max_march_voxels_;
 };
 

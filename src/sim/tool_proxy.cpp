@@ -44,6 +44,7 @@ ToolProxy::ToolProxy(const ToolModel& tool) : tool_(tool), finder_(tool.shell.si
 
 void ToolProxy::reset(const Pose& grip) {
   grip_ = grip;
+  finder_.forgetClearances();  // a new start: the tissue may have changed since the last
   velocity_ = {};
   angular_velocity_ = {};
 }

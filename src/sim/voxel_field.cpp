@@ -4,12 +4,19 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstring>
 
 namespace dentsim {
 
 namespace {
 bool isTile(uint32_t entry) { return (entry & DS_ENTRY_UNIFORM) != 0; }
 Voxel tileValue(uint32_t entry) { return Voxel(entry & 0xffu); }
+// A voxel byte's fill as a fraction: a table is cheaper than masking and converting eight corners.
+constexpr std::array<double, 256> kFillOf = [] {
+  std::array<double, 256> t{};
+  for (uint32_t v = 0; v < 256; ++v) t[v] = double(layout::voxelFill(v)) / DS_FILL_FULL;
+  return t;
+}();
 uint64_t brickKey(uint32_t bx, uint32_t by, uint32_t bz) {
   return (uint64_t(bx) << 42) | (uint64_t(by) << 21) | uint64_t(bz);
 }
@@ -20,72 +27,88 @@ VoxelField::VoxelField(const BrickVolume& volume, const VolumeFrame& frame)
   assert(frame.level == volume.level() && frame.voxel_mm > 0);
 }
 
-void VoxelField::loadBrick(uint32_t bx, uint32_t by, uint32_t bz) {
-  cached_key_ = brickKey(bx, by, bz);
-  cached_voxels_ = nullptr;
+void VoxelField::invalidate() {
+  for (CachedBrick& e : cache_) e.key = kNoBrick;
+}
+
+const VoxelField::CachedBrick& VoxelField::brick(uint32_t bx, uint32_t by, uint32_t bz) {
+  CachedBrick& e = cache_[(bx & 7u) | ((by & 7u) << 3) | ((bz & 3u) << 6)];
+  if (e.key != brickKey(bx, by, bz)) load(&e, bx, by, bz);
+  return e;
+}
+
+void VoxelField::load(CachedBrick* e, uint32_t bx, uint32_t by, uint32_t bz) const {
+  e->key = brickKey(bx, by, bz);
+  e->voxels = nullptr;
   const uint32_t centry = volume_.chunkWords()[layout::chunkCoordToIndex(
       bx >> DS_CHUNK_LOG2, by >> DS_CHUNK_LOG2, bz >> DS_CHUNK_LOG2, volume_.chunkDim())];
   if (isTile(centry)) {
-    cached_tile_ = tileValue(centry);
+    e->tile = tileValue(centry);
     return;
   }
   const uint32_t m = DS_CHUNK_DIM - 1;
   const uint32_t bentry = volume_.blockWords()[size_t(centry & DS_ENTRY_INDEX_MASK) * DS_CHUNK_BRICKS +
                                                layout::brickCoordToOffset(bx & m, by & m, bz & m)];
   if (isTile(bentry)) {
-    cached_tile_ = tileValue(bentry);
+    e->tile = tileValue(bentry);
     return;
   }
-  cached_voxels_ = reinterpret_cast<const Voxel*>(volume_.brickWords().data() +
-                                                  size_t(bentry & DS_ENTRY_INDEX_MASK) * DS_BRICK_WORDS);
+  e->voxels = reinterpret_cast<const Voxel*>(volume_.brickWords().data() +
+                                             size_t(bentry & DS_ENTRY_INDEX_MASK) * DS_BRICK_WORDS);
 }
 
 Voxel VoxelField::voxel(int64_t x, int64_t y, int64_t z) {
   if (x < 0 || y < 0 || z < 0 || x >= dim_ || y >= dim_ || z >= dim_) return 0;
-  const auto bx = uint32_t(x >> DS_BRICK_LOG2), by = uint32_t(y >> DS_BRICK_LOG2), bz = uint32_t(z >> DS_BRICK_LOG2);
-  if (brickKey(bx, by, bz) != cached_key_) loadBrick(bx, by, bz);
-  if (cached_voxels_ == nullptr) return cached_tile_;
+  const CachedBrick& b = brick(uint32_t(x >> DS_BRICK_LOG2), uint32_t(y >> DS_BRICK_LOG2), uint32_t(z >> DS_BRICK_LOG2));
+  if (b.voxels == nullptr) return b.tile;
   const uint32_t m = DS_BRICK_DIM - 1;
-  return cached_voxels_[layout::brickCoordToOffset(uint32_t(x) & m, uint32_t(y) & m, uint32_t(z) & m)];
+  return b.voxels[layout::brickCoordToOffset(uint32_t(x) & m, uint32_t(y) & m, uint32_t(z) & m)];
 }
 
-FieldSample VoxelField::sample(const Vec3& u, bool with_outside) {
+bool VoxelField::cell(const Vec3& u, Voxel c[8], double t[3]) {
   const double fx = std::floor(u.x), fy = std::floor(u.y), fz = std::floor(u.z);
   const auto x0 = int64_t(fx), y0 = int64_t(fy), z0 = int64_t(fz);
-  const double tx = u.x - fx, ty = u.y - fy, tz = u.z - fz;
-
-  // The eight corners, x fastest. Most footprints lie inside one brick: read it once.
-  Voxel c[8];
+  t[0] = u.x - fx, t[1] = u.y - fy, t[2] = u.z - fz;
+  // Most cells lie inside one brick: read it once.
   const int64_t m = DS_BRICK_DIM - 1;
   const bool one_brick = x0 >= 0 && y0 >= 0 && z0 >= 0 && x0 + 1 < dim_ && y0 + 1 < dim_ && z0 + 1 < dim_ &&
                          (x0 & m) != m && (y0 & m) != m && (z0 & m) != m;
   if (one_brick) {
-    const auto bx = uint32_t(x0 >> DS_BRICK_LOG2), by = uint32_t(y0 >> DS_BRICK_LOG2), bz = uint32_t(z0 >> DS_BRICK_LOG2);
-    if (brickKey(bx, by, bz) != cached_key_) loadBrick(bx, by, bz);
-    if (cached_voxels_ == nullptr) {
-      FieldSample s;
-      if (cached_tile_ == 0) return s;
-      s.phi = double(voxelFill(cached_tile_)) / DS_FILL_FULL - 0.5;
-      s.material = voxelMaterial(cached_tile_);
-      return s;
+    const CachedBrick& b =
+        brick(uint32_t(x0 >> DS_BRICK_LOG2), uint32_t(y0 >> DS_BRICK_LOG2), uint32_t(z0 >> DS_BRICK_LOG2));
+    if (b.voxels == nullptr) {
+      std::fill_n(c, 8, b.tile);
+      return b.tile != 0;
     }
-    const uint32_t o = layout::brickCoordToOffset(uint32_t(x0 & m), uint32_t(y0 & m), uint32_t(z0 & m));
+    const Voxel* const v = b.voxels + layout::brickCoordToOffset(uint32_t(x0 & m), uint32_t(y0 & m), uint32_t(z0 & m));
     const uint32_t dy = DS_BRICK_DIM, dz = DS_BRICK_DIM * DS_BRICK_DIM;
-    c[0] = cached_voxels_[o];
-    c[1] = cached_voxels_[o + 1];
-    c[2] = cached_voxels_[o + dy];
-    c[3] = cached_voxels_[o + dy + 1];
-    c[4] = cached_voxels_[o + dz];
-    c[5] = cached_voxels_[o + dz + 1];
-    c[6] = cached_voxels_[o + dz + dy];
-    c[7] = cached_voxels_[o + dz + dy + 1];
+    c[0] = v[0], c[1] = v[1], c[2] = v[dy], c[3] = v[dy + 1];
+    c[4] = v[dz], c[5] = v[dz + 1], c[6] = v[dz + dy], c[7] = v[dz + dy + 1];
   } else {
     for (int i = 0; i < 8; ++i) c[i] = voxel(x0 + (i & 1), y0 + ((i >> 1) & 1), z0 + ((i >> 2) & 1));
   }
-  if ((c[0] | c[1] | c[2] | c[3] | c[4] | c[5] | c[6] | c[7]) == 0) return FieldSample{};
+  return (c[0] | c[1] | c[2] | c[3] | c[4] | c[5] | c[6] | c[7]) != 0;
+}
 
+double VoxelField::phi(const Vec3& u) {
+  Voxel c[8];
+  double t[3];
+  if (!cell(u, c, t)) return -0.5;
   double f[8];
-  for (int i = 0; i < 8; ++i) f[i] = double(voxelFill(c[i])) * (1.0 / DS_FILL_FULL);
+  for (int i = 0; i < 8; ++i) f[i] = kFillOf[c[i]];
+  const double f00 = f[0] + t[0] * (f[1] - f[0]), f10 = f[2] + t[0] * (f[3] - f[2]);
+  const double f01 = f[4] + t[0] * (f[5] - f[4]), f11 = f[6] + t[0] * (f[7] - f[6]);
+  const double f0 = f00 + t[1] * (f10 - f00), f1 = f01 + t[1] * (f11 - f01);
+  return f0 + t[2] * (f1 - f0) - 0.5;
+}
+
+FieldSample VoxelField::sample(const Vec3& u, bool with_outside) {
+  Voxel c[8];
+  double t[3];
+  if (!cell(u, c, t)) return FieldSample{};
+  const double tx = t[0], ty = t[1], tz = t[2];
+  double f[8];
+  for (int i = 0; i < 8; ++i) f[i] = kFillOf[c[i]];
   // Trilinear value and its exact derivative inside the cell.
   const double f00 = f[0] + tx * (f[1] - f[0]), f10 = f[2] + tx * (f[3] - f[2]);
   const double f01 = f[4] + tx * (f[5] - f[4]), f11 = f[6] + tx * (f[7] - f[6]);
@@ -100,6 +123,7 @@ FieldSample VoxelField::sample(const Vec3& u, bool with_outside) {
   const double ey0 = f10 - f00, ey1 = f11 - f01;
   s.gradient.y = ey0 + tz * (ey1 - ey0);
   s.gradient.z = f1 - f0;
+  if (s.phi <= 0) return s;
 
   // The tissue: the corner whose weighted fill is largest.
   double best = 0;
@@ -112,6 +136,65 @@ FieldSample VoxelField::sample(const Vec3& u, bool with_outside) {
     }
   }
   return s;
+}
+
+double VoxelField::clearance(const Vec3& u, double phi, bool look_around) {
+  if (phi >= 0) return 0.0;
+  // phi is trilinear in cells whose corners differ by at most 1, so it changes by at most sqrt(3)
+  // per voxel: tissue is at least -phi / sqrt(3) away.
+  constexpr double kInvSlope = 0.57735026918962576;
+  if (phi > -0.5 || !look_around) return -phi * kInvSlope;
+  // Nothing here: if every voxel within r of the cell is empty, phi = -1/2 on the box they span, and
+  // tissue is at least the distance to the box's faces plus 1/(2 sqrt(3)) away.
+  const auto x0 = int64_t(std::floor(u.x)), y0 = int64_t(std::floor(u.y)), z0 = int64_t(std::floor(u.z));
+  auto beyond = [&](int64_t r) {
+    const double d = std::min({u.x - double(x0 - r), double(x0 + 1 + r) - u.x, u.y - double(y0 - r),
+                               double(y0 + 1 + r) - u.y, u.z - double(z0 - r), double(z0 + 1 + r) - u.z});
+    return d + 0.5 * kInvSlope;
+  };
+  double bound = 0.5 * kInvSlope;
+  auto empty = [&](int64_t r, bool tiles_only) {
+    return regionEmpty(x0 - r, x0 + 1 + r, y0 - r, y0 + 1 + r, z0 - r, z0 + 1 + r, tiles_only);
+  };
+  // Far from the tooth, a brick's width all round, from the index tables alone; near it, smaller
+  // boxes voxel by voxel. Each box costs more, and the point skips longer for it.
+  constexpr int64_t kFar = DS_BRICK_DIM;
+  if (empty(kFar, true)) return beyond(kFar);
+  for (const int64_t r : {int64_t{1}, int64_t{3}}) {
+    if (!empty(r, false)) break;
+    bound = beyond(r);
+  }
+  return bound;
+}
+
+bool VoxelField::regionEmpty(int64_t x0, int64_t x1, int64_t y0, int64_t y1, int64_t z0, int64_t z1,
+                             bool tiles_only) {
+  x0 = std::max<int64_t>(x0, 0), y0 = std::max<int64_t>(y0, 0), z0 = std::max<int64_t>(z0, 0);
+  x1 = std::min(x1, dim_ - 1), y1 = std::min(y1, dim_ - 1), z1 = std::min(z1, dim_ - 1);
+  if (x0 > x1 || y0 > y1 || z0 > z1) return true;
+  const int64_t m = DS_BRICK_DIM - 1;
+  for (int64_t bz = z0 >> DS_BRICK_LOG2; bz <= z1 >> DS_BRICK_LOG2; ++bz)
+    for (int64_t by = y0 >> DS_BRICK_LOG2; by <= y1 >> DS_BRICK_LOG2; ++by)
+      for (int64_t bx = x0 >> DS_BRICK_LOG2; bx <= x1 >> DS_BRICK_LOG2; ++bx) {
+        const CachedBrick& b = brick(uint32_t(bx), uint32_t(by), uint32_t(bz));
+        if (b.voxels == nullptr) {
+          if (b.tile != 0) return false;
+          continue;
+        }
+        if (tiles_only) return false;
+        // A brick row of 8 voxels is one 64-bit word: test the row's x range at once.
+        const int64_t lx = std::max(x0, bx << DS_BRICK_LOG2) & m, hx = std::min(x1, (bx << DS_BRICK_LOG2) + m) & m;
+        const uint64_t mask = (hx - lx == 7 ? ~0ull : ((uint64_t{1} << (8 * (hx - lx + 1))) - 1)) << (8 * lx);
+        const int64_t ly = std::max(y0, by << DS_BRICK_LOG2) & m, hy = std::min(y1, (by << DS_BRICK_LOG2) + m) & m;
+        const int64_t lz = std::max(z0, bz << DS_BRICK_LOG2) & m, hz = std::min(z1, (bz << DS_BRICK_LOG2) + m) & m;
+        for (int64_t z = lz; z <= hz; ++z)
+          for (int64_t y = ly; y <= hy; ++y) {
+            uint64_t row;
+            std::memcpy(&row, b.voxels + layout::brickCoordToOffset(0, uint32_t(y), uint32_t(z)), sizeof row);
+            if (row & mask) return false;
+          }
+      }
+  return true;
 }
 
 bool VoxelField::chunksEmpty(const Vec3& lo, const Vec3& hi) const {
