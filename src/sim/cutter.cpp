@@ -20,37 +20,12 @@ double dice(uint64_t voxel, uint64_t step) {
   return double(mix64(voxel * 0x2545f4914f6cdd1dull ^ mix64(step)) >> 11) * 0x1.0p-53;
 }
 
-double segmentDistance2(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 ab = b - a;
-  const double len2 = dot(ab, ab);
-  const double t = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-  const Vec3 d = p - (a + ab * t);
-  return dot(d, d);
-}
-
 }  // namespace
 
 Cutter::Cutter(size_t max_candidates, size_t max_voxels_per_step)
-    : max_voxels_(std::min(max_voxels_per_step, max_candidates)) {
+    : max_voxels_(std::min(max_voxels_per_step, max_candidates)), marks_(kMarkBits / 64, 0ull) {
   candidates_.reserve(max_candidates);
   brick_keys_.reserve(max_candidates);
-  size_t table = 16;
-  while (table < 2 * max_candidates) table *= 2;
-  set_keys_.assign(table, 0);
-  set_stamps_.assign(table, 0);
-}
-
-bool Cutter::insert(uint64_t key) {
-  const size_t mask = set_keys_.size() - 1;
-  for (size_t i = size_t(mix64(key)) & mask, probes = 0; probes < set_keys_.size(); i = (i + 1) & mask, ++probes) {
-    if (set_stamps_[i] != stamp_) {
-      set_stamps_[i] = stamp_;
-      set_keys_[i] = key;
-      return true;
-    }
-    if (set_keys_[i] == key) return false;
-  }
-  return false;
 }
 
 CutStep Cutter::cut(BrickVolume& volume, VoxelField& field, std::span<const ContactPoint> contacts,
@@ -61,41 +36,11 @@ CutStep Cutter::cut(BrickVolume& volume, VoxelField& field, std::span<const Cont
   out.demand_mm3 = params.cutting.removal_rate_mm3_per_s * ability * std::min(speed, 1.0) * dt;
   if (!(out.demand_mm3 > 0)) return out;
 
-  // ---- the voxels under the head ----
-  if (++stamp_ == 0) {  // the stamps wrapped: clear once every 2^32 steps
-    std::fill(set_stamps_.begin(), set_stamps_.end(), 0u);
-    stamp_ = 1;
-  }
-  candidates_.clear();
-  const int64_t dim = int64_t(volume.dim());
-  const double rho = std::max(params.cutting.reach_mm / field.voxelMm(), 0.5);  // [voxel]
-  // A step takes at most max_voxels_ voxels, starting from a contact that moves on every step, so a
-  // buried head costs a bounded time and, over a few steps, every contact gets its turn.
-  const size_t n = contacts.size();
-  const size_t first = n > 0 ? size_t(step % n) : 0;
-  for (size_t k = 0; k < n && candidates_.size() < max_voxels_; ++k) {
-    const ContactPoint& cp = contacts[(first + k) % n];
-    if (!cp.cutting) continue;
-    const Vec3 a = field.toVoxel(cp.position);
-    const Vec3 b = field.toVoxel(cp.position + cp.normal * cp.depth_mm);
-    const int64_t x0 = std::max<int64_t>(0, int64_t(std::ceil(std::min(a.x, b.x) - rho)));
-    const int64_t y0 = std::max<int64_t>(0, int64_t(std::ceil(std::min(a.y, b.y) - rho)));
-    const int64_t z0 = std::max<int64_t>(0, int64_t(std::ceil(std::min(a.z, b.z) - rho)));
-    const int64_t x1 = std::min<int64_t>(dim - 1, int64_t(std::floor(std::max(a.x, b.x) + rho)));
-    const int64_t y1 = std::min<int64_t>(dim - 1, int64_t(std::floor(std::max(a.y, b.y) + rho)));
-    const int64_t z1 = std::min<int64_t>(dim - 1, int64_t(std::floor(std::max(a.z, b.z) + rho)));
-    for (int64_t z = z0; z <= z1; ++z)
-      for (int64_t y = y0; y <= y1; ++y)
-        for (int64_t x = x0; x <= x1; ++x) {
-          if (segmentDistance2(Vec3{double(x), double(y), double(z)}, a, b) > rho * rho) continue;
-          const uint64_t key = uint64_t(x) + uint64_t(dim) * (uint64_t(y) + uint64_t(dim) * uint64_t(z));
-          if (!insert(key)) continue;
-          const Voxel v = field.voxel(x, y, z);
-          if (v == 0 || params.tissue(voxelMaterial(v)).hardness <= 0) continue;
-          if (candidates_.size() == max_voxels_) break;
-          candidates_.push_back({key, v});
-        }
-  }
+  constexpr double kFillMargin = 3.0;
+  constexpr size_t kMinVoxels = 512;
+  const double voxels_of_demand = kFillMargin * out.demand_mm3 / field.frame().voxelVolumeMm3();
+  const size_t limit = std::min(max_voxels_, std::max(kMinVoxels, size_t(std::ceil(voxels_of_demand))));
+  gather(field, contacts, params, step, limit);
   out.candidates = uint32_t(candidates_.size());
   if (candidates_.empty()) return out;
 
@@ -118,6 +63,80 @@ CutStep Cutter::cut(BrickVolume& volume, VoxelField& field, std::span<const Cont
     }
   }
   return remove(volume, field, params, step, edits, fill_sum, out);
+}
+
+void Cutter::gather(VoxelField& field, std::span<const ContactPoint> contacts, const SimParams& params,
+                    uint64_t step, size_t limit) {
+  candidates_.clear();
+  const int64_t dim = int64_t(field.dim());
+  const double rho = std::max(params.cutting.reach_mm / field.voxelMm(), 0.5);  // [voxel]
+  // The voxels one contact reaches: centres within rho of the segment from the point out to the
+  // tissue surface, inside the box [lo, hi].
+  struct Reach {
+    Vec3 a, b;
+    int64_t lo[3], hi[3];
+  };
+  auto reach = [&](const ContactPoint& cp) {
+    Reach r{field.toVoxel(cp.position), field.toVoxel(cp.position + cp.normal * cp.depth_mm), {}, {}};
+    for (int i = 0; i < 3; ++i) {
+      r.lo[i] = std::max<int64_t>(0, int64_t(std::ceil(std::min(r.a[i], r.b[i]) - rho)));
+      r.hi[i] = std::min<int64_t>(dim - 1, int64_t(std::floor(std::max(r.a[i], r.b[i]) + rho)));
+    }
+    return r;
+  };
+
+  // The contacts take turns from one that moves on every step, so that a buried head costs a
+  // bounded time and, over a few steps, every contact gets its turn. First the box they reach,
+  // which must fit the marks; the contacts beyond the first that does not fit wait.
+  const size_t n = contacts.size();
+  const size_t first = n > 0 ? size_t(step % n) : 0;
+  int64_t lo[3] = {dim, dim, dim}, hi[3] = {-1, -1, -1};
+  size_t turns = 0;
+  for (; turns < n; ++turns) {
+    const ContactPoint& cp = contacts[(first + turns) % n];
+    if (!cp.cutting) continue;
+    const Reach r = reach(cp);
+    if (r.lo[0] > r.hi[0] || r.lo[1] > r.hi[1] || r.lo[2] > r.hi[2]) continue;
+    int64_t nlo[3], nhi[3];
+    uint64_t cells = 1;
+    for (int i = 0; i < 3; ++i) {
+      nlo[i] = std::min(lo[i], r.lo[i]);
+      nhi[i] = std::max(hi[i], r.hi[i]);
+      cells *= uint64_t(nhi[i] - nlo[i] + 1);
+    }
+    if (cells > kMarkBits) break;
+    std::copy(nlo, nlo + 3, lo);
+    std::copy(nhi, nhi + 3, hi);
+  }
+  if (hi[0] < 0) return;
+  const uint64_t sx = uint64_t(hi[0] - lo[0] + 1), sy = uint64_t(hi[1] - lo[1] + 1);
+  std::fill_n(marks_.begin(), (sx * sy * uint64_t(hi[2] - lo[2] + 1) + 63) / 64, 0ull);
+
+  // Then the voxels, each once, up to the per-step limit.
+  for (size_t k = 0; k < turns; ++k) {
+    const ContactPoint& cp = contacts[(first + k) % n];
+    if (!cp.cutting) continue;
+    const Reach r = reach(cp);
+    const Vec3 ab = r.b - r.a;
+    const double len2 = dot(ab, ab);
+    const double inv_len2 = len2 > 0 ? 1.0 / len2 : 0.0;
+    for (int64_t z = r.lo[2]; z <= r.hi[2]; ++z)
+      for (int64_t y = r.lo[1]; y <= r.hi[1]; ++y)
+        for (int64_t x = r.lo[0]; x <= r.hi[0]; ++x) {
+          const Vec3 ap = Vec3{double(x), double(y), double(z)} - r.a;
+          const Vec3 d = ap - ab * std::clamp(dot(ap, ab) * inv_len2, 0.0, 1.0);
+          if (dot(d, d) > rho * rho) continue;
+          const uint64_t bit = uint64_t(x - lo[0]) + sx * (uint64_t(y - lo[1]) + sy * uint64_t(z - lo[2]));
+          uint64_t& word = marks_[size_t(bit >> 6)];
+          const uint64_t mask = uint64_t{1} << (bit & 63);
+          if (word & mask) continue;
+          word |= mask;
+          const Voxel v = field.voxel(x, y, z);
+          if (v == 0 || params.tissue(voxelMaterial(v)).hardness <= 0) continue;
+          candidates_.push_back({uint64_t(x) + uint64_t(dim) * (uint64_t(y) + uint64_t(dim) * uint64_t(z)), v});
+          if (candidates_.size() == limit) return;
+        }
+  }
 }
 
 bool Cutter::roomForBricks(const BrickVolume& volume) {

@@ -39,8 +39,9 @@ struct CutStep {
 
 class Cutter {
  public:
-  // Preallocates for up to max_candidates voxels a step; cut() never allocates. A step cuts at most
-  // max_voxels_per_step voxels (the contacts take turns), which bounds its time when the head is buried.
+  // Preallocates for up to max_candidates voxels a step; cut() never allocates. A step takes the
+  // voxels of its contacts in turn until they could hold three times its demand (at least 512,
+  // at most max_voxels_per_step): enough fill for the demand, and a bounded time when the head is buried.
   explicit Cutter(size_t max_candidates = 1 << 16, size_t max_voxels_per_step = 2048);
 
   // One step of cutting by the contacts flagged `cutting`. speed in [0,1], dt [s]. edits may be null
@@ -54,8 +55,13 @@ class Cutter {
     uint64_t index;   // linear voxel index
     Voxel value;      // its byte before the cut
   };
-  // Inserts into the step's voxel set; false when already present or the set is full.
-  bool insert(uint64_t key);
+  // The bitmap that keeps a step from taking a voxel twice covers a box of at most this many
+  // voxels around the contacts taking their turn (256 KiB; a 1 mm head at level 10 needs a fifth).
+  static constexpr uint64_t kMarkBits = uint64_t{1} << 21;
+
+  // Fills candidates_: the tissue voxels the contacts taking their turn this step reach.
+  void gather(VoxelField& field, std::span<const ContactPoint> contacts, const SimParams& params, uint64_t step,
+              size_t limit);
   // Whether the volume's reserve holds every brick and index block the candidates could open.
   bool roomForBricks(const BrickVolume& volume);
   // Takes the step's removal from the candidates (their fill summing to fill_sum) and records it in out.
@@ -64,10 +70,8 @@ class Cutter {
 
   size_t max_voxels_;
   std::vector<Candidate> candidates_;
-  std::vector<uint64_t> set_keys_;     // open-addressing table, stamped per step
-  std::vector<uint32_t> set_stamps_;
+  std::vector<uint64_t> marks_;        // (kMarkBits / 64) the voxels already taken this step
   std::vector<uint64_t> brick_keys_;   // distinct bricks a step touches (tile ones need reserve)
-  uint32_t stamp_ = 0;
 };
 
 }  // namespace dentsim

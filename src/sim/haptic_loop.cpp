@@ -125,6 +125,7 @@ const StepReport& HapticLoop::step() {
     ts.display = report_.stepped[r] ? report_.tools[r].display : Wrench{};
     ts.contacts = report_.stepped[r] ? report_.tools[r].stats.contacts : 0;
     ts.points_tested = report_.stepped[r] ? report_.tools[r].stats.points_tested : 0;
+    ts.points_clear = report_.stepped[r] ? report_.tools[r].stats.points_clear : 0;
   }
   totals_.step = ++step_;
   totals_.t_s = t + dt;

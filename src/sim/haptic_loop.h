@@ -46,6 +46,7 @@ struct ToolState {
   Wrench display;          // what the pen was told to render (clamped), moment about the grip
   uint32_t contacts = 0;   // shell points in tissue
   uint32_t points_tested = 0;  // shell points sampled this step
+  uint32_t points_clear = 0;   // shell points not sampled: still within their clearance
 };
 
 struct HapticState {
