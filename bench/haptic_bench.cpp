@@ -254,6 +254,7 @@ struct LoadSums {
   uint64_t steps = 0;
   uint64_t points = 0;
   uint32_t points_max = 0;
+  uint64_t clear = 0;
   uint64_t contacts = 0;
   uint32_t contacts_max = 0;
   uint64_t contact_steps = 0;
@@ -265,6 +266,7 @@ struct LoadSums {
     ++steps;
     points += t.points_tested;
     points_max = std::max(points_max, t.points_tested);
+    clear += t.points_clear;
     contacts += t.contacts;
     contacts_max = std::max(contacts_max, t.contacts);
     if (t.contacts > 0) {
@@ -280,6 +282,7 @@ struct LoadSums {
     l.steps = steps;
     l.points_mean = steps ? double(points) / double(steps) : 0.0;
     l.points_max = points_max;
+    l.clear_mean = steps ? double(clear) / double(steps) : 0.0;
     l.contacts_mean = steps ? double(contacts) / double(steps) : 0.0;
     l.contacts_max = contacts_max;
     l.contact_steps = contact_steps;
@@ -460,10 +463,10 @@ Result<HapticBenchRow> runHapticBench(int level, const VolumeMaker& make_volume,
     char line[256];
     std::snprintf(line, sizeof line,
                   "level %d thread (%s): %llu steps, p50 %.1f us, p99 %.1f us, max %.1f us, %llu missed; "
-                  "%.0f points/step, removed %.3f mm^3",
+                  "%.0f points sampled/step (%.0f skipped), removed %.3f mm^3",
                   level, row.scheduler.c_str(), static_cast<unsigned long long>(row.thread.steps), row.thread.p50_us,
                   row.thread.p99_us, row.thread.max_us, static_cast<unsigned long long>(row.missed_deadlines),
-                  row.load.points_mean, row.removed_mm3);
+                  row.load.points_mean, row.load.clear_mean, row.removed_mm3);
     say(line);
   }
 
@@ -514,6 +517,7 @@ nlohmann::json loadJson(const StepLoad& l) {
   return {{"steps", l.steps},
           {"points_tested_mean", l.points_mean},
           {"points_tested_max", l.points_max},
+          {"points_clear_mean", l.clear_mean},
           {"contacts_mean", l.contacts_mean},
           {"contacts_max", l.contacts_max},
           {"contact_steps", l.contact_steps},
@@ -622,15 +626,16 @@ std::string count(uint64_t v) { return std::to_string(v); }
 std::string hapticRowsTable(const std::vector<HapticBenchRow>& rows, const HapticBenchSettings& s) {
   std::ostringstream o;
   o << "| level | voxel [mm] | run | steps | missed 1 ms | p50 [us] | p99 [us] | max [us] | mean [us] | "
-       "points / step (mean, max) | contacts / step (mean, max) | removed [mm^3] | edits | deferred | goals |\n"
-       "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+       "points sampled / step (mean, max) | points skipped / step | contacts / step (mean, max) | removed [mm^3] | "
+       "edits | deferred | goals |\n"
+       "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const HapticBenchRow& r : rows) {
     const bool goal_row = r.level == s.goal_level;
     o << "| " << r.level << " | " << fmt("%.4f", r.voxel_mm) << " | thread (" << r.scheduler << ") | "
       << count(r.thread.steps) << " | " << count(r.missed_deadlines) << " | " << fmt("%.1f", r.thread.p50_us) << " | "
       << fmt("%.1f", r.thread.p99_us) << " | " << fmt("%.1f", r.thread.max_us) << " | "
       << fmt("%.1f", r.thread.mean_us) << " | " << fmt("%.0f", r.load.points_mean) << ", " << r.load.points_max
-      << " | " << fmt("%.0f", r.load.contacts_mean) << ", " << r.load.contacts_max << " | "
+      << " | " << fmt("%.0f", r.load.clear_mean) << " | " << fmt("%.0f", r.load.contacts_mean) << ", " << r.load.contacts_max << " | "
       << fmt("%.3f", r.removed_mm3) << " | " << count(r.voxels_changed) << " | " << count(r.deferred_cuts) << " | ";
     if (goal_row)
       o << "p99 " << (r.p99_met ? "met" : "missed") << ", max " << (r.max_met ? "met" : "missed");
@@ -642,6 +647,7 @@ std::string hapticRowsTable(const std::vector<HapticBenchRow>& rows, const Hapti
         << " | - | " << fmt("%.1f", r.step_only.p50_us) << " | " << fmt("%.1f", r.step_only.p99_us) << " | "
         << fmt("%.1f", r.step_only.max_us) << " | " << fmt("%.1f", r.step_only.mean_us) << " | "
         << fmt("%.0f", r.step_only_load.points_mean) << ", " << r.step_only_load.points_max << " | "
+        << fmt("%.0f", r.step_only_load.clear_mean) << " | "
         << fmt("%.0f", r.step_only_load.contacts_mean) << ", " << r.step_only_load.contacts_max << " | "
         << fmt("%.3f", r.step_only_removed_mm3) << " | " << count(r.step_only_voxels_changed) << " | - | - |\n";
   }
@@ -669,8 +675,10 @@ std::string hapticReportMarkdown(const HapticReportInfo& info, const std::vector
        "passes the path's end; a second thread drains the voxel edits every "
     << fmt("%g", s.drain_period_ms) << " ms" << (s.replay_edits ? " into a mirror copy, as the renderer would" : "")
     << ". Step times are HapticLoop::stepTimes() (0.5 us bins; a percentile is its bin's upper edge); a missed "
-       "deadline is a step that ended after its 1 ms slot. Points / step: shell points sampled against the field "
-       "(clusters in empty 64^3 chunks are skipped), from every step's snapshot. Step only: the same steps on the "
+       "deadline is a step that ended after its 1 ms slot. Points sampled / step: shell points sampled against the "
+       "field, from every step's snapshot. Points skipped: those still within the clearance of their last sample "
+       "(the contacts are exactly those of a full test); points in clusters of empty 64^3 chunks count in neither. "
+       "Step only: the same steps on the "
        "bench thread, back to back, no deadlines: the compute alone. Goals (level "
     << s.goal_level << "): p99 under " << fmt("%g", s.goal_p99_us) << " us and max under " << fmt("%g", s.goal_max_us)
     << " us on the thread.\n\n";

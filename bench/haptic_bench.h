@@ -106,6 +106,7 @@ struct StepLoad {
   uint64_t steps = 0;              // steps seen
   double points_mean = 0.0;        // shell points sampled against the field per step
   uint32_t points_max = 0;
+  double clear_mean = 0.0;         // shell points skipped per step: still within their clearance
   double contacts_mean = 0.0;      // shell points in tissue per step
   uint32_t contacts_max = 0;
   uint64_t contact_steps = 0;      // steps with at least one contact

@@ -144,6 +144,8 @@ TEST(HapticBenchTest, ShortRunReportIsConsistent) {
   // Work: points tested every step, some in tissue, a force shown, and tissue removed.
   EXPECT_GT(r.load.points_mean, 0.0);
   EXPECT_LE(double(r.load.points_max), double(r.shell_points));
+  EXPECT_GT(r.load.clear_mean, 0.0) << "points within their clearance skip their sample";
+  EXPECT_LE(r.load.points_mean + r.load.clear_mean, double(r.shell_points));
   EXPECT_GT(r.load.contacts_max, 0u);
   EXPECT_GT(r.load.contact_steps, 0u);
   EXPECT_GT(r.load.force_mean_n, 0.0);
@@ -163,6 +165,7 @@ TEST(HapticBenchTest, ShortRunReportIsConsistent) {
   EXPECT_EQ(r.step_only_voxels_changed, r.voxels_changed);
   EXPECT_EQ(r.step_only_removed_mm3, r.removed_mm3);
   EXPECT_EQ(r.step_only_load.points_max, r.load.points_max);
+  EXPECT_EQ(r.step_only_load.clear_mean, r.load.clear_mean);
   EXPECT_EQ(r.step_only_load.contacts_max, r.load.contacts_max);
 
   // The goals are computed, not asserted: this is a tiny level on a shared machine.
