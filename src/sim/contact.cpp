@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <cstring>
 
 namespace dentsim {
 
@@ -14,35 +15,66 @@ constexpr double kMinGradient = 0.3;
 // Beyond this field value the point is treated as deep (the ramp across the surface is saturating).
 constexpr double kShallowPhi = 0.45;
 constexpr double kMarchStep = 1.5;  // [voxel]
-// Clearances are stored in floats: shrunk by more than their rounding in a 2048-voxel grid.
+// Clearances are stored, and tested, in floats: shrunk by more than their rounding (below 1e-3
+// voxel for a tool within 2048 voxels of the origin).
 constexpr double kClearanceMargin = 2e-3;  // [voxel]
+// The clearance test runs on four points at once; the arrays are padded so that a group may read
+// past the last point.
+using Float4 = float __attribute__((vector_size(16)));
+using Int4 = int32_t __attribute__((vector_size(16)));
+constexpr size_t kLanes = 4;
+Float4 load4(const float* p) {
+  Float4 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
 // Looking around a point for a longer clearance costs up to ~100 ns; a step does it for at most
 // this many points (a bur arriving from free space), the rest get the short bound and come back.
 constexpr uint32_t kLookAroundsPerStep = 512;
 
-void addOuter(Mat6& m, const double* j, double w) {
+// The upper triangle of a symmetric 6x6 matrix, row by row: contacts add to 21 entries, not 36.
+using Sym6 = std::array<double, 21>;
+
+void addOuter(Sym6& m, const double* j, double w) {
+  size_t k = 0;
   for (int r = 0; r < 6; ++r) {
     const double jr = w * j[r];
-    for (int c = 0; c < 6; ++c) m[size_t(6 * r + c)] += jr * j[c];
+    for (int c = r; c < 6; ++c) m[k++] += jr * j[c];
   }
 }
 
-// Two unit vectors completing n to an orthonormal basis.
-void tangents(const Vec3& n, Vec3* t1, Vec3* t2) {
-  const Vec3 a = std::abs(n.x) < 0.6 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
-  *t1 = normalized(cross(n, a));
-  *t2 = cross(n, *t1);
+void addSymmetric(Mat6& out, const Sym6& m, double sign) {
+  size_t k = 0;
+  for (int r = 0; r < 6; ++r)
+    for (int c = r; c < 6; ++c, ++k) {
+      out[size_t(6 * r + c)] += sign * m[k];
+      if (c != r) out[size_t(6 * c + r)] += sign * m[k];
+    }
 }
 
 }  // namespace
 
 ContactFinder::ContactFinder(size_t max_points, double max_march_voxels)
-    : clearance_(max_points), max_march_voxels_(max_march_voxels) {
+    : clear_x_(max_points + kLanes),
+      clear_y_(max_points + kLanes),
+      clear_z_(max_points + kLanes),
+      clear_r2_(max_points + kLanes, -1.0f),
+      shell_x_(max_points + kLanes),
+      shell_y_(max_points + kLanes),
+      shell_z_(max_points + kLanes),
+      todo_(max_points),
+      max_march_voxels_(max_march_voxels) {
   contacts_.reserve(max_points);
 }
 
-void ContactFinder::forgetClearances() {
-  for (Clearance& c : clearance_) c.r2 = -1;
+void ContactFinder::forgetClearances() { std::fill(clear_r2_.begin(), clear_r2_.end(), -1.0f); }
+
+void ContactFinder::adoptShell(const PointShell& shell) {
+  for (size_t i = 0; i < shell.size(); ++i) {
+    shell_x_[i] = float(shell.positions[i].x);
+    shell_y_[i] = float(shell.positions[i].y);
+    shell_z_[i] = float(shell.positions[i].z);
+  }
 }
 
 bool ContactFinder::resolve(VoxelField& field, const Vec3& u, const Vec3& inward, const FieldSample& s0,
@@ -91,9 +123,10 @@ bool ContactFinder::resolve(VoxelField& field, const Vec3& u, const Vec3& inward
 
 std::span<const ContactPoint> ContactFinder::find(VoxelField& field, const PointShell& shell, const Pose& tool_pose,
                                                   ContactStats* stats) {
-  assert(shell.size() <= contacts_.capacity() && shell.size() <= clearance_.size());
+  assert(shell.size() <= contacts_.capacity() && shell.size() <= todo_.size());
   if (&shell != clearance_shell_ || &field != clearance_field_) {
     forgetClearances();
+    adoptShell(shell);
     clearance_shell_ = &shell;
     clearance_field_ = &field;
   }
@@ -102,13 +135,17 @@ std::span<const ContactPoint> ContactFinder::find(VoxelField& field, const Point
   uint32_t looks = 0;
   // Tool frame straight to voxel coordinates: u = (R q) / voxel + origin's voxel coordinate.
   const double inv_voxel = 1.0 / field.voxelMm();
-  std::array<double, 9> m = tool_pose.rotation.matrix();
+  const std::array<double, 9> rot = tool_pose.rotation.matrix();
+  std::array<double, 9> m = rot;
   for (double& e : m) e *= inv_voxel;
   const Vec3 t = field.toVoxel(tool_pose.position);
   auto toVoxel = [&](const Vec3& q) {
     return Vec3{m[0] * q.x + m[1] * q.y + m[2] * q.z + t.x, m[3] * q.x + m[4] * q.y + m[5] * q.z + t.y,
                 m[6] * q.x + m[7] * q.y + m[8] * q.z + t.z};
   };
+  std::array<Float4, 9> mf;
+  for (size_t k = 0; k < 9; ++k) mf[k] = Float4{} + float(m[k]);
+  const Float4 tx = Float4{} + float(t.x), ty = Float4{} + float(t.y), tz = Float4{} + float(t.z);
   for (const ShellCluster& cluster : shell.clusters) {
     // Whole cluster in empty chunks: nothing to test.
     const Vec3 c = toVoxel(cluster.centre);
@@ -118,32 +155,47 @@ std::span<const ContactPoint> ContactFinder::find(VoxelField& field, const Point
       continue;
     }
     ++st.clusters_tested;
-    for (uint32_t i = cluster.first; i < cluster.first + cluster.count; ++i) {
-      const Vec3 u = toVoxel(shell.positions[i]);
-      Clearance& cl = clearance_[i];
-      const double dx = u.x - double(cl.x), dy = u.y - double(cl.y), dz = u.z - double(cl.z);
-      if (dx * dx + dy * dy + dz * dz < double(cl.r2)) {
-        ++st.points_clear;
-        continue;
+    // Four points at a time: which have left their clearance since they were last sampled.
+    uint32_t n = 0;
+    const uint32_t end = cluster.first + cluster.count;
+    for (uint32_t i = cluster.first; i < end; i += kLanes) {
+      const Float4 qx = load4(&shell_x_[i]), qy = load4(&shell_y_[i]), qz = load4(&shell_z_[i]);
+      const Float4 dx = mf[0] * qx + mf[1] * qy + mf[2] * qz + tx - load4(&clear_x_[i]);
+      const Float4 dy = mf[3] * qx + mf[4] * qy + mf[5] * qz + ty - load4(&clear_y_[i]);
+      const Float4 dz = mf[6] * qx + mf[7] * qy + mf[8] * qz + tz - load4(&clear_z_[i]);
+      const Int4 left = dx * dx + dy * dy + dz * dz >= load4(&clear_r2_[i]);  // -1: sample it
+      const uint32_t lanes = std::min<uint32_t>(kLanes, end - i);
+      for (uint32_t k = 0; k < lanes; ++k) {
+        todo_[n] = i + k;
+        n += uint32_t(left[k] & 1);
       }
-      ++st.points_tested;
-      const double phi = field.phi(u);
-      if (phi <= 0) {
+    }
+    st.points_clear += cluster.count - n;
+    st.points_tested += n;
+
+    for (uint32_t j = 0; j < n; ++j) {
+      const uint32_t i = todo_[j];
+      const Vec3 u = toVoxel(shell.positions[i]);
+      const FieldSample s = field.sample(u);  // outside tissue: phi alone
+      if (s.phi <= 0) {
         const bool look = looks < kLookAroundsPerStep;
         looks += look ? 1 : 0;
-        const double reach = field.clearance(u, phi, look) - kClearanceMargin;
-        cl = {float(u.x), float(u.y), float(u.z), reach > 0 ? float(reach * reach) : -1.0f};
+        const double reach = field.clearance(u, s.phi, look) - kClearanceMargin;
+        clear_x_[i] = float(u.x), clear_y_[i] = float(u.y), clear_z_[i] = float(u.z);
+        clear_r2_[i] = reach > 0 ? float(reach * reach) : -1.0f;
         continue;
       }
-      cl.r2 = -1;
-      const FieldSample s = field.sample(u);
+      clear_r2_[i] = -1.0f;
+      const Vec3& q = shell.inward[i];
+      const Vec3 inward{rot[0] * q.x + rot[1] * q.y + rot[2] * q.z, rot[3] * q.x + rot[4] * q.y + rot[5] * q.z,
+                        rot[6] * q.x + rot[7] * q.y + rot[8] * q.z};
       ContactPoint cp;
       cp.point = i;
       cp.position = field.toMm(u);
       cp.area_mm2 = shell.area_mm2[i];
       cp.material = s.material;
       cp.cutting = shell.cutting[i] != 0;
-      if (!resolve(field, u, tool_pose.applyDirection(shell.inward[i]), s, &cp)) continue;
+      if (!resolve(field, u, inward, s, &cp)) continue;
       contacts_.push_back(cp);
     }
   }
@@ -155,6 +207,14 @@ std::span<const ContactPoint> ContactFinder::find(VoxelField& field, const Point
 ContactForce contactForce(std::span<const ContactPoint> contacts, const SimParams& params, const ToolMotion& motion,
                           double friction_slip_mm_s) {
   ContactForce out;
+  // Friction damps the tangential velocity of each point: its block is c J_t J_t^T summed over two
+  // tangents, J_t = [t; r x t] = A t with A = [I; [r]x]. Since t1 t1^T + t2 t2^T = I - n n^T, that is
+  // c A A^T - c J_n J_n^T, and A A^T = [[I, -[r]x], [[r]x, |r|^2 I - r r^T]] needs only the sums of
+  // c, c r and c r r^T: no tangents per point.
+  Sym6 springs{}, normal_friction{};
+  double c_sum = 0;
+  Vec3 cr_sum;
+  double crr[6] = {};  // xx, xy, xz, yy, yz, zz
   for (const ContactPoint& cp : contacts) {
     const TissueParams& tissue = params.tissue(cp.material);
     const Vec3 r = cp.position - motion.reference;
@@ -182,17 +242,30 @@ ContactForce contactForce(std::span<const ContactPoint> contacts, const SimParam
     // Linearizations for the implicit proxy step.
     const Vec3 rn = cross(r, n);
     const double jn[6] = {n.x, n.y, n.z, rn.x, rn.y, rn.z};
-    addOuter(out.stiffness, jn, tissue.stiffness_n_per_mm3 * cp.area_mm2 * scale);
+    addOuter(springs, jn, tissue.stiffness_n_per_mm3 * cp.area_mm2 * scale);
     if (c > 0) {
-      Vec3 t1, t2;
-      tangents(n, &t1, &t2);
-      for (const Vec3& t : {t1, t2}) {
-        const Vec3 rt = cross(r, t);
-        const double jt[6] = {t.x, t.y, t.z, rt.x, rt.y, rt.z};
-        addOuter(out.friction_damping, jt, c);
-      }
+      addOuter(normal_friction, jn, c);
+      c_sum += c;
+      cr_sum += r * c;
+      crr[0] += c * r.x * r.x, crr[1] += c * r.x * r.y, crr[2] += c * r.x * r.z;
+      crr[3] += c * r.y * r.y, crr[4] += c * r.y * r.z, crr[5] += c * r.z * r.z;
     }
   }
+  addSymmetric(out.stiffness, springs, 1.0);
+  // c A A^T summed, then less its normal part.
+  Mat6& fd = out.friction_damping;
+  const double trace = crr[0] + crr[3] + crr[5];
+  const double rr[3][3] = {{crr[0], crr[1], crr[2]}, {crr[1], crr[3], crr[4]}, {crr[2], crr[4], crr[5]}};
+  const double s[3] = {cr_sum.x, cr_sum.y, cr_sum.z};
+  const double skew[3][3] = {{0, -s[2], s[1]}, {s[2], 0, -s[0]}, {-s[1], s[0], 0}};  // [sum c r]x
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) {
+      fd[size_t(6 * i + j)] = i == j ? c_sum : 0.0;
+      fd[size_t(6 * i + j + 3)] = -skew[i][j];
+      fd[size_t(6 * (i + 3) + j)] = skew[i][j];
+      fd[size_t(6 * (i + 3) + j + 3)] = (i == j ? trace : 0.0) - rr[i][j];
+    }
+  addSymmetric(fd, normal_friction, -1.0);
   return out;
 }
 

@@ -68,15 +68,17 @@ class ContactFinder {
   // Depth and normal of one point known to be inside tissue; false when it is not inside after all.
   bool resolve(VoxelField& field, const Vec3& u, const Vec3& inward, const FieldSample& s0, ContactPoint* out) const;
 
-  // Where a point was last sampled outside tissue, in voxel coordinates, and the square of its
-  // clearance there [voxel^2]; negative: sample it. Floats: the bound is shrunk by their rounding.
-  struct Clearance {
-    float x = 0, y = 0, z = 0, r2 = -1;
-  };
+  // Copies the shell's positions as floats, laid out for the 4-wide clearance test.
+  void adoptShell(const PointShell& shell);
 
+  // Per point, where it was last sampled outside tissue, in voxel coordinates, and the square of its
+  // clearance there [voxel^2]; negative: sample it. Floats, by component (the clearance test runs four
+  // points at once): the bound is shrunk by more than their rounding.
+  std::vector<float> clear_x_, clear_y_, clear_z_, clear_r2_;
+  std::vector<float> shell_x_, shell_y_, shell_z_;  // the shell's positions, tool frame [mm]
+  std::vector<uint32_t> todo_;                       // the points a step samples
   std::vector<ContactPoint> contacts_;
-  std::vector<Clearance> clearance_;
-  const PointShell* clearance_shell_ = nullptr;  // the shell clearance_ belongs to
+  const PointShell* clearance_shell_ = nullptr;  // the shell the arrays belong to
   const VoxelField* clearance_field_ = nullptr;  // and the field
   double max_march_voxels_;
 };

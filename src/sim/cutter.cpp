@@ -25,6 +25,7 @@ double dice(uint64_t voxel, uint64_t step) {
 Cutter::Cutter(size_t max_candidates, size_t max_voxels_per_step)
     : max_voxels_(std::min(max_voxels_per_step, max_candidates)), marks_(kMarkBits / 64, 0ull) {
   candidates_.reserve(max_candidates);
+  touched_.reserve(kMaxTouched);
   brick_keys_.reserve(max_candidates);
 }
 
@@ -79,73 +80,86 @@ void Cutter::gather(VoxelField& field, std::span<const ContactPoint> contacts, c
   auto reach = [&](const ContactPoint& cp) {
     Reach r{field.toVoxel(cp.position), field.toVoxel(cp.position + cp.normal * cp.depth_mm), {}, {}};
     for (int i = 0; i < 3; ++i) {
-      r.lo[i] = std::max<int64_t>(0, int64_t(std::ceil(std::min(r.a[i], r.b[i]) - rho)));
-      r.hi[i] = std::min<int64_t>(dim - 1, int64_t(std::floor(std::max(r.a[i], r.b[i]) + rho)));
+      r.lo[i] = std::max<int64_t>(0, -voxelFloor(rho - std::min(r.a[i], r.b[i])));  // ceil(min - rho)
+      r.hi[i] = std::min<int64_t>(dim - 1, voxelFloor(std::max(r.a[i], r.b[i]) + rho));
     }
     return r;
   };
 
   // The contacts take turns from one that moves on every step, so that a buried head costs a
-  // bounded time and, over a few steps, every contact gets its turn. First the box they reach,
-  // which must fit the marks; the contacts beyond the first that does not fit wait.
+  // bounded time and, over a few steps, every contact gets its turn. The marks cover a window
+  // centred on the first of them, wider than any head; a contact reaching outside it waits.
   const size_t n = contacts.size();
   const size_t first = n > 0 ? size_t(step % n) : 0;
-  int64_t lo[3] = {dim, dim, dim}, hi[3] = {-1, -1, -1};
-  size_t turns = 0;
-  for (; turns < n; ++turns) {
-    const ContactPoint& cp = contacts[(first + turns) % n];
-    if (!cp.cutting) continue;
-    const Reach r = reach(cp);
-    if (r.lo[0] > r.hi[0] || r.lo[1] > r.hi[1] || r.lo[2] > r.hi[2]) continue;
-    int64_t nlo[3], nhi[3];
-    uint64_t cells = 1;
-    for (int i = 0; i < 3; ++i) {
-      nlo[i] = std::min(lo[i], r.lo[i]);
-      nhi[i] = std::max(hi[i], r.hi[i]);
-      cells *= uint64_t(nhi[i] - nlo[i] + 1);
-    }
-    if (cells > kMarkBits) break;
-    std::copy(nlo, nlo + 3, lo);
-    std::copy(nhi, nhi + 3, hi);
-  }
-  if (hi[0] < 0) return;
-  const uint64_t sx = uint64_t(hi[0] - lo[0] + 1), sy = uint64_t(hi[1] - lo[1] + 1);
-  std::fill_n(marks_.begin(), (sx * sy * uint64_t(hi[2] - lo[2] + 1) + 63) / 64, 0ull);
+  size_t k0 = 0;
+  while (k0 < n && !contacts[(first + k0) % n].cutting) ++k0;
+  if (k0 == n) return;
+  const Vec3 centre = field.toVoxel(contacts[(first + k0) % n].position);
+  const int64_t half = int64_t(kMarkSide / 2);
+  const int64_t origin[3] = {voxelFloor(centre.x) - half, voxelFloor(centre.y) - half, voxelFloor(centre.z) - half};
+  clearMarks();
 
-  // Then the voxels, each once, up to the per-step limit.
-  for (size_t k = 0; k < turns; ++k) {
+  // The voxels, each once, up to the per-step limit. Neighbouring contacts reach mostly the same
+  // voxels: the mark is read before the distance is worked out.
+  const double rho2 = rho * rho;
+  for (size_t k = k0; k < n; ++k) {
     const ContactPoint& cp = contacts[(first + k) % n];
     if (!cp.cutting) continue;
     const Reach r = reach(cp);
+    bool inside = true;
+    for (int i = 0; i < 3; ++i) inside &= r.lo[i] >= origin[i] && r.hi[i] < origin[i] + int64_t(kMarkSide);
+    if (!inside) continue;
     const Vec3 ab = r.b - r.a;
     const double len2 = dot(ab, ab);
     const double inv_len2 = len2 > 0 ? 1.0 / len2 : 0.0;
     for (int64_t z = r.lo[2]; z <= r.hi[2]; ++z)
-      for (int64_t y = r.lo[1]; y <= r.hi[1]; ++y)
+      for (int64_t y = r.lo[1]; y <= r.hi[1]; ++y) {
+        // Along the row only x changes: ap = (x - a.x, py, pz).
+        const double py = double(y) - r.a.y, pz = double(z) - r.a.z;
+        const double row_dot = py * ab.y + pz * ab.z;
+        const uint64_t row_bit = (uint64_t(y - origin[1]) + kMarkSide * uint64_t(z - origin[2])) * kMarkSide -
+                                 uint64_t(origin[0]);
         for (int64_t x = r.lo[0]; x <= r.hi[0]; ++x) {
-          const Vec3 ap = Vec3{double(x), double(y), double(z)} - r.a;
-          const Vec3 d = ap - ab * std::clamp(dot(ap, ab) * inv_len2, 0.0, 1.0);
-          if (dot(d, d) > rho * rho) continue;
-          const uint64_t bit = uint64_t(x - lo[0]) + sx * (uint64_t(y - lo[1]) + sy * uint64_t(z - lo[2]));
+          const uint64_t bit = row_bit + uint64_t(x);
           uint64_t& word = marks_[size_t(bit >> 6)];
           const uint64_t mask = uint64_t{1} << (bit & 63);
           if (word & mask) continue;
+          const double px = double(x) - r.a.x;
+          const double t = std::clamp((px * ab.x + row_dot) * inv_len2, 0.0, 1.0);
+          const double dx = px - ab.x * t, dy = py - ab.y * t, dz = pz - ab.z * t;
+          if (dx * dx + dy * dy + dz * dz > rho2) continue;
+          if (word == 0) touch(size_t(bit >> 6));
           word |= mask;
           const Voxel v = field.voxel(x, y, z);
           if (v == 0 || params.tissue(voxelMaterial(v)).hardness <= 0) continue;
-          candidates_.push_back({uint64_t(x) + uint64_t(dim) * (uint64_t(y) + uint64_t(dim) * uint64_t(z)), v});
+          candidates_.push_back({uint32_t(x), uint32_t(y), uint32_t(z), v});
           if (candidates_.size() == limit) return;
         }
+      }
   }
 }
 
+void Cutter::touch(size_t word) {
+  if (touched_.size() < touched_.capacity())
+    touched_.push_back(word);
+  else
+    marks_overflow_ = true;
+}
+
+void Cutter::clearMarks() {
+  if (marks_overflow_)
+    std::fill(marks_.begin(), marks_.end(), 0ull);
+  else
+    for (const size_t w : touched_) marks_[w] = 0;
+  touched_.clear();
+  marks_overflow_ = false;
+}
+
 bool Cutter::roomForBricks(const BrickVolume& volume) {
-  const uint64_t dim = volume.dim();
   brick_keys_.clear();
-  for (const Candidate& c : candidates_) {
-    const uint64_t x = c.index % uint64_t(dim), y = (c.index / uint64_t(dim)) % uint64_t(dim), z = c.index / uint64_t(dim) / uint64_t(dim);
-    brick_keys_.push_back(((z >> DS_BRICK_LOG2) << 42) | ((y >> DS_BRICK_LOG2) << 21) | (x >> DS_BRICK_LOG2));
-  }
+  for (const Candidate& c : candidates_)
+    brick_keys_.push_back((uint64_t(c.z >> DS_BRICK_LOG2) << 42) | (uint64_t(c.y >> DS_BRICK_LOG2) << 21) |
+                          uint64_t(c.x >> DS_BRICK_LOG2));
   std::sort(brick_keys_.begin(), brick_keys_.end());
   const size_t bricks = size_t(std::unique(brick_keys_.begin(), brick_keys_.end()) - brick_keys_.begin());
   // The chunks those bricks lie in: each may need an index block.
@@ -166,23 +180,32 @@ CutStep Cutter::remove(BrickVolume& volume, VoxelField& field, const SimParams& 
   const uint64_t dim = volume.dim();
   const double unit_mm3 = field.frame().voxelVolumeMm3() / DS_FILL_FULL;
   const double per_fill = out.demand_mm3 / (unit_mm3 * fill_sum);  // fill units lost per unit held, at hardness 1
+  // Candidates come contact by contact, mostly a few bricks at a time: the brick last written is
+  // kept, not looked up again.
+  BrickCoord brick{~0u, ~0u, ~0u};
+  Voxel* voxels = nullptr;
   for (const Candidate& c : candidates_) {
     const Material m = voxelMaterial(c.value);
     const uint32_t fill = voxelFill(c.value);
+    const uint64_t index = uint64_t(c.x) + dim * (uint64_t(c.y) + dim * uint64_t(c.z));
     const double share = per_fill * params.tissue(m).hardness * fill;
-    const double lost = std::floor(share + dice(c.index, step));
+    const double lost = std::floor(share + dice(index, step));
     const uint32_t left = lost >= double(fill) ? 0u : fill - uint32_t(lost);
     if (left == fill) continue;
     const Voxel now = left == 0 ? Voxel{0} : makeVoxel(m, left);
-    const auto x = uint32_t(c.index % uint64_t(dim)), y = uint32_t((c.index / uint64_t(dim)) % uint64_t(dim));
-    const auto z = uint32_t(c.index / uint64_t(dim) / uint64_t(dim));
-    volume.setVoxel(x, y, z, now);
-    if (edits != nullptr) edits->push(packVoxelEdit(c.index, now));
+    const BrickCoord b{c.x >> DS_BRICK_LOG2, c.y >> DS_BRICK_LOG2, c.z >> DS_BRICK_LOG2};
+    if (b.x != brick.x || b.y != brick.y || b.z != brick.z) {
+      brick = b;
+      voxels = volume.writableBrick(b);
+    }
+    const uint32_t m7 = DS_BRICK_DIM - 1;
+    voxels[layout::brickCoordToOffset(c.x & m7, c.y & m7, c.z & m7)] = now;
+    field.written(c.x, c.y, c.z, now);
+    if (edits != nullptr) edits->push(packVoxelEdit(index, now));
     ++out.voxels_changed;
     out.removed_mm3 += double(fill - left) * unit_mm3;
   }
   if (edits != nullptr) edits->publish();
-  if (out.voxels_changed > 0) field.invalidate();
   return out;
 }
 

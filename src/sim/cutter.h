@@ -45,23 +45,28 @@ class Cutter {
   explicit Cutter(size_t max_candidates = 1 << 16, size_t max_voxels_per_step = 2048);
 
   // One step of cutting by the contacts flagged `cutting`. speed in [0,1], dt [s]. edits may be null
-  // (nothing mirrors this volume). `step` seeds the rounding. field must read `volume`; it is
-  // invalidated when the volume's storage changes.
+  // (nothing mirrors this volume). `step` seeds the rounding. field must read `volume`; every voxel
+  // written is passed on to it (VoxelField::written).
   CutStep cut(BrickVolume& volume, VoxelField& field, std::span<const ContactPoint> contacts, const SimParams& params,
               double ability, double speed, double dt, uint64_t step, EditChannel* edits);
 
  private:
   struct Candidate {
-    uint64_t index;   // linear voxel index
-    Voxel value;      // its byte before the cut
+    uint32_t x, y, z;  // the voxel
+    Voxel value;       // its byte before the cut
   };
-  // The bitmap that keeps a step from taking a voxel twice covers a box of at most this many
-  // voxels around the contacts taking their turn (256 KiB; a 1 mm head at level 10 needs a fifth).
-  static constexpr uint64_t kMarkBits = uint64_t{1} << 21;
+  // The bitmap that keeps a step from taking a voxel twice covers a window of this many voxels a
+  // side around the first contact taking its turn (256 KiB; a 1 mm head is 48 voxels at level 10).
+  // Only the words a step set are cleared for the next.
+  static constexpr uint64_t kMarkSide = 128;
+  static constexpr uint64_t kMarkBits = kMarkSide * kMarkSide * kMarkSide;
+  static constexpr size_t kMaxTouched = 16384;  // beyond this, the next step clears the whole bitmap
 
   // Fills candidates_: the tissue voxels the contacts taking their turn this step reach.
   void gather(VoxelField& field, std::span<const ContactPoint> contacts, const SimParams& params, uint64_t step,
               size_t limit);
+  void touch(size_t word);  // a word of the marks went from zero to non-zero
+  void clearMarks();
   // Whether the volume's reserve holds every brick and index block the candidates could open.
   bool roomForBricks(const BrickVolume& volume);
   // Takes the step's removal from the candidates (their fill summing to fill_sum) and records it in out.
@@ -71,6 +76,8 @@ class Cutter {
   size_t max_voxels_;
   std::vector<Candidate> candidates_;
   std::vector<uint64_t> marks_;        // (kMarkBits / 64) the voxels already taken this step
+  std::vector<size_t> touched_;        // (kMaxTouched) words of marks_ set this step
+  bool marks_overflow_ = false;        // touched_ was full: clear all of marks_
   std::vector<uint64_t> brick_keys_;   // distinct bricks a step touches (tile ones need reserve)
 };
 

@@ -17,13 +17,39 @@ constexpr std::array<double, 256> kFillOf = [] {
   for (uint32_t v = 0; v < 256; ++v) t[v] = double(layout::voxelFill(v)) / DS_FILL_FULL;
   return t;
 }();
-uint64_t brickKey(uint32_t bx, uint32_t by, uint32_t bz) {
-  return (uint64_t(bx) << 42) | (uint64_t(by) << 21) | uint64_t(bz);
+// A brick as the index tables give it: its voxels, or the value of a tile.
+struct BrickRef {
+  const Voxel* voxels = nullptr;
+  Voxel tile = 0;
+  Voxel at(uint32_t x, uint32_t y, uint32_t z) const {
+    return voxels ? voxels[layout::brickCoordToOffset(x, y, z)] : tile;
+  }
+};
+
+BrickRef lookupBrick(const BrickVolume& volume, uint32_t bx, uint32_t by, uint32_t bz) {
+  BrickRef r;
+  if (bx >= volume.brickDim() || by >= volume.brickDim() || bz >= volume.brickDim()) return r;  // outside: empty
+  const uint32_t centry = volume.chunkWords()[layout::chunkCoordToIndex(bx >> DS_CHUNK_LOG2, by >> DS_CHUNK_LOG2,
+                                                                        bz >> DS_CHUNK_LOG2, volume.chunkDim())];
+  if (isTile(centry)) {
+    r.tile = tileValue(centry);
+    return r;
+  }
+  const uint32_t m = DS_CHUNK_DIM - 1;
+  const uint32_t bentry = volume.blockWords()[size_t(centry & DS_ENTRY_INDEX_MASK) * DS_CHUNK_BRICKS +
+                                              layout::brickCoordToOffset(bx & m, by & m, bz & m)];
+  if (isTile(bentry)) {
+    r.tile = tileValue(bentry);
+    return r;
+  }
+  r.voxels = reinterpret_cast<const Voxel*>(volume.brickWords().data() +
+                                            size_t(bentry & DS_ENTRY_INDEX_MASK) * DS_BRICK_WORDS);
+  return r;
 }
 }  // namespace
 
 VoxelField::VoxelField(const BrickVolume& volume, const VolumeFrame& frame)
-    : volume_(volume), frame_(frame), dim_(int64_t(volume.dim())) {
+    : volume_(volume), frame_(frame), dim_(int64_t(volume.dim())), cache_(kSlots), copies_(size_t(kSlots) * kCopyBytes) {
   assert(frame.level == volume.level() && frame.voxel_mm > 0);
 }
 
@@ -31,57 +57,78 @@ void VoxelField::invalidate() {
   for (CachedBrick& e : cache_) e.key = kNoBrick;
 }
 
-const VoxelField::CachedBrick& VoxelField::brick(uint32_t bx, uint32_t by, uint32_t bz) {
-  CachedBrick& e = cache_[(bx & 7u) | ((by & 7u) << 3) | ((bz & 3u) << 6)];
-  if (e.key != brickKey(bx, by, bz)) load(&e, bx, by, bz);
-  return e;
+void VoxelField::load(uint32_t s, uint32_t bx, uint32_t by, uint32_t bz) {
+  CachedBrick& e = cache_[s];
+  e.key = brickKey(bx, by, bz);
+  Voxel* const c = &copies_[size_t(s) * kCopyBytes];
+  constexpr uint32_t n = DS_BRICK_DIM, sy = kSide, sz = kSide * kSide;
+  const BrickRef own = lookupBrick(volume_, bx, by, bz);
+  e.is_tile = own.voxels == nullptr;
+  e.tile = own.tile;
+  for (uint32_t z = 0; z < n; ++z)
+    for (uint32_t y = 0; y < n; ++y) {
+      Voxel* row = c + y * sy + z * sz;
+      if (own.voxels)
+        std::memcpy(row, own.voxels + layout::brickCoordToOffset(0, y, z), n);
+      else
+        std::memset(row, own.tile, n);
+    }
+  // The first layer of the +x, +y and +z neighbours, their shared edges and the far corner.
+  const BrickRef nx = lookupBrick(volume_, bx + 1, by, bz), ny = lookupBrick(volume_, bx, by + 1, bz),
+                 nz = lookupBrick(volume_, bx, by, bz + 1), nxy = lookupBrick(volume_, bx + 1, by + 1, bz),
+                 nxz = lookupBrick(volume_, bx + 1, by, bz + 1), nyz = lookupBrick(volume_, bx, by + 1, bz + 1),
+                 nxyz = lookupBrick(volume_, bx + 1, by + 1, bz + 1);
+  for (uint32_t a = 0; a < n; ++a) {
+    for (uint32_t b = 0; b < n; ++b) {
+      c[n + a * sy + b * sz] = nx.at(0, a, b);
+      c[a + n * sy + b * sz] = ny.at(a, 0, b);
+      c[a + b * sy + n * sz] = nz.at(a, b, 0);
+    }
+    c[n + n * sy + a * sz] = nxy.at(0, 0, a);
+    c[n + a * sy + n * sz] = nxz.at(0, a, 0);
+    c[a + n * sy + n * sz] = nyz.at(a, 0, 0);
+  }
+  c[n + n * sy + n * sz] = nxyz.at(0, 0, 0);
 }
 
-void VoxelField::load(CachedBrick* e, uint32_t bx, uint32_t by, uint32_t bz) const {
-  e->key = brickKey(bx, by, bz);
-  e->voxels = nullptr;
-  const uint32_t centry = volume_.chunkWords()[layout::chunkCoordToIndex(
-      bx >> DS_CHUNK_LOG2, by >> DS_CHUNK_LOG2, bz >> DS_CHUNK_LOG2, volume_.chunkDim())];
-  if (isTile(centry)) {
-    e->tile = tileValue(centry);
-    return;
-  }
-  const uint32_t m = DS_CHUNK_DIM - 1;
-  const uint32_t bentry = volume_.blockWords()[size_t(centry & DS_ENTRY_INDEX_MASK) * DS_CHUNK_BRICKS +
-                                               layout::brickCoordToOffset(bx & m, by & m, bz & m)];
-  if (isTile(bentry)) {
-    e->tile = tileValue(bentry);
-    return;
-  }
-  e->voxels = reinterpret_cast<const Voxel*>(volume_.brickWords().data() +
-                                             size_t(bentry & DS_ENTRY_INDEX_MASK) * DS_BRICK_WORDS);
+void VoxelField::written(uint32_t x, uint32_t y, uint32_t z, Voxel v) {
+  const uint32_t bx = x >> DS_BRICK_LOG2, by = y >> DS_BRICK_LOG2, bz = z >> DS_BRICK_LOG2;
+  const uint32_t m = DS_BRICK_DIM - 1, lx = x & m, ly = y & m, lz = z & m;
+  // The voxel is in its own brick's copy, and in the apron of the -x, -y, -z neighbours' when it
+  // lies on the brick's low faces.
+  const uint32_t ex = lx == 0 && bx > 0, ey = ly == 0 && by > 0, ez = lz == 0 && bz > 0;
+  for (uint32_t dz = 0; dz <= ez; ++dz)
+    for (uint32_t dy = 0; dy <= ey; ++dy)
+      for (uint32_t dx = 0; dx <= ex; ++dx) {
+        const uint32_t cx = bx - dx, cy = by - dy, cz = bz - dz;
+        const uint32_t s = slot(cx, cy, cz);
+        CachedBrick& e = cache_[s];
+        if (e.key != brickKey(cx, cy, cz)) continue;
+        if ((dx | dy | dz) == 0 && e.is_tile && v != e.tile) e.is_tile = false;
+        copies_[size_t(s) * kCopyBytes + (lx + dx * DS_BRICK_DIM) + (ly + dy * DS_BRICK_DIM) * kSide +
+                (lz + dz * DS_BRICK_DIM) * kSide * kSide] = v;
+      }
 }
 
 Voxel VoxelField::voxel(int64_t x, int64_t y, int64_t z) {
   if (x < 0 || y < 0 || z < 0 || x >= dim_ || y >= dim_ || z >= dim_) return 0;
-  const CachedBrick& b = brick(uint32_t(x >> DS_BRICK_LOG2), uint32_t(y >> DS_BRICK_LOG2), uint32_t(z >> DS_BRICK_LOG2));
-  if (b.voxels == nullptr) return b.tile;
-  const uint32_t m = DS_BRICK_DIM - 1;
-  return b.voxels[layout::brickCoordToOffset(uint32_t(x) & m, uint32_t(y) & m, uint32_t(z) & m)];
+  const int64_t m = DS_BRICK_DIM - 1;
+  return copy(uint32_t(x >> DS_BRICK_LOG2), uint32_t(y >> DS_BRICK_LOG2),
+              uint32_t(z >> DS_BRICK_LOG2))[(x & m) + (y & m) * kSide + (z & m) * kSide * kSide];
 }
 
 bool VoxelField::cell(const Vec3& u, Voxel c[8], double t[3]) {
-  const double fx = std::floor(u.x), fy = std::floor(u.y), fz = std::floor(u.z);
-  const auto x0 = int64_t(fx), y0 = int64_t(fy), z0 = int64_t(fz);
-  t[0] = u.x - fx, t[1] = u.y - fy, t[2] = u.z - fz;
-  // Most cells lie inside one brick: read it once.
-  const int64_t m = DS_BRICK_DIM - 1;
-  const bool one_brick = x0 >= 0 && y0 >= 0 && z0 >= 0 && x0 + 1 < dim_ && y0 + 1 < dim_ && z0 + 1 < dim_ &&
-                         (x0 & m) != m && (y0 & m) != m && (z0 & m) != m;
-  if (one_brick) {
-    const CachedBrick& b =
-        brick(uint32_t(x0 >> DS_BRICK_LOG2), uint32_t(y0 >> DS_BRICK_LOG2), uint32_t(z0 >> DS_BRICK_LOG2));
-    if (b.voxels == nullptr) {
-      std::fill_n(c, 8, b.tile);
-      return b.tile != 0;
-    }
-    const Voxel* const v = b.voxels + layout::brickCoordToOffset(uint32_t(x0 & m), uint32_t(y0 & m), uint32_t(z0 & m));
-    const uint32_t dy = DS_BRICK_DIM, dz = DS_BRICK_DIM * DS_BRICK_DIM;
+  const int64_t x0 = voxelFloor(u.x), y0 = voxelFloor(u.y), z0 = voxelFloor(u.z);
+  t[0] = u.x - double(x0), t[1] = u.y - double(y0), t[2] = u.z - double(z0);
+  // Unsigned, a negative coordinate is out of range too. A cell whose low corner is in the grid has
+  // all eight in its brick's copy (the copies of the last bricks hold empty beyond the grid).
+  const auto ux = uint64_t(x0), uy = uint64_t(y0), uz = uint64_t(z0), n = uint64_t(dim_);
+  if ((ux < n) & (uy < n) & (uz < n)) {
+    const uint64_t m = DS_BRICK_DIM - 1;
+    const Voxel* const v =
+        copy(uint32_t(ux >> DS_BRICK_LOG2), uint32_t(uy >> DS_BRICK_LOG2), uint32_t(uz >> DS_BRICK_LOG2)) +
+        ((ux & m) + (uy & m) * kSide + (uz & m) * kSide * kSide);
+    constexpr uint32_t dy = kSide, dz = kSide * kSide;
     c[0] = v[0], c[1] = v[1], c[2] = v[dy], c[3] = v[dy + 1];
     c[4] = v[dz], c[5] = v[dz + 1], c[6] = v[dz + dy], c[7] = v[dz + dy + 1];
   } else {
@@ -146,7 +193,7 @@ double VoxelField::clearance(const Vec3& u, double phi, bool look_around) {
   if (phi > -0.5 || !look_around) return -phi * kInvSlope;
   // Nothing here: if every voxel within r of the cell is empty, phi = -1/2 on the box they span, and
   // tissue is at least the distance to the box's faces plus 1/(2 sqrt(3)) away.
-  const auto x0 = int64_t(std::floor(u.x)), y0 = int64_t(std::floor(u.y)), z0 = int64_t(std::floor(u.z));
+  const int64_t x0 = voxelFloor(u.x), y0 = voxelFloor(u.y), z0 = voxelFloor(u.z);
   auto beyond = [&](int64_t r) {
     const double d = std::min({u.x - double(x0 - r), double(x0 + 1 + r) - u.x, u.y - double(y0 - r),
                                double(y0 + 1 + r) - u.y, u.z - double(z0 - r), double(z0 + 1 + r) - u.z});
@@ -176,8 +223,9 @@ bool VoxelField::regionEmpty(int64_t x0, int64_t x1, int64_t y0, int64_t y1, int
   for (int64_t bz = z0 >> DS_BRICK_LOG2; bz <= z1 >> DS_BRICK_LOG2; ++bz)
     for (int64_t by = y0 >> DS_BRICK_LOG2; by <= y1 >> DS_BRICK_LOG2; ++by)
       for (int64_t bx = x0 >> DS_BRICK_LOG2; bx <= x1 >> DS_BRICK_LOG2; ++bx) {
-        const CachedBrick& b = brick(uint32_t(bx), uint32_t(by), uint32_t(bz));
-        if (b.voxels == nullptr) {
+        const Voxel* const copied = copy(uint32_t(bx), uint32_t(by), uint32_t(bz));
+        const CachedBrick& b = cache_[slot(uint32_t(bx), uint32_t(by), uint32_t(bz))];
+        if (b.is_tile) {
           if (b.tile != 0) return false;
           continue;
         }
@@ -190,7 +238,7 @@ bool VoxelField::regionEmpty(int64_t x0, int64_t x1, int64_t y0, int64_t y1, int
         for (int64_t z = lz; z <= hz; ++z)
           for (int64_t y = ly; y <= hy; ++y) {
             uint64_t row;
-            std::memcpy(&row, b.voxels + layout::brickCoordToOffset(0, uint32_t(y), uint32_t(z)), sizeof row);
+            std::memcpy(&row, copied + y * kSide + z * kSide * kSide, sizeof row);
             if (row & mask) return false;
           }
       }

@@ -1,8 +1,11 @@
 // VoxelField: fast reads of a brick volume for the haptic thread, and its fill as a smooth field with a gradient.
 //
-// The haptic step reads a few thousand voxels a millisecond, mostly near one another, so the
-// reader keeps the bricks it touched in a small direct-mapped table (an 8 x 8 x 4 brick window,
-// 1.3 mm at level 10, without conflicts) and skips the index walk when a read falls in one.
+// The haptic step reads thousands of cells a millisecond, mostly near one another, so the reader
+// keeps copies of the bricks it touched in a direct-mapped table (a 16^3-brick window, 2.6 mm at
+// level 10, without conflicts). Each copy is 9^3 voxels: the brick and the first voxel layer of its
+// +x, +y and +z neighbours, so the eight corners of any cell sit in one copy at fixed offsets and a
+// sample never asks which brick a corner is in. Writes (the cutter's) go through written(), which
+// keeps every cached copy that holds the voxel up to date.
 // The field is the trilinear interpolation of fill/31 between voxel centres, minus 1/2: positive
 // inside tissue, zero on the surface that marching cubes draws (the 0.5 iso-surface), so what the
 // student feels is where the student sees the surface.
@@ -10,12 +13,19 @@
 
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "core/rigid.h"
 #include "core/volume_frame.h"
 #include "volume/brick_volume.h"
 
 namespace dentsim {
+
+// floor(v) as an integer, without the library call (baseline x86-64 has no instruction for it).
+inline int64_t voxelFloor(double v) {
+  const auto i = int64_t(v);  // toward zero
+  return i - int64_t(v < double(i));
+}
 
 // One sample of the field.
 struct FieldSample {
@@ -63,26 +73,41 @@ class VoxelField {
   // empty, read from the chunk table alone: the coarse test that lets a cluster of points skip.
   bool chunksEmpty(const Vec3& lo, const Vec3& hi) const;
 
-  // Forget the cached bricks: the volume's storage changed.
+  // Forget the cached bricks: the volume changed other than through written().
   void invalidate();
+  // Voxel (x, y, z) of the volume now holds v: the cached copies that hold it follow.
+  void written(uint32_t x, uint32_t y, uint32_t z, Voxel v);
 
  private:
   static constexpr uint64_t kNoBrick = ~0ull;
+  static constexpr uint32_t kSide = DS_BRICK_DIM + 1;                       // a copy's side [voxel]
+  static constexpr uint32_t kCopyBytes = 768;                               // 9^3 = 729, in whole cache lines
+  static constexpr uint32_t kSlots = 4096;                                  // 16^3 bricks
   struct CachedBrick {
-    uint64_t key = kNoBrick;         // packed brick coordinate, or kNoBrick
-    const Voxel* voxels = nullptr;   // the dense brick's 512 voxels, or null for a tile
-    Voxel tile = 0;                  // the tile's value
+    uint64_t key = kNoBrick;  // packed brick coordinate, or kNoBrick
+    bool is_tile = false;     // the brick itself is uniform (a tile) of value `tile`
+    Voxel tile = 0;
   };
+  static uint32_t slot(uint32_t bx, uint32_t by, uint32_t bz) { return (bx & 15u) | ((by & 15u) << 4) | ((bz & 15u) << 8); }
+  static uint64_t brickKey(uint32_t bx, uint32_t by, uint32_t bz) {
+    return (uint64_t(bx) << 42) | (uint64_t(by) << 21) | uint64_t(bz);
+  }
+  // The copy of brick (bx,by,bz), made on a miss; the brick lies inside the grid.
+  const Voxel* copy(uint32_t bx, uint32_t by, uint32_t bz) {
+    const uint32_t s = slot(bx, by, bz);
+    if (cache_[s].key != brickKey(bx, by, bz)) [[unlikely]]
+      load(s, bx, by, bz);
+    return &copies_[size_t(s) * kCopyBytes];
+  }
+  void load(uint32_t s, uint32_t bx, uint32_t by, uint32_t bz);
   // The corners of u's cell, x fastest, and u's place in it [0,1)^3; false when all eight are empty.
   bool cell(const Vec3& u, Voxel c[8], double t[3]);
-  // The cache entry of brick (bx,by,bz), loaded on a miss; the brick lies inside the grid.
-  const CachedBrick& brick(uint32_t bx, uint32_t by, uint32_t bz);
-  void load(CachedBrick* entry, uint32_t bx, uint32_t by, uint32_t bz) const;
 
   const BrickVolume& volume_;
   VolumeFrame frame_;
   int64_t dim_ = 0;
-  std::array<CachedBrick, 256> cache_{};  // slot: low 3 bits of bx and by, low 2 of bz
+  std::vector<CachedBrick> cache_;  // (kSlots) slot: low 4 bits of bx, by and bz
+  std::vector<Voxel> copies_;       // (kSlots * kCopyBytes) the slots' 9^3 copies, x fastest
 };
 
 }  // namespace dentsim

@@ -138,6 +138,13 @@ void BrickVolume::setVoxel(uint32_t x, uint32_t y, uint32_t z, Voxel v) {
   brickVoxels(entryIndex(*entry))[layout::brickCoordToOffset(x & m, y & m, z & m)] = v;
 }
 
+Voxel* BrickVolume::writableBrick(BrickCoord c) {
+  assert(c.x < brickDim() && c.y < brickDim() && c.z < brickDim());
+  uint32_t* entry = brickEntry(c, true);
+  if (isTile(*entry)) *entry = allocBrick(tileValue(*entry));
+  return brickVoxels(entryIndex(*entry));
+}
+
 BrickView BrickVolume::brick(BrickCoord c) const {
   assert(c.x < brickDim() && c.y < brickDim() && c.z < brickDim());
   BrickView view;

@@ -90,6 +90,9 @@ class BrickVolume {
   // Sets one voxel, turning a uniform chunk or brick dense where needed.
   void setVoxel(uint32_t x, uint32_t y, uint32_t z, Voxel v);
 
+  // The 512 voxels of brick c (x fastest), to write in place: a tile is turned dense first, as
+  // setVoxel does. The pointer stays valid until the storage grows beyond its reserve or compact().
+  Voxel* writableBrick(BrickCoord c);
   // The brick at c: a tile or its 512 voxels.
   BrickView brick(BrickCoord c) const;
   // Replaces a whole brick from 512 voxels (x fastest). A brick whose voxels are all equal is

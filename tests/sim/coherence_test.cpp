@@ -83,6 +83,69 @@ TEST(VoxelField, ClearanceNeverOverstatesTheDistanceToTissue) {
   EXPECT_GT(far, 100);
 }
 
+TEST(VoxelField, CachedCopiesFollowWritesOnBrickFacesEdgesAndTiles) {
+  // The field reads cells from 9^3 copies: a brick and the first layer of its +x, +y, +z
+  // neighbours. Writes through written() must reach every cached copy holding the voxel, including
+  // tiles turned dense, so that reads always agree with the volume itself.
+  Block b = raggedBlock(5);
+  VoxelField field(b.volume, b.frame);
+  std::mt19937 rng(23);
+  const auto dim = int64_t(b.volume.dim());
+  // Writes crowd brick faces and corners, and reach into solid tiles and empty space.
+  std::uniform_int_distribution<int64_t> brick(0, dim / DS_BRICK_DIM - 1), z_brick(5, 9), face(0, 2);
+  std::uniform_int_distribution<uint32_t> fill(0, DS_FILL_FULL), local(0, DS_BRICK_DIM - 1);
+  auto coordinate = [&](int64_t bc) {
+    const int64_t pick = face(rng);
+    const int64_t l = pick == 0 ? 0 : (pick == 1 ? int64_t(DS_BRICK_DIM) - 1 : int64_t(local(rng)));
+    return bc * int64_t(DS_BRICK_DIM) + l;
+  };
+  // The trilinear field straight from the volume, corners outside the grid empty.
+  auto reference = [&](const Vec3& u) {
+    const auto x0 = int64_t(std::floor(u.x)), y0 = int64_t(std::floor(u.y)), z0 = int64_t(std::floor(u.z));
+    double phi = -0.5;
+    for (int i = 0; i < 8; ++i) {
+      const int64_t x = x0 + (i & 1), y = y0 + ((i >> 1) & 1), z = z0 + (i >> 2);
+      if (x < 0 || y < 0 || z < 0 || x >= dim || y >= dim || z >= dim) continue;
+      const double w = ((i & 1) ? u.x - double(x0) : 1 + double(x0) - u.x) *
+                       ((i & 2) ? u.y - double(y0) : 1 + double(y0) - u.y) *
+                       ((i & 4) ? u.z - double(z0) : 1 + double(z0) - u.z);
+      phi += w * double(voxelFill(b.volume.voxel(uint32_t(x), uint32_t(y), uint32_t(z)))) / DS_FILL_FULL;
+    }
+    return phi;
+  };
+  std::uniform_real_distribution<double> off(-0.999, 0.999);
+  int tiles_opened = 0;
+  for (int round = 0; round < 40; ++round) {
+    for (int w = 0; w < 60; ++w) {
+      const int64_t x = coordinate(brick(rng)), y = coordinate(brick(rng)), z = coordinate(z_brick(rng));
+      const uint32_t f = fill(rng);
+      const Voxel v = f == 0 ? Voxel{0} : makeVoxel(w % 2 ? Material::Enamel : Material::Dentin, f);
+      const auto ux = uint32_t(x), uy = uint32_t(y), uz = uint32_t(z);
+      tiles_opened += b.volume.brick({ux / DS_BRICK_DIM, uy / DS_BRICK_DIM, uz / DS_BRICK_DIM}).uniform &&
+                      b.volume.voxel(ux, uy, uz) != v;
+      b.volume.setVoxel(ux, uy, uz, v);
+      field.written(ux, uy, uz, v);
+      // A tile opened by the write is no longer answered from the tables as the old tile.
+      if (v != 0) {
+        ASSERT_FALSE(field.regionEmpty(x, x, y, y, z, z, true)) << x << " " << y << " " << z;
+      }
+    }
+    // Cells around brick corners (where a copy's apron is read) and anywhere, including the grid's edge.
+    for (int n = 0; n < 400; ++n) {
+      const Vec3 u = n % 4 == 3 ? Vec3{double(dim) - 1 + off(rng) * 0.5, double(brick(rng) * 8) + off(rng),
+                                       double(z_brick(rng) * 8) + off(rng)}
+                                : Vec3{double(brick(rng) * 8) + off(rng), double(brick(rng) * 8) + off(rng),
+                                       double(z_brick(rng) * 8) + off(rng)};
+      ASSERT_NEAR(field.phi(u), reference(u), 1e-12) << "round " << round << " at " << u.x << " " << u.y << " " << u.z;
+    }
+  }
+  for (int64_t z = 40; z < 80; ++z)
+    for (int64_t y = 0; y < dim; ++y)
+      for (int64_t x = 0; x < dim; ++x)
+        ASSERT_EQ(field.voxel(x, y, z), b.volume.voxel(uint32_t(x), uint32_t(y), uint32_t(z))) << x << " " << y << " " << z;
+  EXPECT_GT(tiles_opened, 20) << "writes must turn cached tiles dense";
+}
+
 TEST(VoxelField, RegionEmptyAgreesWithReadingEveryVoxel) {
   Block b = raggedBlock(3);
   VoxelField field(b.volume, b.frame);

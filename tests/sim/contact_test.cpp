@@ -146,6 +146,47 @@ TEST(Contact, MomentAboutAnOffAxisGripIsRCrossF) {
   EXPECT_LT(norm(f.wrench.moment - expected), 0.01 * norm(expected));
 }
 
+TEST(Contact, FrictionLinearizationIsTheDerivativeOfTheFrictionWrench) {
+  // Without Hunt-Crossley damping the normal forces do not depend on the velocity, and below the
+  // slip speed friction is viscous: the wrench is linear in the tool's velocity, so the matrix the
+  // proxy step uses must equal minus its derivative, column by column, to rounding.
+  SimParams params = defaultSimParams();
+  for (TissueParams& t : params.tissues) t.damping_s_per_mm = 0.0;
+  std::vector<ContactPoint> contacts;
+  const Material tissues[] = {Material::Enamel, Material::Dentin, Material::Caries};
+  uint64_t seed = 12345;
+  auto uniform = [&](double lo, double hi) {
+    seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+    return lo + (hi - lo) * double(seed >> 11) * 0x1.0p-53;
+  };
+  for (int i = 0; i < 7; ++i) {
+    ContactPoint cp;
+    cp.position = {uniform(-0.6, 0.6), uniform(-0.6, 0.6), uniform(-0.6, 0.6)};
+    cp.normal = normalized(Vec3{uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)});
+    cp.depth_mm = uniform(0.001, 0.05);
+    cp.area_mm2 = uniform(0.0005, 0.001);
+    cp.material = tissues[i % 3];
+    contacts.push_back(cp);
+  }
+  ToolMotion motion{{0.1, -0.2, 0.3}, {0.2, -0.1, 0.15}, {0.1, 0.2, -0.15}};
+  const ContactForce base = contactForce(contacts, params, motion);
+  ASSERT_GT(base.friction_damping[0], 0.0);
+  constexpr double h = 1e-4;
+  for (int j = 0; j < 6; ++j) {
+    ToolMotion plus = motion, minus = motion;
+    Vec3& vp = j < 3 ? plus.linear : plus.angular;
+    Vec3& vm = j < 3 ? minus.linear : minus.angular;
+    vp[j % 3] += h;
+    vm[j % 3] -= h;
+    const Wrench wp = contactForce(contacts, params, plus).wrench, wm = contactForce(contacts, params, minus).wrench;
+    const double dw[6] = {wp.force.x - wm.force.x, wp.force.y - wm.force.y, wp.force.z - wm.force.z,
+                          wp.moment.x - wm.moment.x, wp.moment.y - wm.moment.y, wp.moment.z - wm.moment.z};
+    for (int i = 0; i < 6; ++i)
+      EXPECT_NEAR(base.friction_damping[size_t(6 * i + j)], -dw[i] / (2 * h), 1e-9 + 1e-6 * std::abs(dw[i] / h))
+          << "row " << i << " column " << j;
+  }
+}
+
 TEST(Contact, ClustersInEmptyChunksAreSkippedWithoutMissingContacts) {
   Block b = flatBlock(Material::Enamel, 8);  // a thin layer: most chunks empty
   VoxelField field(b.volume, b.frame);
