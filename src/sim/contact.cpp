@@ -15,9 +15,9 @@ constexpr double kMinGradient = 0.3;
 // Beyond this field value the point is treated as deep (the ramp across the surface is saturating).
 constexpr double kShallowPhi = 0.45;
 constexpr double kMarchStep = 1.5;  // [voxel]
-// Clearances are stored, and tested, in floats: shrunk by more than their rounding (below 1e-3
-// voxel for a tool within 2048 voxels of the origin).
-constexpr double kClearanceMargin = 2e-3;  // [voxel]
+// Clearances are stored, tested and worked out from a field sampled in floats: shrunk by more than
+// their rounding (below 1e-3 voxel for a tool within 2048 voxels of the origin).
+constexpr double kClearanceMargin = 3e-3;  // [voxel]
 // The clearance test runs on four points at once; the arrays are padded so that a group may read
 // past the last point.
 using Float4 = float __attribute__((vector_size(16)));
@@ -63,6 +63,10 @@ ContactFinder::ContactFinder(size_t max_points, double max_march_voxels)
       shell_y_(max_points + kLanes),
       shell_z_(max_points + kLanes),
       todo_(max_points),
+      todo_x_(max_points + kLanes),
+      todo_y_(max_points + kLanes),
+      todo_z_(max_points + kLanes),
+      todo_phi_(max_points + kLanes),
       max_march_voxels_(max_march_voxels) {
   contacts_.reserve(max_points);
 }
@@ -160,32 +164,40 @@ std::span<const ContactPoint> ContactFinder::find(VoxelField& field, const Point
     const uint32_t end = cluster.first + cluster.count;
     for (uint32_t i = cluster.first; i < end; i += kLanes) {
       const Float4 qx = load4(&shell_x_[i]), qy = load4(&shell_y_[i]), qz = load4(&shell_z_[i]);
-      const Float4 dx = mf[0] * qx + mf[1] * qy + mf[2] * qz + tx - load4(&clear_x_[i]);
-      const Float4 dy = mf[3] * qx + mf[4] * qy + mf[5] * qz + ty - load4(&clear_y_[i]);
-      const Float4 dz = mf[6] * qx + mf[7] * qy + mf[8] * qz + tz - load4(&clear_z_[i]);
+      const Float4 ux = mf[0] * qx + mf[1] * qy + mf[2] * qz + tx;
+      const Float4 uy = mf[3] * qx + mf[4] * qy + mf[5] * qz + ty;
+      const Float4 uz = mf[6] * qx + mf[7] * qy + mf[8] * qz + tz;
+      const Float4 dx = ux - load4(&clear_x_[i]), dy = uy - load4(&clear_y_[i]), dz = uz - load4(&clear_z_[i]);
       const Int4 left = dx * dx + dy * dy + dz * dz >= load4(&clear_r2_[i]);  // -1: sample it
       const uint32_t lanes = std::min<uint32_t>(kLanes, end - i);
       for (uint32_t k = 0; k < lanes; ++k) {
         todo_[n] = i + k;
+        todo_x_[n] = ux[k], todo_y_[n] = uy[k], todo_z_[n] = uz[k];
         n += uint32_t(left[k] & 1);
       }
     }
     st.points_clear += cluster.count - n;
     st.points_tested += n;
+    // The field at those points, four at a time in floats; a point it puts inside tissue is sampled
+    // again exactly, in doubles, for its depth and normal.
+    field.phiBatch(todo_x_.data(), todo_y_.data(), todo_z_.data(), n, todo_phi_.data());
 
     for (uint32_t j = 0; j < n; ++j) {
       const uint32_t i = todo_[j];
-      const Vec3 u = toVoxel(shell.positions[i]);
-      const FieldSample s = field.sample(u);  // outside tissue: phi alone
-      if (s.phi <= 0) {
+      const double phi = todo_phi_[j];
+      if (phi <= 0) {
+        const Vec3 u{todo_x_[j], todo_y_[j], todo_z_[j]};
         const bool look = looks < kLookAroundsPerStep;
         looks += look ? 1 : 0;
-        const double reach = field.clearance(u, s.phi, look) - kClearanceMargin;
-        clear_x_[i] = float(u.x), clear_y_[i] = float(u.y), clear_z_[i] = float(u.z);
+        const double reach = field.clearance(u, phi, look) - kClearanceMargin;
+        clear_x_[i] = todo_x_[j], clear_y_[i] = todo_y_[j], clear_z_[i] = todo_z_[j];
         clear_r2_[i] = reach > 0 ? float(reach * reach) : -1.0f;
         continue;
       }
       clear_r2_[i] = -1.0f;
+      const Vec3 u = toVoxel(shell.positions[i]);
+      const FieldSample s = field.sample(u);
+      if (s.phi <= 0) continue;  // on the surface, to float rounding: sampled again next step
       const Vec3& q = shell.inward[i];
       const Vec3 inward{rot[0] * q.x + rot[1] * q.y + rot[2] * q.z, rot[3] * q.x + rot[4] * q.y + rot[5] * q.z,
                         rot[6] * q.x + rot[7] * q.y + rot[8] * q.z};

@@ -15,9 +15,10 @@ uint64_t mix64(uint64_t z) {
   return z ^ (z >> 31);
 }
 
-// A uniform number in [0, 1) fixed by the voxel and the step: the same dice on every replay.
-double dice(uint64_t voxel, uint64_t step) {
-  return double(mix64(voxel * 0x2545f4914f6cdd1dull ^ mix64(step)) >> 11) * 0x1.0p-53;
+// A uniform number in [0, 1) fixed by the voxel and the step (step_hash = mix64(step)): the same
+// dice on every replay.
+double dice(uint64_t voxel, uint64_t step_hash) {
+  return double(mix64(voxel * 0x2545f4914f6cdd1dull ^ step_hash) >> 11) * 0x1.0p-53;
 }
 
 }  // namespace
@@ -184,13 +185,15 @@ CutStep Cutter::remove(BrickVolume& volume, VoxelField& field, const SimParams& 
   // kept, not looked up again.
   BrickCoord brick{~0u, ~0u, ~0u};
   Voxel* voxels = nullptr;
+  const uint64_t step_hash = mix64(step);
   for (const Candidate& c : candidates_) {
     const Material m = voxelMaterial(c.value);
     const uint32_t fill = voxelFill(c.value);
     const uint64_t index = uint64_t(c.x) + dim * (uint64_t(c.y) + dim * uint64_t(c.z));
     const double share = per_fill * params.tissue(m).hardness * fill;
-    const double lost = std::floor(share + dice(index, step));
-    const uint32_t left = lost >= double(fill) ? 0u : fill - uint32_t(lost);
+    // floor, as both terms are >= 0; a voxel cannot lose more than it holds.
+    const auto lost = uint32_t(std::min(share + dice(index, step_hash), double(DS_FILL_FULL)));
+    const uint32_t left = lost >= fill ? 0u : fill - lost;
     if (left == fill) continue;
     const Voxel now = left == 0 ? Voxel{0} : makeVoxel(m, left);
     const BrickCoord b{c.x >> DS_BRICK_LOG2, c.y >> DS_BRICK_LOG2, c.z >> DS_BRICK_LOG2};

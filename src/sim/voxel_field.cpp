@@ -46,6 +46,18 @@ BrickRef lookupBrick(const BrickVolume& volume, uint32_t bx, uint32_t by, uint32
                                             size_t(bentry & DS_ENTRY_INDEX_MASK) * DS_BRICK_WORDS);
   return r;
 }
+using Float4 = float __attribute__((vector_size(16)));
+using Int4 = int32_t __attribute__((vector_size(16)));
+constexpr std::array<float, 256> kFillOfFloat = [] {
+  std::array<float, 256> t{};
+  for (uint32_t v = 0; v < 256; ++v) t[v] = float(layout::voxelFill(v)) / float(DS_FILL_FULL);
+  return t;
+}();
+Float4 load4(const float* p) {
+  Float4 v;
+  std::memcpy(&v, p, sizeof v);
+  return v;
+}
 }  // namespace
 
 VoxelField::VoxelField(const BrickVolume& volume, const VolumeFrame& frame)
@@ -147,6 +159,48 @@ double VoxelField::phi(const Vec3& u) {
   const double f01 = f[4] + t[0] * (f[5] - f[4]), f11 = f[6] + t[0] * (f[7] - f[6]);
   const double f0 = f00 + t[1] * (f10 - f00), f1 = f01 + t[1] * (f11 - f01);
   return f0 + t[2] * (f1 - f0) - 0.5;
+}
+
+void VoxelField::phiBatch(const float* ux, const float* uy, const float* uz, uint32_t n, float* phi) {
+  const auto dim = uint32_t(dim_);
+  constexpr float kFar = 1 << 30;  // keeps the conversion to integers defined
+  for (uint32_t i = 0; i < n; i += 4) {
+    Float4 u[3] = {load4(ux + i), load4(uy + i), load4(uz + i)};
+    Int4 low[3];
+    Float4 t[3];
+    for (int a = 0; a < 3; ++a) {
+      u[a] = u[a] < -kFar ? -kFar : (u[a] > kFar ? kFar : u[a]);
+      const Int4 toward_zero = __builtin_convertvector(u[a], Int4);
+      low[a] = toward_zero + (u[a] < __builtin_convertvector(toward_zero, Float4));  // floor: -1 where it rounded up
+      t[a] = u[a] - __builtin_convertvector(low[a], Float4);
+    }
+    // The corners lane by lane, from the cell's brick copy; the fills as vectors again.
+    alignas(16) float c[8][4];
+    for (uint32_t k = 0; k < 4; ++k) {
+      const auto x = uint32_t(low[0][k]), y = uint32_t(low[1][k]), z = uint32_t(low[2][k]);
+      if ((x < dim) & (y < dim) & (z < dim)) {
+        const uint32_t m = DS_BRICK_DIM - 1;
+        const Voxel* const v = copy(x >> DS_BRICK_LOG2, y >> DS_BRICK_LOG2, z >> DS_BRICK_LOG2) +
+                               ((x & m) + (y & m) * kSide + (z & m) * kSide * kSide);
+        constexpr uint32_t dy = kSide, dz = kSide * kSide;
+        c[0][k] = kFillOfFloat[v[0]], c[1][k] = kFillOfFloat[v[1]];
+        c[2][k] = kFillOfFloat[v[dy]], c[3][k] = kFillOfFloat[v[dy + 1]];
+        c[4][k] = kFillOfFloat[v[dz]], c[5][k] = kFillOfFloat[v[dz + 1]];
+        c[6][k] = kFillOfFloat[v[dz + dy]], c[7][k] = kFillOfFloat[v[dz + dy + 1]];
+      } else {
+        for (int j = 0; j < 8; ++j)
+          c[j][k] = kFillOfFloat[voxel(int64_t(low[0][k]) + (j & 1), int64_t(low[1][k]) + ((j >> 1) & 1),
+                                       int64_t(low[2][k]) + (j >> 2))];
+      }
+    }
+    Float4 f[8];
+    for (int j = 0; j < 8; ++j) std::memcpy(&f[j], c[j], sizeof f[j]);
+    const Float4 f00 = f[0] + t[0] * (f[1] - f[0]), f10 = f[2] + t[0] * (f[3] - f[2]);
+    const Float4 f01 = f[4] + t[0] * (f[5] - f[4]), f11 = f[6] + t[0] * (f[7] - f[6]);
+    const Float4 f0 = f00 + t[1] * (f10 - f00), f1 = f01 + t[1] * (f11 - f01);
+    const Float4 out = f0 + t[2] * (f1 - f0) - 0.5f;
+    std::memcpy(phi + i, &out, sizeof out);
+  }
 }
 
 FieldSample VoxelField::sample(const Vec3& u, bool with_outside) {

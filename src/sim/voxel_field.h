@@ -61,6 +61,10 @@ class VoxelField {
   FieldSample sample(const Vec3& u, bool with_outside = false);
   // sample(u).phi alone: the cheap test most shell points need.
   double phi(const Vec3& u);
+  // phi at n points given as float voxel coordinates, four at a time: the same field to float
+  // rounding (|error| below 1e-3 within 2048 voxels of the origin). Each array, phi included, must
+  // have room for n rounded up to a multiple of 4.
+  void phiBatch(const float* ux, const float* uy, const float* uz, uint32_t n, float* phi);
   // A lower bound on the distance [voxel] from u to tissue (phi >= 0), given phi = sample(u).phi;
   // 0 inside tissue. Cutting only removes tissue, so the bound stays true until tissue is added:
   // a point that has moved less than this since it was sampled is still outside. look_around: where

@@ -146,6 +146,34 @@ TEST(VoxelField, CachedCopiesFollowWritesOnBrickFacesEdgesAndTiles) {
   EXPECT_GT(tiles_opened, 20) << "writes must turn cached tiles dense";
 }
 
+TEST(VoxelField, BatchPhiAgreesWithTheDoubleFieldToFloatRounding) {
+  // The finder classifies points with the four-wide float field; it must be the double field,
+  // including cells on brick faces, on the grid's edges and wholly outside it.
+  Block b = raggedBlock(3);
+  VoxelField field(b.volume, b.frame);
+  std::mt19937 rng(31);
+  const double dim = double(b.volume.dim());
+  std::uniform_real_distribution<double> xy(-2.0, dim + 1.0), z(52.0, 70.0), edge(-1.5, 0.5);
+  constexpr uint32_t kN = 4001;  // not a multiple of four: the last group is partial
+  std::vector<float> ux(kN + 3), uy(kN + 3), uz(kN + 3), phi(kN + 3);
+  for (uint32_t i = 0; i < kN; ++i) {
+    ux[i] = float(i % 5 == 0 ? edge(rng) : xy(rng));
+    uy[i] = float(i % 7 == 0 ? dim - 1 + edge(rng) : xy(rng));
+    uz[i] = float(z(rng));
+  }
+  field.phiBatch(ux.data(), uy.data(), uz.data(), kN, phi.data());
+  int inside = 0, outside_grid = 0;
+  for (uint32_t i = 0; i < kN; ++i) {
+    const Vec3 u{ux[i], uy[i], uz[i]};
+    const double exact = field.phi(u);
+    ASSERT_NEAR(phi[i], exact, 1e-5) << i << ": " << u.x << " " << u.y << " " << u.z;
+    inside += exact > 0;
+    outside_grid += u.x < 0 || u.y < 0 || u.x > dim - 1 || u.y > dim - 1;
+  }
+  EXPECT_GT(inside, 500);
+  EXPECT_GT(outside_grid, 500);
+}
+
 TEST(VoxelField, RegionEmptyAgreesWithReadingEveryVoxel) {
   Block b = raggedBlock(3);
   VoxelField field(b.volume, b.frame);
