@@ -169,6 +169,7 @@ std::span<const ContactPoint> ContactFinder::find(VoxelField& field, const Point
       const Float4 uz = mf[6] * qx + mf[7] * qy + mf[8] * qz + tz;
       const Float4 dx = ux - load4(&clear_x_[i]), dy = uy - load4(&clear_y_[i]), dz = uz - load4(&clear_z_[i]);
       const Int4 left = dx * dx + dy * dy + dz * dz >= load4(&clear_r2_[i]);  // -1: sample it
+      if ((left[0] | left[1] | left[2] | left[3]) == 0) continue;  // most groups, once the tool settles
       const uint32_t lanes = std::min<uint32_t>(kLanes, end - i);
       for (uint32_t k = 0; k < lanes; ++k) {
         todo_[n] = i + k;

@@ -38,11 +38,11 @@ CutStep Cutter::cut(BrickVolume& volume, VoxelField& field, std::span<const Cont
   out.demand_mm3 = params.cutting.removal_rate_mm3_per_s * ability * std::min(speed, 1.0) * dt;
   if (!(out.demand_mm3 > 0)) return out;
 
-  constexpr double kFillMargin = 3.0;
-  constexpr size_t kMinVoxels = 512;
-  const double voxels_of_demand = kFillMargin * out.demand_mm3 / field.frame().voxelVolumeMm3();
-  const size_t limit = std::min(max_voxels_, std::max(kMinVoxels, size_t(std::ceil(voxels_of_demand))));
-  gather(field, contacts, params, step, limit);
+  // The step takes voxels until they hold kFillMargin times the fill its demand needs at the
+  // hardest tissue among them: no voxel is then asked for more than 1/kFillMargin of its fill.
+  constexpr double kFillMargin = 2.0;
+  const double unit_mm3 = field.frame().voxelVolumeMm3() / DS_FILL_FULL;
+  gather(field, contacts, params, kFillMargin * out.demand_mm3 / unit_mm3);
   out.candidates = uint32_t(candidates_.size());
   if (candidates_.empty()) return out;
 
@@ -68,7 +68,7 @@ CutStep Cutter::cut(BrickVolume& volume, VoxelField& field, std::span<const Cont
 }
 
 void Cutter::gather(VoxelField& field, std::span<const ContactPoint> contacts, const SimParams& params,
-                    uint64_t step, size_t limit) {
+                    double fill_needed) {
   candidates_.clear();
   const int64_t dim = int64_t(field.dim());
   const double rho = std::max(params.cutting.reach_mm / field.voxelMm(), 0.5);  // [voxel]
@@ -87,11 +87,12 @@ void Cutter::gather(VoxelField& field, std::span<const ContactPoint> contacts, c
     return r;
   };
 
-  // The contacts take turns from one that moves on every step, so that a buried head costs a
+  // The contacts take turns: a step starts where the last one stopped, so that a step costs a
   // bounded time and, over a few steps, every contact gets its turn. The marks cover a window
   // centred on the first of them, wider than any head; a contact reaching outside it waits.
   const size_t n = contacts.size();
-  const size_t first = n > 0 ? size_t(step % n) : 0;
+  const size_t first = n > 0 ? size_t(turn_ % n) : 0;
+  double fill_sum = 0, hardest = 0;
   size_t k0 = 0;
   while (k0 < n && !contacts[(first + k0) % n].cutting) ++k0;
   if (k0 == n) return;
@@ -134,7 +135,12 @@ void Cutter::gather(VoxelField& field, std::span<const ContactPoint> contacts, c
           const Voxel v = field.voxel(x, y, z);
           if (v == 0 || params.tissue(voxelMaterial(v)).hardness <= 0) continue;
           candidates_.push_back({uint32_t(x), uint32_t(y), uint32_t(z), v});
-          if (candidates_.size() == limit) return;
+          fill_sum += voxelFill(v);
+          hardest = std::max(hardest, params.tissue(voxelMaterial(v)).hardness);
+          if (fill_sum >= fill_needed * hardest || candidates_.size() == max_voxels_) {
+            turn_ = first + k;  // this contact may reach more: it starts the next step
+            return;
+          }
         }
       }
   }

@@ -1,10 +1,14 @@
 // Cutter: removes tissue under a bur's cutting head at the rate hardness x cutting ability x turbine speed x time.
 //
-// Each step, the voxels under the head are those within `reach` of a cutting point in contact, or
-// of the segment from that point out to the tissue surface. The step removes
+// The voxels under the head are those within `reach` of a cutting point in contact, or of the
+// segment from that point out to the tissue surface. The contacts take turns: each step takes the
+// voxels of the next contacts in the list, from where the last step stopped, until those voxels
+// hold twice the fill its demand needs at the hardest tissue among them. The step removes
 //   demand = removal_rate * ability * speed * dt          [mm^3 at hardness 1]
 // spread over those voxels in proportion to each one's fill times its tissue's hardness, so that
-//   removed = demand * (fill-weighted mean hardness of the voxels under the head).
+//   removed = demand * (fill-weighted mean hardness of the voxels taken),
+// and no voxel loses more than half its fill in one step. The turn sweeps the whole contact in a
+// few tens of steps; a step touches a few dozen voxels in enamel, not every voxel under the head.
 // With one tissue that is exactly removal_rate * hardness * ability * speed * dt, however many
 // voxels the head touches; in mixed contact the softer tissue goes faster. A voxel's fill is 5
 // bits, so the fractional part of each voxel's share is rounded up or down at random, with a hash
@@ -39,9 +43,8 @@ struct CutStep {
 
 class Cutter {
  public:
-  // Preallocates for up to max_candidates voxels a step; cut() never allocates. A step takes the
-  // voxels of its contacts in turn until they could hold three times its demand (at least 512,
-  // at most max_voxels_per_step): enough fill for the demand, and a bounded time when the head is buried.
+  // Preallocates for up to max_candidates voxels a step; cut() never allocates. A step takes at most
+  // max_voxels_per_step voxels: a bounded time however deep the head is buried.
   explicit Cutter(size_t max_candidates = 1 << 16, size_t max_voxels_per_step = 2048);
 
   // One step of cutting by the contacts flagged `cutting`. speed in [0,1], dt [s]. edits may be null
@@ -62,9 +65,9 @@ class Cutter {
   static constexpr uint64_t kMarkBits = kMarkSide * kMarkSide * kMarkSide;
   static constexpr size_t kMaxTouched = 16384;  // beyond this, the next step clears the whole bitmap
 
-  // Fills candidates_: the tissue voxels the contacts taking their turn this step reach.
-  void gather(VoxelField& field, std::span<const ContactPoint> contacts, const SimParams& params, uint64_t step,
-              size_t limit);
+  // Fills candidates_: the tissue voxels the contacts taking their turn this step reach, until their
+  // fill reaches fill_needed [fill units at hardness 1] times the largest hardness among them.
+  void gather(VoxelField& field, std::span<const ContactPoint> contacts, const SimParams& params, double fill_needed);
   void touch(size_t word);  // a word of the marks went from zero to non-zero
   void clearMarks();
   // Whether the volume's reserve holds every brick and index block the candidates could open.
@@ -74,6 +77,7 @@ class Cutter {
                  double fill_sum, CutStep out);
 
   size_t max_voxels_;
+  size_t turn_ = 0;                    // the contact (by its place in the list) whose turn is next
   std::vector<Candidate> candidates_;
   std::vector<uint64_t> marks_;        // (kMarkBits / 64) the voxels already taken this step
   std::vector<size_t> touched_;        // (kMaxTouched) words of marks_ set this step
