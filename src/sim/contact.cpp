@@ -196,7 +196,8 @@ std::span<const ContactPoint> ContactFinder::find(VoxelField& field, const Point
         continue;
       }
       clear_r2_[i] = -1.0f;
-      const Vec3 u = toVoxel(shell.positions[i]);
+      // From the float copy of the shell (to 1e-6 mm), whose cache lines the clearance test read.
+      const Vec3 u = toVoxel(Vec3{shell_x_[i], shell_y_[i], shell_z_[i]});
       const FieldSample s = field.sample(u);
       if (s.phi <= 0) continue;  // on the surface, to float rounding: sampled again next step
       const Vec3& q = shell.inward[i];

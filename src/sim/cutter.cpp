@@ -2,6 +2,7 @@
 #include "sim/cutter.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace dentsim {
@@ -187,10 +188,13 @@ CutStep Cutter::remove(BrickVolume& volume, VoxelField& field, const SimParams& 
   const uint64_t dim = volume.dim();
   const double unit_mm3 = field.frame().voxelVolumeMm3() / DS_FILL_FULL;
   const double per_fill = out.demand_mm3 / (unit_mm3 * fill_sum);  // fill units lost per unit held, at hardness 1
-  // Candidates come contact by contact, mostly a few bricks at a time: the brick last written is
-  // kept, not looked up again.
-  BrickCoord brick{~0u, ~0u, ~0u};
-  Voxel* voxels = nullptr;
+  // Candidates come contact by contact, from a few bricks that neighbouring contacts share: the
+  // bricks written keep their addresses in a small table instead of walking the index again.
+  struct Written {
+    BrickCoord brick{~0u, ~0u, ~0u};
+    Voxel* voxels = nullptr;
+  };
+  std::array<Written, 16> written{};
   const uint64_t step_hash = mix64(step);
   for (const Candidate& c : candidates_) {
     const Material m = voxelMaterial(c.value);
@@ -203,12 +207,10 @@ CutStep Cutter::remove(BrickVolume& volume, VoxelField& field, const SimParams& 
     if (left == fill) continue;
     const Voxel now = left == 0 ? Voxel{0} : makeVoxel(m, left);
     const BrickCoord b{c.x >> DS_BRICK_LOG2, c.y >> DS_BRICK_LOG2, c.z >> DS_BRICK_LOG2};
-    if (b.x != brick.x || b.y != brick.y || b.z != brick.z) {
-      brick = b;
-      voxels = volume.writableBrick(b);
-    }
+    Written& w = written[(b.x & 3u) | ((b.y & 1u) << 2) | ((b.z & 1u) << 3)];
+    if (b.x != w.brick.x || b.y != w.brick.y || b.z != w.brick.z) w = {b, volume.writableBrick(b)};
     const uint32_t m7 = DS_BRICK_DIM - 1;
-    voxels[layout::brickCoordToOffset(c.x & m7, c.y & m7, c.z & m7)] = now;
+    w.voxels[layout::brickCoordToOffset(c.x & m7, c.y & m7, c.z & m7)] = now;
     field.written(c.x, c.y, c.z, now);
     if (edits != nullptr) edits->push(packVoxelEdit(index, now));
     ++out.voxels_changed;
