@@ -226,16 +226,14 @@ FieldSample VoxelField::sample(const Vec3& u, bool with_outside) {
   s.gradient.z = f1 - f0;
   if (s.phi <= 0) return s;
 
-  // The tissue: the corner whose weighted fill is largest.
-  double best = 0;
-  for (int i = 0; i < 8; ++i) {
-    const double w = ((i & 1) ? tx : 1 - tx) * ((i & 2) ? ty : 1 - ty) * ((i & 4) ? tz : 1 - tz);
-    const double score = (w + 1e-9) * f[i];
-    if (score > best) {
-      best = score;
-      s.material = voxelMaterial(c[i]);
-    }
-  }
+  // The tissue: the corner whose weighted fill is largest (the first of equals), picked without a
+  // branch per corner, which a contact's corners would mispredict.
+  double score[8];
+  for (int i = 0; i < 8; ++i)
+    score[i] = (((i & 1) ? tx : 1 - tx) * ((i & 2) ? ty : 1 - ty) * ((i & 4) ? tz : 1 - tz) + 1e-9) * f[i];
+  int best = 0;
+  for (int i = 1; i < 8; ++i) best = score[i] > score[best] ? i : best;
+  s.material = voxelMaterial(c[best]);
   return s;
 }
 
