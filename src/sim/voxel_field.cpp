@@ -85,22 +85,24 @@ void VoxelField::load(uint32_t s, uint32_t bx, uint32_t by, uint32_t bz) {
       else
         std::memset(row, own.tile, n);
     }
-  // The first layer of the +x, +y and +z neighbours, their shared edges and the far corner.
-  const BrickRef nx = lookupBrick(volume_, bx + 1, by, bz), ny = lookupBrick(volume_, bx, by + 1, bz),
-                 nz = lookupBrick(volume_, bx, by, bz + 1), nxy = lookupBrick(volume_, bx + 1, by + 1, bz),
-                 nxz = lookupBrick(volume_, bx + 1, by, bz + 1), nyz = lookupBrick(volume_, bx, by + 1, bz + 1),
-                 nxyz = lookupBrick(volume_, bx + 1, by + 1, bz + 1);
-  for (uint32_t a = 0; a < n; ++a) {
-    for (uint32_t b = 0; b < n; ++b) {
-      c[n + a * sy + b * sz] = nx.at(0, a, b);
-      c[a + n * sy + b * sz] = ny.at(a, 0, b);
-      c[a + b * sy + n * sz] = nz.at(a, b, 0);
-    }
-    c[n + n * sy + a * sz] = nxy.at(0, 0, a);
-    c[n + a * sy + n * sz] = nxz.at(0, a, 0);
-    c[a + n * sy + n * sz] = nyz.at(a, 0, 0);
-  }
-  c[n + n * sy + n * sz] = nxyz.at(0, 0, 0);
+  // The first layer of the +x, +y and +z neighbours, their shared edges and the far corner: a tile
+  // fills its part, a dense brick is read without asking again per voxel.
+  // Copy entry at + a step_a + b step_b takes the neighbour's voxel a from_a + b from_b.
+  auto face = [&](const BrickRef& nb, uint32_t at, uint32_t step_a, uint32_t step_b, uint32_t from_a, uint32_t from_b,
+                  uint32_t count_b) {
+    for (uint32_t a = 0; a < n; ++a)
+      for (uint32_t b = 0; b < count_b; ++b)
+        c[at + a * step_a + b * step_b] = nb.voxels ? nb.voxels[a * from_a + b * from_b] : nb.tile;
+  };
+  constexpr uint32_t by_ = DS_BRICK_DIM, bz_ = DS_BRICK_DIM * DS_BRICK_DIM;  // a brick's own strides
+  face(lookupBrick(volume_, bx + 1, by, bz), n, sy, sz, by_, bz_, n);               // x = 8: (y, z)
+  face(lookupBrick(volume_, bx, by + 1, bz), n * sy, 1, sz, 1, bz_, n);             // y = 8: (x, z)
+  face(lookupBrick(volume_, bx, by, bz + 1), n * sz, 1, sy, 1, by_, n);             // z = 8: (x, y)
+  face(lookupBrick(volume_, bx + 1, by + 1, bz), n + n * sy, sz, 0, bz_, 0, 1);     // x = y = 8: z
+  face(lookupBrick(volume_, bx + 1, by, bz + 1), n + n * sz, sy, 0, by_, 0, 1);     // x = z = 8: y
+  face(lookupBrick(volume_, bx, by + 1, bz + 1), n * sy + n * sz, 1, 0, 1, 0, 1);   // y = z = 8: x
+  const BrickRef corner = lookupBrick(volume_, bx + 1, by + 1, bz + 1);
+  c[n + n * sy + n * sz] = corner.at(0, 0, 0);
 }
 
 void VoxelField::written(uint32_t x, uint32_t y, uint32_t z, Voxel v) {
@@ -275,13 +277,19 @@ bool VoxelField::regionEmpty(int64_t x0, int64_t x1, int64_t y0, int64_t y1, int
   for (int64_t bz = z0 >> DS_BRICK_LOG2; bz <= z1 >> DS_BRICK_LOG2; ++bz)
     for (int64_t by = y0 >> DS_BRICK_LOG2; by <= y1 >> DS_BRICK_LOG2; ++by)
       for (int64_t bx = x0 >> DS_BRICK_LOG2; bx <= x1 >> DS_BRICK_LOG2; ++bx) {
-        const Voxel* const copied = copy(uint32_t(bx), uint32_t(by), uint32_t(bz));
-        const CachedBrick& b = cache_[slot(uint32_t(bx), uint32_t(by), uint32_t(bz))];
-        if (b.is_tile) {
-          if (b.tile != 0) return false;
+        // From the brick's copy when cached; otherwise from the volume itself, without making a copy
+        // (the boxes reach far beyond the cells the step samples).
+        const uint32_t s = slot(uint32_t(bx), uint32_t(by), uint32_t(bz));
+        const CachedBrick& b = cache_[s];
+        const bool cached = b.key == brickKey(uint32_t(bx), uint32_t(by), uint32_t(bz));
+        const BrickRef ref = cached ? BrickRef{b.is_tile ? nullptr : &copies_[size_t(s) * kCopyBytes], b.tile}
+                                    : lookupBrick(volume_, uint32_t(bx), uint32_t(by), uint32_t(bz));
+        if (ref.voxels == nullptr) {
+          if (ref.tile != 0) return false;
           continue;
         }
         if (tiles_only) return false;
+        const int64_t row_y = cached ? kSide : DS_BRICK_DIM, row_z = cached ? kSide * kSide : DS_BRICK_DIM * DS_BRICK_DIM;
         // A brick row of 8 voxels is one 64-bit word: test the row's x range at once.
         const int64_t lx = std::max(x0, bx << DS_BRICK_LOG2) & m, hx = std::min(x1, (bx << DS_BRICK_LOG2) + m) & m;
         const uint64_t mask = (hx - lx == 7 ? ~0ull : ((uint64_t{1} << (8 * (hx - lx + 1))) - 1)) << (8 * lx);
@@ -290,7 +298,7 @@ bool VoxelField::regionEmpty(int64_t x0, int64_t x1, int64_t y0, int64_t y1, int
         for (int64_t z = lz; z <= hz; ++z)
           for (int64_t y = ly; y <= hy; ++y) {
             uint64_t row;
-            std::memcpy(&row, copied + y * kSide + z * kSide * kSide, sizeof row);
+            std::memcpy(&row, ref.voxels + y * row_y + z * row_z, sizeof row);
             if (row & mask) return false;
           }
       }
