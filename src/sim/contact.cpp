@@ -62,11 +62,11 @@ ContactFinder::ContactFinder(size_t max_points, double max_march_voxels)
       shell_x_(max_points + kLanes),
       shell_y_(max_points + kLanes),
       shell_z_(max_points + kLanes),
-      todo_(max_points),
-      todo_x_(max_points + kLanes),
-      todo_y_(max_points + kLanes),
-      todo_z_(max_points + kLanes),
-      todo_phi_(max_points + kLanes),
+      due_(max_points),
+      due_x_(max_points + kLanes),
+      due_y_(max_points + kLanes),
+      due_z_(max_points + kLanes),
+      due_phi_(max_points + kLanes),
       max_march_voxels_(max_march_voxels) {
   contacts_.reserve(max_points);
 }
@@ -127,7 +127,7 @@ bool ContactFinder::resolve(VoxelField& field, const Vec3& u, const Vec3& inward
 
 std::span<const ContactPoint> ContactFinder::find(VoxelField& field, const PointShell& shell, const Pose& tool_pose,
                                                   ContactStats* stats) {
-  assert(shell.size() <= contacts_.capacity() && shell.size() <= todo_.size());
+  assert(shell.size() <= contacts_.capacity() && shell.size() <= due_.size());
   if (&shell != clearance_shell_ || &field != clearance_field_) {
     forgetClearances();
     adoptShell(shell);
@@ -172,8 +172,8 @@ std::span<const ContactPoint> ContactFinder::find(VoxelField& field, const Point
       if ((left[0] | left[1] | left[2] | left[3]) == 0) continue;  // most groups, once the tool settles
       const uint32_t lanes = std::min<uint32_t>(kLanes, end - i);
       for (uint32_t k = 0; k < lanes; ++k) {
-        todo_[n] = i + k;
-        todo_x_[n] = ux[k], todo_y_[n] = uy[k], todo_z_[n] = uz[k];
+        due_[n] = i + k;
+        due_x_[n] = ux[k], due_y_[n] = uy[k], due_z_[n] = uz[k];
         n += uint32_t(left[k] & 1);
       }
     }
@@ -181,17 +181,17 @@ std::span<const ContactPoint> ContactFinder::find(VoxelField& field, const Point
     st.points_tested += n;
     // The field at those points, four at a time in floats; a point it puts inside tissue is sampled
     // again exactly, in doubles, for its depth and normal.
-    field.phiBatch(todo_x_.data(), todo_y_.data(), todo_z_.data(), n, todo_phi_.data());
+    field.phiBatch(due_x_.data(), due_y_.data(), due_z_.data(), n, due_phi_.data());
 
     for (uint32_t j = 0; j < n; ++j) {
-      const uint32_t i = todo_[j];
-      const double phi = todo_phi_[j];
+      const uint32_t i = due_[j];
+      const double phi = due_phi_[j];
       if (phi <= 0) {
-        const Vec3 u{todo_x_[j], todo_y_[j], todo_z_[j]};
+        const Vec3 u{due_x_[j], due_y_[j], due_z_[j]};
         const bool look = looks < kLookAroundsPerStep;
         looks += look ? 1 : 0;
         const double reach = field.clearance(u, phi, look) - kClearanceMargin;
-        clear_x_[i] = todo_x_[j], clear_y_[i] = todo_y_[j], clear_z_[i] = todo_z_[j];
+        clear_x_[i] = due_x_[j], clear_y_[i] = due_y_[j], clear_z_[i] = due_z_[j];
         clear_r2_[i] = reach > 0 ? float(reach * reach) : -1.0f;
         continue;
       }

@@ -76,9 +76,9 @@ class ContactFinder {
   // points at once): the bound is shrunk by more than their rounding.
   std::vector<float> clear_x_, clear_y_, clear_z_, clear_r2_;
   std::vector<float> shell_x_, shell_y_, shell_z_;  // the shell's positions, tool frame [mm]
-  std::vector<uint32_t> todo_;                       // the points a cluster samples
-  std::vector<float> todo_x_, todo_y_, todo_z_;      // (padded) where they are [voxel]
-  std::vector<float> todo_phi_;                      // (padded) the field there
+  std::vector<uint32_t> due_;                        // the points of a cluster due for a sample
+  std::vector<float> due_x_, due_y_, due_z_;         // (padded) where they are [voxel]
+  std::vector<float> due_phi_;                       // (padded) the field there
   std::vector<ContactPoint> contacts_;
   const PointShell* clearance_shell_ = nullptr;  // the shell the arrays belong to
   const VoxelField* clearance_field_ = nullptr;  // and the field
