@@ -151,18 +151,6 @@ bool VoxelField::cell(const Vec3& u, Voxel c[8], double t[3]) {
   return (c[0] | c[1] | c[2] | c[3] | c[4] | c[5] | c[6] | c[7]) != 0;
 }
 
-double VoxelField::phi(const Vec3& u) {
-  Voxel c[8];
-  double t[3];
-  if (!cell(u, c, t)) return -0.5;
-  double f[8];
-  for (int i = 0; i < 8; ++i) f[i] = kFillOf[c[i]];
-  const double f00 = f[0] + t[0] * (f[1] - f[0]), f10 = f[2] + t[0] * (f[3] - f[2]);
-  const double f01 = f[4] + t[0] * (f[5] - f[4]), f11 = f[6] + t[0] * (f[7] - f[6]);
-  const double f0 = f00 + t[1] * (f10 - f00), f1 = f01 + t[1] * (f11 - f01);
-  return f0 + t[2] * (f1 - f0) - 0.5;
-}
-
 void VoxelField::phiBatch(const float* ux, const float* uy, const float* uz, uint32_t n, float* phi) {
   const auto dim = uint32_t(dim_);
   constexpr float kFar = 1 << 30;  // keeps the conversion to integers defined

@@ -59,8 +59,6 @@ class VoxelField {
   // The field at continuous voxel coordinate u. Outside tissue (phi <= 0) the material is left empty,
   // and the gradient zero unless with_outside is set.
   FieldSample sample(const Vec3& u, bool with_outside = false);
-  // sample(u).phi alone: the cheap test most shell points need.
-  double phi(const Vec3& u);
   // phi at n points given as float voxel coordinates, four at a time: the same field to float
   // rounding (|error| below 1e-3 within 2048 voxels of the origin). Each array, phi included, must
   // have room for n rounded up to a multiple of 4.

@@ -56,7 +56,7 @@ TEST(VoxelField, ClearanceNeverOverstatesTheDistanceToTissue) {
   int checked = 0, far = 0;
   for (int n = 0; n < 3000; ++n) {
     const Vec3 u{xy(rng), xy(rng), z(rng)};
-    const double phi = field.phi(u);
+    const double phi = field.sample(u).phi;
     const double c = field.clearance(u, phi);
     if (phi >= 0) {
       EXPECT_EQ(c, 0.0);
@@ -68,8 +68,8 @@ TEST(VoxelField, ClearanceNeverOverstatesTheDistanceToTissue) {
       Vec3 d{unit(rng), unit(rng), unit(rng)};
       if (norm(d) < 1e-3) continue;
       d = normalized(d);
-      for (double t = 0.0; t < c; t += 0.02) ASSERT_LT(field.phi(u + d * t), 0.0) << "u " << u.x << "," << u.y << "," << u.z << " t " << t << " of " << c;
-      ASSERT_LT(field.phi(u + d * (c * (1 - 1e-9))), 0.0);
+      for (double t = 0.0; t < c; t += 0.02) ASSERT_LT(field.sample(u + d * t).phi, 0.0) << "u " << u.x << "," << u.y << "," << u.z << " t " << t << " of " << c;
+      ASSERT_LT(field.sample(u + d * (c * (1 - 1e-9))).phi, 0.0);
     }
     ++checked;
     // Well above the bricks of the ragged layer (its top brick ends at voxel z = 71), the bound
@@ -136,7 +136,7 @@ TEST(VoxelField, CachedCopiesFollowWritesOnBrickFacesEdgesAndTiles) {
                                        double(z_brick(rng) * 8) + off(rng)}
                                 : Vec3{double(brick(rng) * 8) + off(rng), double(brick(rng) * 8) + off(rng),
                                        double(z_brick(rng) * 8) + off(rng)};
-      ASSERT_NEAR(field.phi(u), reference(u), 1e-12) << "round " << round << " at " << u.x << " " << u.y << " " << u.z;
+      ASSERT_NEAR(field.sample(u).phi, reference(u), 1e-12) << "round " << round << " at " << u.x << " " << u.y << " " << u.z;
     }
   }
   for (int64_t z = 40; z < 80; ++z)
@@ -165,7 +165,7 @@ TEST(VoxelField, BatchPhiAgreesWithTheDoubleFieldToFloatRounding) {
   int inside = 0, outside_grid = 0;
   for (uint32_t i = 0; i < kN; ++i) {
     const Vec3 u{ux[i], uy[i], uz[i]};
-    const double exact = field.phi(u);
+    const double exact = field.sample(u).phi;
     ASSERT_NEAR(phi[i], exact, 1e-5) << i << ": " << u.x << " " << u.y << " " << u.z;
     inside += exact > 0;
     outside_grid += u.x < 0 || u.y < 0 || u.x > dim - 1 || u.y > dim - 1;
