@@ -43,16 +43,10 @@ CutStep Cutter::cut(BrickVolume& volume, VoxelField& field, std::span<const Cont
   // hardest tissue among them: no voxel is then asked for more than 1/kFillMargin of its fill.
   constexpr double kFillMargin = 2.0;
   const double unit_mm3 = field.frame().voxelVolumeMm3() / DS_FILL_FULL;
-  gather(field, contacts, params, kFillMargin * out.demand_mm3 / unit_mm3);
+  const Taken taken = gather(field, contacts, params, kFillMargin * out.demand_mm3 / unit_mm3);
   out.candidates = uint32_t(candidates_.size());
   if (candidates_.empty()) return out;
-
-  double fill_sum = 0, hard_fill_sum = 0;
-  for (const Candidate& c : candidates_) {
-    fill_sum += voxelFill(c.value);
-    hard_fill_sum += params.tissue(voxelMaterial(c.value)).hardness * voxelFill(c.value);
-  }
-  out.expected_mm3 = out.demand_mm3 * hard_fill_sum / fill_sum;
+  out.expected_mm3 = out.demand_mm3 * taken.hard_fill / taken.fill;
 
   // ---- room: the channel takes every edit, the volume's reserve every tile turned dense ----
   if (edits != nullptr && edits->freeSlots() < candidates_.size()) {
@@ -65,11 +59,11 @@ CutStep Cutter::cut(BrickVolume& volume, VoxelField& field, std::span<const Cont
       return out;
     }
   }
-  return remove(volume, field, params, step, edits, fill_sum, out);
+  return remove(volume, field, params, step, edits, taken.fill, out);
 }
 
-void Cutter::gather(VoxelField& field, std::span<const ContactPoint> contacts, const SimParams& params,
-                    double fill_needed) {
+Cutter::Taken Cutter::gather(VoxelField& field, std::span<const ContactPoint> contacts, const SimParams& params,
+                             double fill_needed) {
   candidates_.clear();
   const int64_t dim = int64_t(field.dim());
   const double rho = std::max(params.cutting.reach_mm / field.voxelMm(), 0.5);  // [voxel]
@@ -93,10 +87,11 @@ void Cutter::gather(VoxelField& field, std::span<const ContactPoint> contacts, c
   // centred on the first of them, wider than any head; a contact reaching outside it waits.
   const size_t n = contacts.size();
   const size_t first = n > 0 ? size_t(turn_ % n) : 0;
-  double fill_sum = 0, hardest = 0;
+  Taken taken;
+  double hardest = 0;
   size_t k0 = 0;
   while (k0 < n && !contacts[(first + k0) % n].cutting) ++k0;
-  if (k0 == n) return;
+  if (k0 == n) return taken;
   const Vec3 centre = field.toVoxel(contacts[(first + k0) % n].position);
   const int64_t half = int64_t(kMarkSide / 2);
   const int64_t origin[3] = {voxelFloor(centre.x) - half, voxelFloor(centre.y) - half, voxelFloor(centre.z) - half};
@@ -136,15 +131,18 @@ void Cutter::gather(VoxelField& field, std::span<const ContactPoint> contacts, c
           const Voxel v = field.voxel(x, y, z);
           if (v == 0 || params.tissue(voxelMaterial(v)).hardness <= 0) continue;
           candidates_.push_back({uint32_t(x), uint32_t(y), uint32_t(z), v});
-          fill_sum += voxelFill(v);
-          hardest = std::max(hardest, params.tissue(voxelMaterial(v)).hardness);
-          if (fill_sum >= fill_needed * hardest || candidates_.size() == max_voxels_) {
+          const double hardness = params.tissue(voxelMaterial(v)).hardness;
+          taken.fill += voxelFill(v);
+          taken.hard_fill += hardness * voxelFill(v);
+          hardest = std::max(hardest, hardness);
+          if (taken.fill >= fill_needed * hardest || candidates_.size() == max_voxels_) {
             turn_ = first + k;  // this contact may reach more: it starts the next step
-            return;
+            return taken;
           }
         }
       }
   }
+  return taken;
 }
 
 void Cutter::touch(size_t word) {

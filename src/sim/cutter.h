@@ -65,9 +65,13 @@ class Cutter {
   static constexpr uint64_t kMarkBits = kMarkSide * kMarkSide * kMarkSide;
   static constexpr size_t kMaxTouched = 16384;  // beyond this, the next step clears the whole bitmap
 
+  // What gather() took: the candidates' fill, and their fill times hardness [fill units].
+  struct Taken {
+    double fill = 0, hard_fill = 0;
+  };
   // Fills candidates_: the tissue voxels the contacts taking their turn this step reach, until their
   // fill reaches fill_needed [fill units at hardness 1] times the largest hardness among them.
-  void gather(VoxelField& field, std::span<const ContactPoint> contacts, const SimParams& params, double fill_needed);
+  Taken gather(VoxelField& field, std::span<const ContactPoint> contacts, const SimParams& params, double fill_needed);
   void touch(size_t word);  // a word of the marks went from zero to non-zero
   void clearMarks();
   // Whether the volume's reserve holds every brick and index block the candidates could open.

@@ -12,11 +12,15 @@ namespace {
 bool isTile(uint32_t entry) { return (entry & DS_ENTRY_UNIFORM) != 0; }
 Voxel tileValue(uint32_t entry) { return Voxel(entry & 0xffu); }
 // A voxel byte's fill as a fraction: a table is cheaper than masking and converting eight corners.
-constexpr std::array<double, 256> kFillOf = [] {
-  std::array<double, 256> t{};
-  for (uint32_t v = 0; v < 256; ++v) t[v] = double(layout::voxelFill(v)) / DS_FILL_FULL;
+// Doubles for the exact samples, floats for the batched ones.
+template <class Real>
+constexpr std::array<Real, 256> fillTable() {
+  std::array<Real, 256> t{};
+  for (uint32_t v = 0; v < 256; ++v) t[v] = Real(layout::voxelFill(v)) / Real(DS_FILL_FULL);
   return t;
-}();
+}
+constexpr std::array<double, 256> kFillOf = fillTable<double>();
+constexpr std::array<float, 256> kFillOfFloat = fillTable<float>();
 // A brick as the index tables give it: its voxels, or the value of a tile.
 struct BrickRef {
   const Voxel* voxels = nullptr;
@@ -48,11 +52,6 @@ BrickRef lookupBrick(const BrickVolume& volume, uint32_t bx, uint32_t by, uint32
 }
 using Float4 = float __attribute__((vector_size(16)));
 using Int4 = int32_t __attribute__((vector_size(16)));
-constexpr std::array<float, 256> kFillOfFloat = [] {
-  std::array<float, 256> t{};
-  for (uint32_t v = 0; v < 256; ++v) t[v] = float(layout::voxelFill(v)) / float(DS_FILL_FULL);
-  return t;
-}();
 Float4 load4(const float* p) {
   Float4 v;
   std::memcpy(&v, p, sizeof v);
