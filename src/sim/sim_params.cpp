@@ -8,6 +8,8 @@
 //   5. Saving and equality
 #include "sim/sim_params.h"
 
+#include "io/strict_json.h"
+
 #include <cmath>
 #include <exception>
 #include <iterator>
@@ -136,30 +138,6 @@ std::vector<std::string> tissueKeys() {
   return keys;
 }
 
-// A bur name is a file stem: 1..64 letters, digits, '_', '-' or '.'.
-bool isToolName(const std::string& name) {
-  if (name.empty() || name.size() > 64) return false;
-  for (char c : name) {
-    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
-                    c == '-' || c == '.';
-    if (!ok) return false;
-  }
-  return true;
-}
-
-// A JSON string literal of `s` for a message: ASCII on one line (escaped), at most 64 bytes of `s`.
-std::string quoted(const std::string& s) {
-  constexpr size_t kMax = 64;
-  const std::string literal = json(s.substr(0, kMax)).dump(-1, ' ', true, json::error_handler_t::replace);
-  return s.size() > kMax ? literal + "..." : literal;
-}
-
-// "a.b" for a plain key, a."odd key" otherwise, so that every path stays on one line.
-std::string childPath(const std::string& path, const std::string& key) {
-  const std::string segment = isToolName(key) ? key : quoted(key);
-  return path.empty() ? segment : path + "." + segment;
-}
-
 }  // namespace
 
 // ---- 2. defaults ---------------------------------------------------------------------------------------
@@ -217,30 +195,8 @@ std::string simParamsJson(const SimParams& params) {
 namespace {
 
 // Checks parsed JSON against the schema and keeps the first error as "<path>: <problem>".
-class PresetReader {
+class PresetReader : public JsonSchemaReader {
  public:
-  bool failed() const { return !error_.empty(); }
-  const std::string& error() const { return error_; }
-
-  bool fail(const std::string& path, const std::string& problem) {
-    if (error_.empty()) error_ = (path.empty() ? std::string("(top level)") : path) + ": " + problem;
-    return false;
-  }
-
-  // `j` must be an object whose keys are all in `known`.
-  bool object(const json& j, const std::string& path, const std::vector<std::string>& known) {
-    if (!j.is_object()) return fail(path, std::string("expected an object, got ") + j.type_name());
-    for (const auto& [key, value] : j.items()) {
-      bool found = false;
-      for (const std::string& k : known) found = found || k == key;
-      if (found) continue;
-      std::string list;
-      for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
-      return fail(childPath(path, key), "unknown key (known: " + list + ")");
-    }
-    return true;
-  }
-
   // Overrides the fields that `j` names; the rest keep their values.
   template <class S, size_t N>
   bool fields(const json& j, const std::string& path, const Field<S> (&table)[N], S* out) {
@@ -248,7 +204,7 @@ class PresetReader {
     for (const Field<S>& f : table) {
       auto it = j.find(f.key);
       if (it == j.end()) continue;
-      if (!number(*it, childPath(path, f.key), f.range, &(out->*(f.member)))) return false;
+      if (!number(*it, jsonChildPath(path, f.key), f.range, &(out->*(f.member)))) return false;
     }
     return true;
   }
@@ -263,88 +219,7 @@ class PresetReader {
     *out = d;
     return true;
   }
-
-  std::string error_;
 };
-
-// nlohmann's message without its "[json.exception.parse_error.101] " tag, as one line of ASCII: its
-// "last read: '...'" quotes the input, which may hold control bytes or broken UTF-8.
-std::string exceptionText(const std::exception& e) {
-  std::string what = e.what();
-  if (what.rfind("[json.exception.", 0) == 0) {
-    const size_t end = what.find("] ");
-    if (end != std::string::npos) what.erase(0, end + 2);
-  }
-  for (char& c : what) {
-    const auto u = static_cast<unsigned char>(c);
-    if (u < 0x20 || u == 0x7f) c = ' ';
-    else if (u >= 0x80) c = '?';
-  }
-  return what;
-}
-
-// Parses text to JSON; a syntax error or a repeated key in one object is an error ("line 3, column 5: ...").
-bool parseJson(const std::string& text, json* out, std::string* error) {
-  // nlohmann keeps the last of repeated keys silently; a preset edited by hand must not, so a parse
-  // callback tracks the keys of each open object.
-  struct Frame {
-    std::string path;                   // the object's or array's path
-    bool is_object = false;
-    std::set<std::string> keys;         // keys seen so far (objects)
-    std::string last_key;               // the key whose value is being parsed (objects)
-  };
-  std::vector<Frame> frames;
-  std::string duplicate;
-  auto callback = [&](int /*depth*/, json::parse_event_t event, json& parsed) {
-    switch (event) {
-      case json::parse_event_t::object_start:
-      case json::parse_event_t::array_start: {
-        std::string path;
-        if (!frames.empty())
-          path = frames.back().is_object ? childPath(frames.back().path, frames.back().last_key)
-                                         : frames.back().path + "[]";
-        frames.push_back({std::move(path), event == json::parse_event_t::object_start, {}, {}});
-        break;
-      }
-      case json::parse_event_t::object_end:
-      case json::parse_event_t::array_end:
-        if (!frames.empty()) frames.pop_back();
-        break;
-      case json::parse_event_t::key:
-        if (!frames.empty() && parsed.is_string()) {
-          Frame& f = frames.back();
-          f.last_key = parsed.get_ref<const std::string&>();
-          if (!f.keys.insert(f.last_key).second && duplicate.empty()) duplicate = childPath(f.path, f.last_key);
-        }
-        break;
-      case json::parse_event_t::value:
-        break;
-    }
-    return true;
-  };
-  try {
-    *out = json::parse(text, callback);
-  } catch (const json::parse_error& e) {
-    // Syntax: nlohmann's text says where ("parse error at line 3, column 5: syntax error ...").
-    *error = "invalid JSON: " + exceptionText(e);
-    return false;
-  } catch (const json::out_of_range& e) {
-    // A number literal beyond the double range ("1e999"): the open frames say whose value it was.
-    std::string path = "(top level)";
-    if (!frames.empty())
-      path = frames.back().is_object ? childPath(frames.back().path, frames.back().last_key) : frames.back().path + "[]";
-    *error = path + ": not a finite number (" + exceptionText(e) + ")";
-    return false;
-  } catch (const json::exception& e) {
-    *error = "invalid JSON: " + exceptionText(e);
-    return false;
-  }
-  if (!duplicate.empty()) {
-    *error = duplicate + ": repeated key";
-    return false;
-  }
-  return true;
-}
 
 // The whole preset schema: format and version first (so that another JSON file is named as such),
 // then each section in file order.
@@ -363,7 +238,7 @@ void readPreset(const json& root, PresetReader& r, SimParams* p) {
     return;
   }
   if (const std::string& f = format->get_ref<const std::string&>(); f != kFormat) {
-    r.fail("format", quoted(f) + " is not \"" + kFormat + "\"");
+    r.fail("format", quotedForMessage(f) + " is not \"" + kFormat + "\"");
     return;
   }
   auto version = root.find("version");
@@ -389,7 +264,7 @@ void readPreset(const json& root, PresetReader& r, SimParams* p) {
     for (Material m : kTissues) {
       const std::string key = materialName(m);
       auto t = it->find(key);
-      if (t != it->end() && !r.fields(*t, childPath("tissues", key), kTissueFields, &p->tissue(m))) return;
+      if (t != it->end() && !r.fields(*t, jsonChildPath("tissues", key), kTissueFields, &p->tissue(m))) return;
     }
   }
   // Bur entries merge into the defaults; a new bur name is allowed, so there is no list of known keys.
@@ -399,13 +274,13 @@ void readPreset(const json& root, PresetReader& r, SimParams* p) {
       return;
     }
     for (const auto& [name, value] : it->items()) {
-      if (!isToolName(name)) {
-        r.fail(childPath("burs", name), "not a tool name (1 to 64 letters, digits, '_', '-', '.')");
+      if (!isPlainName(name)) {
+        r.fail(jsonChildPath("burs", name), "not a tool name (1 to 64 letters, digits, '_', '-', '.')");
         return;
       }
       auto known = p->burs.find(name);
       BurParams bur = known == p->burs.end() ? BurParams{} : known->second;
-      if (!r.fields(value, childPath("burs", name), kBurFields, &bur)) return;
+      if (!r.fields(value, jsonChildPath("burs", name), kBurFields, &bur)) return;
       p->burs[name] = bur;
     }
   }
@@ -424,7 +299,7 @@ Result<SimParams> parseSimParams(const std::string& json_text, const std::string
   try {
     json root;
     std::string error;
-    if (!parseJson(json_text, &root, &error)) return makeError(where, error);
+    if (!parseStrictJson(json_text, &root, &error)) return makeError(where, error);
     SimParams params = defaultSimParams();
     PresetReader reader;
     readPreset(root, reader, &params);
@@ -432,7 +307,7 @@ Result<SimParams> parseSimParams(const std::string& json_text, const std::string
     return params;
   } catch (const std::exception& e) {
     // Not reached for any input the tests know of; a preset must never take the caller down.
-    return makeError(where, "cannot read preset: " + exceptionText(e));
+    return makeError(where, "cannot read preset: " + jsonExceptionText(e));
   }
 }
 
