@@ -63,18 +63,7 @@ MeshRunner cpuReferenceRunner() {
 }
 
 VolumeMaker cpuVolumeMaker(std::vector<MeshLayer> layers, VoxelizeOptions options) {
-  return [layers = std::move(layers), options](int level) -> Result<ToothVolume> {
-    Bounds3 bounds;
-    for (const MeshLayer& l : layers) bounds.add(l.mesh->bounds());
-    auto frame = fitGridToLevel(bounds, level);
-    if (!frame) return frame.error();
-    auto setup = makeRaySetup(layers, *frame, options);
-    if (!setup) return setup.error();
-    auto voxels = voxelizeCpu(*setup, options);
-    if (!voxels) return voxels.error();
-    voxels->compact();
-    return ToothVolume{*frame, std::move(voxels).value()};
-  };
+  return [layers = std::move(layers), options](int level) { return voxelizeLayersCpu(layers, level, options); };
 }
 
 // ---- 2. where the solid is -------------------------------------------------------------------------

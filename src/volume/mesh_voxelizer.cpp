@@ -295,4 +295,17 @@ Result<BrickVolume> voxelizeCpu(const RaySetup& setup, const VoxelizeOptions& op
   return volume;
 }
 
+Result<ToothVolume> voxelizeLayersCpu(const std::vector<MeshLayer>& layers, int level, const VoxelizeOptions& options) {
+  Bounds3 bounds;
+  for (const MeshLayer& l : layers) bounds.add(l.mesh->bounds());
+  auto frame = fitGridToLevel(bounds, level);
+  if (!frame) return frame.error();
+  auto setup = makeRaySetup(layers, *frame, options);
+  if (!setup) return setup.error();
+  auto voxels = voxelizeCpu(*setup, options);
+  if (!voxels) return voxels.error();
+  voxels->compact();
+  return ToothVolume{*frame, std::move(voxels).value()};
+}
+
 }  // namespace dentsim

@@ -75,4 +75,8 @@ uint32_t layerMaterialWord(const RaySetup& setup);
 Result<BrickVolume> voxelizeCpu(const RaySetup& setup, const VoxelizeOptions& options,
                                 Interrupter& interrupter = nullInterrupter());
 
+// The layers in a 2^level grid fitted to their bounds (fitGridToLevel), voxelized by the CPU
+// reference and compacted: a whole tooth, the same bytes on every machine.
+Result<ToothVolume> voxelizeLayersCpu(const std::vector<MeshLayer>& layers, int level, const VoxelizeOptions& options = {});
+
 }  // namespace dentsim
