@@ -1,13 +1,11 @@
 // Haptic benchmark: the scripted cavity preparation, the loop's thread and step-only runs, and their JSON, Markdown and SVG report.
 //
 // Contents
-//   1. Probing the volume: tissue bounds, column surfaces, the bur's resting height
-//   2. The cavity preparation path
-//   3. Step statistics: time summaries and the per-step load
-//   4. One level: thread run, step-only run
-//   5. JSON
-//   6. Markdown
-//   7. SVG and files
+//   1. Step statistics: time summaries and the per-step load
+//   2. One level: thread run, step-only run
+//   3. JSON
+//   4. Markdown
+//   5. SVG and files
 #include "bench/haptic_bench.h"
 
 #include <pthread.h>
@@ -37,200 +35,7 @@
 
 namespace dentsim::bench {
 
-// ---- 1. probing the volume -------------------------------------------------------------------------
-namespace {
-
-// The box of the bricks holding any tissue, simulation frame [mm]; empty when there is none.
-struct TissueBox {
-  Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL};
-  Vec3 hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  bool empty() const { return lo.x > hi.x; }
-};
-
-TissueBox tissueBox(const BrickVolume& volume, const VolumeFrame& frame) {
-  uint32_t lo[3] = {UINT32_MAX, UINT32_MAX, UINT32_MAX}, hi[3] = {0, 0, 0};
-  volume.forEachBrick([&](const BrickView& b) {
-    if (b.uniform && voxelFill(b.value) == 0) return;
-    const uint32_t c[3] = {b.coord.x, b.coord.y, b.coord.z};
-    for (size_t a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], c[a]);
-      hi[a] = std::max(hi[a], c[a]);
-    }
-  });
-  TissueBox box;
-  if (lo[0] > hi[0]) return box;
-  const double brick_mm = frame.voxel_mm * DS_BRICK_DIM;
-  for (int a = 0; a < 3; ++a) {
-    box.lo[a] = frame.origin_mm[size_t(a)] + double(lo[a]) * brick_mm;
-    box.hi[a] = frame.origin_mm[size_t(a)] + double(hi[a] + 1) * brick_mm;
-  }
-  return box;
-}
-
-// Column probes of one volume: the topmost crossing of the haptic field's surface (phi = 0, what the
-// student feels and sees), searched downward from above the tissue one voxel at a time.
-class SurfaceProbe {
- public:
-  SurfaceProbe(const BrickVolume& volume, const VolumeFrame& frame, const TissueBox& box)
-      : field_(volume, frame), top_mm_(box.hi.z + frame.voxel_mm), bottom_mm_(box.lo.z - frame.voxel_mm) {}
-
-  // Height [mm] of the surface in the column through (x, y); nullopt when the column holds no tissue.
-  std::optional<double> surface(double x, double y) {
-    const double step = field_.voxelMm();
-    auto inside = [&](double z) { return field_.sample(field_.toVoxel({x, y, z})).phi > 0; };
-    if (inside(top_mm_)) return top_mm_;
-    const auto steps = int64_t(std::ceil((top_mm_ - bottom_mm_) / step));
-    for (int64_t i = 1; i <= steps; ++i) {
-      double below = top_mm_ - double(i) * step;
-      if (!inside(below)) continue;
-      double above = below + step;
-      for (int k = 0; k < 12; ++k) {  // to 1/4096 voxel
-        const double mid = 0.5 * (above + below);
-        (inside(mid) ? below : above) = mid;
-      }
-      return 0.5 * (above + below);
-    }
-    return std::nullopt;
-  }
-
-  // The tip height of a ball of radius r [mm] coming down over (x, y): the highest of the columns
-  // under it, each lowered by the ball's sag at its distance from the axis.
-  std::optional<double> restingTip(double x, double y, double r) {
-    constexpr double kRings[] = {0.0, 0.35, 0.7, 0.95};  // ring radius / r
-    constexpr int kSpokes = 12;
-    std::optional<double> best;
-    for (double ring : kRings) {
-      const double rho = ring * r;
-      const int spokes = ring == 0.0 ? 1 : kSpokes;
-      const double sag = r - std::sqrt(r * r - rho * rho);
-      for (int k = 0; k < spokes; ++k) {
-        const double angle = 2.0 * std::numbers::pi * double(k) / kSpokes;
-        const std::optional<double> h = surface(x + rho * std::cos(angle), y + rho * std::sin(angle));
-        if (h && (!best || *h - sag > *best)) best = *h - sag;
-      }
-    }
-    return best;
-  }
-
- private:
-  VoxelField field_;
-  double top_mm_;
-  double bottom_mm_;
-};
-
-}  // namespace
-
-std::optional<double> restingTipHeight(const BrickVolume& volume, const VolumeFrame& frame, double x_mm, double y_mm,
-                                       double radius_mm) {
-  const TissueBox box = tissueBox(volume, frame);
-  if (box.empty()) return std::nullopt;
-  SurfaceProbe probe(volume, frame, box);
-  return probe.restingTip(x_mm, y_mm, radius_mm);
-}
-
-// ---- 2. the cavity preparation path ----------------------------------------------------------------
-
-Result<CavityPath> cavityPreparationPath(const BrickVolume& volume, const VolumeFrame& frame,
-                                         const CavityPathSettings& s) {
-  const std::string where = "cavity path";
-  if (!(s.bur_radius_mm > 0) || !(s.speed_mm_s > 0) || !(s.laps > 0) || !(s.sample_s > 0) ||
-      !(s.oval_x_mm > 0) || !(s.oval_y_mm > 0) || !(s.fossa_grid_mm > 0) || s.fossa_search_mm < 0 ||
-      !(s.hold_s > 0) || !(s.descent_s > 0) || s.dwell_s < 0 || !(s.lift_s > 0))
-    return makeError(where, "radius, speed, laps, sample period, oval, grid, hold, descent and lift must be > 0; "
-                            "search and dwell >= 0");
-  const TissueBox box = tissueBox(volume, frame);
-  if (box.empty()) return makeError(where, "the volume holds no tissue");
-  SurfaceProbe probe(volume, frame, box);
-  const double r = s.bur_radius_mm;
-
-  // The fossa: where the bur comes to rest lowest near the centre of the crown.
-  CavityPath out;
-  out.crown_centre_mm = {0.5 * (box.lo.x + box.hi.x), 0.5 * (box.lo.y + box.hi.y), box.hi.z};
-  const auto n = int(std::floor(s.fossa_search_mm / s.fossa_grid_mm));
-  std::optional<Vec3> fossa;
-  for (int j = -n; j <= n; ++j)
-    for (int i = -n; i <= n; ++i) {
-      if (i * i + j * j > n * n) continue;
-      const double x = out.crown_centre_mm.x + s.fossa_grid_mm * i, y = out.crown_centre_mm.y + s.fossa_grid_mm * j;
-      const std::optional<double> z = probe.restingTip(x, y, r);
-      if (z && (!fossa || *z < fossa->z)) fossa = Vec3{x, y, *z};
-    }
-  if (!fossa) return makeError(where, "no tissue under the bur within " + std::to_string(s.fossa_search_mm) +
-                                          " mm of the crown's centre");
-  out.fossa_mm = *fossa;
-
-  const Vec3 grip{0.0, 0.0, s.grip_z_mm};
-  auto add = [&](double t, const Vec3& tip, double pedal) {
-    PenSample sample;
-    sample.t_s = t;
-    sample.pen = PenRole::Drill;
-    sample.pose.position = tip + grip;  // the bur is vertical: the grip is straight above the tip
-    sample.pedal = pedal;
-    out.path.samples.push_back(sample);
-  };
-  // Samples every sample_s over (t0, t0 + span], the last exactly at the end; f(t, u) with u in (0, 1].
-  auto segment = [&](double t0, double span, const auto& f) {
-    const auto count = std::max<int64_t>(1, int64_t(std::ceil(span / s.sample_s - 1e-9)));
-    for (int64_t k = 1; k <= count; ++k) {
-      const double u = double(k) / double(count);
-      f(t0 + u * span, u);
-    }
-    return t0 + span;
-  };
-
-  // The bur cuts at a rate that does not depend on the force, so a bur held still sinks until it
-  // meets the pen's target: a plunge at the fossa would bore a hole as deep as the press. So the bur
-  // comes down on the outline itself and keeps moving; the target follows the untouched surface
-  // press_mm below the bur's resting height, and a lap's groove is shallow beside the press.
-  const double a = 0.5 * s.oval_x_mm, b = 0.5 * s.oval_y_mm;
-  std::optional<double> start_z = probe.restingTip(fossa->x + a, fossa->y, r);
-  if (!start_z) return makeError(where, "no tissue under the outline's start");
-  const Vec3 start_tip{fossa->x + a, fossa->y, *start_z};
-  auto rest = [&](double x, double y) { return probe.restingTip(x, y, r).value_or(start_tip.z); };
-
-  // Above the outline's distal end (+x); the turbine starts at the end of the hold, then the pen
-  // comes down to press and stays a moment.
-  const Vec3 above = start_tip + Vec3{0, 0, s.approach_mm};
-  const Vec3 pressed = start_tip - Vec3{0, 0, s.press_mm};
-  add(0.0, above, 0.0);
-  double t = segment(0.0, s.hold_s, [&](double ts, double u) { add(ts, above, u < 1.0 ? 0.0 : 1.0); });
-  out.cut_start_s = t;
-  t = segment(t, s.descent_s, [&](double ts, double u) { add(ts, above + (pressed - above) * u, 1.0); });
-  if (s.dwell_s > 0) t = segment(t, s.dwell_s, [&](double ts, double) { add(ts, pressed, 1.0); });
-
-  // The laps: arc length against angle, so the bur keeps its speed along the oval.
-  constexpr int kArcSteps = 2048;
-  std::vector<double> arc(kArcSteps + 1, 0.0);
-  auto oval = [&](double theta) { return Vec3{fossa->x + a * std::cos(theta), fossa->y + b * std::sin(theta), 0.0}; };
-  for (int k = 1; k <= kArcSteps; ++k) {
-    const Vec3 p0 = oval(2.0 * std::numbers::pi * (k - 1) / kArcSteps), p1 = oval(2.0 * std::numbers::pi * k / kArcSteps);
-    arc[size_t(k)] = arc[size_t(k - 1)] + norm(p1 - p0);
-  }
-  out.outline_mm = arc.back();
-  const double total = s.laps * out.outline_mm;
-  t = segment(t, total / s.speed_mm_s, [&](double ts, double u) {
-    const double along = u * total;
-    const double in_lap = std::fmod(along, out.outline_mm);
-    const auto k = size_t(std::upper_bound(arc.begin(), arc.end(), in_lap) - arc.begin());
-    const size_t k1 = std::clamp<size_t>(k, 1, kArcSteps);
-    const double span = arc[k1] - arc[k1 - 1];
-    const double frac = span > 0 ? (in_lap - arc[k1 - 1]) / span : 0.0;
-    const Vec3 p = oval(2.0 * std::numbers::pi * (double(k1 - 1) + frac) / kArcSteps);
-    const double deeper = s.step_down_mm * along / out.outline_mm;
-    // The last sample lets go of the pedal: the bur stops as it lifts.
-    add(ts, {p.x, p.y, rest(p.x, p.y) - s.press_mm - deeper}, u < 1.0 ? 1.0 : 0.0);
-  });
-  out.cut_end_s = t;
-
-  // Lift off.
-  const Vec3 last = out.path.samples.back().pose.position - grip;
-  const Vec3 up{last.x, last.y, rest(last.x, last.y) + s.approach_mm};
-  t = segment(t, s.lift_s, [&](double ts, double u) { add(ts, last + (up - last) * u, 0.0); });
-  out.duration_s = t;
-  return out;
-}
-
-// ---- 3. step statistics ----------------------------------------------------------------------------
+// ---- 1. step statistics ----------------------------------------------------------------------------
 namespace {
 
 StepTimeSummary summarize(const StepTimes& times) {
@@ -331,7 +136,7 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
 
 }  // namespace
 
-// ---- 4. one level ----------------------------------------------------------------------------------
+// ---- 2. one level ----------------------------------------------------------------------------------
 
 Result<HapticBenchRow> runHapticBench(int level, const VolumeMaker& make_volume, const HapticBenchSettings& s,
                                       const std::function<void(const std::string&)>& log) {
@@ -503,7 +308,7 @@ Result<HapticBenchRow> runHapticBench(int level, const VolumeMaker& make_volume,
   return row;
 }
 
-// ---- 5. JSON ---------------------------------------------------------------------------------------
+// ---- 3. JSON ---------------------------------------------------------------------------------------
 namespace {
 
 nlohmann::json timesJson(const StepTimeSummary& t) {
@@ -610,7 +415,7 @@ nlohmann::json hapticReportJson(const HapticReportInfo& info, const std::vector<
                      {"met", goal}}}};
 }
 
-// ---- 6. Markdown -----------------------------------------------------------------------------------
+// ---- 4. Markdown -----------------------------------------------------------------------------------
 namespace {
 
 std::string fmt(const char* format, double v) {
@@ -697,7 +502,7 @@ std::string hapticReportMarkdown(const HapticReportInfo& info, const std::vector
   return o.str();
 }
 
-// ---- 7. SVG and files ------------------------------------------------------------------------------
+// ---- 5. SVG and files ------------------------------------------------------------------------------
 
 std::string hapticRowsSvg(const std::vector<HapticBenchRow>& rows, const HapticBenchSettings& s) {
   std::vector<PlotSeries> series;

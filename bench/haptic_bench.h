@@ -5,10 +5,10 @@
 // found on the volume itself, so nothing here needs a device, a GPU or a window.
 //
 // Contents
-//   1. The scripted preparation: where the fossa is, and the pen path that cuts around it
-//   2. One level: the loop on its real-time thread (with a second thread draining the voxel edits,
+//   1. One level: the loop on its real-time thread (with a second thread draining the voxel edits,
 //      as the renderer would), then the same steps back to back on the caller's thread
-//   3. The report: JSON, Markdown, SVG
+//   2. The report: JSON, Markdown, SVG
+// The cavity preparation itself is sim's (src/sim/scripted_paths.h), shared with the demo and tasks.
 #pragma once
 
 #include <cstdint>
@@ -25,61 +25,12 @@
 #include "core/rigid.h"
 #include "core/volume_frame.h"
 #include "io/pen_path_file.h"
+#include "sim/scripted_paths.h"
 #include "volume/brick_volume.h"
 
 namespace dentsim::bench {
 
-// ---- 1. the scripted preparation -------------------------------------------------------------------
-
-// A class I occlusal preparation with a round bur held vertically (tool axis +Z, rotation identity).
-// The fossa is where the bur rests lowest near the crown's centre; the outline is an oval of
-// `oval_x_mm` x `oval_y_mm` (the bur tip's path) around it. The pen starts `approach_mm` above the
-// bur's resting height over the oval's +x end, the pedal goes down, and the pen's target comes down
-// to `press_mm` below that resting height (the coupling spring is 1 N/mm by default, so about
-// press_mm newtons), stays `dwell_s`, then traces the oval `laps` times at `speed_mm_s`, following
-// the untouched surface press_mm below the resting height and sinking `step_down_mm` more per lap;
-// then pedal up and lift. The bur removes tissue at a rate that does not depend on the force, so
-// a bur held still would sink to the target: moving on, it cuts a groove a little deeper each lap.
-struct CavityPathSettings {
-  double bur_radius_mm = 0.5;     // radius of the round bur's head [mm] (round_bur_010)
-  double grip_z_mm = 19.0;        // the grip point above the tip along the bur's axis [mm] (kBurGripLocal)
-  double approach_mm = 1.0;       // start this far above the resting height [mm]
-  double press_mm = 1.5;          // pen target below the resting height [mm]
-  double step_down_mm = 0.15;     // extra depth of the target per lap, ramped along the outline [mm]
-  double oval_x_mm = 2.0;         // outline extent along x, mesiodistal [mm] (the bur tip's path)
-  double oval_y_mm = 1.2;         // outline extent along y, buccolingual [mm]
-  double speed_mm_s = 2.0;        // along the outline [mm/s]
-  double laps = 2.0;              // laps of the outline, > 0 (fractions allowed)
-  double hold_s = 0.1;            // above the outline's start before the turbine starts, > 0 [s]
-  double descent_s = 0.3;         // from the approach height to the pressed target [s]
-  double dwell_s = 0.1;           // pressed at the outline's start before moving [s]
-  double lift_s = 0.2;            // back up to approach_mm above the resting height, pedal up [s]
-  double sample_s = 0.01;         // between path samples [s]; the scripted pen interpolates
-  double fossa_search_mm = 1.0;   // the fossa: the lowest resting point within this of the crown's centre [mm]
-  double fossa_grid_mm = 0.1;     // spacing of that search [mm]
-};
-
-struct CavityPath {
-  PenPath path;                  // drill samples: grip pose (tip + grip_z along +Z), pedal
-  Vec3 crown_centre_mm;          // centre of the tissue bricks' x,y extent, at their top (z) [mm]
-  Vec3 fossa_mm;                 // the bur tip resting over the fossa [mm]
-  double duration_s = 0.0;       // time of the last sample [s]
-  double cut_start_s = 0.0;      // pedal down [s]
-  double cut_end_s = 0.0;        // pedal up [s]
-  double outline_mm = 0.0;       // length of one lap of the oval [mm]
-};
-
-// The bur tip's lowest height [mm] when a ball of `radius_mm` comes down vertically over (x, y) onto
-// the volume's tissue (fill over one half), from above the tissue; nullopt when it meets none.
-std::optional<double> restingTipHeight(const BrickVolume& volume, const VolumeFrame& frame, double x_mm, double y_mm,
-                                       double radius_mm);
-
-// The preparation on this volume. Errors: no tissue under the bur anywhere in the fossa search,
-// settings out of range.
-Result<CavityPath> cavityPreparationPath(const BrickVolume& volume, const VolumeFrame& frame,
-                                         const CavityPathSettings& settings = {});
-
-// ---- 2. one level ----------------------------------------------------------------------------------
+// ---- 1. one level ----------------------------------------------------------------------------------
 
 struct HapticBenchSettings {
   std::string tool = "round_bur_010";   // built-in bur (loadToolModel)
@@ -160,7 +111,7 @@ struct HapticBenchRow {
 Result<HapticBenchRow> runHapticBench(int level, const VolumeMaker& make_volume, const HapticBenchSettings& settings,
                                       const std::function<void(const std::string&)>& log = {});
 
-// ---- 3. the report ---------------------------------------------------------------------------------
+// ---- 2. the report ---------------------------------------------------------------------------------
 
 struct HapticReportInfo {
   std::string model;            // "built-in four-layer molar"

@@ -50,7 +50,7 @@ HapticLoop::HapticLoop(BrickVolume& volume, const VolumeFrame& frame, const SimP
                        const ToolModel* mirror, EditChannel* edits)
     : volume_(volume),
       field_(volume, frame),
-      params_(params),
+      params_(ParamsUpdate{params, 0}),
       cutter_(size_t{1} << 17),
       edits_(edits),
       state_(HapticState{}) {
@@ -71,11 +71,45 @@ void HapticLoop::placeTool(PenRole role, const Pose& grip) {
   if (proxies_[size_t(role)]) proxies_[size_t(role)]->reset(grip);
 }
 
-void HapticLoop::setParams(const SimParams& params) { params_.publish(params); }
+uint32_t HapticLoop::setParams(const SimParams& params) {
+  const uint32_t serial = next_serial_.fetch_add(1, std::memory_order_relaxed);
+  params_.publish(ParamsUpdate{params, serial});
+  return serial;
+}
 
-void HapticLoop::activate(const SimParams& params) {
-  active_params_ = &params;
-  drill_ability_ = params.cuttingAbility(tools_[0]->name);  // a map lookup: once per change, not per step
+void HapticLoop::activate(const ParamsUpdate& update) {
+  active_params_ = &update.params;
+  active_serial_ = update.serial;
+  drill_ability_ = update.params.cuttingAbility(tools_[0]->name);  // a map lookup: once per change, not per step
+}
+
+void HapticLoop::record(const std::array<PenReading, 2>& readings, int64_t now_ns) {
+  SessionStep* r = record_->reserve();
+  if (r == nullptr) {
+    dropped_records_.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  r->step = step_;
+  r->wall_ns = now_ns;
+  r->params_serial = active_serial_;
+  r->pens = 0;
+  for (size_t p = 0; p < 2; ++p) {
+    const bool stepped = report_.stepped[p];
+    r->pens |= uint8_t(stepped ? 1u << p : 0u);
+    SessionPenReading& out = r->reading[p];
+    out = SessionPenReading{};
+    if (stepped) {
+      const PenReading& in = readings[p];
+      out.grip = in.grip;
+      out.velocity = in.velocity;
+      out.angular_velocity = in.angular_velocity;
+      out.buttons = in.buttons;
+      out.pedal = in.pedal;
+    }
+    r->force_n[p] = stepped ? report_.tools[p].display.force : Vec3{};
+    r->contacts[p] = stepped ? report_.tools[p].stats.contacts : 0;
+  }
+  record_->push();
 }
 
 // ---- the step -----------------------------------------------------------------------------------------
@@ -116,7 +150,7 @@ const StepReport& HapticLoop::step() {
     if (pens_[r] != nullptr) pens_[r]->display(w, t);
   }
 
-  // 5. Hand off the state.
+  // 5. Hand off the state (and the step's record, when a session is being recorded).
   for (size_t r = 0; r < 2; ++r) {
     ToolState& ts = totals_.tools[r];
     ts.pen_ok = report_.stepped[r];
@@ -127,6 +161,7 @@ const StepReport& HapticLoop::step() {
     ts.points_tested = report_.stepped[r] ? report_.tools[r].stats.points_tested : 0;
     ts.points_clear = report_.stepped[r] ? report_.tools[r].stats.points_clear : 0;
   }
+  if (record_ != nullptr) record(readings, now);
   totals_.step = ++step_;
   totals_.t_s = t + dt;
   totals_.pedal = report_.speed;

@@ -22,8 +22,10 @@
 
 #include "core/result.h"
 #include "core/rigid.h"
+#include "core/spsc_ring.h"
 #include "core/triple_buffer.h"
 #include "core/volume_frame.h"
+#include "io/session_file.h"
 #include "sim/cutter.h"
 #include "sim/edit_channel.h"
 #include "sim/force_output.h"
@@ -120,8 +122,17 @@ class HapticLoop {
   void stop();
   bool running() const { return thread_.joinable(); }
 
-  // Any thread: new parameters, applied at the start of the next step.
-  void setParams(const SimParams& params);
+  // Any thread: new parameters, applied at the start of the next step. Returns the set's serial
+  // (1, 2, ...; the constructor's set is 0), which the steps that use it report.
+  uint32_t setParams(const SimParams& params);
+  // The serial of the set the latest step used (the loop's thread, or after stop()).
+  uint32_t activeParamsSerial() const { return active_serial_; }
+
+  // Every later step pushes its readings and results into `ring` (null: none). Only while the thread
+  // is stopped. A step that finds the ring full drops its record and counts it (droppedRecords);
+  // the records' step numbers show the gap.
+  void recordInto(SpscRing<SessionStep>* ring) { record_ = ring; }
+  uint64_t droppedRecords() const { return dropped_records_.load(std::memory_order_relaxed); }
   // Consumer thread (one): the latest snapshot.
   const HapticState& latest() { return state_.read(); }
   // Any thread: the force for a pen, zero once stale (device I/O threads read this).
@@ -140,14 +151,23 @@ class HapticLoop {
   }
 
  private:
+  struct ParamsUpdate {
+    SimParams params;
+    uint32_t serial = 0;
+  };
   void run();
-  // Makes `params` the active set and resolves what the step would otherwise look up by name.
-  void activate(const SimParams& params);
+  // Makes `update` the active set and resolves what the step would otherwise look up by name.
+  void activate(const ParamsUpdate& update);
+  void record(const std::array<PenReading, 2>& readings, int64_t now_ns);
 
   BrickVolume& volume_;
   VoxelField field_;
-  TripleBuffer<SimParams> params_;
+  TripleBuffer<ParamsUpdate> params_;
+  std::atomic<uint32_t> next_serial_{1};
   const SimParams* active_params_ = nullptr;
+  uint32_t active_serial_ = 0;
+  SpscRing<SessionStep>* record_ = nullptr;
+  std::atomic<uint64_t> dropped_records_{0};
   std::array<std::unique_ptr<ToolProxy>, 2> proxies_;
   std::array<PenSource*, 2> pens_{};
   std::array<const ToolModel*, 2> tools_{};

@@ -1,4 +1,4 @@
-// ScriptedPen: interpolation of a pen path for the haptic loop.
+// ScriptedPen and ReplayPen: a pen path interpolated, and a recorded session played back, for the haptic loop.
 #include "sim/pen.h"
 
 namespace dentsim {
@@ -38,6 +38,21 @@ bool ScriptedPen::read(double t_s, PenReading* out) {
 void ScriptedPen::display(const Wrench& wrench, double t_s) {
   (void)t_s;
   last_ = wrench;
+}
+
+bool ReplayPen::read(double t_s, PenReading* out) {
+  (void)t_s;
+  if (next_ >= steps_.size()) return false;
+  const SessionStep& s = steps_[next_++];
+  if (!s.hasReading(role_)) return false;
+  const SessionPenReading& r = s.reading[role_];
+  *out = PenReading{};
+  out->grip = r.grip;
+  out->velocity = r.velocity;
+  out->angular_velocity = r.angular_velocity;
+  out->buttons = r.buttons;
+  out->pedal = r.pedal;
+  return true;
 }
 
 }  // namespace dentsim

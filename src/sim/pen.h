@@ -9,6 +9,7 @@
 
 #include "core/rigid.h"
 #include "io/pen_path_file.h"
+#include "io/session_file.h"
 #include "sim/tool_proxy.h"
 
 namespace dentsim {
@@ -43,6 +44,24 @@ class ScriptedPen final : public PenSource {
   std::vector<PenSample> samples_;  // this pen's samples, in time order
   size_t cursor_ = 0;               // segment of the last read: reads move forward in time mostly
   Wrench last_;
+};
+
+// Plays one pen of a recorded session: the n-th read() returns exactly the reading the loop consumed
+// at the session's n-th step (none where the pen had none, and none past the end), whatever the
+// time asked. The loop reads each attached pen once a step, so a replay from the session's first
+// step feeds every step the reading it had.
+class ReplayPen final : public PenSource {
+ public:
+  // Keeps a reference: `steps` must outlive the pen.
+  ReplayPen(const std::vector<SessionStep>& steps, PenRole role) : steps_(steps), role_(size_t(role)) {}
+
+  bool read(double t_s, PenReading* out) override;
+  size_t position() const { return next_; }  // steps read so far
+
+ private:
+  const std::vector<SessionStep>& steps_;
+  size_t role_;
+  size_t next_ = 0;
 };
 
 }  // namespace dentsim

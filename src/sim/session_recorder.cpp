@@ -1,0 +1,128 @@
+// SessionRecorder: the writing thread between the loop's ring and the session file.
+#include "sim/session_recorder.h"
+
+#include <chrono>
+#include <system_error>
+
+namespace dentsim {
+
+namespace {
+constexpr int64_t kFlushNs = 200'000'000;   // to the kernel
+constexpr int64_t kSyncNs = 1'000'000'000;  // to the disk
+constexpr auto kIdle = std::chrono::milliseconds(20);
+}  // namespace
+
+SessionRecorder::SessionRecorder(int ring_log2) : ring_(ring_log2) {}
+
+SessionRecorder::~SessionRecorder() {
+  if (thread_.joinable()) {
+    if (loop_ != nullptr && !loop_->running()) loop_->recordInto(nullptr);
+    stop_.store(true);
+    thread_.join();
+  }
+}
+
+Status SessionRecorder::start(HapticLoop& loop, const std::string& path, const SessionInfo& info) {
+  if (thread_.joinable()) return makeError(path, "the recorder is already recording");
+  if (loop.running()) return makeError(path, "the haptic loop must be stopped when recording starts");
+  if (Status st = writer_.open(path, info); !st) return st;
+  loop_ = &loop;
+  loop_serial_ = loop.activeParamsSerial();
+  start_ns_ = steadyNowNs();
+  stop_.store(false);
+  loop.recordInto(&ring_);
+  try {
+    thread_ = std::thread([this] { run(); });
+  } catch (const std::system_error& e) {
+    loop.recordInto(nullptr);
+    return makeError(path, std::string("cannot start the recording thread: ") + e.what());
+  }
+  return Ok{};
+}
+
+void SessionRecorder::setParams(const SimParams& params) {
+  std::string json = simParamsJson(params);
+  std::lock_guard<std::mutex> lock(params_mutex_);
+  const uint32_t serial = loop_->setParams(params);
+  pending_params_[serial] = std::move(json);
+}
+
+void SessionRecorder::drain() {
+  while (const SessionStep* s = ring_.front()) {
+    if (have_step_ && s->step != next_step_) {
+      const SessionGap gap{next_step_, s->step - next_step_};
+      writer_.add(gap);
+      steps_lost_.fetch_add(gap.steps, std::memory_order_relaxed);
+    }
+    have_step_ = true;
+    next_step_ = s->step + 1;
+    if (s->params_serial != loop_serial_) {
+      std::string json;
+      {
+        std::lock_guard<std::mutex> lock(params_mutex_);
+        auto it = pending_params_.find(s->params_serial);
+        if (it != pending_params_.end()) {
+          json = std::move(it->second);
+          // Sets the loop skipped (a newer one came before it could use them) are never written.
+          pending_params_.erase(pending_params_.begin(), std::next(it));
+        }
+      }
+      if (json.empty()) {
+        // A set that did not come through setParams(): its values are unknown, so the step cannot
+        // be replayed; it is written as lost.
+        writer_.add(SessionGap{s->step, 1});
+        steps_lost_.fetch_add(1, std::memory_order_relaxed);
+        ring_.pop();
+        continue;
+      }
+      loop_serial_ = s->params_serial;
+      writer_.add(SessionParams{++file_serial_, s->step, std::move(json)});
+    }
+    SessionStep out = *s;
+    ring_.pop();
+    out.wall_ns -= start_ns_;
+    out.params_serial = file_serial_;
+    writer_.add(out);
+    steps_written_.fetch_add(1, std::memory_order_relaxed);
+  }
+}
+
+void SessionRecorder::run() {
+  int64_t last_flush = steadyNowNs(), last_sync = last_flush;
+  auto note = [&](Status st) {
+    if (!st && error_.empty()) error_ = st.error().message;
+  };
+  while (!stop_.load(std::memory_order_relaxed)) {
+    drain();
+    const int64_t now = steadyNowNs();
+    if (now - last_sync >= kSyncNs) {
+      note(writer_.sync());
+      last_sync = last_flush = now;
+    } else if (now - last_flush >= kFlushNs) {
+      note(writer_.flush());
+      last_flush = now;
+    }
+    std::this_thread::sleep_for(kIdle);
+  }
+  drain();
+  note(writer_.flush());
+}
+
+Status SessionRecorder::finish(const SessionEnd& end) {
+  if (!thread_.joinable()) return makeError(writer_.partPath(), "the recorder is not recording");
+  if (loop_->running()) return makeError(writer_.partPath(), "stop the haptic loop before finishing its session");
+  loop_->recordInto(nullptr);
+  stop_.store(true);
+  thread_.join();
+  // Steps dropped after the last one written leave no later step to show the gap.
+  const uint64_t run = loop_->stepsRun();
+  if (have_step_ && run > next_step_) {
+    writer_.add(SessionGap{next_step_, run - next_step_});
+    steps_lost_.fetch_add(run - next_step_, std::memory_order_relaxed);
+  }
+  if (Status st = writer_.finish(end); !st) return st;
+  if (!error_.empty()) return makeError(writer_.partPath(), error_);
+  return Ok{};
+}
+
+}  // namespace dentsim

@@ -1,0 +1,68 @@
+// SessionRecorder: writes a session file while the haptic loop runs, from a thread of its own, so that the loop never waits on the disk.
+//
+// The loop pushes each step's readings into a ring (HapticLoop::recordInto); the recorder's thread
+// drains it, writes the records, hands them to the kernel every 200 ms and to the disk every
+// second, so a crash of dentsim loses nothing it has flushed and a power cut at most a second.
+// Parameter changes during a session go through the recorder, which records each set from the step
+// that first used it. Steps the ring had no room for are written as a gap: replay stops there.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "core/result.h"
+#include "core/spsc_ring.h"
+#include "io/session_file.h"
+#include "sim/haptic_loop.h"
+#include "sim/sim_params.h"
+
+namespace dentsim {
+
+class SessionRecorder {
+ public:
+  // The ring holds 2^ring_log2 steps: 16 s at 1 kHz by default, far more than a stalled disk
+  // usually takes to come back.
+  explicit SessionRecorder(int ring_log2 = 14);
+  ~SessionRecorder();  // stops the thread; an unfinished file stays as PATH.part
+  SessionRecorder(const SessionRecorder&) = delete;
+  SessionRecorder& operator=(const SessionRecorder&) = delete;
+
+  // Creates the file (PATH.part until finish) with `info` as its header, starts the writing thread
+  // and has `loop` record every later step. The loop's thread must be stopped.
+  Status start(HapticLoop& loop, const std::string& path, const SessionInfo& info);
+  // A new parameter set for the loop, recorded from the step that first uses it.
+  void setParams(const SimParams& params);
+  // After the loop has stopped: writes what is left and the end record, and renames the file.
+  // Returns the first write error of the session, if any.
+  Status finish(const SessionEnd& end);
+
+  uint64_t stepsWritten() const { return steps_written_.load(std::memory_order_relaxed); }
+  uint64_t stepsLost() const { return steps_lost_.load(std::memory_order_relaxed); }
+
+ private:
+  void run();
+  void drain();
+
+  SpscRing<SessionStep> ring_;
+  SessionWriter writer_;
+  HapticLoop* loop_ = nullptr;
+  std::thread thread_;
+  std::atomic<bool> stop_{false};
+  int64_t start_ns_ = 0;
+  // Parameter sets by the loop's serial, until they come into force (then they are written).
+  std::mutex params_mutex_;
+  std::map<uint32_t, std::string> pending_params_;
+  uint32_t loop_serial_ = 0;   // the loop's serial of the set in force
+  uint32_t file_serial_ = 0;   // its serial in the file (1, 2, ... as they come into force)
+  bool have_step_ = false;
+  uint64_t next_step_ = 0;     // the step expected next
+  std::atomic<uint64_t> steps_written_{0};
+  std::atomic<uint64_t> steps_lost_{0};
+  std::string error_;          // first write error (the thread's, read after join)
+};
+
+}  // namespace dentsim

@@ -1,0 +1,67 @@
+// Running a recorded session: a scripted drilling recorded to a session file, and the replay of any session file, step for step.
+//
+// Both drive the same HapticLoop, so a replay feeds every step the readings the recorded step
+// consumed and ends on the same voxels. The session's convention: each tool's proxy starts on its
+// pen's first reading, and parameter sets come into force at the step the file names.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+#include "io/pen_path_file.h"
+#include "io/session_file.h"
+#include "sim/sim_params.h"
+#include "volume/brick_volume.h"
+
+namespace dentsim {
+
+// ---- recording a scripted session -------------------------------------------------------------------
+
+struct ScriptedSessionOptions {
+  std::string drill_tool = "round_bur_010";
+  std::string mirror_tool;        // empty: no mirror
+  bool realtime = false;          // run the loop on its real-time thread at the set's rate; else back to back
+  double extra_s = 0.05;          // keep stepping this long after the path's last sample [s]
+};
+
+struct SessionOutcome {
+  uint64_t steps = 0;
+  std::string final_hash;         // volumeHash of the tooth afterwards
+  double removed_mm3 = 0.0;
+  uint64_t missed_deadlines = 0;  // real-time runs only
+  uint64_t steps_lost = 0;        // steps the recorder could not keep (0 in a good run)
+  double wall_s = 0.0;
+};
+
+// Drills `tooth` (edited in place) with a scripted pen playing `path` and records the session to
+// `session_path` (empty: records nothing). `info` is the header: rate, tools, tooth hash and parameters are filled in here.
+Result<SessionOutcome> recordScriptedSession(ToothVolume& tooth, const SimParams& params, const PenPath& path,
+                                             const std::string& session_path, SessionInfo info,
+                                             const ScriptedSessionOptions& options);
+
+// ---- replay -----------------------------------------------------------------------------------------
+
+struct ReplayOptions {
+  bool allow_other_tooth = false;  // replay although the tooth's hash differs (a warning, not an error)
+  std::function<void(uint64_t step, uint64_t steps)> progress;  // called every 1000 steps; may be empty
+};
+
+struct ReplayOutcome {
+  uint64_t steps = 0;              // steps replayed
+  std::string final_hash;
+  double removed_mm3 = 0.0;
+  bool recorded_hash_matches = false;   // the session's end record names the same final hash
+  uint64_t force_mismatches = 0;   // steps whose drill force differs from the recorded one
+  uint64_t first_mismatch = 0;     // the first such step
+  std::vector<std::string> warnings;  // truncation, gaps, other tooth, no end record
+};
+
+// Replays `session` on `tooth` (its starting volume; edited in place). Errors: a tooth whose hash
+// differs from the session's (unless allowed), a parameter set or tool that does not load, a
+// session without steps.
+Result<ReplayOutcome> replaySession(const SessionRecording& session, ToothVolume& tooth, const ReplayOptions& options);
+
+}  // namespace dentsim
