@@ -1,0 +1,64 @@
+// The score picture (like the paper's Figure 20): the cut tooth, over-cut in red and under-cut in blue, ray cast on the CPU into a PNG.
+//
+// Orthographic views of the final tooth: each pixel's ray stops at the first voxel whose final fill
+// is at least half (16 of 31); that voxel is shaded Lambert (normal from the central-difference
+// gradient of fill) in its tissue's colour, tinted blue by its under-cut (remaining material that
+// the ideal removes). Over-cut voxels (removed where the ideal keeps material) that the ray passes
+// before the surface add red fog, so over-cut shows red over whatever lies behind it. Without an
+// ideal there is neither; remaining caries shows in its brown. Rays skip bricks that hold neither
+// surface nor over-cut.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+#include "core/rigid.h"
+#include "volume/brick_volume.h"
+
+namespace dentsim {
+
+struct ScoreImageOptions {
+  int width = 800;             // whole image [px], 16..8192
+  int height = 600;            // [px], 16..8192
+  Vec3 view_dir{0, 0, -1};     // where the camera looks, in the grid's axes: occlusal, from +z down
+  bool oblique = false;        // a second, oblique view to the right; each view then gets half the width
+};
+
+struct RgbImage {
+  int width = 0, height = 0;
+  std::vector<uint8_t> rgb;    // (height x width x 3), row 0 at the top
+  std::array<uint8_t, 3> pixel(int x, int y) const {
+    const size_t o = (size_t(y) * size_t(width) + size_t(x)) * 3;
+    return {rgb[o], rgb[o + 1], rgb[o + 2]};
+  }
+};
+
+// One view's camera, so that a caller (or a test) can find where a voxel appears.
+struct ScoreView {
+  Vec3 dir;                    // looking direction (unit), grid axes
+  Vec3 right, up;              // image axes (unit)
+  double voxels_per_pixel = 1.0;
+  double u_centre = 0.0, v_centre = 0.0;  // view centre along right and up [voxels]
+  int x0 = 0, width = 0, height = 0;      // the view's rectangle in the image [px]
+  // Pixel (column, row) where point p appears; p in voxel units, voxel (i,j,k)'s centre at (i+.5, j+.5, k+.5).
+  std::array<double, 2> pixelOf(const Vec3& p) const;
+};
+
+struct ScoreImage {
+  RgbImage image;
+  std::vector<ScoreView> views;  // left to right
+};
+
+// Renders the views. The volumes must share the level (compareTeeth checks frames); ideal may be null.
+ScoreImage renderScoreImage(const ToothVolume& initial, const ToothVolume& final_, const ToothVolume* ideal,
+                            const ScoreImageOptions& options = {});
+
+// PNG bytes of an image.
+Result<std::vector<uint8_t>> encodePng(const RgbImage& image);
+// Writes a PNG atomically (temporary sibling, fsync, rename). Errors name the path.
+Status writePng(const std::string& path, const RgbImage& image);
+
+}  // namespace dentsim

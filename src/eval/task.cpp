@@ -1,0 +1,219 @@
+// Task files: the JSON reader, with one-line errors "<where>: <key path>: <problem>" like the parameter presets'.
+#include "eval/task.h"
+
+#include <cmath>
+#include <exception>
+#include <set>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "io/atomic_file.h"
+#include "io/strict_json.h"
+#include "volume/brick_layout.h"
+
+namespace dentsim {
+namespace {
+
+using json = nlohmann::json;
+
+constexpr const char* kFormat = "dentsim-task";
+constexpr int kVersion = 1;
+constexpr uint64_t kMaxTaskBytes = 1u << 20;  // a task is under 1 kB
+
+// Checks values against the schema and keeps the first problem as "<path>: <problem>".
+class TaskReader : public JsonSchemaReader {
+ public:
+  // The member `key` of object j, or null (and an error when required) if absent.
+  const json* member(const json& j, const std::string& path, const char* key, bool required) {
+    auto it = j.find(key);
+    if (it != j.end()) return &*it;
+    if (required) fail(jsonChildPath(path, key), "missing");
+    return nullptr;
+  }
+
+  // A finite number with lo < v (or lo <= v when lo_closed) and v <= hi.
+  bool number(const json& j, const std::string& path, const char* key, bool required, double lo, bool lo_closed,
+              double hi, const std::string& range_text, double* out) {
+    const json* v = member(j, path, key, required);
+    if (!v) return !failed();
+    const std::string p = jsonChildPath(path, key);
+    if (!v->is_number()) return fail(p, std::string("expected a number, got ") + v->type_name());
+    const double d = v->get<double>();
+    if (!std::isfinite(d)) return fail(p, "not a finite number");
+    if (!(lo_closed ? d >= lo : d > lo) || !(d <= hi)) return fail(p, v->dump() + " is not " + range_text);
+    *out = d;
+    return true;
+  }
+
+  bool integer(const json& j, const std::string& path, const char* key, bool required, int lo, int hi, int* out) {
+    const json* v = member(j, path, key, required);
+    if (!v) return !failed();
+    const std::string p = jsonChildPath(path, key);
+    if (!v->is_number_integer()) return fail(p, std::string("expected an integer, got ") + v->type_name());
+    const bool in_range = v->is_number_unsigned() ? v->get<uint64_t>() <= uint64_t(hi) && v->get<uint64_t>() >= uint64_t(lo)
+                                                  : v->get<int64_t>() >= lo && v->get<int64_t>() <= hi;
+    if (!in_range) return fail(p, v->dump() + " is not in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    *out = static_cast<int>(v->get<int64_t>());
+    return true;
+  }
+
+  // A string; `name` true: it must be a file-stem name.
+  bool string(const json& j, const std::string& path, const char* key, bool required, bool name, std::string* out) {
+    const json* v = member(j, path, key, required);
+    if (!v) return !failed();
+    const std::string p = jsonChildPath(path, key);
+    if (!v->is_string()) return fail(p, std::string("expected a string, got ") + v->type_name());
+    const std::string& s = v->get_ref<const std::string&>();
+    if (s.empty()) return fail(p, "empty");
+    if (name && !isPlainName(s)) return fail(p, quotedForMessage(s) + " is not a name (1 to 64 letters, digits, '_', '-', '.')");
+    *out = s;
+    return true;
+  }
+
+  // One of `choices`; its index in *out.
+  bool choice(const json& j, const std::string& path, const char* key, const std::vector<std::string>& choices,
+              size_t* out) {
+    std::string s;
+    if (!string(j, path, key, true, false, &s)) return false;
+    for (size_t i = 0; i < choices.size(); ++i)
+      if (choices[i] == s) {
+        *out = i;
+        return true;
+      }
+    std::string list;
+    for (const std::string& c : choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
+    return fail(jsonChildPath(path, key), quotedForMessage(s) + " is not one of " + list);
+  }
+
+  // Three finite numbers, not all zero; normalized.
+  bool direction(const json& j, const std::string& path, const char* key, Vec3* out) {
+    const json* v = member(j, path, key, false);
+    if (!v) return !failed();
+    const std::string p = jsonChildPath(path, key);
+    if (!v->is_array() || v->size() != 3) return fail(p, "expected an array of 3 numbers");
+    Vec3 a;
+    for (int i = 0; i < 3; ++i) {
+      const json& e = (*v)[size_t(i)];
+      if (!e.is_number() || !std::isfinite(e.get<double>())) return fail(p, "expected an array of 3 finite numbers");
+      a[i] = e.get<double>();
+    }
+    if (!(norm(a) > 1e-9)) return fail(p, "zero vector; the axis needs a direction");
+    *out = normalized(a);
+    return true;
+  }
+};
+
+constexpr double kHuge = 1e9;
+
+void readCavity(const json& j, TaskReader& r, CavityTask* c) {
+  const std::string path = "cavity";
+  if (!r.object(j, path,
+                {"undercut_coefficient", "overcut_coefficient", "parallel_coefficient", "time_coefficient",
+                 "parallel_error_deg", "insertion_axis", "leeway_mm", "ideal"}))
+    return;
+  const std::string non_negative = ">= 0 and <= 1e9";
+  if (!r.number(j, path, "undercut_coefficient", false, 0, true, kHuge, non_negative, &c->undercut_coefficient)) return;
+  if (!r.number(j, path, "overcut_coefficient", false, 0, true, kHuge, non_negative, &c->overcut_coefficient)) return;
+  if (!r.number(j, path, "parallel_coefficient", false, 0, true, kHuge, non_negative, &c->parallel_coefficient)) return;
+  if (!r.number(j, path, "time_coefficient", false, 0, true, kHuge, non_negative, &c->time_coefficient)) return;
+  if (!r.number(j, path, "parallel_error_deg", false, 0, false, 90, "in (0, 90]", &c->parallel_error_deg)) return;
+  if (!r.direction(j, path, "insertion_axis", &c->insertion_axis)) return;
+  if (!r.number(j, path, "leeway_mm", false, 0, true, 1, "in [0, 1]", &c->leeway_mm)) return;
+  const json* ideal = r.member(j, path, "ideal", true);
+  if (!ideal) return;
+  const std::string ideal_path = jsonChildPath(path, "ideal");
+  if (!r.object(*ideal, ideal_path, {"kind", "path"})) return;
+  size_t kind = 0;
+  if (!r.choice(*ideal, ideal_path, "kind", {"builtin_path", "volume", "session"}, &kind)) return;
+  c->ideal.kind = static_cast<IdealKind>(kind);
+  r.string(*ideal, ideal_path, "path", true, false, &c->ideal.path);
+}
+
+// The whole schema: format and version first, so that another JSON file is named as such.
+void readTask(const json& root, TaskReader& r, Task* t) {
+  if (!root.is_object()) {
+    r.fail("", std::string("expected an object, got ") + root.type_name());
+    return;
+  }
+  std::string format;
+  if (!r.string(root, "", "format", true, false, &format)) return;
+  if (format != kFormat) {
+    r.fail("format", quotedForMessage(format) + " is not \"" + kFormat + "\"");
+    return;
+  }
+  const json* version = r.member(root, "", "version", true);
+  if (!version) return;
+  if (!version->is_number_integer()) {
+    r.fail("version", std::string("expected an integer, got ") + version->type_name());
+    return;
+  }
+  if (version->dump() != std::to_string(kVersion)) {
+    r.fail("version", version->dump() + " is not supported (this build reads version " + std::to_string(kVersion) + ")");
+    return;
+  }
+  if (!r.object(root, "",
+                {"format", "version", "name", "kind", "title", "tooth", "level", "tools", "target_s", "failure_s",
+                 "force_error_n", "cavity"}))
+    return;
+  if (!r.string(root, "", "name", true, true, &t->name)) return;
+  size_t kind = 0;
+  if (!r.choice(root, "", "kind", {"caries", "cavity"}, &kind)) return;
+  t->kind = kind == 0 ? TaskKind::Caries : TaskKind::Cavity;
+  t->title = t->name;
+  if (!r.string(root, "", "title", false, false, &t->title)) return;
+  if (!r.string(root, "", "tooth", true, false, &t->tooth)) return;
+  if (!r.integer(root, "", "level", false, int(DS_MIN_LEVEL), int(DS_MAX_LEVEL), &t->level)) return;
+
+  const json* tools = r.member(root, "", "tools", true);
+  if (!tools || !r.object(*tools, "tools", {"drill", "mirror"})) return;
+  if (!r.string(*tools, "tools", "drill", true, true, &t->drill_tool)) return;
+  if (!r.string(*tools, "tools", "mirror", false, true, &t->mirror_tool)) return;
+
+  if (!r.number(root, "", "target_s", true, 0, false, kHuge, "> 0 and <= 1e9", &t->target_s)) return;
+  if (!r.number(root, "", "force_error_n", true, 0, false, kHuge, "> 0 and <= 1e9", &t->force_error_n)) return;
+  if (t->kind == TaskKind::Caries) {
+    if (root.contains("cavity")) {
+      r.fail("cavity", "only for kind \"cavity\"");
+      return;
+    }
+    if (!r.number(root, "", "failure_s", true, 0, false, kHuge, "> 0 and <= 1e9", &t->failure_s)) return;
+    if (!(t->failure_s > t->target_s))
+      r.fail("failure_s", json(t->failure_s).dump() + " is not > target_s (" + json(t->target_s).dump() + ")");
+    return;
+  }
+  if (root.contains("failure_s")) {
+    r.fail("failure_s", "only for kind \"caries\"");
+    return;
+  }
+  const json* cavity = r.member(root, "", "cavity", true);
+  if (cavity) readCavity(*cavity, r, &t->cavity);
+}
+
+}  // namespace
+
+const char* taskKindName(TaskKind kind) { return kind == TaskKind::Caries ? "caries" : "cavity"; }
+
+Result<Task> parseTask(const std::string& json_text, const std::string& where) {
+  try {
+    json root;
+    std::string error;
+    if (!parseStrictJson(json_text, &root, &error)) return makeError(where, error);
+    Task task;
+    TaskReader reader;
+    readTask(root, reader, &task);
+    if (reader.failed()) return makeError(where, reader.error());
+    return task;
+  } catch (const std::exception& e) {
+    // Not reached for any input the tests know of; a task file must never take the caller down.
+    return makeError(where, "cannot read task: " + jsonExceptionText(e));
+  }
+}
+
+Result<Task> loadTask(const std::string& path) {
+  auto bytes = readFileBytes(path, kMaxTaskBytes);
+  if (!bytes) return bytes.error();
+  return parseTask(std::string(bytes->begin(), bytes->end()), path);
+}
+
+}  // namespace dentsim

@@ -1,0 +1,66 @@
+// Task: what a scored exercise asks of the student (tooth, tools, time limits, thresholds, the ideal), read from assets/tasks/*.json.
+//
+// docs/SCORING.md gives every key. eval only parses the text; the app finds a task by name among the
+// embedded assets and resolves the tooth and the ideal that a task names.
+#pragma once
+
+#include <string>
+
+#include "core/result.h"
+#include "core/rigid.h"
+
+namespace dentsim {
+
+enum class TaskKind {
+  Caries,  // caries removal (the paper's Table 4)
+  Cavity,  // cavity preparation against a professional's result (Table 5)
+};
+
+// Where the professional's final tooth of a cavity task comes from; the app turns it into a volume.
+enum class IdealKind {
+  BuiltinPath,  // a scripted bur path by name, run on the task's tooth
+  Volume,       // a .dvol file of the professional's final tooth
+  Session,      // a professional's .dses session, replayed on the task's tooth
+};
+
+struct IdealSpec {
+  IdealKind kind = IdealKind::Volume;
+  std::string path;  // name (BuiltinPath) or file; a relative file is relative to the task file's folder
+};
+
+// The cavity-preparation terms; defaults are docs/SCORING.md's.
+struct CavityTask {
+  double undercut_coefficient = 1.0;  // points per percent of the ideal volume left standing
+  double overcut_coefficient = 1.0;   // points per percent of the ideal volume cut beyond it
+  double parallel_coefficient = 0.01; // points per contact sample tilted beyond parallel_error_deg
+  double time_coefficient = 5.0;      // points per minute beyond target_s
+  double parallel_error_deg = 10.0;   // tolerated tilt of the bur from insertion_axis [deg], (0, 90]
+  Vec3 insertion_axis{0, 0, 1};       // the bur's ideal +z axis (tip along -z), unit length
+  double leeway_mm = 0.2;             // shell around the ideal cavity for near-margin over-cut [mm], [0, 1]
+  IdealSpec ideal;                    // the professional's final tooth
+};
+
+struct Task {
+  std::string name;                   // file stem ("caries_removal"); letters, digits, '_', '-', '.'
+  TaskKind kind = TaskKind::Caries;
+  std::string title;                  // one line for the UI; the name when the file has none
+  std::string tooth;                  // "builtin:molar" or a volume file (relative to the task's folder)
+  int level = 9;                      // octree level to run it at, DS_MIN_LEVEL..DS_MAX_LEVEL
+  std::string drill_tool;             // tool on the drill pen ("round_bur_010")
+  std::string mirror_tool;            // tool on the mirror pen; empty when none
+  double target_s = 0.0;              // time a good student needs [s], > 0
+  double failure_s = 0.0;             // caries: time that earns no time points [s], > target_s; 0 for cavity
+  double force_error_n = 3.0;         // a contact sample above this force is an error [N], > 0
+  CavityTask cavity;                  // kind Cavity only (defaults otherwise)
+};
+
+// "caries" or "cavity".
+const char* taskKindName(TaskKind kind);
+
+// Parses a task file's text. Errors are one line, "<where>: <key path>: <problem>": unknown keys,
+// missing keys, wrong types, values out of range, a key that does not belong to the task's kind.
+Result<Task> parseTask(const std::string& json_text, const std::string& where);
+// Reads and parses a task file (at most 1 MiB). Errors name the path.
+Result<Task> loadTask(const std::string& path);
+
+}  // namespace dentsim

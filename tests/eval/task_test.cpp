@@ -1,0 +1,143 @@
+// Tests of task files: the checked-in tasks parse, defaults apply, and each kind of mistake gives its one-line error.
+#include "eval/task.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "test_support.h"
+
+namespace dentsim {
+namespace {
+
+const std::string kWhere = "t.json";
+
+// The source tree's assets/tasks, found from this file's path.
+std::string assetTask(const std::string& file) {
+  return (std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "assets" / "tasks" / file).string();
+}
+
+// A caries task with `extra` members appended (JSON text after a comma), or `replace` instead of the body.
+std::string cariesText(const std::string& extra = "") {
+  return std::string(R"({"format": "dentsim-task", "version": 1, "name": "c", "kind": "caries", "tooth": "builtin:molar",)"
+                     R"( "tools": {"drill": "round_bur_010"}, "target_s": 300, "failure_s": 900, "force_error_n": 3)") +
+         (extra.empty() ? "" : ", " + extra) + "}";
+}
+std::string cavityText(const std::string& cavity_extra = "", const std::string& extra = "") {
+  return std::string(R"({"format": "dentsim-task", "version": 1, "name": "v", "kind": "cavity", "tooth": "builtin:molar",)"
+                     R"( "tools": {"drill": "fissure_bur_010"}, "target_s": 600, "force_error_n": 3,)"
+                     R"( "cavity": {"ideal": {"kind": "volume", "path": "ideal.dvol"})") +
+         (cavity_extra.empty() ? "" : ", " + cavity_extra) + "}" + (extra.empty() ? "" : ", " + extra) + "}";
+}
+
+std::string errorOf(const std::string& text) {
+  auto t = parseTask(text, kWhere);
+  EXPECT_FALSE(t.ok()) << text;
+  return t.ok() ? std::string() : t.message();
+}
+
+TEST(Task, CheckedInTasksParse) {
+  auto caries = loadTask(assetTask("caries_removal.json"));
+  ASSERT_TRUE(caries.ok()) << caries.message();
+  EXPECT_EQ(caries->name, "caries_removal");
+  EXPECT_EQ(caries->kind, TaskKind::Caries);
+  EXPECT_EQ(caries->tooth, "builtin:molar");
+  EXPECT_GT(caries->failure_s, caries->target_s);
+  EXPECT_EQ(caries->mirror_tool, "mirror_size4");
+
+  auto cavity = loadTask(assetTask("class1_cavity.json"));
+  ASSERT_TRUE(cavity.ok()) << cavity.message();
+  EXPECT_EQ(cavity->name, "class1_cavity");
+  EXPECT_EQ(cavity->kind, TaskKind::Cavity);
+  EXPECT_EQ(cavity->cavity.ideal.kind, IdealKind::BuiltinPath);
+  EXPECT_EQ(cavity->cavity.leeway_mm, 0.2);
+  EXPECT_EQ(cavity->cavity.insertion_axis, (Vec3{0, 0, 1}));
+}
+
+TEST(Task, DefaultsApplyToOmittedKeys) {
+  auto t = parseTask(cavityText(R"("insertion_axis": [0, 0, 2])"), kWhere);
+  ASSERT_TRUE(t.ok()) << t.message();
+  EXPECT_EQ(t->title, "v");          // the name stands in
+  EXPECT_EQ(t->level, 9);
+  EXPECT_EQ(t->mirror_tool, "");
+  EXPECT_EQ(t->failure_s, 0.0);
+  EXPECT_EQ(t->cavity.undercut_coefficient, 1.0);
+  EXPECT_EQ(t->cavity.overcut_coefficient, 1.0);
+  EXPECT_EQ(t->cavity.parallel_coefficient, 0.01);
+  EXPECT_EQ(t->cavity.time_coefficient, 5.0);
+  EXPECT_EQ(t->cavity.parallel_error_deg, 10.0);
+  EXPECT_EQ(t->cavity.insertion_axis, (Vec3{0, 0, 1}));  // normalized
+  EXPECT_EQ(t->cavity.ideal.kind, IdealKind::Volume);
+  EXPECT_EQ(t->cavity.ideal.path, "ideal.dvol");
+}
+
+TEST(Task, ErrorsNameTheFileAndKey) {
+  EXPECT_EQ(errorOf("{"), "t.json: invalid JSON: parse error at line 1, column 2: syntax error while parsing object key - "
+                          "unexpected end of input; expected string literal");
+  EXPECT_EQ(errorOf("[]"), "t.json: (top level): expected an object, got array");
+  EXPECT_EQ(errorOf(R"({"format": "dentsim-params", "version": 1})"),
+            "t.json: format: \"dentsim-params\" is not \"dentsim-task\"");
+  EXPECT_EQ(errorOf(R"({"format": "dentsim-task", "version": 2})"),
+            "t.json: version: 2 is not supported (this build reads version 1)");
+  EXPECT_EQ(errorOf(R"({"format": "dentsim-task"})"), "t.json: version: missing");
+  // Unknown keys, at the top and inside.
+  EXPECT_EQ(errorOf(cariesText(R"("colour": 1)")).rfind("t.json: colour: unknown key (known: format, version,", 0), 0u);
+  EXPECT_EQ(errorOf(cavityText(R"("leeway": 0.1)")).rfind("t.json: cavity.leeway: unknown key (known:", 0), 0u);
+  // Missing and mistyped.
+  EXPECT_EQ(errorOf(R"({"format": "dentsim-task", "version": 1, "kind": "caries"})"), "t.json: name: missing");
+  EXPECT_EQ(errorOf(cariesText(R"("level": "nine")")), "t.json: level: expected an integer, got string");
+  EXPECT_EQ(errorOf(cavityText(R"("time_coefficient": true)")),
+            "t.json: cavity.time_coefficient: expected a number, got boolean");
+  // Out of range.
+  EXPECT_EQ(errorOf(cariesText(R"("level": 20)")), "t.json: level: 20 is not in [3, 13]");
+  EXPECT_EQ(errorOf(cavityText(R"("leeway_mm": 5)")), "t.json: cavity.leeway_mm: 5 is not in [0, 1]");
+  EXPECT_EQ(errorOf(cavityText(R"("parallel_error_deg": 0)")), "t.json: cavity.parallel_error_deg: 0 is not in (0, 90]");
+  EXPECT_EQ(errorOf(cavityText(R"("overcut_coefficient": -1)")),
+            "t.json: cavity.overcut_coefficient: -1 is not >= 0 and <= 1e9");
+  EXPECT_EQ(errorOf(cavityText(R"("insertion_axis": [0, 0, 0])")),
+            "t.json: cavity.insertion_axis: zero vector; the axis needs a direction");
+  EXPECT_EQ(errorOf(cavityText(R"("insertion_axis": [0, 1])")),
+            "t.json: cavity.insertion_axis: expected an array of 3 numbers");
+  // The failure time must come after the target.
+  auto early = std::string(R"({"format": "dentsim-task", "version": 1, "name": "c", "kind": "caries", "tooth": "x",)"
+                           R"( "tools": {"drill": "round_bur_010"}, "target_s": 300, "failure_s": 200, "force_error_n": 3})");
+  EXPECT_EQ(errorOf(early), "t.json: failure_s: 200.0 is not > target_s (300.0)");
+  // Keys of the other kind.
+  EXPECT_EQ(errorOf(cariesText(R"("cavity": {})")), "t.json: cavity: only for kind \"cavity\"");
+  EXPECT_EQ(errorOf(cavityText("", R"("failure_s": 900)")), "t.json: failure_s: only for kind \"caries\"");
+  // Choices, names, repeats.
+  EXPECT_EQ(errorOf(cavityText(R"("ideal": {"kind": "guess", "path": "a"})")),
+            "t.json: cavity.ideal: repeated key");
+  EXPECT_EQ(errorOf(R"({"format": "dentsim-task", "version": 1, "name": "c", "kind": "filling"})"),
+            "t.json: kind: \"filling\" is not one of \"caries\", \"cavity\"");
+  EXPECT_EQ(errorOf(R"({"format": "dentsim-task", "version": 1, "name": "a b"})"),
+            "t.json: name: \"a b\" is not a name (1 to 64 letters, digits, '_', '-', '.')");
+}
+
+TEST(Task, IdealKindMustBeKnown) {
+  const std::string text =
+      R"({"format": "dentsim-task", "version": 1, "name": "v", "kind": "cavity", "tooth": "builtin:molar",)"
+      R"( "tools": {"drill": "fissure_bur_010"}, "target_s": 600, "force_error_n": 3,)"
+      R"( "cavity": {"ideal": {"kind": "guess", "path": "a"}}})";
+  EXPECT_EQ(errorOf(text), "t.json: cavity.ideal.kind: \"guess\" is not one of \"builtin_path\", \"volume\", \"session\"");
+}
+
+TEST(Task, EveryErrorIsOneLine) {
+  for (const std::string& text : {std::string("{\"a\":\n"), cariesText("\"x\\u0001\": 1"), std::string("\xff\xfe")}) {
+    const std::string e = errorOf(text);
+    EXPECT_EQ(e.find('\n'), std::string::npos) << e;
+    EXPECT_EQ(e.rfind("t.json: ", 0), 0u) << e;
+  }
+}
+
+TEST(Task, MissingFileNamesThePath) {
+  test::TempDir dir;
+  auto t = loadTask(dir.file("none.json"));
+  ASSERT_FALSE(t.ok());
+  EXPECT_NE(t.message().find(dir.file("none.json")), std::string::npos) << t.message();
+}
+
+}  // namespace
+}  // namespace dentsim
