@@ -5,5 +5,7 @@ cd "$(dirname "$0")/.."
 ./scripts/install-deps.sh
 cmake --preset dev >/dev/null
 cmake --build --preset dev
-# The main job until `dentsim demo` exists: check the Vulkan device and run a kernel on it.
+# Check the Vulkan device, then the main job: the scripted caries removal on the built-in molar,
+# recorded and scored (dentsim-demo/ holds the session, the volumes, the score and its picture).
 ./build/src/app/dentsim gpu
+./build/src/app/dentsim demo --headless --out dentsim-demo

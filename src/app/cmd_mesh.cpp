@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/mesh_output.h"
 #include "app/gpu_choice.h"
 #include "app/terminal_progress.h"
 #include "gpu/gpu_surface.h"
@@ -27,40 +28,6 @@ struct MeshOptions {
   bool cpu = false;         // the CPU reference instead of the GPU
   std::string device;       // Vulkan device override
 };
-
-enum class MeshFormat { Stl, Ply };
-
-// The output format from the extension, case-insensitively; false for anything else.
-bool formatOf(const std::string& path, MeshFormat* format) {
-  const size_t slash = path.find_last_of('/');
-  const size_t dot = path.find_last_of('.');
-  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return false;
-  std::string ext = path.substr(dot + 1);
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](char c) { return c >= 'A' && c <= 'Z' ? char(c - 'A' + 'a') : c; });
-  if (ext == "stl") *format = MeshFormat::Stl;
-  else if (ext == "ply") *format = MeshFormat::Ply;
-  else return false;
-  return true;
-}
-
-// Vertex colours per tissue, chosen to read like the stained sections in dental atlases: enamel
-// near-white ivory, dentin yellowish, pulp red, caries brown; grey for anything else (the spare codes).
-Rgb8 tissueColour(Material m) {
-  switch (m) {
-    case Material::Enamel: return {240, 238, 228};
-    case Material::Dentin: return {222, 196, 128};
-    case Material::Pulp: return {200, 40, 50};
-    case Material::Caries: return {110, 70, 35};
-    default: return {128, 128, 128};
-  }
-}
-
-Status writeSurface(const std::string& path, MeshFormat format, const SurfaceMesh& surface, const std::string& label) {
-  if (format == MeshFormat::Stl) return writeStl(path, surface.geometry(), "dentsim mesh " + label);
-  std::vector<Rgb8> colours(surface.tissue.size());
-  std::transform(surface.tissue.begin(), surface.tissue.end(), colours.begin(), tissueColour);
-  return writePly(path, PlyView{surface.positions, surface.normals, colours, surface.triangles}, "dentsim mesh " + label);
-}
 
 // One surface on the GPU when there is one, else by the CPU reference (the same triangles; the GPU
 // stores normals packed to 12 bits per coordinate).
@@ -87,7 +54,7 @@ void appendSurface(SurfaceMesh& to, const SurfaceMesh& from) {
 int runMesh(const MeshOptions& o) {
   // Every argument is checked before the volume is read, so a typo costs nothing.
   MeshFormat format{};
-  if (!formatOf(o.output, &format)) return fail(o.output + ": unknown mesh format (expected .stl or .ply)");
+  if (!meshFormatOf(o.output, &format)) return fail(o.output + ": unknown mesh format (expected .stl or .ply)");
   SurfaceOptions so;
   if (o.normals == "8") so.normal_neighbours = 8;
   else if (o.normals == "64") so.normal_neighbours = 64;

@@ -19,6 +19,9 @@ void addExportCommand(CLI::App& root, Action& action);
 void addBenchCommand(CLI::App& root, Action& action);
 void addMakeToothCommand(CLI::App& root, Action& action);
 void addMeshCommand(CLI::App& root, Action& action);
+void addDemoCommand(CLI::App& root, Action& action);
+void addReplayCommand(CLI::App& root, Action& action);
+void addScoreCommand(CLI::App& root, Action& action);
 
 // Prints "dentsim: <message>" on stderr and returns exit code 1: the one way commands report errors.
 int fail(const std::string& message);

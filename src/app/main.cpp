@@ -28,6 +28,9 @@ int main(int argc, char** argv) {
   addBenchCommand(root, action);
   addMakeToothCommand(root, action);
   addMeshCommand(root, action);
+  addDemoCommand(root, action);
+  addReplayCommand(root, action);
+  addScoreCommand(root, action);
   try {
     root.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,97 @@
+// `dentsim replay SESSION [--headless] [--tooth X.dvol] [-o final.dvol]`: replays a recorded session step for step and checks it ends where the recording did.
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "app/commands.h"
+#include "app/session_support.h"
+#include "io/session_file.h"
+#include "sim/session_run.h"
+#include "volume/tooth_file.h"
+
+namespace dentsim::app {
+namespace {
+
+struct ReplayCliOptions {
+  std::string session;     // the .dses file
+  std::string tooth;       // the starting volume; default: the session's own tooth file
+  std::string output;      // final volume to write (.dvol)
+  std::string report;      // score report to write (.json), when the session names a task
+  bool headless = false;   // no window (the only mode until the simulator window lands)
+  bool allow_other_tooth = false;
+  bool json = false;       // one JSON object on stdout
+};
+
+int runReplay(const ReplayCliOptions& o) {
+  auto session = readSessionFile(o.session);
+  if (!session) return fail(session.message());
+  for (const std::string& w : {session->truncation_warning})
+    if (!w.empty()) std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
+  auto tooth = resolveSessionTooth(*session, o.session, o.tooth);
+  if (!tooth) return fail(tooth.message());
+  const ToothVolume initial = *tooth;
+  ReplayOptions ro;
+  ro.allow_other_tooth = o.allow_other_tooth;
+  auto outcome = replaySession(*session, *tooth, ro);
+  if (!outcome) return fail(o.session + ": " + outcome.message());
+  for (const std::string& w : outcome->warnings)
+    if (w != session->truncation_warning) std::fprintf(stderr, "dentsim: warning: %s: %s\n", o.session.c_str(), w.c_str());
+  if (!o.output.empty())
+    if (Status st = saveTooth(o.output, *tooth); !st) return fail(st.message());
+
+  nlohmann::json j;
+  j["session"] = o.session;
+  j["steps"] = outcome->steps;
+  j["final_hash"] = outcome->final_hash;
+  j["recorded_final_hash"] = session->end ? session->end->final_hash : "";
+  j["matches_recording"] = outcome->recorded_hash_matches;
+  j["removed_mm3"] = outcome->removed_mm3;
+  j["force_mismatches"] = outcome->force_mismatches;
+  std::optional<SessionScore> score;
+  if (!session->info.task.empty()) {
+    auto s = scoreSessionResult(session->info.task, initial, *tooth, *session);
+    if (!s) return fail(o.session + ": " + s.message());
+    score = std::move(*s);
+    j["task"] = session->info.task;
+    j["total"] = score->total;
+    if (!o.report.empty())
+      if (Status st = writeScoreReport(o.report, score->report); !st) return fail(st.message());
+  }
+  if (o.json) {
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    std::printf("replayed %llu steps of %s; final volume %s", static_cast<unsigned long long>(outcome->steps),
+                o.session.c_str(), outcome->final_hash.c_str());
+    if (session->end)
+      std::printf(outcome->recorded_hash_matches ? " (the recording's)\n" : " (the recording ended on %s)\n",
+                  session->end->final_hash.c_str());
+    else
+      std::printf("\n");
+    std::printf("removed %.4f mm^3\n", outcome->removed_mm3);
+    if (score) std::printf("%s score %.2f / 100\n", session->info.task.c_str(), score->total);
+  }
+  // A finished session that replays to other voxels is a broken promise, not a warning.
+  if (session->end && !outcome->recorded_hash_matches && !o.allow_other_tooth && session->gaps.empty())
+    return fail(o.session + ": the replay ended on " + outcome->final_hash + ", the recording on " +
+                session->end->final_hash + ": the replay is not deterministic");
+  return 0;
+}
+
+}  // namespace
+
+void addReplayCommand(CLI::App& root, Action& action) {
+  auto o = std::make_shared<ReplayCliOptions>();
+  CLI::App* cmd = root.add_subcommand("replay", "Replay a recorded session step for step and write the final volume");
+  cmd->add_option("session", o->session, "Session file (.dses)")->required();
+  cmd->add_flag("--headless", o->headless, "No window (the simulator window is not built yet: always headless)");
+  cmd->add_option("--tooth", o->tooth, "Starting volume (.dvol); default: the tooth the session names");
+  cmd->add_flag("--allow-other-tooth", o->allow_other_tooth, "Replay on a tooth whose hash differs from the session's");
+  cmd->add_option("-o,--output", o->output, "Write the final volume (.dvol)");
+  cmd->add_option("--report", o->report, "Write the score report (.json) when the session names a task");
+  cmd->add_flag("--json", o->json, "Print one JSON object");
+  cmd->callback([o, &action] { action = [o] { return runReplay(*o); }; });
+}
+
+}  // namespace dentsim::app

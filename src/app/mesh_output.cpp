@@ -1,0 +1,42 @@
+// Surface files with tissue colours (STL or PLY) for `dentsim mesh` and `dentsim demo`.
+#include "app/mesh_output.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "io/stl_file.h"
+
+namespace dentsim::app {
+
+bool meshFormatOf(const std::string& path, MeshFormat* format) {
+  const size_t slash = path.find_last_of('/');
+  const size_t dot = path.find_last_of('.');
+  if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return false;
+  std::string ext = path.substr(dot + 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](char c) { return c >= 'A' && c <= 'Z' ? char(c - 'A' + 'a') : c; });
+  if (ext == "stl") *format = MeshFormat::Stl;
+  else if (ext == "ply") *format = MeshFormat::Ply;
+  else return false;
+  return true;
+}
+
+// Vertex colours per tissue, chosen to read like the stained sections in dental atlases: enamel
+// near-white ivory, dentin yellowish, pulp red, caries brown; grey for anything else (the spare codes).
+Rgb8 tissueColour(Material m) {
+  switch (m) {
+    case Material::Enamel: return {240, 238, 228};
+    case Material::Dentin: return {222, 196, 128};
+    case Material::Pulp: return {200, 40, 50};
+    case Material::Caries: return {110, 70, 35};
+    default: return {128, 128, 128};
+  }
+}
+
+Status writeSurface(const std::string& path, MeshFormat format, const SurfaceMesh& surface, const std::string& label) {
+  if (format == MeshFormat::Stl) return writeStl(path, surface.geometry(), "dentsim mesh " + label);
+  std::vector<Rgb8> colours(surface.tissue.size());
+  std::transform(surface.tissue.begin(), surface.tissue.end(), colours.begin(), tissueColour);
+  return writePly(path, PlyView{surface.positions, surface.normals, colours, surface.triangles}, "dentsim mesh " + label);
+}
+
+}  // namespace dentsim::app

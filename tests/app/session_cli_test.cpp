@@ -1,0 +1,177 @@
+// The session commands end to end: `demo --headless` writes its six files, `replay` reproduces the final volume and score, `score` reports and draws, and bad sessions fail cleanly.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "io/session_file.h"
+#include "test_support.h"
+#include "volume/tooth_file.h"
+
+namespace dentsim {
+namespace {
+
+using test::runDentsim;
+using test::TempDir;
+using test::writeBytes;
+
+std::vector<uint8_t> readBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+nlohmann::json readJson(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in, nullptr, false);
+}
+
+// The last JSON object a command printed (the commands print nothing after it).
+nlohmann::json printedJson(const std::string& output) {
+  const size_t start = output.find('{');
+  if (start == std::string::npos) return nlohmann::json();
+  return nlohmann::json::parse(output.substr(start), nullptr, false);
+}
+
+// One demo for the whole suite: the molar at level 7 with a preset that cuts ten times faster and
+// spaces the shell points wider, so the scripted removal takes about a second, sanitizers aside.
+class SessionCli : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = new TempDir();
+    const std::string preset = dir_->file("fast.json");
+    std::ofstream(preset) << R"({"format":"dentsim-params","version":1,"cutting":{"removal_rate_mm3_per_s":40},)"
+                             R"("point_shell":{"head_spacing_mm":0.1,"shank_spacing_mm":0.2}})";
+    demo_ = new test::CommandResult(runDentsim("demo --headless --level 7 --params " + preset + " --out " + out()));
+  }
+  static void TearDownTestSuite() {
+    delete demo_;
+    delete dir_;
+  }
+  static std::string out() { return dir_->file("demo"); }
+  static std::string file(const std::string& name) { return out() + "/" + name; }
+
+  static TempDir* dir_;
+  static test::CommandResult* demo_;
+};
+TempDir* SessionCli::dir_ = nullptr;
+test::CommandResult* SessionCli::demo_ = nullptr;
+
+TEST_F(SessionCli, DemoWritesTheSessionTheVolumesTheScoreAndThePicture) {
+  ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
+  for (const char* name : {"initial.dvol", "session.dses", "final.dvol", "final.ply", "score.json", "score.png"})
+    EXPECT_TRUE(std::filesystem::exists(file(name))) << name;
+  EXPECT_NE(demo_->output.find("caries removal score"), std::string::npos) << demo_->output;
+  const std::vector<uint8_t> png = readBytes(file("score.png"));
+  ASSERT_GE(png.size(), 8u);
+  EXPECT_EQ(png[1], 'P');
+  EXPECT_EQ(png[2], 'N');
+  EXPECT_EQ(png[3], 'G');
+
+  const nlohmann::json score = readJson(file("score.json"));
+  ASSERT_FALSE(score.is_discarded());
+  EXPECT_EQ(score["format"], "dentsim-score");
+  // The scripted removal is a professional's: nearly all the caries goes, and no pulp is exposed.
+  const double total = score["total"].get<double>();
+  EXPECT_GT(total, 90.0);
+  EXPECT_LE(total, 100.0);
+
+  auto session = readSessionFile(file("session.dses"));
+  ASSERT_TRUE(session.ok()) << session.message();
+  EXPECT_EQ(session->info.task, "caries_removal");
+  EXPECT_EQ(session->info.tooth_file, "initial.dvol");
+  EXPECT_TRUE(session->truncation_warning.empty());
+  ASSERT_TRUE(session->end.has_value());
+  EXPECT_EQ(session->end->steps, session->steps.size());
+}
+
+TEST_F(SessionCli, ReplayReproducesTheFinalVolumeByteForByteAndTheScore) {
+  ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
+  const nlohmann::json score = readJson(file("score.json"));
+  auto session = readSessionFile(file("session.dses"));
+  ASSERT_TRUE(session.ok()) << session.message();
+  for (int run = 0; run < 2; ++run) {
+    const std::string out = dir_->file("replayed" + std::to_string(run) + ".dvol");
+    const test::CommandResult r = runDentsim("replay " + file("session.dses") + " --headless --json -o " + out);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    const nlohmann::json j = printedJson(r.output);
+    ASSERT_FALSE(j.is_discarded()) << r.output;
+    EXPECT_EQ(j["final_hash"], session->end->final_hash);
+    EXPECT_TRUE(j["matches_recording"].get<bool>());
+    EXPECT_EQ(j["force_mismatches"], 0);
+    EXPECT_EQ(j["total"].get<double>(), score["total"].get<double>());
+    EXPECT_EQ(readBytes(out), readBytes(file("final.dvol")));
+  }
+}
+
+TEST_F(SessionCli, ScoreOfTheDemoGivesTheDemosTotal) {
+  ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
+  const std::string report = dir_->file("again.json"), png = dir_->file("again.png");
+  const test::CommandResult r = runDentsim("score --task caries --initial " + file("initial.dvol") + " --final " +
+                                           file("final.dvol") + " --session " + file("session.dses") + " -o " + report +
+                                           " --png " + png);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(readJson(report)["total"].get<double>(), readJson(file("score.json"))["total"].get<double>());
+  EXPECT_TRUE(std::filesystem::exists(png));
+}
+
+TEST_F(SessionCli, ACavityCutExactlyToTheIdealScoresFullMarks) {
+  ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
+  // The demo's own result as the ideal: no under-cut, no over-cut; its bur stayed upright and it
+  // finished well inside the cavity task's target time.
+  const std::string report = dir_->file("cavity.json");
+  const test::CommandResult r = runDentsim("score --task cavity --initial " + file("initial.dvol") + " --final " +
+                                           file("final.dvol") + " --ideal " + file("final.dvol") + " --session " +
+                                           file("session.dses") + " -o " + report + " --png " + dir_->file("cavity.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_DOUBLE_EQ(readJson(report)["total"].get<double>(), 100.0) << readJson(report).dump(2);
+}
+
+TEST_F(SessionCli, ATruncatedSessionReplaysWithAWarning) {
+  ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
+  std::vector<uint8_t> bytes = readBytes(file("session.dses"));
+  bytes.resize(bytes.size() / 2 + 3);
+  const std::string cut = dir_->file("cut.dses");
+  writeBytes(cut, bytes);
+  const test::CommandResult r = runDentsim("replay " + cut + " --headless --tooth " + file("initial.dvol"));
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("dentsim: warning: " + cut), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("replayed"), std::string::npos) << r.output;
+}
+
+TEST_F(SessionCli, CorruptForeignAndWrongToothSessionsFailWithOneLine) {
+  ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
+  // A byte flipped in the middle of the file.
+  std::vector<uint8_t> bytes = readBytes(file("session.dses"));
+  bytes[bytes.size() / 2] ^= 0x40;
+  const std::string corrupt = dir_->file("corrupt.dses");
+  writeBytes(corrupt, bytes);
+  const std::string out = dir_->file("never.dvol");
+  test::expectCleanFailure(runDentsim("replay " + corrupt + " --headless --tooth " + file("initial.dvol") + " -o " + out),
+                           corrupt, "record", out);
+  // A volume handed over as a session.
+  test::expectCleanFailure(runDentsim("replay " + file("final.dvol") + " --headless -o " + out), file("final.dvol"),
+                           "not a dentsim session file", out);
+  // The right session on the wrong tooth: the cut one.
+  test::expectCleanFailure(runDentsim("replay " + file("session.dses") + " --headless --tooth " + file("final.dvol") +
+                                      " -o " + out),
+                           "hash", "recorded on", out);
+  // A session that is not there.
+  test::expectCleanFailure(runDentsim("replay " + dir_->file("missing.dses") + " --headless"), "missing.dses", "");
+}
+
+TEST_F(SessionCli, ScoringVolumesOfDifferentGridsFailsNamingTheFile) {
+  ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
+  const std::string other = dir_->file("other");
+  ASSERT_EQ(runDentsim("demo --headless --level 6 --out " + other + " --params " + dir_->file("fast.json")).exit_code, 0);
+  test::expectCleanFailure(runDentsim("score --task caries --initial " + file("initial.dvol") + " --final " + other +
+                                      "/final.dvol -o " + dir_->file("x.json") + " --png " + dir_->file("x.png")),
+                           other + "/final.dvol", "level", dir_->file("x.json"));
+}
+
+}  // namespace
+}  // namespace dentsim
