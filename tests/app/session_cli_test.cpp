@@ -131,6 +131,51 @@ TEST_F(SessionCli, ACavityCutExactlyToTheIdealScoresFullMarks) {
   EXPECT_DOUBLE_EQ(readJson(report)["total"].get<double>(), 100.0) << readJson(report).dump(2);
 }
 
+TEST_F(SessionCli, ACavityTaskFileTakesItsIdealFromAProfessionalsSessionOrVolume) {
+  ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
+  // The demo as the professional: its session replayed, or its final volume, is the ideal; the
+  // demo's own final tooth then matches it exactly. The ideal is named relative to the task file.
+  auto taskFile = [&](const std::string& name, const std::string& ideal) {
+    const std::string path = dir_->file(name);
+    std::ofstream(path) << R"({"format": "dentsim-task", "version": 1, "name": ")" << name.substr(0, name.size() - 5)
+                        << R"(", "kind": "cavity", "tooth": "builtin:molar", "tools": {"drill": "round_bur_018"},)"
+                        << R"( "target_s": 600, "force_error_n": 3.0, "cavity": {"ideal": )" << ideal << "}}";
+    return path;
+  };
+  auto score = [&](const std::string& task) {
+    return runDentsim("score --task " + task + " --initial " + file("initial.dvol") + " --final " + file("final.dvol") +
+                      " --session " + file("session.dses") + " -o " + dir_->file("t.json") + " --png " +
+                      dir_->file("t.png"));
+  };
+  const test::CommandResult by_session = score(taskFile("by_session.json", R"({"kind": "session", "path": "demo/session.dses"})"));
+  ASSERT_EQ(by_session.exit_code, 0) << by_session.output;
+  EXPECT_DOUBLE_EQ(readJson(dir_->file("t.json"))["total"].get<double>(), 100.0);
+  const test::CommandResult by_volume = score(taskFile("by_volume.json", R"({"kind": "volume", "path": "demo/final.dvol"})"));
+  ASSERT_EQ(by_volume.exit_code, 0) << by_volume.output;
+  EXPECT_DOUBLE_EQ(readJson(dir_->file("t.json"))["total"].get<double>(), 100.0);
+  // An ideal that removes nothing leaves nothing to score against.
+  const test::CommandResult empty = score(taskFile("untouched.json", R"({"kind": "volume", "path": "demo/initial.dvol"})"));
+  EXPECT_NE(empty.exit_code, 0) << empty.output;
+  EXPECT_EQ(empty.output.rfind("dentsim: ", 0), 0u) << empty.output;
+  EXPECT_EQ(empty.output.find('\n'), empty.output.size() - 1) << empty.output;
+}
+
+TEST_F(SessionCli, TheBuiltInCavityTaskDrillsItsOwnIdeal) {
+  ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
+  // No --ideal: the task's built-in class I path is drilled on the initial tooth. The demo removed
+  // caries, not that cavity, so the score is neither full nor empty.
+  const std::string report = dir_->file("builtin_cavity.json");
+  const test::CommandResult r = runDentsim("score --task cavity --initial " + file("initial.dvol") + " --final " +
+                                           file("final.dvol") + " -o " + report + " --png " + dir_->file("b.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json j = readJson(report);
+  ASSERT_FALSE(j.is_discarded());
+  const std::string text = j.dump();
+  EXPECT_GT(j["total"].get<double>(), 0.0) << text;
+  EXPECT_LT(j["total"].get<double>(), 100.0) << text;
+  EXPECT_NE(r.output.find("ideal"), std::string::npos) << r.output;
+}
+
 TEST_F(SessionCli, ATruncatedSessionReplaysWithAWarning) {
   ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
   std::vector<uint8_t> bytes = readBytes(file("session.dses"));

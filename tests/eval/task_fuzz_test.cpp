@@ -1,0 +1,93 @@
+// Bounded, deterministic mutation fuzzing of the task parser: hostile text never crashes it, an accepted task keeps every rule, and every failure is one line.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "eval/task.h"
+#include "fuzz_mutations.h"
+#include "volume/brick_layout.h"
+
+namespace dentsim {
+namespace {
+
+using test::pick;
+
+const std::string kWhere = "fuzz.json";
+
+// Both kinds, every key present.
+const char* const kSeeds[] = {
+    R"({"format": "dentsim-task", "version": 1, "name": "caries_removal", "kind": "caries",
+        "title": "Remove the caries", "tooth": "builtin:molar", "level": 9,
+        "tools": {"drill": "round_bur_018", "mirror": "mirror_size4"},
+        "target_s": 300, "failure_s": 900, "force_error_n": 3.0})",
+    R"({"format": "dentsim-task", "version": 1, "name": "class1_cavity", "kind": "cavity",
+        "title": "Class I", "tooth": "builtin:molar", "level": 9,
+        "tools": {"drill": "fissure_bur_010", "mirror": "mirror_size4"}, "target_s": 600, "force_error_n": 3.0,
+        "cavity": {"undercut_coefficient": 1.0, "overcut_coefficient": 1.0, "parallel_coefficient": 0.01,
+                   "time_coefficient": 5.0, "parallel_error_deg": 10.0, "insertion_axis": [0, 0, 1],
+                   "leeway_mm": 0.2, "ideal": {"kind": "builtin_path", "path": "class1_cavity"}}})",
+};
+
+// Replacements that aim at the schema rather than at the bytes: numbers out of range or beyond
+// the double range, wrong types, repeated and unknown keys.
+const char* const kTokens[] = {"1e999", "-1", "0", "NaN", "\"9\"", "[]", "{}", "null", "true", "1e-320",
+                               "\"kind\": \"caries\", \"kind\"", "\"extra\": 1, ", "90.0000001", "[0, 0, 0]"};
+
+void mutate(std::string& text, std::mt19937& rng) {
+  std::vector<uint8_t> bytes(text.begin(), text.end());
+  if (test::mutateBytesGeneric(bytes, rng)) {
+    text.assign(bytes.begin(), bytes.end());
+    return;
+  }
+  // A value or a key swapped for a token: after a ':' or a '{' chosen at random.
+  std::vector<size_t> marks;
+  for (size_t i = 0; i < text.size(); ++i)
+    if (text[i] == ':' || text[i] == '{') marks.push_back(i + 1);
+  if (marks.empty()) return;
+  const size_t at = marks[pick(rng, marks.size())];
+  size_t end = at;
+  while (end < text.size() && text[end] != ',' && text[end] != '}') ++end;
+  text.replace(at, end - at, kTokens[pick(rng, std::size(kTokens))]);
+}
+
+TEST(TaskFuzz, MutatedTasksAreRefusedInOneLineOrKeepEveryRule) {
+  std::mt19937 rng(20261122u);
+  int accepted = 0, rejected = 0;
+  for (int iteration = 0; iteration < 4000; ++iteration) {
+    std::string text = kSeeds[pick(rng, std::size(kSeeds))];
+    for (size_t k = 0, n = 1 + pick(rng, 3); k < n; ++k) mutate(text, rng);
+    const Result<Task> task = parseTask(text, kWhere);
+    if (!task.ok()) {
+      ++rejected;
+      test::assertOneLineRejection(task.message(), kWhere, iteration);
+      continue;
+    }
+    ++accepted;
+    ASSERT_TRUE(std::isfinite(task->target_s) && task->target_s > 0) << text;
+    ASSERT_TRUE(std::isfinite(task->force_error_n) && task->force_error_n > 0) << text;
+    ASSERT_GE(task->level, DS_MIN_LEVEL) << text;
+    ASSERT_LE(task->level, DS_MAX_LEVEL) << text;
+    ASSERT_FALSE(task->drill_tool.empty()) << text;
+    if (task->kind == TaskKind::Caries) {
+      ASSERT_GT(task->failure_s, task->target_s) << text;
+    } else {
+      const CavityTask& c = task->cavity;
+      ASSERT_NEAR(norm(c.insertion_axis), 1.0, 1e-12) << text;
+      ASSERT_GT(c.parallel_error_deg, 0.0) << text;
+      ASSERT_LE(c.parallel_error_deg, 90.0) << text;
+      ASSERT_GE(c.leeway_mm, 0.0) << text;
+      ASSERT_LE(c.leeway_mm, 1.0) << text;
+      for (double coef : {c.undercut_coefficient, c.overcut_coefficient, c.parallel_coefficient, c.time_coefficient})
+        ASSERT_TRUE(std::isfinite(coef) && coef >= 0) << text;
+    }
+  }
+  // Both outcomes happen: the mutations neither break every file nor leave them all valid.
+  EXPECT_GT(accepted, 50);
+  EXPECT_GT(rejected, 1000);
+}
+
+}  // namespace
+}  // namespace dentsim
