@@ -1,4 +1,4 @@
-// PenSource: what the haptic loop reads a pen through, and ScriptedPen, which plays a timed pen path with no hardware.
+// PenSource: what the haptic loop reads a pen through; ScriptedPen plays a timed pen path and ReplayPen a recorded session, with no hardware.
 //
 // The loop calls read() once a step with its own clock and display() with the force it wants
 // rendered; neither may block. Hardware drivers (devices/) implement the same interface behind
@@ -6,6 +6,8 @@
 #pragma once
 
 #include <cstddef>
+#include <span>
+#include <vector>
 
 #include "core/rigid.h"
 #include "io/pen_path_file.h"
@@ -52,14 +54,14 @@ class ScriptedPen final : public PenSource {
 // step feeds every step the reading it had.
 class ReplayPen final : public PenSource {
  public:
-  // Keeps a reference: `steps` must outlive the pen.
-  ReplayPen(const std::vector<SessionStep>& steps, PenRole role) : steps_(steps), role_(size_t(role)) {}
+  // Keeps a view: `steps` must outlive the pen.
+  ReplayPen(std::span<const SessionStep> steps, PenRole role) : steps_(steps), role_(size_t(role)) {}
 
   bool read(double t_s, PenReading* out) override;
   size_t position() const { return next_; }  // steps read so far
 
  private:
-  const std::vector<SessionStep>& steps_;
+  std::span<const SessionStep> steps_;
   size_t role_;
   size_t next_ = 0;
 };

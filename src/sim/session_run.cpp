@@ -130,7 +130,7 @@ Result<ReplayOutcome> replaySession(const SessionRecording& session, ToothVolume
     out.warnings.push_back("the session lost steps from step " + std::to_string(gap) + "; replayed the " +
                            std::to_string(count) + " before them");
   }
-  const std::vector<SessionStep> steps(session.steps.begin(), session.steps.begin() + ptrdiff_t(count));
+  const std::span<const SessionStep> steps(session.steps.data(), count);
   if (steps.empty()) return makeError(where, "no step before the session's first gap");
 
   HapticLoop loop(tooth.voxels, tooth.frame, *params, tools->drill, tools->mirror ? &*tools->mirror : nullptr, nullptr);
