@@ -19,6 +19,7 @@ struct ReplayCliOptions {
   std::string tooth;       // the starting volume; default: the session's own tooth file
   std::string output;      // final volume to write (.dvol)
   std::string report;      // score report to write (.json), when the session names a task
+  std::string png;         // score picture to write (.png), when the session names a task
   bool headless = false;   // no window (the only mode until the simulator window lands)
   bool allow_other_tooth = false;
   bool json = false;       // one JSON object on stdout
@@ -58,6 +59,9 @@ int runReplay(const ReplayCliOptions& o) {
     j["total"] = score->total;
     if (!o.report.empty())
       if (Status st = writeScoreReport(o.report, score->report); !st) return fail(st.message());
+    if (!o.png.empty())
+      if (Status st = writeScoreImage(o.png, initial, *tooth, score->ideal ? &*score->ideal : nullptr); !st)
+        return fail(st.message());
   }
   if (o.json) {
     std::printf("%s\n", j.dump(2).c_str());
@@ -90,6 +94,7 @@ void addReplayCommand(CLI::App& root, Action& action) {
   cmd->add_flag("--allow-other-tooth", o->allow_other_tooth, "Replay on a tooth whose hash differs from the session's");
   cmd->add_option("-o,--output", o->output, "Write the final volume (.dvol)");
   cmd->add_option("--report", o->report, "Write the score report (.json) when the session names a task");
+  cmd->add_option("--png", o->png, "Write the score picture (.png) when the session names a task");
   cmd->add_flag("--json", o->json, "Print one JSON object");
   cmd->callback([o, &action] { action = [o] { return runReplay(*o); }; });
 }

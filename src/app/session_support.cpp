@@ -103,12 +103,12 @@ Result<ToothVolume> idealForTask(const Task& task, const ToothVolume& initial) {
 
 Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, const ToothVolume& final_,
                               const ToothVolume* ideal, const SessionRecording* session, const ScoreFiles& files) {
-  std::optional<ToothVolume> made;
+  SessionScore out;
   if (task.kind == TaskKind::Cavity && ideal == nullptr) {
     auto i = idealForTask(task, initial);
     if (!i) return i.error();
-    made = std::move(*i);
-    ideal = &*made;
+    out.ideal = std::move(*i);
+    ideal = &*out.ideal;
   }
   DiffNames names;
   if (!files.initial.empty()) names.initial = files.initial;
@@ -118,7 +118,6 @@ Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, cons
   if (!diff) return diff.error();
   const SessionStats stats = session ? sessionStats(*session, task) : SessionStats{};
   const ScoreInputs inputs{task.name, files.initial, files.final_, files.ideal, files.session};
-  SessionScore out;
   char line[512];
   if (task.kind == TaskKind::Caries) {
     const CariesScore s = scoreCariesRemoval(*diff, stats, task);

@@ -1,6 +1,7 @@
 // What `dentsim demo`, `replay` and `score` share: tasks by name, a session's starting tooth, the ideal cavity, the score and its files.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -34,6 +35,7 @@ struct SessionScore {
   double total = 0.0;
   std::string summary;                 // one line for the terminal
   nlohmann::ordered_json report;       // the "dentsim-score" report
+  std::optional<ToothVolume> ideal;    // the ideal a cavity task made for this score (none when given)
 };
 
 struct ScoreFiles {

@@ -96,7 +96,8 @@ TEST_F(SessionCli, ReplayReproducesTheFinalVolumeByteForByteAndTheScore) {
   ASSERT_TRUE(session.ok()) << session.message();
   for (int run = 0; run < 2; ++run) {
     const std::string out = dir_->file("replayed" + std::to_string(run) + ".dvol");
-    const test::CommandResult r = runDentsim("replay " + file("session.dses") + " --headless --json -o " + out);
+    const std::string png = dir_->file("replayed" + std::to_string(run) + ".png");
+    const test::CommandResult r = runDentsim("replay " + file("session.dses") + " --headless --json -o " + out + " --png " + png);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const nlohmann::json j = printedJson(r.output);
     ASSERT_FALSE(j.is_discarded()) << r.output;
@@ -105,6 +106,7 @@ TEST_F(SessionCli, ReplayReproducesTheFinalVolumeByteForByteAndTheScore) {
     EXPECT_EQ(j["force_mismatches"], 0);
     EXPECT_EQ(j["total"].get<double>(), score["total"].get<double>());
     EXPECT_EQ(readBytes(out), readBytes(file("final.dvol")));
+    EXPECT_EQ(readBytes(png), readBytes(file("score.png")));  // the same picture, pixel for pixel
   }
 }
 
