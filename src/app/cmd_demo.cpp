@@ -83,7 +83,7 @@ int runDemo(const DemoOptions& o) {
 
   auto session = readSessionFile(session_path);
   if (!session) return fail(session.message());
-  auto score = scoreSessionResult(task->name, initial, *tooth, *session);
+  auto score = scoreCut(*task, initial, *tooth, nullptr, &*session, ScoreFiles{initial_path, final_path, "", session_path});
   if (!score) return fail(score.message());
   const std::string report_path = (fs::path(o.out) / "score.json").string();
   if (Status st = writeScoreReport(report_path, score->report); !st) return fail(st.message());

@@ -20,6 +20,7 @@ struct ReplayCliOptions {
   std::string output;      // final volume to write (.dvol)
   std::string report;      // score report to write (.json), when the session names a task
   std::string png;         // score picture to write (.png), when the session names a task
+  std::string task;        // score against this task instead of the session's
   bool headless = false;   // no window (the only mode until the simulator window lands)
   bool allow_other_tooth = false;
   bool json = false;       // one JSON object on stdout
@@ -51,11 +52,19 @@ int runReplay(const ReplayCliOptions& o) {
   j["removed_mm3"] = outcome->removed_mm3;
   j["force_mismatches"] = outcome->force_mismatches;
   std::optional<SessionScore> score;
-  if (!session->info.task.empty()) {
-    auto s = scoreSessionResult(session->info.task, initial, *tooth, *session);
+  const std::string task_name = o.task.empty() ? session->info.task : o.task;
+  std::optional<Task> task;
+  if (!task_name.empty()) {
+    // The replay stands without a score: a task this build does not know only costs the score.
+    auto found = builtinTask(task_name);
+    if (found) task = std::move(*found);
+    else std::fprintf(stderr, "dentsim: warning: %s: not scored: %s\n", o.session.c_str(), found.message().c_str());
+  }
+  if (task) {
+    auto s = scoreCut(*task, initial, *tooth, nullptr, &*session, ScoreFiles{"", o.output, "", o.session});
     if (!s) return fail(o.session + ": " + s.message());
     score = std::move(*s);
-    j["task"] = session->info.task;
+    j["task"] = task->name;
     j["total"] = score->total;
     if (!o.report.empty())
       if (Status st = writeScoreReport(o.report, score->report); !st) return fail(st.message());
@@ -74,7 +83,7 @@ int runReplay(const ReplayCliOptions& o) {
     else
       std::printf("\n");
     std::printf("removed %.4f mm^3\n", outcome->removed_mm3);
-    if (score) std::printf("%s score %.2f / 100\n", session->info.task.c_str(), score->total);
+    if (score) std::printf("%s\n", score->summary.c_str());
   }
   // A finished session that replays to other voxels is a broken promise, not a warning.
   if (session->end && !outcome->recorded_hash_matches && !o.allow_other_tooth && session->gaps.empty())
@@ -95,6 +104,7 @@ void addReplayCommand(CLI::App& root, Action& action) {
   cmd->add_option("-o,--output", o->output, "Write the final volume (.dvol)");
   cmd->add_option("--report", o->report, "Write the score report (.json) when the session names a task");
   cmd->add_option("--png", o->png, "Write the score picture (.png) when the session names a task");
+  cmd->add_option("--task", o->task, "Score against this task (caries, cavity or a task file) instead of the session's");
   cmd->add_flag("--json", o->json, "Print one JSON object");
   cmd->callback([o, &action] { action = [o] { return runReplay(*o); }; });
 }

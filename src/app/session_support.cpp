@@ -143,13 +143,6 @@ Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, cons
   return out;
 }
 
-Result<SessionScore> scoreSessionResult(const std::string& task_name, const ToothVolume& initial,
-                                        const ToothVolume& final_, const SessionRecording& session) {
-  auto task = builtinTask(task_name);
-  if (!task) return task.error();
-  return scoreCut(*task, initial, final_, nullptr, &session, ScoreFiles{});
-}
-
 Status writeScoreReport(const std::string& path, const nlohmann::ordered_json& report) {
   const std::string text = report.dump(2) + "\n";
   return writeFileAtomic(path, std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(text.data()), text.size()));

@@ -46,10 +46,6 @@ struct ScoreFiles {
 // session's statistics (none: an empty session).
 Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, const ToothVolume& final_,
                               const ToothVolume* ideal, const SessionRecording* session, const ScoreFiles& files);
-// The same for a session's own task name.
-Result<SessionScore> scoreSessionResult(const std::string& task_name, const ToothVolume& initial,
-                                        const ToothVolume& final_, const SessionRecording& session);
-
 // Writes the report as JSON (2-space indent), atomically.
 Status writeScoreReport(const std::string& path, const nlohmann::ordered_json& report);
 // Writes the score picture: over-cut red, under-cut blue (no ideal: the cut tooth alone).

@@ -27,7 +27,7 @@ class SessionRecorder {
   // The ring holds 2^ring_log2 steps: 16 s at 1 kHz by default, far more than a stalled disk
   // usually takes to come back.
   explicit SessionRecorder(int ring_log2 = 14);
-  ~SessionRecorder();  // stops the thread; an unfinished file stays as PATH.part
+  ~SessionRecorder();  // stops the thread (stop the loop first); an unfinished file stays as PATH.part
   SessionRecorder(const SessionRecorder&) = delete;
   SessionRecorder& operator=(const SessionRecorder&) = delete;
 

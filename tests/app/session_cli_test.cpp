@@ -178,6 +178,22 @@ TEST_F(SessionCli, TheBuiltInCavityTaskDrillsItsOwnIdeal) {
   EXPECT_NE(r.output.find("ideal"), std::string::npos) << r.output;
 }
 
+TEST_F(SessionCli, ReplayScoresAnotherTaskOnRequestAndWarnsOfAnUnknownOne) {
+  ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
+  const test::CommandResult cavity = runDentsim("replay " + file("session.dses") + " --headless --task cavity");
+  ASSERT_EQ(cavity.exit_code, 0) << cavity.output;
+  EXPECT_NE(cavity.output.find("cavity preparation score"), std::string::npos) << cavity.output;
+  // The replay stands without a score: an unknown task is a warning, not a failure.
+  const std::string out = dir_->file("unscored.dvol");
+  const test::CommandResult unknown =
+      runDentsim("replay " + file("session.dses") + " --headless --task no_such_task -o " + out);
+  ASSERT_EQ(unknown.exit_code, 0) << unknown.output;
+  EXPECT_NE(unknown.output.find("dentsim: warning: " + file("session.dses") + ": not scored: no_such_task"),
+            std::string::npos)
+      << unknown.output;
+  EXPECT_EQ(readBytes(out), readBytes(file("final.dvol")));
+}
+
 TEST_F(SessionCli, ATruncatedSessionReplaysWithAWarning) {
   ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
   std::vector<uint8_t> bytes = readBytes(file("session.dses"));
