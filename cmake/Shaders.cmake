@@ -12,17 +12,19 @@ function(dentsim_add_shader_library NAME)
     list(APPEND include_flags -I${dir})
   endforeach()
   set(header ${gen_dir}/${NAME}_spirv.h)
-  set(header_text "// Generated: SPIR-V of dentsim's compute shaders.\n#pragma once\n#include <cstddef>\n#include <cstdint>\n")
+  set(header_text "// Generated: SPIR-V of dentsim's shaders (${NAME}).\n#pragma once\n#include <cstddef>\n#include <cstdint>\n")
   set(cpp_sources)
   foreach(src IN LISTS ARG_SOURCES)
     get_filename_component(file_name ${src} NAME)
     string(REGEX REPLACE "\\.glsl$" "" stage_name ${file_name})
+    # The stage is the name's last part before .glsl: comp, vert or frag.
+    string(REGEX MATCH "[a-z]+$" shader_stage ${stage_name})
     string(REPLACE "." "_" symbol ${stage_name})
     set(symbol ${symbol}_spv)
     set(num_file ${gen_dir}/${stage_name}.spv.inc)
     add_custom_command(
       OUTPUT ${num_file}
-      COMMAND ${GLSLC} -fshader-stage=compute --target-env=vulkan1.2 -O -Werror ${include_flags}
+      COMMAND ${GLSLC} -fshader-stage=${shader_stage} --target-env=vulkan1.2 -O -Werror ${include_flags}
               -mfmt=num -MD -MF ${num_file}.d -o ${num_file} ${CMAKE_CURRENT_SOURCE_DIR}/${src}
       DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/${src} ${ARG_DEPENDS}
       DEPFILE ${num_file}.d

@@ -7,7 +7,8 @@ packages=(
   build-essential cmake ninja-build pkg-config clang lld
   glslc glslang-tools spirv-tools
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
-  libglfw3-dev libglm-dev libopenal-dev libusb-1.0-0-dev libhidapi-dev
+  libglfw3-dev libglm-dev libimgui-dev libopenal-dev libusb-1.0-0-dev libhidapi-dev
+  xvfb xauth
   libgtest-dev libgmock-dev
   libnifti2-dev zlib1g-dev libzstd-dev libxxhash-dev
   libcli11-dev libstb-dev nlohmann-json3-dev libmeshoptimizer-dev

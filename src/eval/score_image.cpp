@@ -5,7 +5,7 @@
 //   2. Occupancy: which bricks a ray must enter
 //   3. Views: camera basis and fit
 //   4. One ray
-//   5. renderScoreImage, PNG
+//   5. renderScoreImage
 #include "eval/score_image.h"
 
 #include <algorithm>
@@ -14,11 +14,6 @@
 #include <cstring>
 #include <limits>
 
-#define STB_IMAGE_WRITE_STATIC
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#include <stb/stb_image_write.h>
-
-#include "io/atomic_file.h"
 
 namespace dentsim {
 
@@ -304,26 +299,6 @@ ScoreImage renderScoreImage(const ToothVolume& initial, const ToothVolume& final
   }
   for (const ScoreView& view : out.views) renderView(caster, view, occ, &out.image);
   return out;
-}
-
-Result<std::vector<uint8_t>> encodePng(const RgbImage& image) {
-  if (image.width <= 0 || image.height <= 0 || image.rgb.size() != size_t(image.width) * size_t(image.height) * 3)
-    return makeError("", "cannot encode PNG: image size and pixel count disagree");
-  std::vector<uint8_t> bytes;
-  auto append = [](void* context, void* data, int size) {
-    auto* out = static_cast<std::vector<uint8_t>*>(context);
-    const auto* p = static_cast<const uint8_t*>(data);
-    out->insert(out->end(), p, p + size);
-  };
-  if (!stbi_write_png_to_func(append, &bytes, image.width, image.height, 3, image.rgb.data(), image.width * 3))
-    return makeError("", "cannot encode PNG");
-  return bytes;
-}
-
-Status writePng(const std::string& path, const RgbImage& image) {
-  auto bytes = encodePng(image);
-  if (!bytes) return makeError(path, bytes.message());
-  return writeFileAtomic(path, *bytes);
 }
 
 }  // namespace dentsim

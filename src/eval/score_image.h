@@ -16,6 +16,7 @@
 
 #include "core/result.h"
 #include "core/rigid.h"
+#include "io/png_file.h"
 #include "volume/brick_volume.h"
 
 namespace dentsim {
@@ -25,15 +26,6 @@ struct ScoreImageOptions {
   int height = 600;            // [px], 16..8192
   Vec3 view_dir{0, 0, -1};     // where the camera looks, in the grid's axes: occlusal, from +z down
   bool oblique = false;        // a second, oblique view to the right; each view then gets half the width
-};
-
-struct RgbImage {
-  int width = 0, height = 0;
-  std::vector<uint8_t> rgb;    // (height x width x 3), row 0 at the top
-  std::array<uint8_t, 3> pixel(int x, int y) const {
-    const size_t o = (size_t(y) * size_t(width) + size_t(x)) * 3;
-    return {rgb[o], rgb[o + 1], rgb[o + 2]};
-  }
 };
 
 // One view's camera, so that a caller (or a test) can find where a voxel appears.
@@ -55,10 +47,5 @@ struct ScoreImage {
 // Renders the views. The volumes must share the level (compareTeeth checks frames); ideal may be null.
 ScoreImage renderScoreImage(const ToothVolume& initial, const ToothVolume& final_, const ToothVolume* ideal,
                             const ScoreImageOptions& options = {});
-
-// PNG bytes of an image.
-Result<std::vector<uint8_t>> encodePng(const RgbImage& image);
-// Writes a PNG atomically (temporary sibling, fsync, rename). Errors name the path.
-Status writePng(const std::string& path, const RgbImage& image);
 
 }  // namespace dentsim

@@ -154,7 +154,8 @@ int typeRank(VkPhysicalDeviceType t) {
 }
 
 // A queue family with compute; a compute-only family (no graphics) first, as it is the dedicated one.
-int pickQueueFamily(VkPhysicalDevice pd) {
+// With `graphics`, the first family that does both.
+int pickQueueFamily(VkPhysicalDevice pd, bool graphics) {
   uint32_t n = 0;
   vkGetPhysicalDeviceQueueFamilyProperties(pd, &n, nullptr);
   std::vector<VkQueueFamilyProperties> families(n);
@@ -163,13 +164,25 @@ int pickQueueFamily(VkPhysicalDevice pd) {
   for (uint32_t i = 0; i < n; ++i) {
     const VkQueueFlags f = families[i].queueFlags;
     if (!(f & VK_QUEUE_COMPUTE_BIT) || families[i].queueCount == 0) continue;
+    if (graphics) {
+      if (f & VK_QUEUE_GRAPHICS_BIT) return static_cast<int>(i);
+      continue;
+    }
     if (!(f & VK_QUEUE_GRAPHICS_BIT)) return static_cast<int>(i);
     if (any < 0) any = static_cast<int>(i);
   }
   return any;
 }
 
-DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
+bool hasDeviceExtension(VkPhysicalDevice pd, const char* name) {
+  uint32_t n = 0;
+  if (vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, nullptr) != VK_SUCCESS) return false;
+  std::vector<VkExtensionProperties> exts(n);
+  if (vkEnumerateDeviceExtensionProperties(pd, nullptr, &n, exts.data()) != VK_SUCCESS) return false;
+  return std::any_of(exts.begin(), exts.end(), [&](const VkExtensionProperties& e) { return std::strcmp(e.extensionName, name) == 0; });
+}
+
+DeviceInfo describe(VkPhysicalDevice pd, uint32_t index, bool graphics, bool swapchain) {
   VkPhysicalDeviceProperties props{};
   vkGetPhysicalDeviceProperties(pd, &props);
   DeviceInfo d;
@@ -192,8 +205,10 @@ DeviceInfo describe(VkPhysicalDevice pd, uint32_t index) {
   }
   if (props.apiVersion < kRequiredApi) {
     d.unusable_reason = "supports Vulkan " + apiVersionString(props.apiVersion) + ", dentsim needs 1.2";
-  } else if (pickQueueFamily(pd) < 0) {
-    d.unusable_reason = "has no compute queue";
+  } else if (pickQueueFamily(pd, graphics) < 0) {
+    d.unusable_reason = graphics ? "has no queue that does both graphics and compute" : "has no compute queue";
+  } else if (swapchain && !hasDeviceExtension(pd, VK_KHR_SWAPCHAIN_EXTENSION_NAME)) {
+    d.unusable_reason = "cannot present to a window (no VK_KHR_swapchain)";
   } else {
     d.usable = true;
   }
@@ -329,6 +344,12 @@ Result<Context> Context::create(const ContextOptions& requested) {
   if (core->validation && !debug_utils)
     return makeError(where, "validation requested but VK_EXT_debug_utils is missing, so errors could not be counted");
   if (debug_utils) extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  for (const std::string& e : core->options.instance_extensions) {
+    if (!hasInstanceExtension(e.c_str(), nullptr))
+      return makeError(where, "the window needs the instance extension " + e + ", which the Vulkan loader does not offer");
+    extensions.push_back(e.c_str());
+  }
+  const bool swapchain = !core->options.instance_extensions.empty();
 
   VkApplicationInfo app{};
   app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
@@ -376,12 +397,12 @@ Result<Context> Context::create(const ContextOptions& requested) {
   std::vector<VkPhysicalDevice> physicals(count);
   DS_VK_TRY(vkEnumeratePhysicalDevices(core->instance, &count, physicals.data()), "vkEnumeratePhysicalDevices");
   physicals.resize(count);
-  for (uint32_t i = 0; i < count; ++i) core->all_devices.push_back(describe(physicals[i], i));
+  for (uint32_t i = 0; i < count; ++i) core->all_devices.push_back(describe(physicals[i], i, core->options.graphics, swapchain));
   auto chosen = chooseDevice(core->all_devices, core->options.device_override);
   if (!chosen) return chosen.error();
   core->physical = physicals[*chosen];
   core->info = core->all_devices[*chosen];
-  core->queue_family = static_cast<uint32_t>(pickQueueFamily(core->physical));
+  core->queue_family = static_cast<uint32_t>(pickQueueFamily(core->physical, core->options.graphics));
   core->limits = queryLimits(core->physical, core->queue_family);
   vkGetPhysicalDeviceMemoryProperties(core->physical, &core->memory);
 
@@ -414,6 +435,11 @@ Result<Context> Context::create(const ContextOptions& requested) {
   dci.pNext = &enable;
   dci.queueCreateInfoCount = 1;
   dci.pQueueCreateInfos = &qci;
+  const char* swapchain_extension = VK_KHR_SWAPCHAIN_EXTENSION_NAME;
+  if (swapchain) {
+    dci.enabledExtensionCount = 1;
+    dci.ppEnabledExtensionNames = &swapchain_extension;
+  }
   DS_VK_TRY(vkCreateDevice(core->physical, &dci, nullptr, &core->device), "vkCreateDevice");
   vkGetDeviceQueue(core->device, core->queue_family, 0, &core->queue);
 

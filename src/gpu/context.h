@@ -29,6 +29,12 @@ struct ContextOptions {
   bool enable_validation = false;   // Khronos validation layer + debug messenger; also DENTSIM_VALIDATION=1
   std::string device_override;      // device index ("0") or case-insensitive name substring; also DENTSIM_DEVICE
   uint64_t submit_timeout_ns = 20'000'000'000;  // longest wait for one submission before it is an error [ns]
+  // Rendering: the queue must also do graphics (one queue then runs the mesher and the draws, in
+  // order), and a device without such a family is unusable.
+  bool graphics = false;
+  // Instance extensions a window system needs (glfwGetRequiredInstanceExtensions); with any given,
+  // the device must also offer VK_KHR_swapchain, which is enabled.
+  std::vector<std::string> instance_extensions;
 };
 
 // Context::create errors start with "gpu: no Vulkan device" when the machine has no Vulkan driver or
@@ -50,7 +56,7 @@ struct DeviceInfo {
   uint32_t driver_version = 0;         // vendor-specific encoding
   std::string driver_name;             // VkPhysicalDeviceDriverProperties (Vulkan 1.2), else empty
   std::string driver_info;             // driver build string, else empty
-  bool usable = false;                 // Vulkan 1.2 and a compute queue
+  bool usable = false;                 // Vulkan 1.2 and a compute queue (with graphics, when asked)
   std::string unusable_reason;         // why not, when !usable
 };
 

@@ -59,6 +59,8 @@ constexpr Range kReach{0.0, 1.0, true, true, "in [0, 1]"};
 constexpr Range kStaleMs{0.0, 100.0, false, true, "in (0, 100]"};
 constexpr Range kRateHz{100.0, 10000.0, true, true, "in [100, 10000]"};
 constexpr Range kSpacing{0.001, 1.0, true, true, "in [0.001, 1]"};
+constexpr Range kShininess{1.0, 512.0, true, true, "in [1, 512]"};
+constexpr Range kNeighbours{8.0, 216.0, true, true, "8, 64 or 216"};
 
 // One number in a JSON object: its key (the C++ member's name), the member, and its range.
 template <class S>
@@ -98,6 +100,17 @@ const Field<DeviceParams> kDeviceFields[] = {
     {"stale_after_ms", &DeviceParams::stale_after_ms, kStaleMs},
     {"rate_hz", &DeviceParams::rate_hz, kRateHz},
 };
+const Field<TissueLook> kLookFields[] = {
+    {"ambient_r", &TissueLook::ambient_r, kUnit},   {"ambient_g", &TissueLook::ambient_g, kUnit},
+    {"ambient_b", &TissueLook::ambient_b, kUnit},   {"diffuse_r", &TissueLook::diffuse_r, kUnit},
+    {"diffuse_g", &TissueLook::diffuse_g, kUnit},   {"diffuse_b", &TissueLook::diffuse_b, kUnit},
+    {"specular_r", &TissueLook::specular_r, kUnit}, {"specular_g", &TissueLook::specular_g, kUnit},
+    {"specular_b", &TissueLook::specular_b, kUnit}, {"alpha", &TissueLook::alpha, kUnit},
+    {"shininess", &TissueLook::shininess, kShininess},
+};
+const Field<ViewParams> kViewFields[] = {
+    {"normal_neighbours", &ViewParams::normal_neighbours, kNeighbours},
+};
 const Field<PointShellParams> kPointShellFields[] = {
     {"head_spacing_mm", &PointShellParams::head_spacing_mm, kSpacing},
     {"shank_spacing_mm", &PointShellParams::shank_spacing_mm, kSpacing},
@@ -112,6 +125,8 @@ static_assert(sizeof(CuttingParams) == std::size(kCuttingFields) * sizeof(double
 static_assert(sizeof(CouplingParams) == std::size(kCouplingFields) * sizeof(double));
 static_assert(sizeof(DeviceParams) == std::size(kDeviceFields) * sizeof(double));
 static_assert(sizeof(PointShellParams) == std::size(kPointShellFields) * sizeof(double));
+static_assert(sizeof(TissueLook) == std::size(kLookFields) * sizeof(double));
+static_assert(sizeof(ViewParams) == std::size(kViewFields) * sizeof(double));
 
 // Every field of the table equal (==, so 0 equals -0 and NaN equals nothing).
 template <class S, size_t N>
@@ -122,8 +137,8 @@ bool sameFields(const S& a, const S& b, const Field<S> (&table)[N]) {
 }
 
 // Top-level keys, in file order.
-const std::vector<std::string> kTopKeys = {"format",  "version",  "tissues", "burs",       "turbine",
-                                           "cutting", "coupling", "device",  "point_shell"};
+const std::vector<std::string> kTopKeys = {"format",   "version", "tissues",     "burs",  "turbine", "cutting",
+                                           "coupling", "device",  "point_shell", "looks", "view"};
 
 template <class S, size_t N>
 std::vector<std::string> fieldKeys(const Field<S> (&fields)[N]) {
@@ -149,6 +164,11 @@ SimParams defaultSimParams() {
   p.tissue(Material::Dentin) = {1200.0, 0.001, 0.25, 0.1};
   p.tissue(Material::Pulp) = {40.0, 0.01, 0.5, 1.0};
   p.tissue(Material::Caries) = {300.0, 0.004, 0.4, 0.5};
+  // Colours after the tissues' appearance in extracted teeth; the enamel lets the layers beneath show.
+  p.look(Material::Enamel) = {0.26, 0.26, 0.24, 0.92, 0.90, 0.84, 0.55, 0.55, 0.55, 0.75, 48.0};
+  p.look(Material::Dentin) = {0.24, 0.21, 0.14, 0.90, 0.80, 0.56, 0.20, 0.20, 0.18, 1.0, 12.0};
+  p.look(Material::Pulp) = {0.22, 0.06, 0.06, 0.82, 0.24, 0.22, 0.30, 0.25, 0.25, 1.0, 24.0};
+  p.look(Material::Caries) = {0.12, 0.08, 0.04, 0.45, 0.30, 0.14, 0.08, 0.08, 0.06, 1.0, 6.0};
   // Every built-in bur cuts; the handpiece and the mirror are not burs.
   for (const ToolSpec& t : toolCatalog()) {
     if (t.kind == ToolKind::RoundBur) p.burs[t.name].cutting_ability = 0.8;
@@ -185,6 +205,10 @@ std::string simParamsJson(const SimParams& params) {
   root["coupling"] = fieldsJson(params.coupling, kCouplingFields);
   root["device"] = fieldsJson(params.device, kDeviceFields);
   root["point_shell"] = fieldsJson(params.point_shell, kPointShellFields);
+  ordered_json looks = ordered_json::object();
+  for (Material m : kTissues) looks[materialName(m)] = fieldsJson(params.look(m), kLookFields);
+  root["looks"] = std::move(looks);
+  root["view"] = fieldsJson(params.view, kViewFields);
   // nlohmann writes each double as short text that reads back bit-identical; non-finite values become
   // null, which parseSimParams rejects. Bad UTF-8 in a bur name is replaced rather than thrown.
   return root.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n";
@@ -289,8 +313,22 @@ void readPreset(const json& root, PresetReader& r, SimParams* p) {
   if (auto it = root.find("coupling"); it != root.end() && !r.fields(*it, "coupling", kCouplingFields, &p->coupling))
     return;
   if (auto it = root.find("device"); it != root.end() && !r.fields(*it, "device", kDeviceFields, &p->device)) return;
-  if (auto it = root.find("point_shell"); it != root.end())
-    r.fields(*it, "point_shell", kPointShellFields, &p->point_shell);
+  if (auto it = root.find("point_shell"); it != root.end() && !r.fields(*it, "point_shell", kPointShellFields, &p->point_shell))
+    return;
+  if (auto it = root.find("looks"); it != root.end()) {
+    if (!r.object(*it, "looks", tissueKeys())) return;
+    for (Material m : kTissues) {
+      const std::string key = materialName(m);
+      auto t = it->find(key);
+      if (t != it->end() && !r.fields(*t, jsonChildPath("looks", key), kLookFields, &p->look(m))) return;
+    }
+  }
+  if (auto it = root.find("view"); it != root.end()) {
+    if (!r.fields(*it, "view", kViewFields, &p->view)) return;
+    const double n = p->view.normal_neighbours;
+    if (n != 8.0 && n != 64.0 && n != 216.0)
+      r.fail("view.normal_neighbours", json(n).dump() + " is not 8, 64 or 216");
+  }
 }
 
 }  // namespace
@@ -327,15 +365,16 @@ Status saveSimParams(const std::string& path, const SimParams& params) {
 }
 
 bool operator==(const TissueParams& a, const TissueParams& b) { return sameFields(a, b, kTissueFields); }
+bool operator==(const TissueLook& a, const TissueLook& b) { return sameFields(a, b, kLookFields); }
 
 bool operator==(const SimParams& a, const SimParams& b) {
-  if (a.tissues != b.tissues) return false;
+  if (a.tissues != b.tissues || a.looks != b.looks) return false;
   if (a.burs.size() != b.burs.size()) return false;
   for (auto ia = a.burs.begin(), ib = b.burs.begin(); ia != a.burs.end(); ++ia, ++ib)
     if (ia->first != ib->first || !sameFields(ia->second, ib->second, kBurFields)) return false;
   return sameFields(a.turbine, b.turbine, kTurbineFields) && sameFields(a.cutting, b.cutting, kCuttingFields) &&
          sameFields(a.coupling, b.coupling, kCouplingFields) && sameFields(a.device, b.device, kDeviceFields) &&
-         sameFields(a.point_shell, b.point_shell, kPointShellFields);
+         sameFields(a.point_shell, b.point_shell, kPointShellFields) && sameFields(a.view, b.view, kViewFields);
 }
 
 }  // namespace dentsim

@@ -72,17 +72,37 @@ struct PointShellParams {
   double mirror_spacing_mm = 0.15; // point spacing on the mirror, which only collides [mm]
 };
 
+// How one tissue looks: Phong colours and opacity. The renderer draws opaque tissues first and the
+// translucent ones (alpha < 1) over them, so a translucent enamel lets the dentin, pulp and caries
+// beneath show through.
+struct TissueLook {
+  double ambient_r = 0.0, ambient_g = 0.0, ambient_b = 0.0;     // ambient colour [0..1]
+  double diffuse_r = 0.0, diffuse_g = 0.0, diffuse_b = 0.0;     // diffuse colour [0..1]
+  double specular_r = 0.0, specular_g = 0.0, specular_b = 0.0;  // specular colour [0..1]
+  double alpha = 1.0;                                           // opacity [0..1]
+  double shininess = 1.0;                                       // Phong exponent [1..512]
+};
+
+// The tooth's surface shading that is not per tissue.
+struct ViewParams {
+  double normal_neighbours = 216.0;  // normals averaged over 8, 64 or 216 voxel centres (paper Fig. 15)
+};
+
 struct SimParams {
   std::array<TissueParams, DS_MATERIAL_COUNT> tissues{};  // indexed by Material; Empty and spare codes unused
+  std::array<TissueLook, DS_MATERIAL_COUNT> looks{};      // indexed by Material, as tissues
   std::map<std::string, BurParams> burs;                  // by tool name ("round_bur_010")
   TurbineParams turbine;
   CuttingParams cutting;
   CouplingParams coupling;
   DeviceParams device;
   PointShellParams point_shell;
+  ViewParams view;
 
   TissueParams& tissue(Material m) { return tissues[size_t(m)]; }
   const TissueParams& tissue(Material m) const { return tissues[size_t(m)]; }
+  TissueLook& look(Material m) { return looks[size_t(m)]; }
+  const TissueLook& look(Material m) const { return looks[size_t(m)]; }
   // The bur's cutting ability; 0 for an unknown bur (it collides but does not cut).
   double cuttingAbility(const std::string& bur) const {
     auto it = burs.find(bur);
@@ -114,6 +134,7 @@ Status saveSimParams(const std::string& path, const SimParams& params);
 // Field by field with == (so 0 equals -0, and a NaN equals nothing); SimParams compares all eight
 // tissue slots.
 bool operator==(const TissueParams& a, const TissueParams& b);
+bool operator==(const TissueLook& a, const TissueLook& b);
 bool operator==(const SimParams& a, const SimParams& b);
 
 }  // namespace dentsim

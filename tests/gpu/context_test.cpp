@@ -3,6 +3,7 @@
 
 #include <cstdlib>
 #include <type_traits>
+#include <vector>
 
 #include "gpu/buffer.h"
 #include "gpu/context.h"
@@ -149,6 +150,31 @@ TEST_F(ContextTest, MovedContextWorksAndObjectsMayOutliveIt) {
     Context gone = std::move(moved);
   }  // the buffer keeps the device alive; destroying it afterwards frees it safely
   EXPECT_EQ(buffer->size(), 64u);
+}
+
+// A rendering context's one queue does graphics and compute; a window's instance extension that the
+// loader does not offer is a one-line error naming it.
+TEST_F(ContextTest, GraphicsContextHasAQueueThatDrawsAndComputes) {
+  ContextOptions options;
+  options.graphics = true;
+  auto created = Context::create(options);
+  ASSERT_TRUE(created) << created.message();
+  const ContextCore& core = created->core();
+  uint32_t n = 0;
+  vkGetPhysicalDeviceQueueFamilyProperties(core.physical, &n, nullptr);
+  std::vector<VkQueueFamilyProperties> families(n);
+  vkGetPhysicalDeviceQueueFamilyProperties(core.physical, &n, families.data());
+  ASSERT_LT(core.queue_family, n);
+  const VkQueueFlags flags = families[core.queue_family].queueFlags;
+  EXPECT_TRUE(flags & VK_QUEUE_GRAPHICS_BIT);
+  EXPECT_TRUE(flags & VK_QUEUE_COMPUTE_BIT);
+
+  options.instance_extensions = {"VK_KHR_no_such_surface"};
+  auto missing = Context::create(options);
+  ASSERT_FALSE(missing);
+  EXPECT_EQ(missing.message(),
+            "gpu: the window needs the instance extension VK_KHR_no_such_surface, which the Vulkan loader does not offer");
+  EXPECT_FALSE(isNoDeviceError(missing.error()));
 }
 
 }  // namespace dentsim::gpu::test

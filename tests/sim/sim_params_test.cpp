@@ -253,6 +253,36 @@ TEST(SimParams, ExampleFromTheHeader) {
   EXPECT_EQ(r.message(), "default.json: tissues.enamel.hardness: 1.5 is not in [0, 1]");
 }
 
+// The visual half of a preset: a partial "looks" entry overrides only its keys, and the ranges hold.
+TEST(SimParams, LooksAndViewOverrideAndValidate) {
+  auto p = parseSimParams(preset(R"("looks": {"enamel": {"alpha": 0.4, "diffuse_r": 0.5}}, "view": {"normal_neighbours": 64})"),
+                          kWhere);
+  ASSERT_TRUE(p.ok()) << p.message();
+  SimParams expected = defaultSimParams();
+  expected.look(Material::Enamel).alpha = 0.4;
+  expected.look(Material::Enamel).diffuse_r = 0.5;
+  expected.view.normal_neighbours = 64.0;
+  EXPECT_TRUE(*p == expected);
+  EXPECT_FALSE(*p == defaultSimParams());
+
+  auto alpha = parseSimParams(preset(R"("looks": {"pulp": {"alpha": 1.2}})"), kWhere);
+  ASSERT_FALSE(alpha.ok());
+  EXPECT_EQ(alpha.message(), "t.json: looks.pulp.alpha: 1.2 is not in [0, 1]");
+  auto shiny = parseSimParams(preset(R"("looks": {"dentin": {"shininess": 0.5}})"), kWhere);
+  ASSERT_FALSE(shiny.ok());
+  EXPECT_EQ(shiny.message(), "t.json: looks.dentin.shininess: 0.5 is not in [1, 512]");
+  auto mode = parseSimParams(preset(R"("view": {"normal_neighbours": 100})"), kWhere);
+  ASSERT_FALSE(mode.ok());
+  EXPECT_EQ(mode.message(), "t.json: view.normal_neighbours: 100.0 is not 8, 64 or 216");
+  auto tissue = parseSimParams(preset(R"("looks": {"bone": {}})"), kWhere);
+  ASSERT_FALSE(tissue.ok());
+  EXPECT_NE(tissue.message().find("looks"), std::string::npos) << tissue.message();
+  // Every default look is opaque except the enamel, which lets the layers beneath show.
+  const SimParams d = defaultSimParams();
+  EXPECT_LT(d.look(Material::Enamel).alpha, 1.0);
+  for (Material m : {Material::Dentin, Material::Pulp, Material::Caries}) EXPECT_EQ(d.look(m).alpha, 1.0);
+}
+
 // ---- files -------------------------------------------------------------------------------------------
 
 TEST(SimParams, SaveAndLoadRoundTrip) {
