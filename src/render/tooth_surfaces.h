@@ -1,0 +1,49 @@
+// ToothSurfaces: one GPU marching-cubes surface per tissue, so that a translucent enamel shows the layers beneath it.
+#pragma once
+
+#include <array>
+#include <memory>
+#include <span>
+
+#include "core/result.h"
+#include "gpu/context.h"
+#include "gpu/gpu_surface.h"
+#include "volume/brick_volume.h"
+
+namespace dentsim::render {
+
+// The tissues drawn, in the order their surfaces are kept.
+inline constexpr std::array<Material, 4> kDrawnTissues{Material::Enamel, Material::Dentin, Material::Pulp,
+                                                      Material::Caries};
+
+class ToothSurfaces {
+ public:
+  // Empty surfaces for every drawn tissue; normal_neighbours is 8, 64 or 216 (SimParams::view).
+  // Errors: a bad normal mode, a Vulkan failure.
+  static Result<ToothSurfaces> create(gpu::Context& ctx, int normal_neighbours = 216);
+
+  // Meshes the whole volume, every tissue; stats (may be null) are summed over the tissues.
+  Status build(const BrickVolume& volume, gpu::SurfaceUpdateStats* stats = nullptr);
+  // Re-meshes what `dirty` bricks touch. After setNormalNeighbours changed the mode it rebuilds
+  // instead. Errors: no build yet, a Vulkan failure.
+  Status update(const BrickVolume& volume, std::span<const BrickCoord> dirty, gpu::SurfaceUpdateStats* stats = nullptr);
+  // Takes a new normal mode (8, 64, 216); the next update() rebuilds with it. Error: a bad mode.
+  Status setNormalNeighbours(int normal_neighbours);
+
+  int normalNeighbours() const { return normal_neighbours_; }
+  bool built() const { return built_; }
+  // The surface of kDrawnTissues[i]; what the renderer binds.
+  gpu::GpuSurface& surface(size_t i) const { return *surfaces_[i]; }
+
+ private:
+  ToothSurfaces() = default;
+  Status recreate();
+
+  gpu::Context* ctx_ = nullptr;
+  std::array<std::unique_ptr<gpu::GpuSurface>, kDrawnTissues.size()> surfaces_;
+  int normal_neighbours_ = 216;
+  bool mode_changed_ = false;  // the next update() rebuilds
+  bool built_ = false;
+};
+
+}  // namespace dentsim::render
