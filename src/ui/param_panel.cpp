@@ -1,0 +1,522 @@
+// The parameter window and the overlay: one function per section, each editing UiState and raising PanelActions.
+//
+// Contents
+//   1. Widget helpers: clamped double sliders, colour pickers on float copies, rectangle recording
+//   2. Sections: tissues, bur and turbine, surface, task, presets, advanced, score, status
+//   3. drawParamPanel, the score picture window, drawOverlay
+//   4. applyPresetActions
+#include "ui/param_panel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+#include <imgui.h>
+
+#include "model/tool_generator.h"
+
+namespace dentsim::ui {
+namespace {
+
+// ---- 1. widget helpers ---------------------------------------------------------------------------------
+
+constexpr Material kTissues[] = {Material::Enamel, Material::Dentin, Material::Pulp, Material::Caries};
+
+constexpr float kPanelWidth = 380.0f;       // [px]
+constexpr float kMargin = 10.0f;            // from the display's edges [px]
+constexpr float kLabelWidth = 150.0f;       // room left for a widget's label [px]
+constexpr float kPictureBox = 320.0f;       // the score picture fits in this square [px]
+constexpr float kGaugeWidth = 220.0f;       // the overlay's force gauge [px]
+constexpr double kWheelSpeedStep = 0.05;    // turbine speed per wheel notch [-]
+constexpr double kKeySpeedStep = 0.1;       // turbine speed per PageUp/PageDown [-]
+
+// Drawing context shared by the sections of one frame.
+struct Frame {
+  UiState& state;
+  PanelActions& actions;
+  WidgetRects* rects;
+
+  // Remembers the last item's rectangle under `key`, for tests and tutorials.
+  void record(const std::string& key) const {
+    if (!rects) return;
+    ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+    (*rects)[key] = WidgetRect{lo.x, lo.y, hi.x, hi.y};
+  }
+};
+
+// Where the next labelled widget's frame will be. ImGui's item rectangle of a labelled widget
+// takes in the label too, which is not where the slider's track is.
+struct Probe {
+  const Frame& f;
+  ImVec2 pos = ImGui::GetCursorScreenPos();
+  float width = ImGui::CalcItemWidth();
+
+  // Records the frame (the input part, without the label) under `key`.
+  void record(const std::string& key) const {
+    if (!f.rects) return;
+    (*f.rects)[key] = WidgetRect{pos.x, pos.y, pos.x + width, pos.y + ImGui::GetFrameHeight()};
+  }
+};
+
+// A slider on a double, clamped to [lo, hi] for drags and for Ctrl+click typing alike. The bounds
+// are sub-ranges of sim_params.cpp's table, so an edited set always saves.
+bool sliderDouble(const Frame& f, const std::string& key, const char* label, double& v, double lo, double hi,
+                  const char* format, bool logarithmic = false) {
+  ImGuiSliderFlags flags = ImGuiSliderFlags_AlwaysClamp | (logarithmic ? ImGuiSliderFlags_Logarithmic : 0);
+  const Probe probe{f};
+  bool changed = ImGui::SliderScalar(label, ImGuiDataType_Double, &v, &lo, &hi, format, flags);
+  probe.record(key);
+  return changed;
+}
+
+// A colour picker over three doubles. ImGui edits floats; a component is written back only when
+// its float differs from the float of the stored double, so the untouched components keep their
+// exact values (0.26 does not come back as 0.25999999).
+bool colourEdit(const Frame& f, const std::string& key, const char* label, double& r, double& g, double& b) {
+  float c[3] = {float(r), float(g), float(b)};
+  const Probe probe{f};
+  bool edited = ImGui::ColorEdit3(label, c, ImGuiColorEditFlags_Float);
+  probe.record(key);
+  if (!edited) return false;
+  bool changed = false;
+  double* dst[3] = {&r, &g, &b};
+  for (int i = 0; i < 3; ++i) {
+    float v = std::clamp(c[i], 0.0f, 1.0f);
+    if (v != float(*dst[i])) {
+      *dst[i] = double(v);
+      changed = true;
+    }
+  }
+  return changed;
+}
+
+// A collapsing header, recorded as "section.<key>"; true when open.
+bool section(const Frame& f, const char* key, const char* label, ImGuiTreeNodeFlags flags = 0) {
+  bool open = ImGui::CollapsingHeader(label, flags);
+  f.record(std::string("section.") + key);
+  return open;
+}
+
+// Green while light, amber when firm, red near the device's clamp.
+ImVec4 gaugeColour(double fraction) {
+  if (fraction < 0.5) return ImVec4(0.20f, 0.75f, 0.30f, 1.0f);
+  if (fraction < 0.85) return ImVec4(0.95f, 0.70f, 0.10f, 1.0f);
+  return ImVec4(0.90f, 0.20f, 0.15f, 1.0f);
+}
+
+// The drill force as a bar and the contact as a word; shared by the panel and the overlay.
+void forceGauge(const ForceGauge& g, float width) {
+  double fraction = g.max_force_n > 0.0 ? std::clamp(g.force_n / g.max_force_n, 0.0, 1.0) : 0.0;
+  char text[64];
+  std::snprintf(text, sizeof text, "%.2f N / %.1f N", g.force_n, g.max_force_n);
+  ImGui::PushStyleColor(ImGuiCol_PlotHistogram, gaugeColour(fraction));
+  ImGui::ProgressBar(float(fraction), ImVec2(width, 0.0f), text);
+  ImGui::PopStyleColor();
+  if (g.contact)
+    ImGui::TextColored(ImVec4(1.0f, 0.55f, 0.10f, 1.0f), "CONTACT");
+  else
+    ImGui::TextDisabled("no contact");
+}
+
+const char* runStateName(RunState s) {
+  switch (s) {
+    case RunState::Idle: return "idle";
+    case RunState::Running: return "running";
+    case RunState::Stopped: return "stopped";
+  }
+  return "?";
+}
+
+// ---- 2. sections ---------------------------------------------------------------------------------------
+
+// How one tissue feels and looks: a tab per tissue, the tactile fields, then the Phong colours.
+void tissueTab(const Frame& f, Material m) {
+  const std::string name = materialName(m);
+  const std::string t = "tissues." + name + ".", l = "looks." + name + ".";
+  TissueParams& tp = f.state.params.tissue(m);
+  TissueLook& lk = f.state.params.look(m);
+  bool changed = false;
+
+  ImGui::TextDisabled("touch");
+  changed |= sliderDouble(f, t + "stiffness_n_per_mm3", "spring [N/mm^3]", tp.stiffness_n_per_mm3, 1.0, 1e5, "%.1f",
+                          true);
+  changed |= sliderDouble(f, t + "damping_s_per_mm", "damper [s/mm]", tp.damping_s_per_mm, 0.0, 0.1, "%.5f", true);
+  changed |= sliderDouble(f, t + "friction", "friction", tp.friction, 0.0, 2.0, "%.3f");
+  changed |= sliderDouble(f, t + "hardness", "hardness", tp.hardness, 0.0, 1.0, "%.3f");
+
+  ImGui::TextDisabled("look (Phong)");
+  changed |= colourEdit(f, l + "diffuse", "colour (diffuse)", lk.diffuse_r, lk.diffuse_g, lk.diffuse_b);
+  changed |= sliderDouble(f, l + "alpha", "alpha", lk.alpha, 0.0, 1.0, "%.3f");
+  changed |= colourEdit(f, l + "ambient", "ambient", lk.ambient_r, lk.ambient_g, lk.ambient_b);
+  changed |= colourEdit(f, l + "specular", "specular", lk.specular_r, lk.specular_g, lk.specular_b);
+  changed |= sliderDouble(f, l + "shininess", "shininess", lk.shininess, 1.0, 512.0, "%.1f", true);
+  f.actions.params_changed |= changed;
+}
+
+void tissuesSection(const Frame& f) {
+  if (!section(f, "tissues", "Tissues", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  if (!ImGui::BeginTabBar("tissues")) return;
+  for (Material m : kTissues) {
+    const std::string name = materialName(m);
+    bool open = ImGui::BeginTabItem(name.c_str());
+    f.record("tab." + name);
+    if (!open) continue;
+    tissueTab(f, m);
+    ImGui::EndTabItem();
+  }
+  ImGui::EndTabBar();
+}
+
+// The burs offered: the catalog's, then any other name a preset brought in.
+std::vector<std::string> burNames(const SimParams& params) {
+  std::vector<std::string> names;
+  for (const ToolSpec& t : toolCatalog())
+    if (t.kind == ToolKind::RoundBur || t.kind == ToolKind::FissureBur) names.emplace_back(t.name);
+  for (const auto& [name, bur] : params.burs)
+    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+  return names;
+}
+
+// Sets the speed and raises speed_changed when `speed` (clamped) differs.
+void setSpeed(const Frame& f, double speed) {
+  speed = std::clamp(speed, 0.0, 1.0);
+  if (speed == f.state.turbine_speed) return;
+  f.state.turbine_speed = speed;
+  f.actions.speed_changed = true;
+}
+
+// Without a pedal, PageUp/PageDown step the speed (keys the GLFW backend maps; a headless context
+// maps none) unless a text field has the keyboard. Runs whether or not the panel is folded.
+void turbineKeys(const Frame& f) {
+  if (f.state.pedal_present || ImGui::GetIO().WantTextInput) return;
+  const int steps = int(ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_PageUp))) -
+                    int(ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_PageDown)));
+  if (steps != 0) setSpeed(f, f.state.turbine_speed + kKeySpeedStep * steps);
+}
+
+// With a pedal, a bar showing its speed; without, a slider that the wheel also turns while hovered.
+void turbineSpeed(const Frame& f) {
+  UiState& s = f.state;
+  if (s.pedal_present) {
+    char text[32];
+    std::snprintf(text, sizeof text, "pedal %.0f%%", s.turbine_speed * 100.0);
+    ImGui::ProgressBar(float(std::clamp(s.turbine_speed, 0.0, 1.0)), ImVec2(-kLabelWidth, 0.0f), text);
+    f.record("turbine.speed");
+    return;
+  }
+  double speed = s.turbine_speed;
+  sliderDouble(f, "turbine.speed", "speed (no pedal)", speed, 0.0, 1.0, "%.2f");
+  const float wheel = ImGui::GetIO().MouseWheel;
+  if (ImGui::IsItemHovered() && wheel != 0.0f) speed += kWheelSpeedStep * double(wheel);
+  setSpeed(f, speed);
+}
+
+void burSection(const Frame& f) {
+  if (!section(f, "bur", "Bur and turbine", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  UiState& s = f.state;
+
+  const std::vector<std::string> names = burNames(s.params);
+  const Probe bur_probe{f};
+  bool opened = ImGui::BeginCombo("bur", s.bur.c_str());
+  bur_probe.record("bur");
+  if (opened) {
+    for (const std::string& n : names) {
+      if (ImGui::Selectable(n.c_str(), n == s.bur) && n != s.bur) {
+        s.bur = n;
+        f.actions.bur_changed = true;
+      }
+    }
+    ImGui::EndCombo();
+  }
+  // Read through cuttingAbility so that merely showing an unknown bur adds no entry to the map.
+  double ability = s.params.cuttingAbility(s.bur);
+  if (sliderDouble(f, "bur.cutting_ability", "cutting ability", ability, 0.0, 1.0, "%.3f")) {
+    s.params.burs[s.bur].cutting_ability = ability;
+    f.actions.params_changed = true;
+  }
+
+  turbineSpeed(f);
+  f.actions.params_changed |= sliderDouble(f, "turbine.max_rpm", "max speed [rpm]", s.params.turbine.max_rpm, 1000.0,
+                                           400000.0, "%.0f", true);
+  ImGui::Text("turbine %.0f rpm", s.turbine_speed * s.params.turbine.max_rpm);
+  forceGauge(s.force, -kLabelWidth);
+}
+
+void surfaceSection(const Frame& f) {
+  if (!section(f, "surface", "Surface", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  UiState& s = f.state;
+  ImGui::TextUnformatted("normals averaged over (voxels)");
+  for (int n : {8, 64, 216}) {
+    ImGui::SameLine();
+    char label[8];
+    std::snprintf(label, sizeof label, "%d", n);
+    if (ImGui::RadioButton(label, s.params.view.normal_neighbours == double(n)) &&
+        s.params.view.normal_neighbours != double(n)) {
+      s.params.view.normal_neighbours = double(n);
+      f.actions.normal_mode_changed = true;
+      f.actions.params_changed = true;
+    }
+    f.record("view.normal_neighbours." + std::string(label));
+  }
+  // A new level rebuilds the tooth, which a running task must not see.
+  ImGui::BeginDisabled(s.run_state == RunState::Running);
+  int level = s.level;
+  const Probe probe{f};
+  if (ImGui::SliderInt("voxel level", &level, kMinLevel, kMaxLevel, "%d", ImGuiSliderFlags_AlwaysClamp) &&
+      level != s.level) {
+    s.level = level;
+    f.actions.level_changed = true;
+  }
+  probe.record("level");
+  ImGui::EndDisabled();
+  ImGui::Text("%d voxels per side", 1 << std::clamp(s.level, kMinLevel, kMaxLevel));
+}
+
+void taskSection(const Frame& f) {
+  if (!section(f, "task", "Task", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  UiState& s = f.state;
+  const bool running = s.run_state == RunState::Running;
+
+  ImGui::BeginDisabled(running);
+  const Probe probe{f};
+  bool opened = ImGui::BeginCombo("task", s.task.c_str());
+  probe.record("task");
+  if (opened) {
+    for (const char* t : {"caries", "cavity"}) {
+      if (ImGui::Selectable(t, s.task == t) && s.task != t) {
+        s.task = t;
+        f.actions.task_changed = true;
+      }
+    }
+    ImGui::EndCombo();
+  }
+  ImGui::EndDisabled();
+
+  ImGui::BeginDisabled(running);
+  f.actions.start |= ImGui::Button("Start");
+  f.record("start");
+  ImGui::EndDisabled();
+  ImGui::SameLine();
+  ImGui::BeginDisabled(!running);
+  f.actions.stop |= ImGui::Button("Stop");
+  f.record("stop");
+  ImGui::EndDisabled();
+  ImGui::SameLine();
+  ImGui::BeginDisabled(running);
+  f.actions.reset |= ImGui::Button("Reset");
+  f.record("reset");
+  ImGui::EndDisabled();
+  ImGui::SameLine();
+  ImGui::BeginDisabled(s.run_state != RunState::Stopped);
+  f.actions.score |= ImGui::Button("Score");
+  f.record("score");
+  ImGui::EndDisabled();
+  ImGui::SameLine();
+  ImGui::Text("(%s)", runStateName(s.run_state));
+}
+
+void presetSection(const Frame& f) {
+  if (!section(f, "presets", "Presets", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  UiState& s = f.state;
+  const Probe preset_probe{f};
+  bool opened = ImGui::BeginCombo("preset", s.selected_preset.c_str());
+  preset_probe.record("preset");
+  if (opened) {
+    for (const std::string& n : s.presets)
+      if (ImGui::Selectable(n.c_str(), n == s.selected_preset)) s.selected_preset = n;
+    ImGui::EndCombo();
+  }
+  ImGui::SameLine();
+  if (ImGui::Button("Load")) f.actions.load_preset = s.selected_preset;
+  f.record("load");
+
+  // A fixed buffer: Debian's libimgui has no std::string InputText. Names longer than 64 are
+  // invalid anyway; the store says so.
+  char buf[80] = {};
+  s.save_name.copy(buf, sizeof buf - 1);
+  const Probe name_probe{f};
+  if (ImGui::InputText("save as", buf, sizeof buf)) s.save_name = buf;
+  name_probe.record("save_name");
+  ImGui::SameLine();
+  ImGui::BeginDisabled(s.save_name.empty());
+  if (ImGui::Button("Save")) f.actions.save_preset = s.save_name;
+  f.record("save");
+  ImGui::EndDisabled();
+}
+
+// The rest of SimParams, folded away: the coupling, the device, the cutting and the point shells.
+void advancedSection(const Frame& f) {
+  if (!section(f, "advanced", "Advanced")) return;
+  SimParams& p = f.state.params;
+  bool c = false;
+  ImGui::TextDisabled("cutting");
+  c |= sliderDouble(f, "cutting.removal_rate_mm3_per_s", "removal [mm^3/s]", p.cutting.removal_rate_mm3_per_s, 0.0,
+                    100.0, "%.3f", true);
+  c |= sliderDouble(f, "cutting.reach_mm", "reach [mm]", p.cutting.reach_mm, 0.0, 0.5, "%.3f");
+  ImGui::TextDisabled("coupling");
+  c |= sliderDouble(f, "coupling.stiffness_n_per_mm", "spring [N/mm]", p.coupling.stiffness_n_per_mm, 0.01, 100.0,
+                    "%.3f", true);
+  c |= sliderDouble(f, "coupling.damping_n_s_per_mm", "damper [N s/mm]", p.coupling.damping_n_s_per_mm, 0.0, 1.0,
+                    "%.4f", true);
+  c |= sliderDouble(f, "coupling.rot_stiffness_n_mm_per_rad", "rot. spring [N mm/rad]",
+                    p.coupling.rot_stiffness_n_mm_per_rad, 1.0, 10000.0, "%.1f", true);
+  c |= sliderDouble(f, "coupling.rot_damping_n_mm_s_per_rad", "rot. damper [N mm s/rad]",
+                    p.coupling.rot_damping_n_mm_s_per_rad, 0.0, 100.0, "%.3f", true);
+  c |= sliderDouble(f, "coupling.proxy_damping_n_s_per_mm", "proxy drag [N s/mm]", p.coupling.proxy_damping_n_s_per_mm,
+                    0.0, 1.0, "%.4f", true);
+  c |= sliderDouble(f, "coupling.max_proxy_speed_mm_per_s", "proxy speed [mm/s]", p.coupling.max_proxy_speed_mm_per_s,
+                    1.0, 10000.0, "%.0f", true);
+  ImGui::TextDisabled("device");
+  c |= sliderDouble(f, "device.max_force_n", "max force [N]", p.device.max_force_n, 0.1, 50.0, "%.2f", true);
+  c |= sliderDouble(f, "device.max_torque_n_mm", "max torque [N mm]", p.device.max_torque_n_mm, 0.0, 1000.0, "%.1f",
+                    true);
+  c |= sliderDouble(f, "device.stale_after_ms", "stale after [ms]", p.device.stale_after_ms, 0.1, 100.0, "%.2f", true);
+  c |= sliderDouble(f, "device.rate_hz", "haptic rate [Hz]", p.device.rate_hz, 100.0, 10000.0, "%.0f", true);
+  ImGui::TextDisabled("point shells");
+  c |= sliderDouble(f, "point_shell.head_spacing_mm", "head spacing [mm]", p.point_shell.head_spacing_mm, 0.005, 0.5,
+                    "%.3f", true);
+  c |= sliderDouble(f, "point_shell.shank_spacing_mm", "shank spacing [mm]", p.point_shell.shank_spacing_mm, 0.005,
+                    0.5, "%.3f", true);
+  c |= sliderDouble(f, "point_shell.mirror_spacing_mm", "mirror spacing [mm]", p.point_shell.mirror_spacing_mm, 0.005,
+                    0.5, "%.3f", true);
+  f.actions.params_changed |= c;
+}
+
+void scoreSection(const Frame& f) {
+  const ScoreSummary& sc = f.state.score;
+  if (!sc.valid) return;
+  if (!section(f, "score", "Score", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  ImGui::Text("total %.1f / 100", sc.total);
+  if (!sc.rows.empty() && ImGui::BeginTable("score rows", 2, ImGuiTableFlags_RowBg)) {
+    for (const ScoreRow& r : sc.rows) {
+      ImGui::TableNextRow();
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(r.label.c_str());
+      ImGui::TableNextColumn();
+      ImGui::TextUnformatted(r.value.c_str());
+    }
+    ImGui::EndTable();
+  }
+  ImGui::TextColored(ImVec4(0.95f, 0.25f, 0.20f, 1.0f), "red: over-cut");
+  ImGui::SameLine();
+  ImGui::TextColored(ImVec4(0.30f, 0.50f, 1.00f, 1.0f), "blue: under-cut");
+}
+
+// ---- 3. windows ----------------------------------------------------------------------------------------
+
+// The picture's size on screen: its own aspect, fitted into kPictureBox.
+ImVec2 pictureSize(const ScoreSummary& sc) {
+  if (sc.image_width <= 0 || sc.image_height <= 0) return ImVec2(kPictureBox * 0.8f, kPictureBox * 0.8f);
+  float scale = std::min(kPictureBox / float(sc.image_width), kPictureBox / float(sc.image_height));
+  return ImVec2(std::floor(float(sc.image_width) * scale), std::floor(float(sc.image_height) * scale));
+}
+
+// A window with no background around an empty item: the renderer draws the picture into the
+// item's visible rectangle before ImGui draws its frame, so the title bar and border sit over it.
+PixelRect scorePictureWindow(const ScoreSummary& sc) {
+  const ImGuiStyle& style = ImGui::GetStyle();
+  const ImVec2 pic = pictureSize(sc);
+  // The exact size up front: an auto-resizing window would hide its first frame while measuring.
+  const ImVec2 size(pic.x + 2.0f * style.WindowPadding.x,
+                    pic.y + 2.0f * style.WindowPadding.y + ImGui::GetFrameHeight());
+  ImGui::SetNextWindowPos(ImVec2(kMargin, 180.0f), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(size, ImGuiCond_Always);
+  PixelRect out;
+  const ImGuiWindowFlags flags = ImGuiWindowFlags_NoBackground | ImGuiWindowFlags_NoResize |
+                                 ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoSavedSettings;
+  if (ImGui::Begin("Score picture", nullptr, flags)) {
+    ImGui::Dummy(pic);
+    ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
+    // Only the visible part: inside the window's clip rectangle and on the display.
+    const ImDrawList* dl = ImGui::GetWindowDrawList();
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    lo = ImVec2(std::max({lo.x, dl->GetClipRectMin().x, 0.0f}), std::max({lo.y, dl->GetClipRectMin().y, 0.0f}));
+    hi = ImVec2(std::min({hi.x, dl->GetClipRectMax().x, display.x}),
+                std::min({hi.y, dl->GetClipRectMax().y, display.y}));
+    out.x = int(std::lround(lo.x));
+    out.y = int(std::lround(lo.y));
+    out.width = std::max(0, int(std::lround(hi.x)) - out.x);
+    out.height = std::max(0, int(std::lround(hi.y)) - out.y);
+  }
+  ImGui::End();
+  return out;
+}
+
+}  // namespace
+
+PanelActions drawParamPanel(UiState& state, WidgetRects* rects) {
+  IM_ASSERT(ImGui::GetCurrentContext() && "drawParamPanel needs an ImGui frame");
+  PanelActions actions;
+  const Frame f{state, actions, rects};
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  turbineKeys(f);
+
+  ImGui::SetNextWindowPos(ImVec2(std::max(0.0f, display.x - kPanelWidth - kMargin), kMargin), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowSize(ImVec2(kPanelWidth, std::max(200.0f, display.y - 2.0f * kMargin)), ImGuiCond_FirstUseEver);
+  if (ImGui::Begin("Parameters", nullptr, ImGuiWindowFlags_NoSavedSettings)) {
+    ImGui::PushItemWidth(-kLabelWidth);
+    tissuesSection(f);
+    burSection(f);
+    surfaceSection(f);
+    taskSection(f);
+    presetSection(f);
+    advancedSection(f);
+    scoreSection(f);
+    ImGui::PopItemWidth();
+    ImGui::Separator();
+    ImGui::TextWrapped("%s", state.status.c_str());
+  }
+  ImGui::End();
+
+  if (state.score.valid) actions.score_image_rect = scorePictureWindow(state.score);
+  return actions;
+}
+
+void drawOverlay(const UiState& state) {
+  IM_ASSERT(ImGui::GetCurrentContext() && "drawOverlay needs an ImGui frame");
+  const ImGuiWindowFlags flags = ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_AlwaysAutoResize |
+                                 ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing |
+                                 ImGuiWindowFlags_NoNav | ImGuiWindowFlags_NoInputs | ImGuiWindowFlags_NoMove;
+  ImGui::SetNextWindowPos(ImVec2(kMargin, kMargin), ImGuiCond_Always);
+  ImGui::SetNextWindowBgAlpha(0.45f);
+  if (ImGui::Begin("##overlay", nullptr, flags)) {
+    const OverlayStats& st = state.stats;
+    ImGui::Text("frame    %7.2f ms", st.frame_ms);
+    ImGui::Text("haptics  %7.0f Hz", st.haptic_rate_hz);
+    ImGui::Text("re-mesh  %7.2f ms", st.remesh_ms);
+    ImGui::Text("triangles %llu", static_cast<unsigned long long>(st.triangles));
+    ImGui::Text("turbine  %7.0f rpm%s", state.turbine_speed * state.params.turbine.max_rpm,
+                state.pedal_present ? "" : " (keys)");
+    forceGauge(state.force, kGaugeWidth);
+  }
+  ImGui::End();
+}
+
+// ---- 4. presets ------------------------------------------------------------------------------------------
+
+void applyPresetActions(PanelActions& actions, const PresetStore& store, UiState& state) {
+  if (!actions.load_preset.empty()) {
+    Result<SimParams> loaded = store.load(actions.load_preset);
+    if (!loaded) {
+      state.status = loaded.message();
+    } else {
+      if (loaded->view.normal_neighbours != state.params.view.normal_neighbours) actions.normal_mode_changed = true;
+      state.params = std::move(*loaded);
+      state.selected_preset = actions.load_preset;
+      state.status = "preset '" + actions.load_preset + "' loaded";
+      actions.params_changed = true;
+    }
+  }
+  if (!actions.save_preset.empty()) {
+    Status saved = store.save(actions.save_preset, state.params);
+    if (!saved) {
+      state.status = saved.message();
+    } else {
+      state.presets = store.list();
+      state.selected_preset = actions.save_preset;
+      state.status = "preset '" + actions.save_preset + "' saved";
+    }
+  }
+}
+
+}  // namespace dentsim::ui

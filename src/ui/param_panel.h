@@ -1,0 +1,130 @@
+// The parameter window (the paper's Figure 16) and the frame overlay: Dear ImGui widgets over UiState, returning what the user asked for.
+//
+// Contents
+//   1. UiState: what the panel shows and edits (the app owns it and fills the read-only parts)
+//   2. PanelActions: what one frame of the panel asks the app to do
+//   3. Entry points: drawParamPanel, drawOverlay, applyPresetActions
+//
+// Immediate mode: call the draw functions once per frame between ImGuiLayer::newFrame and
+// ImGuiLayer::render (or between ImGui::NewFrame and ImGui::Render with any ImGui context). The panel
+// edits UiState in place and never touches the simulation itself; the app reads PanelActions and
+// pushes the changed set to the haptic loop and the renderer in the same frame, so a change applies
+// at once, to force and to colour. Every widget clamps to a sub-range of what parseSimParams
+// accepts, so the panel can never produce a set that would not save.
+//
+// Windows and where they sit (fixed first positions, no .ini file, so frames are reproducible):
+//   "Parameters"      right edge, full height: tissues, bur and turbine, surface, task, presets,
+//                     advanced (coupling, device, cutting, point shells), score, status line
+//   "##overlay"       top-left, takes no input: frame time, haptic rate, re-mesh time, triangles,
+//                     rpm, force gauge, contact
+//   "Score picture"   shown with a score: no background, so the renderer's red/blue picture drawn
+//                     in PanelActions::score_image_rect before the ImGui pass shows through
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "core/pixel_rect.h"
+#include "sim/sim_params.h"
+#include "ui/preset_store.h"
+
+namespace dentsim::ui {
+
+// ---- 1. state ----------------------------------------------------------------------------------------
+
+enum class RunState { Idle, Running, Stopped };
+
+// One line of the score screen ("over-cut", "0.42 mm^3").
+struct ScoreRow {
+  std::string label;
+  std::string value;
+};
+
+struct ScoreSummary {
+  bool valid = false;            // false before a task has been scored
+  double total = 0.0;            // [0..100]
+  std::vector<ScoreRow> rows;    // sub-scores and volumes, in display order
+  int image_width = 0;           // the red/blue picture's size [px]; the panel keeps its aspect
+  int image_height = 0;
+};
+
+// Measured by the app each frame; shown by drawOverlay.
+struct OverlayStats {
+  double frame_ms = 0.0;        // last frame's CPU time [ms]
+  double haptic_rate_hz = 0.0;  // haptic loops per second, measured [Hz]
+  double remesh_ms = 0.0;       // last incremental re-mesh [ms]
+  uint64_t triangles = 0;       // triangles drawn
+};
+
+// Contact shows as a gauge since a mouse-driven pen has no force to feel.
+struct ForceGauge {
+  double force_n = 0.0;      // drill force magnitude [N]
+  double max_force_n = 8.0;  // the gauge's full scale, the device's clamp [N]
+  bool contact = false;      // the bur touches tissue
+};
+
+struct UiState {
+  SimParams params = defaultSimParams();   // the working set the panel edits
+  std::string bur = "round_bur_010";       // the drill's tool name (toolCatalog / params.burs)
+  double turbine_speed = 0.0;              // [0..1] of params.turbine.max_rpm
+  bool pedal_present = false;              // false: the slider, PageUp/PageDown and the wheel set the speed
+  int level = 9;                           // octree level of the tooth, kMinLevel..kMaxLevel
+  std::string task = "caries";             // "caries" or "cavity"
+  std::vector<std::string> presets{kDefaultPresetName};  // PresetStore::list()
+  std::string selected_preset = kDefaultPresetName;
+  std::string save_name;                   // the "save as" field
+  RunState run_state = RunState::Idle;     // set by the app
+  ScoreSummary score;                      // set by the app after a score
+  OverlayStats stats;                      // set by the app each frame
+  ForceGauge force;                        // set by the app each frame
+  std::string status;                      // last error or notice, one line ("preset 'soft' saved")
+};
+
+inline constexpr int kMinLevel = 7;   // the coarsest tooth the panel offers
+inline constexpr int kMaxLevel = 10;  // the paper's finest
+
+// ---- 2. actions --------------------------------------------------------------------------------------
+
+
+struct PanelActions {
+  bool params_changed = false;       // any field of UiState::params, tactile or visual
+  bool bur_changed = false;          // UiState::bur
+  bool speed_changed = false;        // UiState::turbine_speed (no pedal only)
+  bool level_changed = false;        // UiState::level: rebuild the tooth
+  bool normal_mode_changed = false;  // params.view.normal_neighbours (params_changed too): re-mesh
+  bool task_changed = false;         // UiState::task
+  bool start = false, stop = false, reset = false, score = false;
+  std::string load_preset;           // a preset to load; empty: none
+  std::string save_preset;           // save params under this name; empty: none
+  PixelRect score_image_rect;        // where the renderer draws the score picture this frame; empty: nowhere
+};
+
+// ---- 3. entry points ---------------------------------------------------------------------------------
+
+// Where drawParamPanel laid out each editable widget this frame (a labelled widget's frame without
+// its label: a slider's track, a combo's box), by key (for tests and tutorials):
+// "tissues.<tissue>.<field>" and "looks.<tissue>.<field>" (field names as in the preset JSON; the
+// colour pickers are "looks.<tissue>.ambient", ".diffuse", ".specular"), "tab.<tissue>", "bur",
+// "bur.cutting_ability", "turbine.speed", "turbine.max_rpm", "view.normal_neighbours.<8|64|216>",
+// "level", "task", "start", "stop", "reset", "score", "preset", "load", "save_name", "save", and the
+// section headers "section.<tissues|bur|surface|task|presets|advanced|score>".
+struct WidgetRect {
+  float min_x = 0, min_y = 0, max_x = 0, max_y = 0;  // ImGui screen coordinates [px]
+};
+using WidgetRects = std::map<std::string, WidgetRect>;
+
+// Draws the "Parameters" window (and "Score picture" when state.score.valid). Needs a current ImGui
+// context inside a frame. `rects`, when given, receives the widgets' rectangles.
+PanelActions drawParamPanel(UiState& state, WidgetRects* rects = nullptr);
+
+// Draws the overlay in the top-left corner; it takes no mouse input.
+void drawOverlay(const UiState& state);
+
+// Carries out the preset requests of `actions` with `store`: a load replaces state.params (and sets
+// actions.params_changed, and normal_mode_changed when the normals differ), a save writes and
+// refreshes state.presets. Either way state.status tells the user what happened, error or notice.
+void applyPresetActions(PanelActions& actions, const PresetStore& store, UiState& state);
+
+}  // namespace dentsim::ui

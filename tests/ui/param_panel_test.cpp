@@ -1,0 +1,396 @@
+// Tests of src/ui/param_panel.cpp, driven headless: a bare ImGui context, simulated mouse and keys, no backends and no GPU.
+#include "ui/param_panel.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cfloat>
+#include <string>
+#include <vector>
+
+#include <imgui.h>
+#include <imgui_internal.h>
+
+#include "test_support.h"
+
+namespace dentsim::ui {
+namespace {
+
+constexpr float kDisplayW = 1280.0f;  // [px]
+// Tall enough that the whole panel, every section open, fits without scrolling.
+constexpr float kDisplayH = 2000.0f;  // [px]
+
+// One ImGui context per test, with the font atlas built (as a renderer backend would) and the
+// mouse moved frame by frame.
+class PanelTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    ctx_ = ImGui::CreateContext();
+    ImGuiIO& io = ImGui::GetIO();
+    io.IniFilename = nullptr;
+    io.DisplaySize = ImVec2(kDisplayW, kDisplayH);
+    io.DeltaTime = 1.0f / 60.0f;
+    unsigned char* pixels = nullptr;
+    int w = 0, h = 0;
+    io.Fonts->GetTexDataAsRGBA32(&pixels, &w, &h);
+    frame();  // the first frame places the windows; input works from the second
+  }
+  void TearDown() override { ImGui::DestroyContext(ctx_); }
+
+  // One whole frame: the panel and the overlay, with the window stack checked balanced.
+  PanelActions frame() {
+    ImGui::NewFrame();
+    rects_.clear();
+    PanelActions a = drawParamPanel(state_, &rects_);
+    drawOverlay(state_);
+    ImGui::Render();
+    EXPECT_EQ(GImGui->CurrentWindowStack.Size, 0);
+    EXPECT_NE(ImGui::GetDrawData(), nullptr);
+    return a;
+  }
+
+  ImVec2 centre(const std::string& key) const {
+    const WidgetRect& r = rect(key);
+    return ImVec2((r.min_x + r.max_x) * 0.5f, (r.min_y + r.max_y) * 0.5f);
+  }
+  const WidgetRect& rect(const std::string& key) const {
+    auto it = rects_.find(key);
+    if (it == rects_.end()) ADD_FAILURE() << "no widget '" << key << "' this frame";
+    static const WidgetRect none;
+    return it == rects_.end() ? none : it->second;
+  }
+
+  // A frame with the mouse at p and the left button as given.
+  PanelActions mouse(ImVec2 p, bool down) {
+    ImGuiIO& io = ImGui::GetIO();
+    io.MousePos = p;
+    io.MouseDown[0] = down;
+    return frame();
+  }
+  // Hover, press, release over one point; the actions of the press and of the release frames.
+  struct Click {
+    PanelActions press, release;
+  };
+  Click click(ImVec2 p) {
+    mouse(p, false);
+    Click c;
+    c.press = mouse(p, true);
+    c.release = mouse(p, false);
+    return c;
+  }
+  // Press at `from`, drag through `to`, release there.
+  PanelActions drag(ImVec2 from, ImVec2 to) {
+    mouse(from, false);
+    PanelActions any = mouse(from, true);
+    PanelActions moved = mouse(ImVec2((from.x + to.x) * 0.5f, (from.y + to.y) * 0.5f), true);
+    PanelActions last = mouse(to, true);
+    mouse(to, false);
+    any.params_changed |= moved.params_changed | last.params_changed;
+    return any;
+  }
+
+  ImGuiContext* ctx_ = nullptr;
+  UiState state_;
+  WidgetRects rects_;
+};
+
+// Only the named flag (or none) is set.
+void expectOnly(const PanelActions& a, const std::vector<std::string>& set) {
+  auto has = [&](const char* n) { return std::find(set.begin(), set.end(), n) != set.end(); };
+  EXPECT_EQ(a.params_changed, has("params")) << "params_changed";
+  EXPECT_EQ(a.bur_changed, has("bur")) << "bur_changed";
+  EXPECT_EQ(a.speed_changed, has("speed")) << "speed_changed";
+  EXPECT_EQ(a.level_changed, has("level")) << "level_changed";
+  EXPECT_EQ(a.normal_mode_changed, has("normals")) << "normal_mode_changed";
+  EXPECT_EQ(a.task_changed, has("task")) << "task_changed";
+  EXPECT_EQ(a.start, has("start")) << "start";
+  EXPECT_EQ(a.stop, has("stop")) << "stop";
+  EXPECT_EQ(a.reset, has("reset")) << "reset";
+  EXPECT_EQ(a.score, has("score")) << "score";
+  EXPECT_TRUE(a.load_preset.empty());
+  EXPECT_TRUE(a.save_preset.empty());
+}
+
+TEST_F(PanelTest, EveryWidgetIsLaidOutAndIdleFramesAskNothing) {
+  PanelActions a = frame();
+  expectOnly(a, {});
+  EXPECT_TRUE(a.score_image_rect.empty());
+  for (const char* key : {"tab.enamel", "tab.dentin", "tab.pulp", "tab.caries", "tissues.enamel.stiffness_n_per_mm3",
+                          "tissues.enamel.damping_s_per_mm", "tissues.enamel.friction", "tissues.enamel.hardness",
+                          "looks.enamel.diffuse", "looks.enamel.alpha", "looks.enamel.ambient", "looks.enamel.specular",
+                          "looks.enamel.shininess", "bur", "bur.cutting_ability", "turbine.speed", "turbine.max_rpm",
+                          "view.normal_neighbours.8", "view.normal_neighbours.64", "view.normal_neighbours.216",
+                          "level", "task", "start", "stop", "reset", "score", "preset", "load", "save_name", "save"}) {
+    ASSERT_TRUE(rects_.count(key)) << key;
+    const WidgetRect& r = rects_.at(key);
+    EXPECT_LT(r.min_x, r.max_x) << key;
+    EXPECT_LT(r.min_y, r.max_y) << key;
+    EXPECT_LE(r.max_y, kDisplayH) << key << " is off screen";
+  }
+  // The other tissues' tabs are closed, and the advanced section is folded.
+  EXPECT_FALSE(rects_.count("tissues.dentin.hardness"));
+  EXPECT_FALSE(rects_.count("device.max_force_n"));
+  EXPECT_TRUE(state_.params == defaultSimParams());
+}
+
+TEST_F(PanelTest, ClickingTheHardnessSliderSetsExactlyEnamelHardness) {
+  frame();
+  SimParams expected = state_.params;
+  // The slider's usable track is symmetric inside its frame (grab padding and half a grab at each
+  // end), so its centre is t = 0.5 of [0, 1].
+  Click c = click(centre("tissues.enamel.hardness"));
+  expected.tissue(Material::Enamel).hardness = 0.5;
+  EXPECT_EQ(state_.params.tissue(Material::Enamel).hardness, 0.5);
+  EXPECT_TRUE(state_.params == expected);
+  expectOnly(c.press, {"params"});
+  expectOnly(c.release, {});
+}
+
+TEST_F(PanelTest, DraggingPastTheEndsClampsToTheRange) {
+  frame();
+  const WidgetRect r = rect("tissues.enamel.hardness");
+  const float y = (r.min_y + r.max_y) * 0.5f;
+  PanelActions a = drag(centre("tissues.enamel.hardness"), ImVec2(r.max_x + 600.0f, y));
+  EXPECT_TRUE(a.params_changed);
+  EXPECT_EQ(state_.params.tissue(Material::Enamel).hardness, 1.0);
+  drag(centre("tissues.enamel.hardness"), ImVec2(r.min_x - 600.0f, y));
+  EXPECT_EQ(state_.params.tissue(Material::Enamel).hardness, 0.0);
+}
+
+TEST_F(PanelTest, AlphaSliderChangesOnlyEnamelAlpha) {
+  frame();
+  SimParams expected = state_.params;
+  const WidgetRect r = rect("looks.enamel.alpha");
+  // The last pixel column of the frame lies beyond the track's end: t clamps to 1.
+  Click c = click(ImVec2(r.max_x - 1.0f, (r.min_y + r.max_y) * 0.5f));
+  expected.look(Material::Enamel).alpha = 1.0;
+  EXPECT_TRUE(state_.params == expected);
+  expectOnly(c.press, {"params"});
+}
+
+TEST_F(PanelTest, ColourDragWritesBackOnlyTheDraggedComponent) {
+  frame();
+  const SimParams before = state_.params;
+  const WidgetRect r = rect("looks.enamel.diffuse");
+  // The red field is the first of the three inline fields, at least 30 px wide here.
+  const ImVec2 from(r.min_x + 10.0f, (r.min_y + r.max_y) * 0.5f);
+  PanelActions a = drag(from, ImVec2(from.x - 60.0f, from.y));
+  EXPECT_TRUE(a.params_changed);
+  const TissueLook& now = state_.params.look(Material::Enamel);
+  const TissueLook& was = before.look(Material::Enamel);
+  EXPECT_LT(now.diffuse_r, was.diffuse_r);
+  // Untouched components keep their exact doubles, not a float round trip of them.
+  EXPECT_EQ(now.diffuse_g, was.diffuse_g);
+  EXPECT_EQ(now.diffuse_b, was.diffuse_b);
+  SimParams expected = before;
+  expected.look(Material::Enamel).diffuse_r = now.diffuse_r;
+  EXPECT_TRUE(state_.params == expected);
+}
+
+TEST_F(PanelTest, TabsSwitchTheEditedTissue) {
+  frame();
+  click(centre("tab.dentin"));
+  frame();
+  ASSERT_TRUE(rects_.count("tissues.dentin.hardness"));
+  EXPECT_FALSE(rects_.count("tissues.enamel.hardness"));
+  SimParams expected = state_.params;
+  click(centre("tissues.dentin.friction"));
+  // Friction's slider is [0, 2]: the centre is 1.
+  expected.tissue(Material::Dentin).friction = 1.0;
+  EXPECT_TRUE(state_.params == expected);
+}
+
+TEST_F(PanelTest, StartStopResetScoreFollowTheRunState) {
+  frame();
+  Click c = click(centre("start"));
+  expectOnly(c.press, {});  // a button fires on release
+  expectOnly(c.release, {"start"});
+
+  // Running: Start, Reset and Score are disabled, Stop works.
+  state_.run_state = RunState::Running;
+  frame();
+  expectOnly(click(centre("start")).release, {});
+  expectOnly(click(centre("reset")).release, {});
+  expectOnly(click(centre("score")).release, {});
+  expectOnly(click(centre("stop")).release, {"stop"});
+
+  state_.run_state = RunState::Stopped;
+  frame();
+  expectOnly(click(centre("score")).release, {"score"});
+  expectOnly(click(centre("reset")).release, {"reset"});
+  expectOnly(click(centre("stop")).release, {});
+}
+
+TEST_F(PanelTest, NormalsAndLevelRaiseTheirFlags) {
+  frame();
+  Click c = click(centre("view.normal_neighbours.64"));
+  EXPECT_EQ(state_.params.view.normal_neighbours, 64.0);
+  expectOnly(c.press, {});
+  expectOnly(c.release, {"params", "normals"});
+  // Clicking the mode already chosen changes nothing.
+  expectOnly(click(centre("view.normal_neighbours.64")).release, {});
+
+  const WidgetRect r = rect("level");
+  c = click(ImVec2(r.max_x - 1.0f, (r.min_y + r.max_y) * 0.5f));
+  EXPECT_EQ(state_.level, kMaxLevel);
+  expectOnly(c.press, {"level"});
+  // A running task keeps its level.
+  state_.run_state = RunState::Running;
+  frame();
+  click(ImVec2(r.min_x + 1.0f, (r.min_y + r.max_y) * 0.5f));
+  EXPECT_EQ(state_.level, kMaxLevel);
+}
+
+TEST_F(PanelTest, TurbineSpeedFromSliderWheelAndKeysWithoutAPedal) {
+  frame();
+  const ImVec2 p = centre("turbine.speed");
+  Click c = click(p);
+  EXPECT_EQ(state_.turbine_speed, 0.5);
+  expectOnly(c.press, {"speed"});
+
+  ImGuiIO& io = ImGui::GetIO();
+  io.MouseWheel = 2.0f;  // two notches up, 0.05 each
+  PanelActions a = mouse(p, false);
+  io.MouseWheel = 0.0f;
+  EXPECT_DOUBLE_EQ(state_.turbine_speed, 0.6);
+  EXPECT_TRUE(a.speed_changed);
+
+  // PageDown as the GLFW backend would map it: one press, one step of 0.1.
+  io.KeyMap[ImGuiKey_PageDown] = 300;
+  io.MousePos = ImVec2(-FLT_MAX, -FLT_MAX);
+  io.KeysDown[300] = true;
+  a = frame();
+  EXPECT_TRUE(a.speed_changed);
+  EXPECT_DOUBLE_EQ(state_.turbine_speed, 0.5);
+  a = frame();  // held, before the repeat delay: no second step
+  EXPECT_FALSE(a.speed_changed);
+  io.KeysDown[300] = false;
+  frame();
+
+  // With a pedal the speed is the pedal's: the bar takes no input.
+  state_.pedal_present = true;
+  frame();
+  c = click(centre("turbine.speed"));
+  EXPECT_DOUBLE_EQ(state_.turbine_speed, 0.5);
+  EXPECT_FALSE(c.press.speed_changed);
+}
+
+TEST_F(PanelTest, LoadAndSaveButtonsNameThePreset) {
+  state_.presets = {"default", "soft"};
+  state_.selected_preset = "soft";
+  frame();
+  Click c = click(centre("load"));
+  EXPECT_EQ(c.release.load_preset, "soft");
+  // Save is disabled while the name field is empty.
+  EXPECT_TRUE(click(centre("save")).release.save_preset.empty());
+  state_.save_name = "hard";
+  frame();
+  EXPECT_EQ(click(centre("save")).release.save_preset, "hard");
+}
+
+TEST_F(PanelTest, ScorePictureRectangleIsLaidOutFromTheImageAspect) {
+  state_.score.valid = true;
+  state_.score.total = 87.5;
+  state_.score.rows = {{"over-cut", "0.12 mm^3"}, {"under-cut", "0.30 mm^3"}};
+  state_.score.image_width = 200;
+  state_.score.image_height = 100;
+  frame();
+  PanelActions a = frame();
+  // 200 x 100 fitted into the 320 px box: scale 1.6, so 320 x 160. The window opens at (10, 180);
+  // the picture starts one window padding (8, 8) in, below the 19 px title bar (13 px font plus
+  // twice the 3 px frame padding): (18, 207).
+  EXPECT_EQ(a.score_image_rect.x, 18);
+  EXPECT_EQ(a.score_image_rect.y, 207);
+  EXPECT_EQ(a.score_image_rect.width, 320);
+  EXPECT_EQ(a.score_image_rect.height, 160);
+
+  state_.score = ScoreSummary{};
+  EXPECT_TRUE(frame().score_image_rect.empty());
+}
+
+// Every slider of every section, dragged far past both ends, leaves a set that saves: the panel's
+// ranges lie inside parseSimParams'.
+TEST_F(PanelTest, NoSliderCanProduceASetThatWouldNotSave) {
+  frame();
+  click(centre("section.advanced"));  // unfold it
+  frame();
+  ASSERT_TRUE(rects_.count("device.max_force_n"));
+
+  int dragged = 0;
+  for (const char* tab : {"tab.enamel", "tab.dentin", "tab.pulp", "tab.caries"}) {
+    click(centre(tab));
+    frame();
+    std::vector<std::string> sliders;
+    for (const auto& [key, r] : rects_) {
+      const bool colour = key.ends_with(".diffuse") || key.ends_with(".ambient") || key.ends_with(".specular");
+      const bool slider = key.starts_with("tissues.") || key.starts_with("looks.") || key.starts_with("cutting.") ||
+                          key.starts_with("coupling.") || key.starts_with("device.") ||
+                          key.starts_with("point_shell.") || key == "bur.cutting_ability" || key == "turbine.max_rpm";
+      if (slider && !colour) sliders.push_back(key);
+    }
+    for (const std::string& key : sliders) {
+      for (float dx : {2000.0f, -2000.0f}) {
+        const WidgetRect r = rect(key);
+        const ImVec2 c = centre(key);
+        drag(c, ImVec2(dx > 0 ? r.max_x + dx : r.min_x + dx, c.y));
+        Result<SimParams> back = parseSimParams(simParamsJson(state_.params), "panel");
+        ASSERT_TRUE(back.ok()) << key << ": " << back.message();
+        ++dragged;
+      }
+    }
+  }
+  // Per tab: the tissue's 6 sliders (spring, damper, friction, hardness, alpha, shininess) and the
+  // 17 others (ability, max rpm, 2 cutting, 6 coupling, 4 device, 3 shells), each dragged both ways.
+  EXPECT_EQ(dragged, 4 * (6 + 17) * 2);
+}
+
+TEST_F(PanelTest, OverlayAndScoreDrawWithExtremeValues) {
+  state_.stats = {16.7, 998.0, 2.5, 123456};
+  state_.force = {12.0, 8.0, true};  // beyond full scale: the bar stays full
+  state_.turbine_speed = 1.0;
+  state_.score.valid = true;
+  state_.score.rows = {{"time", "3 min"}};
+  state_.status = "preset 'soft' saved";
+  for (int i = 0; i < 3; ++i) expectOnly(frame(), {});
+  state_.force = {0.0, 0.0, false};  // no scale yet
+  expectOnly(frame(), {});
+}
+
+TEST(PresetActions, LoadAndSaveUpdateStateAndStatus) {
+  test::TempDir dir;
+  PresetStore store(dir.path().string());
+  UiState state;
+  state.params.tissue(Material::Pulp).hardness = 0.25;
+  state.params.view.normal_neighbours = 8.0;
+
+  PanelActions save;
+  save.save_preset = "pulp";
+  applyPresetActions(save, store, state);
+  EXPECT_EQ(state.status, "preset 'pulp' saved");
+  EXPECT_EQ(state.presets, (std::vector<std::string>{"default", "pulp"}));
+  EXPECT_EQ(state.selected_preset, "pulp");
+  EXPECT_FALSE(save.params_changed);
+
+  PanelActions load;
+  load.load_preset = "default";
+  applyPresetActions(load, store, state);
+  EXPECT_TRUE(state.params == defaultSimParams());
+  EXPECT_TRUE(load.params_changed);
+  EXPECT_TRUE(load.normal_mode_changed);  // 8 -> 216
+  EXPECT_EQ(state.status, "preset 'default' loaded");
+
+  PanelActions bad;
+  bad.save_preset = "default";
+  applyPresetActions(bad, store, state);
+  EXPECT_EQ(state.status, "preset 'default' is built in and read-only: save under another name");
+
+  PanelActions missing;
+  missing.load_preset = "nope";
+  applyPresetActions(missing, store, state);
+  EXPECT_FALSE(missing.params_changed);
+  EXPECT_NE(state.status.find("nope.json"), std::string::npos) << state.status;
+  EXPECT_TRUE(state.params == defaultSimParams());
+}
+
+}  // namespace
+}  // namespace dentsim::ui
