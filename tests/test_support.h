@@ -46,9 +46,10 @@ struct CommandResult {
   int exit_code = -1;
   std::string output;
 };
-inline CommandResult runDentsim(const std::string& args) {
+// Runs a shell command line; returns its exit code and what it printed (stdout+stderr).
+inline CommandResult runCommand(const std::string& command_line) {
   CommandResult r;
-  const std::string cmd = std::string(DENTSIM_BINARY) + " " + args + " 2>&1";
+  const std::string cmd = command_line + " 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (!pipe) return r;
   std::array<char, 4096> buf{};
@@ -58,6 +59,7 @@ inline CommandResult runDentsim(const std::string& args) {
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
   return r;
 }
+inline CommandResult runDentsim(const std::string& args) { return runCommand(std::string(DENTSIM_BINARY) + " " + args); }
 
 // Under the sanitizers lavapipe's JIT allocates memory that LeakSanitizer can neither attribute nor
 // suppress, which is why tests/CMakeLists.txt runs the GPU suite without leak checks. This run of the

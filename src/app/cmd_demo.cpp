@@ -1,4 +1,4 @@
-// `dentsim demo [--headless] --out DIR`: the scripted pen removes the built-in molar's caries while the session is recorded, then the cut is scored.
+// `dentsim demo [--headless] --out DIR`: the scripted pen removes the built-in molar's caries while the session is recorded, then the cut is scored; shown in the window where there is a display.
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -6,6 +6,8 @@
 #include "app/commands.h"
 #include "app/mesh_output.h"
 #include "app/session_support.h"
+#include "app/simulator.h"
+#include "gpu/context.h"
 #include "io/session_file.h"
 #include "sim/builtin_tooth.h"
 #include "sim/scripted_paths.h"
@@ -20,17 +22,64 @@ namespace {
 struct DemoOptions {
   std::string out = "dentsim-demo";  // output folder
   int level = 9;                     // octree level of the molar
-  bool headless = false;             // no window (the only mode until the simulator window lands)
-  bool realtime = false;             // pace the loop at its rate on its real-time thread
+  bool headless = false;             // no window: frames offscreen (also when no display answers)
+  bool realtime = false;             // headless without a Vulkan device: pace the loop at its rate
   std::string params;                // a preset (.json); default: dentsim's defaults
+  double exit_after_s = 0.0;         // windowed: close at this loop time (0: when the user closes it)
+  int width = 1280, height = 800;    // window or frame size [px]
 };
+
+// The final tooth as a mesh, beside the other files: what a reader opens in any 3-D viewer.
+int writeFinalMesh(const std::string& out, const ToothVolume& tooth) {
+  SurfaceOptions mo;
+  auto surface = meshVolumeCpu(tooth, mo);
+  if (!surface) return fail(surface.message());
+  const std::string mesh_path = (std::filesystem::path(out) / "final.ply").string();
+  if (Status st = writeSurface(mesh_path, MeshFormat::Ply, *surface, "demo final tooth"); !st) return fail(st.message());
+  return 0;
+}
+
+// Without any Vulkan device: the same scripted drilling and score on the CPU, with no frames.
+int runCpuDemo(const DemoOptions& o);
 
 int runDemo(const DemoOptions& o) {
   namespace fs = std::filesystem;
   std::error_code ec;
   fs::create_directories(o.out, ec);
   if (ec) return fail(o.out + ": cannot create the output folder: " + ec.message());
-  if (!o.headless) std::printf("the simulator window is not built yet: running headless\n");
+
+  // The simulator shows it: live in a window, or headless in lockstep, writing a few frames.
+  SimulatorOptions so;
+  so.level = o.level;
+  so.params = o.params;
+  so.task = "caries";
+  so.demo_script = true;
+  so.score_at_end = true;
+  so.headless = o.headless;
+  so.out = o.out;
+  so.width = o.width;
+  so.height = o.height;
+  so.exit_after_s = o.exit_after_s;
+  so.view = "buccal";
+  so.shots_s = {1.0};
+  so.frame_every_s = 20.0;
+  auto run = runSimulator(so);
+  if (!run && gpu::isNoDeviceError(run.error())) {
+    std::printf("dentsim: %s: the demo runs on the CPU, without frames\n", run.message().c_str());
+    return runCpuDemo(o);
+  }
+  if (!run) return fail(run.message());
+  std::printf("%s on %s: %llu frames drawn, removed %.4f mm^3, score %.2f\n", run->windowed ? "window" : "headless",
+              run->device.c_str(), static_cast<unsigned long long>(run->drawn), run->removed_mm3, run->score);
+  auto final_tooth = loadTooth((fs::path(o.out) / "final.dvol").string());
+  if (!final_tooth) return fail(final_tooth.message());
+  if (int rc = writeFinalMesh(o.out, *final_tooth); rc != 0) return rc;
+  std::printf("wrote %s: initial.dvol session.dses final.dvol final.ply score.json score.png and frames\n", o.out.c_str());
+  return 0;
+}
+
+int runCpuDemo(const DemoOptions& o) {
+  namespace fs = std::filesystem;
 
   auto task = builtinTask("caries");
   if (!task) return fail(task.message());
@@ -75,11 +124,7 @@ int runDemo(const DemoOptions& o) {
 
   const std::string final_path = (fs::path(o.out) / "final.dvol").string();
   if (Status st = saveTooth(final_path, *tooth); !st) return fail(st.message());
-  SurfaceOptions mo;
-  auto surface = meshVolumeCpu(*tooth, mo);
-  if (!surface) return fail(surface.message());
-  const std::string mesh_path = (fs::path(o.out) / "final.ply").string();
-  if (Status st = writeSurface(mesh_path, MeshFormat::Ply, *surface, "demo final tooth"); !st) return fail(st.message());
+  if (int rc = writeFinalMesh(o.out, *tooth); rc != 0) return rc;
 
   auto session = readSessionFile(session_path);
   if (!session) return fail(session.message());
@@ -101,8 +146,11 @@ void addDemoCommand(CLI::App& root, Action& action) {
   CLI::App* cmd = root.add_subcommand("demo", "Remove the built-in molar's caries with the scripted pen, record the session and score it");
   cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
   cmd->add_option("--level", o->level, "Octree level of the molar")->check(CLI::Range(6, 11))->capture_default_str();
-  cmd->add_flag("--headless", o->headless, "No window (the simulator window is not built yet: always headless)");
-  cmd->add_flag("--realtime", o->realtime, "Run the haptic loop at its rate on its real-time thread (else as fast as it goes)");
+  cmd->add_flag("--headless", o->headless, "No window: frames go offscreen to PNG (also when no display answers)");
+  cmd->add_flag("--realtime", o->realtime, "Without a Vulkan device: run the haptic loop at its rate on its real-time thread");
+  cmd->add_option("--exit-after", o->exit_after_s, "Windowed: close at this loop time [s] (default: when you close it)");
+  cmd->add_option("--width", o->width, "Window or frame width [px]")->check(CLI::Range(64, 8192))->capture_default_str();
+  cmd->add_option("--height", o->height, "Window or frame height [px]")->check(CLI::Range(64, 8192))->capture_default_str();
   cmd->add_option("--params", o->params, "Parameter preset (.json); default: dentsim's defaults");
   cmd->callback([o, &action] { action = [o] { return runDemo(*o); }; });
 }

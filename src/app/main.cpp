@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
   addBenchCommand(root, action);
   addMakeToothCommand(root, action);
   addMeshCommand(root, action);
+  addRunCommand(root, action);
   addDemoCommand(root, action);
   addReplayCommand(root, action);
   addScoreCommand(root, action);

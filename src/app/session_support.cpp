@@ -148,12 +148,15 @@ Status writeScoreReport(const std::string& path, const nlohmann::ordered_json& r
   return writeFileAtomic(path, std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
 }
 
-Status writeScoreImage(const std::string& path, const ToothVolume& initial, const ToothVolume& final_,
-                       const ToothVolume* ideal) {
+RgbImage scorePicture(const ToothVolume& initial, const ToothVolume& final_, const ToothVolume* ideal) {
   ScoreImageOptions options;
   options.oblique = true;
-  const ScoreImage picture = renderScoreImage(initial, final_, ideal, options);
-  return writePng(path, picture.image);
+  return renderScoreImage(initial, final_, ideal, options).image;
+}
+
+Status writeScoreImage(const std::string& path, const ToothVolume& initial, const ToothVolume& final_,
+                       const ToothVolume* ideal) {
+  return writePng(path, scorePicture(initial, final_, ideal));
 }
 
 }  // namespace dentsim::app

@@ -8,6 +8,7 @@
 
 #include "core/result.h"
 #include "eval/task.h"
+#include "io/png_file.h"
 #include "io/session_file.h"
 #include "volume/brick_volume.h"
 
@@ -48,7 +49,10 @@ Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, cons
                               const ToothVolume* ideal, const SessionRecording* session, const ScoreFiles& files);
 // Writes the report as JSON (2-space indent), atomically.
 Status writeScoreReport(const std::string& path, const nlohmann::ordered_json& report);
-// Writes the score picture: over-cut red, under-cut blue (no ideal: the cut tooth alone).
+// The score picture: an occlusal and an oblique view, over-cut red, under-cut blue (no ideal: the
+// cut tooth alone).
+RgbImage scorePicture(const ToothVolume& initial, const ToothVolume& final_, const ToothVolume* ideal);
+// Writes the score picture.
 Status writeScoreImage(const std::string& path, const ToothVolume& initial, const ToothVolume& final_,
                        const ToothVolume* ideal);
 

@@ -12,14 +12,6 @@
 namespace dentsim {
 
 // ---- probing the volume -------------------------------------------------------------------------
-namespace {
-
-// The box of the bricks holding any tissue, simulation frame [mm]; empty when there is none.
-struct TissueBox {
-  Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL};
-  Vec3 hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
-  bool empty() const { return lo.x > hi.x; }
-};
 
 TissueBox tissueBox(const BrickVolume& volume, const VolumeFrame& frame) {
   uint32_t lo[3] = {UINT32_MAX, UINT32_MAX, UINT32_MAX}, hi[3] = {0, 0, 0};
@@ -40,6 +32,8 @@ TissueBox tissueBox(const BrickVolume& volume, const VolumeFrame& frame) {
   }
   return box;
 }
+
+namespace {
 
 // Column probes of one volume: the topmost crossing of the haptic field's surface (phi = 0, what the
 // student feels and sees), searched downward from above the tissue one voxel at a time.

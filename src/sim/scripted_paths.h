@@ -9,6 +9,7 @@
 //   2. Caries removal: layers over the lesion, paced by what they remove
 #pragma once
 
+#include <cmath>
 #include <optional>
 #include <string>
 
@@ -20,6 +21,16 @@
 #include "volume/brick_volume.h"
 
 namespace dentsim {
+
+// The box of the bricks holding any tissue, simulation frame [mm]; empty when there is none. Whole
+// bricks, so it is up to a brick wider than the tissue on each side.
+struct TissueBox {
+  Vec3 lo{HUGE_VAL, HUGE_VAL, HUGE_VAL};
+  Vec3 hi{-HUGE_VAL, -HUGE_VAL, -HUGE_VAL};
+  bool empty() const { return lo.x > hi.x; }
+  Vec3 centre() const { return (lo + hi) * 0.5; }
+};
+TissueBox tissueBox(const BrickVolume& volume, const VolumeFrame& frame);
 
 // ---- 1. a class I cavity --------------------------------------------------------------------------
 

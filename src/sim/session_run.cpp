@@ -38,19 +38,25 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 
 }  // namespace
 
+SessionInfo sessionHeader(SessionInfo info, const ToothVolume& tooth, const SimParams& params,
+                          const std::string& drill_tool, const std::string& mirror_tool) {
+  info.rate_hz = params.device.rate_hz;
+  info.drill_tool = drill_tool;
+  info.mirror_tool = mirror_tool;
+  info.tooth_hash = volumeHashHex(tooth.voxels, tooth.frame);
+  info.tooth_level = tooth.voxels.level();
+  info.voxel_mm = tooth.frame.voxel_mm;
+  info.params_json = simParamsJson(params);
+  return info;
+}
+
 Result<SessionOutcome> recordScriptedSession(ToothVolume& tooth, const SimParams& params, const PenPath& path,
                                              const std::string& session_path, SessionInfo info,
                                              const ScriptedSessionOptions& options) {
   if (path.samples.empty()) return makeError("scripted session", "the pen path has no samples");
   auto tools = loadTools(options.drill_tool, options.mirror_tool, params);
   if (!tools) return tools.error();
-  info.rate_hz = params.device.rate_hz;
-  info.drill_tool = options.drill_tool;
-  info.mirror_tool = options.mirror_tool;
-  info.tooth_hash = volumeHashHex(tooth.voxels, tooth.frame);
-  info.tooth_level = tooth.voxels.level();
-  info.voxel_mm = tooth.frame.voxel_mm;
-  info.params_json = simParamsJson(params);
+  info = sessionHeader(std::move(info), tooth, params, options.drill_tool, options.mirror_tool);
 
   const auto t0 = std::chrono::steady_clock::now();
   HapticLoop loop(tooth.voxels, tooth.frame, params, tools->drill, tools->mirror ? &*tools->mirror : nullptr, nullptr);

@@ -36,6 +36,11 @@ struct SessionOutcome {
   double wall_s = 0.0;
 };
 
+// `info` with what the session's header takes from its start: the loop's rate, the tools, the
+// tooth's hash, level and voxel size, and the parameter set.
+SessionInfo sessionHeader(SessionInfo info, const ToothVolume& tooth, const SimParams& params,
+                          const std::string& drill_tool, const std::string& mirror_tool);
+
 // Drills `tooth` (edited in place) with a scripted pen playing `path` and records the session to
 // `session_path` (empty: records nothing). `info` is the header: rate, tools, tooth hash and parameters are filled in here.
 Result<SessionOutcome> recordScriptedSession(ToothVolume& tooth, const SimParams& params, const PenPath& path,

@@ -46,6 +46,7 @@ class SessionCli : public ::testing::Test {
     const std::string preset = dir_->file("fast.json");
     std::ofstream(preset) << R"({"format":"dentsim-params","version":1,"cutting":{"removal_rate_mm3_per_s":40},)"
                              R"("point_shell":{"head_spacing_mm":0.1,"shank_spacing_mm":0.2}})";
+    const test::NoLeakCheckForGpuChild no_leak_check;  // the demo draws its frames on the GPU
     demo_ = new test::CommandResult(runDentsim("demo --headless --level 7 --params " + preset + " --out " + out()));
   }
   static void TearDownTestSuite() {
@@ -230,6 +231,7 @@ TEST_F(SessionCli, CorruptForeignAndWrongToothSessionsFailWithOneLine) {
 TEST_F(SessionCli, ScoringVolumesOfDifferentGridsFailsNamingTheFile) {
   ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
   const std::string other = dir_->file("other");
+  const test::NoLeakCheckForGpuChild no_leak_check;
   ASSERT_EQ(runDentsim("demo --headless --level 6 --out " + other + " --params " + dir_->file("fast.json")).exit_code, 0);
   test::expectCleanFailure(runDentsim("score --task caries --initial " + file("initial.dvol") + " --final " + other +
                                       "/final.dvol -o " + dir_->file("x.json") + " --png " + dir_->file("x.png")),

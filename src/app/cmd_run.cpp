@@ -1,0 +1,63 @@
+// `dentsim run`: the interactive simulator, in a window with the mouse as the pens, or headless with a pen script.
+#include <cstdio>
+#include <memory>
+
+#include "app/commands.h"
+#include "app/simulator.h"
+
+namespace dentsim::app {
+namespace {
+
+// What a run measured, for the terminal and docs/PERFORMANCE.md.
+void printOutcome(const SimulatorOutcome& r) {
+  std::printf("%s on %s: %llu frames (%llu drawn) in %.1f s; frame %.2f ms mean, %.2f ms p95 (%.1f frames/s); "
+              "haptic %.0f steps/s (%llu steps); re-mesh %.2f ms mean; removed %.4f mm^3\n",
+              r.windowed ? "window" : "headless", r.device.c_str(), static_cast<unsigned long long>(r.frames),
+              static_cast<unsigned long long>(r.drawn), r.wall_s, r.frame_ms_mean, r.frame_ms_p95,
+              r.frame_ms_mean > 0 ? 1000.0 / r.frame_ms_mean : 0.0, r.haptic_rate_hz,
+              static_cast<unsigned long long>(r.haptic_steps), r.remesh_ms_mean, r.removed_mm3);
+  for (const std::string& f : r.written) std::printf("wrote %s\n", f.c_str());
+}
+
+}  // namespace
+
+void addRunCommand(CLI::App& root, Action& action) {
+  auto o = std::make_shared<SimulatorOptions>();
+  auto mirror = std::make_shared<std::string>("mirror_size4");
+  CLI::App* cmd = root.add_subcommand("run", "The simulator: drill a tooth with the mouse (or a pen script) in a window, or headless to PNG frames");
+  cmd->add_option("--tooth", o->tooth, "Tooth file (.dvol); default: the built-in molar");
+  cmd->add_option("--level", o->level, "Octree level of the built-in molar")->check(CLI::Range(6, 11))->capture_default_str();
+  cmd->add_option("--params", o->params, "Parameter preset (.json); default: dentsim's defaults");
+  cmd->add_option("--task", o->task, "Task scored: caries, cavity or a task file")->capture_default_str();
+  cmd->add_option("--drill", o->drill, "The bur on the drill pen; default: the task's");
+  cmd->add_option("--mirror", *mirror, "The mirror tool, or 'none'")->capture_default_str();
+  cmd->add_option("--pen-script", o->pen_script, "Pen path (CSV or JSON) that both pens play, instead of the mouse");
+  cmd->add_flag("--demo-script", o->demo_script, "Play the built-in caries removal path, the mirror held beside the tooth");
+  cmd->add_flag("--headless", o->headless, "No window: frames go offscreen, to PNG (also when no display answers)");
+  cmd->add_option("--width", o->width, "Window or frame width [px]")->check(CLI::Range(64, 8192))->capture_default_str();
+  cmd->add_option("--height", o->height, "Window or frame height [px]")->check(CLI::Range(64, 8192))->capture_default_str();
+  cmd->add_option("--out", o->out, "Folder for the session, the teeth, screenshots and frames");
+  cmd->add_option("--shot", o->shots_s, "Loop time of a screenshot (shot-N.png with shot-N.json) [s]; repeatable");
+  cmd->add_option("--frame-every", o->frame_every_s, "Also write frame-N.png every so many seconds of loop time [s]");
+  cmd->add_option("--exit-after", o->exit_after_s, "Quit at this loop time [s]");
+  cmd->add_flag("--lockstep", o->lockstep, "Step the haptic loop from the frame loop (reproducible frames; always when headless)");
+  cmd->add_option("--fps", o->fps, "Loop time per frame in lockstep [frames/s]")->capture_default_str();
+  cmd->add_flag("!--no-ui", o->ui, "Hide the parameter window and the overlay");
+  cmd->add_option("--view", o->view, "First camera view: occlusal, buccal, lingual, mesial or distal")->capture_default_str();
+  cmd->add_flag("!--no-vsync", o->vsync, "Present as fast as frames come (frame-rate measurements)");
+  cmd->add_flag("--score-at-end", o->score_at_end, "Score the cut when the pen script ends");
+  cmd->add_flag("--exit-at-end", o->exit_at_end, "Quit one frame after the pen script ends, windowed too");
+  cmd->add_option("--device", o->device, "Vulkan device index or name part");
+  cmd->callback([o, mirror, &action] {
+    action = [o, mirror] {
+      SimulatorOptions options = *o;
+      options.mirror = *mirror == "none" ? "" : *mirror;
+      auto r = runSimulator(options);
+      if (!r) return fail(r.message());
+      printOutcome(*r);
+      return 0;
+    };
+  });
+}
+
+}  // namespace dentsim::app

@@ -1,0 +1,68 @@
+// The interactive simulator behind `dentsim run` and the windowed `dentsim demo`: window or offscreen frames, the haptic loop, the pens, the parameter window.
+//
+// Threads. The haptic loop runs on its own real-time thread and never waits for this one; the frame
+// loop (the calling thread) drains the loop's voxel edits into its own copy of the tooth, re-meshes
+// the changed bricks on the GPU, and draws the latest haptic state. Headless, or with `lockstep`,
+// the frame loop steps the haptic loop itself, so that frame k shows exactly loop time k / fps:
+// those frames are reproducible, and headless frames equal windowed ones for the same state.
+//
+// Segments. A session is recorded from Start to Stop (or the end). Reset, a new bur or a new level
+// end the segment and start another on the current (or restored, or rebuilt) tooth, with its own
+// starting tooth file and session file, so that every segment replays on its own.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+
+namespace dentsim::app {
+
+struct SimulatorOptions {
+  std::string tooth;                    // a tooth file (.dvol); empty: the built-in molar at `level`
+  int level = 9;                        // octree level of the built-in molar
+  std::string params;                   // a preset file; empty: dentsim's defaults
+  std::string task = "caries";          // the task scored ("caries", "cavity" or a task file)
+  std::string drill;                    // the bur; empty: the task's
+  std::string mirror = "mirror_size4";  // the mirror tool; empty: none
+  std::string pen_script;               // a pen path (CSV or JSON) both pens play; empty: mouse and keys
+  bool demo_script = false;             // the built-in caries removal path, the mirror held distally
+  bool headless = false;                // offscreen frames, no window (also when no display answers)
+  int width = 1280, height = 800;       // window or frame size [px]
+  std::string out;                      // folder for the session, teeth, screenshots and frames; empty: none
+  std::vector<double> shots_s;          // loop times of screenshots (shot-N.png and shot-N.json) [s]
+  double frame_every_s = 0.0;           // also write frame-N.png every so much loop time (0: none) [s]
+  double exit_after_s = 0.0;            // quit at this loop time; 0: when the window closes, or
+                                        // headless, when the script ends (a virtual pen needs it) [s]
+  bool lockstep = false;                // the frame loop steps the haptic loop (always when headless)
+  double fps = 30.0;                    // loop time per frame in lockstep [frames/s]
+  bool ui = true;                       // the parameter window and the overlay
+  std::string view = "buccal";          // the first camera view (occlusal, buccal, lingual, mesial, distal)
+  bool vsync = true;                    // windowed: wait for the display's refresh
+  bool score_at_end = false;            // score the cut when the script ends, write score files, show it
+  bool exit_at_end = false;             // quit one frame after the script ends (windowed too)
+  std::string device;                   // Vulkan device index or name part; empty: the best
+};
+
+struct SimulatorOutcome {
+  bool windowed = false;
+  std::string device;                   // the Vulkan device that drew
+  uint64_t frames = 0;                  // frames of loop time (lockstep) or drawn (windowed)
+  uint64_t drawn = 0;                   // frames drawn (headless draws only what it writes)
+  double wall_s = 0.0;
+  double frame_ms_mean = 0.0;           // CPU time from one frame's start to the next's [ms]
+  double frame_ms_p95 = 0.0;
+  double haptic_rate_hz = 0.0;          // haptic steps per wall second over the run
+  uint64_t haptic_steps = 0;
+  double remesh_ms_mean = 0.0;          // incremental re-mesh per frame that had edits [ms]
+  double removed_mm3 = 0.0;
+  std::vector<std::string> written;     // files written, in order
+  double score = -1.0;                  // the end score, when one was made
+};
+
+// Runs until the window closes, exit_after_s, or the script's end (see the options). Errors are
+// one line: a bad option, a tooth or preset that does not load, no Vulkan device, a device lost.
+Result<SimulatorOutcome> runSimulator(const SimulatorOptions& options);
+
+}  // namespace dentsim::app

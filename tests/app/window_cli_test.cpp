@@ -1,0 +1,175 @@
+// The simulator window end to end: under Xvfb on lavapipe, `dentsim run` plays the demo path and its screenshots show the tooth, the bur, the mirror's reflection and the parameter window; the cut changes the tooth; headless frames equal windowed ones.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "io/png_file.h"
+#include "test_support.h"
+
+namespace dentsim {
+namespace {
+
+using test::runDentsim;
+using test::TempDir;
+
+bool haveXvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1 && command -v Xvfb >/dev/null 2>&1") == 0; }
+
+nlohmann::json readJson(const std::string& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in, nullptr, false);
+}
+
+// Tissue as the default looks shade it: lit enamel and dentin are light and warm (red above blue),
+// caries brown (warm, darker). The background, the steel and the ImGui panel are neutral or cool.
+bool toothColoured(const std::array<uint8_t, 3>& p) {
+  const int r = p[0], g = p[1], b = p[2];
+  return r >= 60 && r >= b + 18 && g >= b;
+}
+// The bur and the handpiece: grey steel, neither warm nor dark.
+bool steelColoured(const std::array<uint8_t, 3>& p) {
+  const int r = p[0], g = p[1], b = p[2];
+  const int hi = std::max({r, g, b}), lo = std::min({r, g, b});
+  return hi >= 45 && hi - lo <= 20;
+}
+
+// Pixels of `image` within `radius` of (cx, cy) that pass `test`, and how many were looked at.
+template <class Test>
+std::pair<int, int> countNear(const RgbImage& image, double cx, double cy, double radius, Test test) {
+  int hits = 0, seen = 0;
+  for (int y = int(cy - radius); y <= int(cy + radius); ++y)
+    for (int x = int(cx - radius); x <= int(cx + radius); ++x) {
+      if (x < 0 || y < 0 || x >= image.width || y >= image.height) continue;
+      if (std::hypot(x - cx, y - cy) > radius) continue;
+      ++seen;
+      if (test(image.pixel(x, y))) ++hits;
+    }
+  return {hits, seen};
+}
+
+// A fast preset: the demo path at level 7 takes about a second of loop time.
+std::string writeFastPreset(const TempDir& dir) {
+  const std::string preset = dir.file("fast.json");
+  std::ofstream(preset) << R"({"format":"dentsim-params","version":1,"cutting":{"removal_rate_mm3_per_s":40},)"
+                           R"("point_shell":{"head_spacing_mm":0.1,"shank_spacing_mm":0.2}})";
+  return preset;
+}
+
+class WindowCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!haveXvfb()) GTEST_SKIP() << "no X server for tests: xvfb-run and Xvfb are not installed (Debian: xvfb xauth)";
+  }
+  // `dentsim ARGS` inside a fresh virtual display of 1280x800.
+  test::CommandResult runInXvfb(const std::string& args) {
+    const test::NoLeakCheckForGpuChild no_leak_check;
+    return test::runCommand("DENTSIM_VALIDATION=1 xvfb-run -a -s '-screen 0 1280x800x24' " + std::string(DENTSIM_BINARY) + " " + args);
+  }
+};
+
+TEST_F(WindowCli, ScreenshotsShowToothBurMirrorReflectionAndPanelAndTheCut) {
+  TempDir dir;
+  const std::string out = dir.file("shots");
+  const auto r = runInXvfb("run --level 7 --params " + writeFastPreset(dir) +
+                           " --demo-script --lockstep --fps 4 --exit-at-end --width 1280 --height 720 --shot 0.05 --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json first = readJson(out + "/shot-1.json"), last = readJson(out + "/shot-final.json");
+  ASSERT_FALSE(first.is_discarded()) << r.output;
+  ASSERT_FALSE(last.is_discarded()) << r.output;
+  EXPECT_TRUE(first["windowed"].get<bool>()) << "the run fell back to headless: " << r.output;
+  auto a = readPng(out + "/shot-1.png"), b = readPng(out + "/shot-final.png");
+  ASSERT_TRUE(a) << a.message();
+  ASSERT_TRUE(b) << b.message();
+  ASSERT_EQ(a->width, 1280);
+  ASSERT_EQ(a->height, 720);
+
+  // The tooth: tissue colours fill most of a disc around the crown's projected centre.
+  const double tcx = first["tooth_centre_px"][0], tcy = first["tooth_centre_px"][1];
+  auto [tooth_hits, tooth_seen] = countNear(*a, tcx, tcy, 40, toothColoured);
+  EXPECT_GT(tooth_hits, tooth_seen / 2) << "tooth pixels near (" << tcx << ", " << tcy << ")";
+
+  // The bur: steel on its shank, 4 mm above the tip.
+  const double bx = first["bur_shank_px"][0], by = first["bur_shank_px"][1];
+  auto [steel_hits, steel_seen] = countNear(*a, bx, by, 4, steelColoured);
+  EXPECT_GT(steel_hits, steel_seen / 2) << "bur pixels near (" << bx << ", " << by << ")";
+
+  // The mirror faces the eye, and its face shows the tooth: warm tissue colours inside the glass,
+  // which holds nothing warm of its own.
+  ASSERT_TRUE(first.contains("mirror_centre_px"));
+  EXPECT_TRUE(first["mirror_faces_eye"].get<bool>());
+  const double mx = first["mirror_centre_px"][0], my = first["mirror_centre_px"][1];
+  const double mr = first["mirror_radius_px"];
+  auto [reflected, glass] = countNear(*a, mx, my, 0.6 * mr, toothColoured);
+  EXPECT_GT(reflected, glass / 20) << "reflected tooth pixels in the mirror at (" << mx << ", " << my << "), r " << mr;
+
+  // The parameter window: its rectangle holds ImGui's dark window background and light text.
+  ASSERT_TRUE(first.contains("panel_rect"));
+  const int px = first["panel_rect"][0], py = first["panel_rect"][1], pw = first["panel_rect"][2], ph = first["panel_rect"][3];
+  ASSERT_GT(pw, 100);
+  ASSERT_GT(ph, 100);
+  int dark = 0, text = 0, seen = 0;
+  for (int y = py; y < std::min(py + ph, a->height); ++y)
+    for (int x = px; x < std::min(px + pw, a->width); ++x) {
+      const auto p = a->pixel(x, y);
+      ++seen;
+      if (p[0] < 40 && p[1] < 40 && p[2] < 40) ++dark;
+      if (p[0] > 200 && p[1] > 200 && p[2] > 200) ++text;
+    }
+  EXPECT_GT(dark, seen / 3);
+  EXPECT_GT(text, seen / 200);
+
+  // The cut: tooth pixels whose shade changed between the two shots, where the tooth shows in
+  // both (so that the bur moving over it does not count).
+  ASSERT_GT(last["removed_mm3"].get<double>(), 0.5) << r.output;
+  int changed = 0;
+  for (int y = 0; y < a->height; ++y)
+    for (int x = 0; x < a->width; ++x) {
+      const auto p = a->pixel(x, y), q = b->pixel(x, y);
+      if (!toothColoured(p) || !toothColoured(q)) continue;
+      if (std::abs(int(p[0]) - int(q[0])) + std::abs(int(p[1]) - int(q[1])) + std::abs(int(p[2]) - int(q[2])) > 45) ++changed;
+    }
+  EXPECT_GT(changed, 300) << "tooth pixels changed by the cut";
+
+  // The pictures for docs/ and the README come from this run when asked.
+  if (const char* keep = std::getenv("DENTSIM_KEEP_SCREENSHOTS")) {
+    std::filesystem::create_directories(keep);
+    for (const char* f : {"shot-1.png", "shot-final.png"})
+      std::filesystem::copy_file(out + "/" + f, std::string(keep) + "/" + f, std::filesystem::copy_options::overwrite_existing);
+  }
+}
+
+TEST_F(WindowCli, HeadlessFramesEqualWindowedFramesOfTheSameState) {
+  TempDir dir;
+  const std::string preset = writeFastPreset(dir);
+  const std::string common = "run --level 7 --params " + preset + " --demo-script --lockstep --no-ui --width 640 --height 400 "
+                             "--shot 0.3 --exit-after 0.35 --out ";
+  const auto w = runInXvfb(common + dir.file("window"));
+  ASSERT_EQ(w.exit_code, 0) << w.output;
+  const test::NoLeakCheckForGpuChild no_leak_check;
+  const auto h = test::runCommand("DENTSIM_VALIDATION=1 " + std::string(DENTSIM_BINARY) + " " + common + dir.file("headless") + " --headless");
+  ASSERT_EQ(h.exit_code, 0) << h.output;
+  EXPECT_TRUE(readJson(dir.file("window/shot-1.json"))["windowed"].get<bool>()) << w.output;
+  EXPECT_FALSE(readJson(dir.file("headless/shot-1.json"))["windowed"].get<bool>()) << h.output;
+  auto a = readPng(dir.file("window/shot-1.png")), b = readPng(dir.file("headless/shot-1.png"));
+  ASSERT_TRUE(a) << a.message();
+  ASSERT_TRUE(b) << b.message();
+  ASSERT_EQ(a->width, b->width);
+  ASSERT_EQ(a->height, b->height);
+  // Both are 8-bit UNORM of the same draws: equal up to the colour format's rounding, one step.
+  int worst = 0;
+  for (size_t i = 0; i < a->rgb.size(); ++i) worst = std::max(worst, std::abs(int(a->rgb[i]) - int(b->rgb[i])));
+  EXPECT_LE(worst, 1);
+  // And the frame is not empty: the tooth is in it.
+  int tooth = 0;
+  for (int y = 0; y < a->height; ++y)
+    for (int x = 0; x < a->width; ++x) tooth += toothColoured(a->pixel(x, y));
+  EXPECT_GT(tooth, a->width * a->height / 50);
+}
+
+}  // namespace
+}  // namespace dentsim
