@@ -69,7 +69,7 @@ struct DeviceParams {
 struct PointShellParams {
   double head_spacing_mm = 0.03;   // point spacing on the cutting head [mm]
   double shank_spacing_mm = 0.08;  // point spacing on the neck and shank [mm]
-  double mirror_spacing_mm = 0.15; // point spacing on the mirror, which only collides [mm]
+  double mirror_spacing_mm = 0.3;  // point spacing on the mirror, which only collides [mm]
 };
 
 // How one tissue looks: Phong colours and opacity. The renderer draws opaque tissues first and the

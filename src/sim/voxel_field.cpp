@@ -62,10 +62,33 @@ Float4 load4(const float* p) {
 VoxelField::VoxelField(const BrickVolume& volume, const VolumeFrame& frame)
     : volume_(volume), frame_(frame), dim_(int64_t(volume.dim())), cache_(kSlots), copies_(size_t(kSlots) * kCopyBytes) {
   assert(frame.level == volume.level() && frame.voxel_mm > 0);
+  findTissueBox();
+}
+
+void VoxelField::findTissueBox() {
+  uint32_t lo[3] = {UINT32_MAX, UINT32_MAX, UINT32_MAX}, hi[3] = {0, 0, 0};
+  volume_.forEachBrick([&](const BrickView& b) {
+    if (b.uniform && voxelFill(b.value) == 0) return;
+    const uint32_t c[3] = {b.coord.x, b.coord.y, b.coord.z};
+    for (size_t a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], c[a]);
+      hi[a] = std::max(hi[a], c[a]);
+    }
+  });
+  if (lo[0] > hi[0]) {  // no tissue: a box no query meets
+    tissue_lo_ = Vec3{1, 1, 1};
+    tissue_hi_ = Vec3{-1, -1, -1};
+    return;
+  }
+  for (int a = 0; a < 3; ++a) {
+    tissue_lo_[a] = double(lo[a]) * DS_BRICK_DIM;
+    tissue_hi_[a] = double(hi[a] + 1) * DS_BRICK_DIM;
+  }
 }
 
 void VoxelField::invalidate() {
   for (CachedBrick& e : cache_) e.key = kNoBrick;
+  findTissueBox();
 }
 
 void VoxelField::load(uint32_t s, uint32_t bx, uint32_t by, uint32_t bz) {
@@ -293,6 +316,9 @@ bool VoxelField::regionEmpty(int64_t x0, int64_t x1, int64_t y0, int64_t y1, int
 }
 
 bool VoxelField::chunksEmpty(const Vec3& lo, const Vec3& hi) const {
+  if (hi.x < tissue_lo_.x || hi.y < tissue_lo_.y || hi.z < tissue_lo_.z || lo.x > tissue_hi_.x || lo.y > tissue_hi_.y ||
+      lo.z > tissue_hi_.z)
+    return true;
   const double top = double(dim_ - 1);
   if (hi.x < 0 || hi.y < 0 || hi.z < 0 || lo.x > top || lo.y > top || lo.z > top) return true;
   auto chunkOf = [&](double v) {

@@ -73,9 +73,11 @@ class VoxelField {
   bool regionEmpty(int64_t x0, int64_t x1, int64_t y0, int64_t y1, int64_t z0, int64_t z1, bool tiles_only = false);
   // True when every voxel of the 64^3 chunks overlapping the box [lo, hi] (voxel coordinates) is
   // empty, read from the chunk table alone: the coarse test that lets a cluster of points skip.
+  // A box clear of the tissue's bounding box answers at once: a mirror's long handle or a tool far
+  // off then costs a comparison per cluster, even where every chunk holds some tissue.
   bool chunksEmpty(const Vec3& lo, const Vec3& hi) const;
 
-  // Forget the cached bricks: the volume changed other than through written().
+  // Forget the cached bricks and the tissue's box: the volume changed other than through written().
   void invalidate();
   // Voxel (x, y, z) of the volume now holds v: the cached copies that hold it follow.
   void written(uint32_t x, uint32_t y, uint32_t z, Voxel v);
@@ -110,6 +112,10 @@ class VoxelField {
   int64_t dim_ = 0;
   std::vector<CachedBrick> cache_;  // (kSlots) slot: low 4 bits of bx, by and bz
   std::vector<Voxel> copies_;       // (kSlots * kCopyBytes) the slots' 9^3 copies, x fastest
+  // The bricks holding tissue, as a box in voxel coordinates (empty: lo > hi). Cutting only removes
+  // tissue, so the box found at construction stays a bound until invalidate().
+  Vec3 tissue_lo_, tissue_hi_;
+  void findTissueBox();
 };
 
 }  // namespace dentsim
