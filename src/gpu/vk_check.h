@@ -1,4 +1,4 @@
-// gpu-internal: turns a failed Vulkan call into a readable dentsim::Error (never an abort). Not for use outside src/gpu.
+// Turns a failed Vulkan call into a readable dentsim::Error (never an abort): for the Vulkan sources of src/gpu and src/render, never in public headers.
 #pragma once
 
 #include <string>

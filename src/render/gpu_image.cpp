@@ -3,7 +3,7 @@
 
 #include <utility>
 
-#include "render/render_check.h"
+#include "gpu/vk_check.h"
 
 namespace dentsim::render {
 
@@ -27,8 +27,7 @@ Result<GpuImage> GpuImage::create(gpu::Context& ctx, VkExtent2D extent, VkFormat
   ici.usage = usage;
   ici.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   ici.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  if (VkResult r = vkCreateImage(core.device, &ici, nullptr, &img.image_); r != VK_SUCCESS)
-    return detail::vkFailure("vkCreateImage for " + name, r);
+  DS_VK_TRY(vkCreateImage(core.device, &ici, nullptr, &img.image_), "vkCreateImage for " + name);
 
   VkMemoryRequirements req{};
   vkGetImageMemoryRequirements(core.device, img.image_, &req);
@@ -39,10 +38,8 @@ Result<GpuImage> GpuImage::create(gpu::Context& ctx, VkExtent2D extent, VkFormat
   mai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
   mai.allocationSize = req.size;
   mai.memoryTypeIndex = uint32_t(type);
-  if (VkResult r = vkAllocateMemory(core.device, &mai, nullptr, &img.memory_); r != VK_SUCCESS)
-    return detail::vkFailure("vkAllocateMemory for " + name, r);
-  if (VkResult r = vkBindImageMemory(core.device, img.image_, img.memory_, 0); r != VK_SUCCESS)
-    return detail::vkFailure("vkBindImageMemory for " + name, r);
+  DS_VK_TRY(vkAllocateMemory(core.device, &mai, nullptr, &img.memory_), "vkAllocateMemory for " + name);
+  DS_VK_TRY(vkBindImageMemory(core.device, img.image_, img.memory_, 0), "vkBindImageMemory for " + name);
 
   VkImageViewCreateInfo vci{};
   vci.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO;
@@ -50,8 +47,7 @@ Result<GpuImage> GpuImage::create(gpu::Context& ctx, VkExtent2D extent, VkFormat
   vci.viewType = VK_IMAGE_VIEW_TYPE_2D;
   vci.format = format;
   vci.subresourceRange = {aspect, 0, 1, 0, 1};
-  if (VkResult r = vkCreateImageView(core.device, &vci, nullptr, &img.view_); r != VK_SUCCESS)
-    return detail::vkFailure("vkCreateImageView for " + name, r);
+  DS_VK_TRY(vkCreateImageView(core.device, &vci, nullptr, &img.view_), "vkCreateImageView for " + name);
 
   core.name(VK_OBJECT_TYPE_IMAGE, img.image_, name);
   core.name(VK_OBJECT_TYPE_IMAGE_VIEW, img.view_, name + " view");

@@ -20,11 +20,11 @@
 #include "dentsim_render_spirv_spirv.h"
 #include "gpu/buffer.h"
 #include "gpu/compute.h"
+#include "gpu/vk_check.h"
 #include "model/builtin_assets.h"
 #include "model/tool_generator.h"
 #include "render/camera.h"
 #include "render/gpu_image.h"
-#include "render/render_check.h"
 #include "render/render_layout.h"
 #include "render/tool_mesh.h"
 #include "volume/surface_layout.h"
@@ -261,11 +261,11 @@ Status SceneRenderer::State::createPasses() {
     rpci.pSubpasses = &sub;
     rpci.dependencyCount = 2;
     rpci.pDependencies = deps;
-    DS_RENDER_VK(vkCreateRenderPass(core->device, &rpci, nullptr, &out), std::string("vkCreateRenderPass ") + name);
+    DS_VK_TRY(vkCreateRenderPass(core->device, &rpci, nullptr, &out), std::string("vkCreateRenderPass ") + name);
     core->name(VK_OBJECT_TYPE_RENDER_PASS, out, name);
     return Ok{};
   };
-  DS_RENDER_TRY(make(final_layout, "scene pass", main_pass));
+  DS_TRY_STATUS(make(final_layout, "scene pass", main_pass));
   return make(VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL, "mirror pass", mirror_pass);
 }
 
@@ -280,12 +280,12 @@ Status SceneRenderer::State::createLayouts() {
   dslci.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO;
   dslci.bindingCount = 1;
   dslci.pBindings = &frame_binding;
-  DS_RENDER_VK(vkCreateDescriptorSetLayout(device, &dslci, nullptr, &frame_set_layout), "frame set layout");
+  DS_VK_TRY(vkCreateDescriptorSetLayout(device, &dslci, nullptr, &frame_set_layout), "frame set layout");
   VkDescriptorSetLayoutBinding tex_binding = frame_binding;
   tex_binding.descriptorType = VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER;
   tex_binding.stageFlags = VK_SHADER_STAGE_FRAGMENT_BIT;
   dslci.pBindings = &tex_binding;
-  DS_RENDER_VK(vkCreateDescriptorSetLayout(device, &dslci, nullptr, &texture_set_layout), "texture set layout");
+  DS_VK_TRY(vkCreateDescriptorSetLayout(device, &dslci, nullptr, &texture_set_layout), "texture set layout");
 
   const VkDescriptorSetLayout sets[2] = {frame_set_layout, texture_set_layout};
   VkPushConstantRange push{VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0,
@@ -296,7 +296,7 @@ Status SceneRenderer::State::createLayouts() {
   plci.pSetLayouts = sets;
   plci.pushConstantRangeCount = 1;
   plci.pPushConstantRanges = &push;
-  DS_RENDER_VK(vkCreatePipelineLayout(device, &plci, nullptr, &pipeline_layout), "scene pipeline layout");
+  DS_VK_TRY(vkCreatePipelineLayout(device, &plci, nullptr, &pipeline_layout), "scene pipeline layout");
   core->name(VK_OBJECT_TYPE_PIPELINE_LAYOUT, pipeline_layout, "scene pipeline layout");
 
   VkSamplerCreateInfo sci{};
@@ -306,7 +306,7 @@ Status SceneRenderer::State::createLayouts() {
   sci.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
   sci.addressModeU = sci.addressModeV = sci.addressModeW = VK_SAMPLER_ADDRESS_MODE_CLAMP_TO_EDGE;
   sci.maxLod = 0.0f;
-  DS_RENDER_VK(vkCreateSampler(device, &sci, nullptr, &sampler), "scene sampler");
+  DS_VK_TRY(vkCreateSampler(device, &sci, nullptr, &sampler), "scene sampler");
 
   const VkDescriptorPoolSize sizes[2] = {{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 2},
                                          {VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 2}};
@@ -315,7 +315,7 @@ Status SceneRenderer::State::createLayouts() {
   dpci.maxSets = 4;
   dpci.poolSizeCount = 2;
   dpci.pPoolSizes = sizes;
-  DS_RENDER_VK(vkCreateDescriptorPool(device, &dpci, nullptr, &pool), "scene descriptor pool");
+  DS_VK_TRY(vkCreateDescriptorPool(device, &dpci, nullptr, &pool), "scene descriptor pool");
   const VkDescriptorSetLayout wanted[4] = {frame_set_layout, frame_set_layout, texture_set_layout, texture_set_layout};
   VkDescriptorSet got[4]{};
   VkDescriptorSetAllocateInfo dsai{};
@@ -323,7 +323,7 @@ Status SceneRenderer::State::createLayouts() {
   dsai.descriptorPool = pool;
   dsai.descriptorSetCount = 4;
   dsai.pSetLayouts = wanted;
-  DS_RENDER_VK(vkAllocateDescriptorSets(device, &dsai, got), "scene descriptor sets");
+  DS_VK_TRY(vkAllocateDescriptorSets(device, &dsai, got), "scene descriptor sets");
   main_frame_set = got[0];
   mirror_frame_set = got[1];
   mirror_texture_set = got[2];
@@ -361,7 +361,7 @@ Result<VkPipeline> SceneRenderer::State::createPipeline(const char* name, std::s
     smci.sType = VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO;
     smci.codeSize = code.size() * sizeof(uint32_t);
     smci.pCode = code.data();
-    DS_RENDER_VK(vkCreateShaderModule(device, &smci, nullptr, &mods[i]), std::string("shader module for ") + name);
+    DS_VK_TRY(vkCreateShaderModule(device, &smci, nullptr, &mods[i]), std::string("shader module for ") + name);
     modules.push_back(mods[i]);
   }
   VkPipelineShaderStageCreateInfo stages[2]{};
@@ -452,7 +452,7 @@ Result<VkPipeline> SceneRenderer::State::createPipeline(const char* name, std::s
   gpci.renderPass = main_pass;
   gpci.subpass = 0;
   VkPipeline pipe = VK_NULL_HANDLE;
-  DS_RENDER_VK(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &gpci, nullptr, &pipe),
+  DS_VK_TRY(vkCreateGraphicsPipelines(device, VK_NULL_HANDLE, 1, &gpci, nullptr, &pipe),
                std::string("vkCreateGraphicsPipelines ") + name);
   core->name(VK_OBJECT_TYPE_PIPELINE, pipe, name);
   return pipe;
@@ -494,7 +494,7 @@ Status SceneRenderer::State::createTools() {
     auto buf = gpu::Buffer::create(*ctx, std::max<uint64_t>(v.size_bytes(), 16), gpu::MemoryKind::DeviceLocal,
                                    gpu::BufferUse::Geometry, "tool mesh " + name);
     if (!buf) return buf.error();
-    DS_RENDER_TRY(buf->upload(*ctx, std::as_bytes(v)));
+    DS_TRY_STATUS(buf->upload(*ctx, std::as_bytes(v)));
     out.vertices.emplace(std::move(*buf));
     out.count = uint32_t(verts.size());
     return Ok{};
@@ -502,7 +502,7 @@ Status SceneRenderer::State::createTools() {
   for (const ToolSpec& spec : toolCatalog()) {
     auto mesh = loadBuiltinTool(spec.name);
     if (!mesh) return mesh.error();
-    DS_RENDER_TRY(upload(spec.name, creasedVertices(*mesh), tools[spec.name]));
+    DS_TRY_STATUS(upload(spec.name, creasedVertices(*mesh), tools[spec.name]));
   }
   return upload("mirror glass", discVertices(kMirrorRadiusMm, kGlassLiftMm, kGlassSegments), glass);
 }
@@ -527,7 +527,7 @@ Status SceneRenderer::State::createMirrorTarget() {
   fci.width = extent.width;
   fci.height = extent.height;
   fci.layers = 1;
-  DS_RENDER_VK(vkCreateFramebuffer(core->device, &fci, nullptr, &mirror_framebuffer), "mirror framebuffer");
+  DS_VK_TRY(vkCreateFramebuffer(core->device, &fci, nullptr, &mirror_framebuffer), "mirror framebuffer");
   VkDescriptorImageInfo info{sampler, mirror_colour->view(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
   VkWriteDescriptorSet w{};
   w.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
@@ -567,11 +567,11 @@ Result<SceneRenderer> SceneRenderer::create(gpu::Context& ctx, VkFormat colour_f
     return makeError(kWhere, "colour format " + std::to_string(int(colour_format)) +
                                  " cannot be a blended colour attachment and sampled on this device");
 
-  DS_RENDER_TRY(s->createPasses());
-  DS_RENDER_TRY(s->createLayouts());
-  DS_RENDER_TRY(s->createPipelines());
-  DS_RENDER_TRY(s->createTools());
-  DS_RENDER_TRY(s->createMirrorTarget());
+  DS_TRY_STATUS(s->createPasses());
+  DS_TRY_STATUS(s->createLayouts());
+  DS_TRY_STATUS(s->createPipelines());
+  DS_TRY_STATUS(s->createTools());
+  DS_TRY_STATUS(s->createMirrorTarget());
   return SceneRenderer(std::move(s));
 }
 
@@ -595,7 +595,7 @@ Status SceneRenderer::setOverlayImage(const RgbImage& image) {
   if (image.width <= 0 || image.height <= 0 || image.rgb.size() != size_t(image.width) * size_t(image.height) * 3)
     return makeError(kWhere, "overlay image is empty or its pixels do not match its size");
   State& s = *state_;
-  DS_RENDER_TRY(s.ctx->waitIdle());
+  DS_TRY_STATUS(s.ctx->waitIdle());
   const VkExtent2D extent{uint32_t(image.width), uint32_t(image.height)};
   auto img = GpuImage::create(*s.ctx, extent, VK_FORMAT_R8G8B8A8_UNORM,
                               VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_DST_BIT, VK_IMAGE_ASPECT_COLOR_BIT,
@@ -610,7 +610,7 @@ Status SceneRenderer::setOverlayImage(const RgbImage& image) {
                                      "overlay staging");
   if (!staging) return staging.error();
   std::memcpy(staging->mapped(), rgba.data(), rgba.size());
-  DS_RENDER_TRY(gpu::submitAndWait(*s.ctx, "overlay upload", [&](gpu::Commands& cmds) -> Status {
+  DS_TRY_STATUS(gpu::submitAndWait(*s.ctx, "overlay upload", [&](gpu::Commands& cmds) -> Status {
     VkImageMemoryBarrier b{};
     b.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER;
     b.srcAccessMask = 0;
@@ -675,7 +675,7 @@ Result<Target*> SceneRenderer::State::target(const RenderImage& image) {
   fci.width = image.extent.width;
   fci.height = image.extent.height;
   fci.layers = 1;
-  DS_RENDER_VK(vkCreateFramebuffer(core->device, &fci, nullptr, &t.framebuffer), "scene framebuffer");
+  DS_VK_TRY(vkCreateFramebuffer(core->device, &fci, nullptr, &t.framebuffer), "scene framebuffer");
   core->name(VK_OBJECT_TYPE_FRAMEBUFFER, t.framebuffer, "scene framebuffer");
   return &targets.emplace(image.view, std::move(t)).first->second;
 }

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "render/render_check.h"
+#include "gpu/vk_check.h"
 
 namespace dentsim::render {
 
@@ -54,13 +54,13 @@ Status ToothSurfaces::recreate() {
 
 Status ToothSurfaces::build(const BrickVolume& volume, gpu::SurfaceUpdateStats* stats) {
   if (mode_changed_) {
-    DS_RENDER_TRY(recreate());
+    DS_TRY_STATUS(recreate());
     mode_changed_ = false;
   }
   gpu::SurfaceUpdateStats total;
   for (auto& surface : surfaces_) {
     gpu::SurfaceUpdateStats one;
-    DS_RENDER_TRY(surface->build(volume, &one));
+    DS_TRY_STATUS(surface->build(volume, &one));
     accumulate(total, one);
   }
   built_ = true;
@@ -75,7 +75,7 @@ Status ToothSurfaces::update(const BrickVolume& volume, std::span<const BrickCoo
   gpu::SurfaceUpdateStats total;
   for (auto& surface : surfaces_) {
     gpu::SurfaceUpdateStats one;
-    DS_RENDER_TRY(surface->update(volume, dirty, &one));
+    DS_TRY_STATUS(surface->update(volume, dirty, &one));
     accumulate(total, one);
   }
   if (stats) *stats = total;

@@ -1,4 +1,4 @@
-// Shared fixture of the GPU tests: a validated context on the best device, skipping only when no Vulkan device exists.
+// Shared fixture of the GPU, render and ui tests: a validated context on the best device, skipping only when no Vulkan device exists.
 #pragma once
 
 #include <gtest/gtest.h>
@@ -11,12 +11,16 @@
 namespace dentsim::gpu::test {
 
 // Validation is always on here (as DENTSIM_VALIDATION=1 does under CTest), and any validation
-// error or warning seen during a test fails it in TearDown.
+// error or warning seen during a test fails it in TearDown. A suite that draws (render, ui) derives
+// from GraphicsGpuTest instead, whose context has a graphics queue.
 class GpuTest : public ::testing::Test {
  protected:
+  explicit GpuTest(bool graphics = false) : graphics_(graphics) {}
+
   void SetUp() override {
     ContextOptions options;
     options.enable_validation = true;
+    options.graphics = graphics_;
     auto created = Context::create(options);
     if (!created) {
       if (isNoDeviceError(created.error())) GTEST_SKIP() << "no Vulkan device: " << created.message();
@@ -34,6 +38,15 @@ class GpuTest : public ::testing::Test {
   Context& ctx() { return *ctx_; }
 
   std::optional<Context> ctx_;
+
+ private:
+  bool graphics_;
+};
+
+// The same with ContextOptions::graphics = true, for the render and ui suites.
+class GraphicsGpuTest : public GpuTest {
+ protected:
+  GraphicsGpuTest() : GpuTest(true) {}
 };
 
 // Both totals, compared exactly, with a message naming the first difference.

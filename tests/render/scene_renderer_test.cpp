@@ -12,6 +12,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "gpu/gpu_fixture.h"
 #include "model/builtin_assets.h"
 #include "render/camera.h"
 #include "render/offscreen.h"
@@ -26,28 +27,18 @@ namespace {
 
 constexpr uint32_t kW = 160, kH = 120;
 
-// A graphics context with validation; skips only when the machine has no Vulkan device.
-class RenderTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    gpu::ContextOptions options;
-    options.enable_validation = true;
-    options.graphics = true;
-    auto created = gpu::Context::create(options);
-    if (!created) {
-      if (gpu::isNoDeviceError(created.error())) GTEST_SKIP() << "no Vulkan device: " << created.message();
-      FAIL() << "context creation failed: " << created.message();
-    }
-    ctx_.emplace(std::move(*created));
-  }
+struct BurView;
 
+// A graphics context with validation (gpu/gpu_fixture.h); skips only when the machine has no Vulkan device.
+class RenderTest : public gpu::test::GraphicsGpuTest {
+ protected:
   void TearDown() override {
-    if (!ctx_) return;
-    renderer_.reset();
-    tooth_.reset();
-    EXPECT_TRUE(ctx_->waitIdle().ok());
-    EXPECT_EQ(ctx_->validationErrorCount(), 0u) << "last validation message: " << ctx_->lastValidationMessage();
-    EXPECT_EQ(ctx_->validationWarningCount(), 0u) << "last validation message: " << ctx_->lastValidationMessage();
+    if (ctx_) {
+      renderer_.reset();
+      tooth_.reset();
+      EXPECT_TRUE(ctx_->waitIdle().ok());
+    }
+    GraphicsGpuTest::TearDown();
   }
 
   SceneRenderer& renderer(const SceneRendererOptions& options = {}) {
@@ -69,6 +60,14 @@ class RenderTest : public ::testing::Test {
     return *tooth_;
   }
 
+  // Replaces the scene's tooth with the surfaces built from `voxels`.
+  void buildTooth(const BrickVolume& voxels) {
+    auto t = ToothSurfaces::create(*ctx_);
+    ASSERT_TRUE(t.ok()) << t.message();
+    tooth_.emplace(std::move(*t));
+    ASSERT_TRUE(tooth_->build(voxels).ok());
+  }
+
   RgbImage render(const FrameState& frame, uint32_t w = kW, uint32_t h = kH) {
     auto img = renderOffscreen(*ctx_, renderer(), tooth_ ? *tooth_ : emptyTooth(), frame, w, h);
     EXPECT_TRUE(img.ok()) << (img.ok() ? "" : img.message());
@@ -76,6 +75,9 @@ class RenderTest : public ::testing::Test {
     dump(*img);
     return std::move(*img);
   }
+
+  // The bur of `v` through a renderer whose steel is testSteel().
+  RgbImage renderSteelBur(const BurView& v);
 
   // With DENTSIM_TEST_IMAGES=DIR set, every rendered frame is also written there, to look at.
   void dump(const RgbImage& img) {
@@ -87,9 +89,6 @@ class RenderTest : public ::testing::Test {
   }
   int frames_ = 0;
 
-  gpu::Context& ctx() { return *ctx_; }
-
-  std::optional<gpu::Context> ctx_;
   std::optional<SceneRenderer> renderer_;
   std::optional<ToothSurfaces> tooth_;
 };
@@ -141,12 +140,16 @@ struct BurView {
 
 TissueLook testSteel() { return {0.10, 0.08, 0.06, 0.50, 0.55, 0.60, 0.30, 0.30, 0.30, 1.0, 8.0}; }
 
-TEST_F(RenderTest, BurSilhouetteIsTheHeadsCircle) {
+RgbImage RenderTest::renderSteelBur(const BurView& v) {
   SceneRendererOptions options;
   options.steel = testSteel();
   renderer(options);
+  return render(v.frame);
+}
+
+TEST_F(RenderTest, BurSilhouetteIsTheHeadsCircle) {
   BurView v;
-  const RgbImage img = render(v.frame);
+  const RgbImage img = renderSteelBur(v);
   ASSERT_EQ(img.width, int(kW));
   const auto bg = to255(v.frame.background);
   int covered = 0;
@@ -187,11 +190,8 @@ std::optional<glm::vec3> cpuPixel(const std::vector<ToolVertex>& corners, const 
 }
 
 TEST_F(RenderTest, BurShadingMatchesCpuPhong) {
-  SceneRendererOptions options;
-  options.steel = testSteel();
-  renderer(options);
   BurView v;
-  const RgbImage img = render(v.frame);
+  const RgbImage img = renderSteelBur(v);
   ASSERT_EQ(img.width, int(kW));
   auto mesh = loadBuiltinTool("round_bur_018");
   ASSERT_TRUE(mesh.ok()) << mesh.message();
@@ -253,10 +253,7 @@ ToothScene toothScene(int level, ViewPreset preset) {
 
 TEST_F(RenderTest, OcclusalToothShowsEnamelAndItsCarvedHole) {
   ToothScene s = toothScene(7, ViewPreset::Occlusal);
-  auto t = ToothSurfaces::create(ctx());
-  ASSERT_TRUE(t.ok()) << t.message();
-  tooth_.emplace(std::move(*t));
-  ASSERT_TRUE(tooth_->build(s.tooth.voxels).ok());
+  ASSERT_NO_FATAL_FAILURE(buildTooth(s.tooth.voxels));
   // Opaque enamel for this test, so every tooth pixel is enamel-shaded; the molar's occlusal caries
   // reaches the surface, so it takes the enamel's look here.
   s.frame.looks[size_t(Material::Enamel)].alpha = 1.0;
@@ -331,10 +328,7 @@ TEST_F(RenderTest, OcclusalToothShowsEnamelAndItsCarvedHole) {
 
 TEST_F(RenderTest, TranslucentEnamelShowsTheDentin) {
   ToothScene s = toothScene(6, ViewPreset::Occlusal);
-  auto t = ToothSurfaces::create(ctx());
-  ASSERT_TRUE(t.ok()) << t.message();
-  tooth_.emplace(std::move(*t));
-  ASSERT_TRUE(tooth_->build(s.tooth.voxels).ok());
+  ASSERT_NO_FATAL_FAILURE(buildTooth(s.tooth.voxels));
   // Grey enamel (and caries), red dentin and pulp: any red in a pixel came from beneath the enamel.
   const TissueLook grey{0.2, 0.2, 0.2, 0.6, 0.6, 0.6, 0.0, 0.0, 0.0, 1.0, 8.0};
   const TissueLook red{0.3, 0.0, 0.0, 0.7, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 8.0};
@@ -361,10 +355,7 @@ TEST_F(RenderTest, TranslucentEnamelShowsTheDentin) {
 
 TEST_F(RenderTest, OffscreenFramesAreDeterministic) {
   ToothScene s = toothScene(6, ViewPreset::Buccal);
-  auto t = ToothSurfaces::create(ctx());
-  ASSERT_TRUE(t.ok()) << t.message();
-  tooth_.emplace(std::move(*t));
-  ASSERT_TRUE(tooth_->build(s.tooth.voxels).ok());
+  ASSERT_NO_FATAL_FAILURE(buildTooth(s.tooth.voxels));
   s.frame.drill_shown = true;
   s.frame.drill.position = fromGlm(s.centre + glm::vec3(0.0f, 0.0f, s.radius * 0.5f));
   const RgbImage a = render(s.frame);
@@ -402,10 +393,7 @@ TEST_F(RenderTest, MirrorImageEqualsTheReflectedCamerasView) {
   options.mirror_resolution = 128;
   renderer(options);
   MirrorScene m = mirrorScene();
-  auto t = ToothSurfaces::create(ctx());
-  ASSERT_TRUE(t.ok()) << t.message();
-  tooth_.emplace(std::move(*t));
-  ASSERT_TRUE(tooth_->build(m.s.tooth.voxels).ok());
+  ASSERT_NO_FATAL_FAILURE(buildTooth(m.s.tooth.voxels));
 
   const RgbImage main = render(m.s.frame);
   ASSERT_TRUE(renderer().mirrorDrawn());

@@ -4,185 +4,73 @@
 #include <gtest/gtest.h>
 
 #include <cstddef>
-#include <cstring>
+#include <cstdint>
 #include <optional>
 #include <vector>
 
 #include <imgui.h>
 
-#include "gpu/buffer.h"
 #include "gpu/compute.h"
-#include "gpu/context.h"
+#include "gpu/gpu_fixture.h"
+#include "render/offscreen.h"
+#include "render/scene_renderer.h"
+#include "render/tooth_surfaces.h"
 #include "ui/param_panel.h"
 
 namespace dentsim::ui {
 namespace {
 
 constexpr uint32_t kWidth = 640, kHeight = 480;  // [px]
-constexpr VkFormat kFormat = VK_FORMAT_R8G8B8A8_UNORM;
 
-// A validated graphics context, skipping only when no Vulkan device exists; any validation error or
-// warning fails the test (tests/gpu/gpu_fixture.h does the same for compute).
-class ImGuiLayerTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    gpu::ContextOptions options;
-    options.enable_validation = true;
-    options.graphics = true;
-    auto created = gpu::Context::create(options);
-    if (!created) {
-      if (gpu::isNoDeviceError(created.error())) GTEST_SKIP() << "no Vulkan device: " << created.message();
-      FAIL() << "context creation failed: " << created.message();
-    }
-    ctx_.emplace(std::move(*created));
-  }
-  void TearDown() override {
-    if (!ctx_) return;
-    EXPECT_EQ(ctx_->validationErrorCount(), 0u) << "last validation message: " << ctx_->lastValidationMessage();
-    EXPECT_EQ(ctx_->validationWarningCount(), 0u) << "last validation message: " << ctx_->lastValidationMessage();
-  }
+// A validated graphics context (gpu/gpu_fixture.h), skipping only when no Vulkan device exists.
+using ImGuiLayerTest = gpu::test::GraphicsGpuTest;
 
-  std::optional<gpu::Context> ctx_;
+// What the panel is drawn with: the app's scene render pass (ending ready to copy out), an offscreen
+// image of its colour format, and an empty tooth, so that a frame shows only the clear and ImGui.
+struct Scene {
+  render::SceneRenderer renderer;
+  render::OffscreenTarget target;
+  render::ToothSurfaces tooth;
+  render::FrameState frame;
 };
 
-// A colour image, its render pass (clear, then ready to copy out) and framebuffer; freed in order.
-struct Target {
-  VkDevice device = VK_NULL_HANDLE;
-  VkImage image = VK_NULL_HANDLE;
-  VkDeviceMemory memory = VK_NULL_HANDLE;
-  VkImageView view = VK_NULL_HANDLE;
-  VkRenderPass pass = VK_NULL_HANDLE;
-  VkFramebuffer framebuffer = VK_NULL_HANDLE;
-
-  ~Target() {
-    if (!device) return;
-    vkDestroyFramebuffer(device, framebuffer, nullptr);
-    vkDestroyRenderPass(device, pass, nullptr);
-    vkDestroyImageView(device, view, nullptr);
-    vkDestroyImage(device, image, nullptr);
-    vkFreeMemory(device, memory, nullptr);
-  }
-};
-
-void makeTarget(gpu::Context& ctx, Target& t) {
-  gpu::ContextCore& core = ctx.core();
-  t.device = core.device;
-
-  VkImageCreateInfo ii{};
-  ii.sType = VK_STRUCTURE_TYPE_IMAGE_CREATE_INFO;
-  ii.imageType = VK_IMAGE_TYPE_2D;
-  ii.format = kFormat;
-  ii.extent = {kWidth, kHeight, 1};
-  ii.mipLevels = 1;
-  ii.arrayLayers = 1;
-  ii.samples = VK_SAMPLE_COUNT_1_BIT;
-  ii.tiling = VK_IMAGE_TILING_OPTIMAL;
-  ii.usage = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT;
-  ii.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  ASSERT_EQ(vkCreateImage(core.device, &ii, nullptr, &t.image), VK_SUCCESS);
-  VkMemoryRequirements req;
-  vkGetImageMemoryRequirements(core.device, t.image, &req);
-  const int type = core.findMemoryType(req.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, 0, 0);
-  ASSERT_GE(type, 0);
-  VkMemoryAllocateInfo ai{};
-  ai.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
-  ai.allocationSize = req.size;
-  ai.memoryTypeIndex = uint32_t(type);
-  ASSERT_EQ(vkAllocateMemory(core.device, &ai, nullptr, &t.memory), VK_SUCCESS);
-  ASSERT_EQ(vkBindImageMemory(core.device, t.image, t.memory, 0), VK_SUCCESS);
-
-  VkImageViewCreateInfo vi{};
-  vi.sType = VK_STRUCTURE_TYPE_IMAGE_VIEW_CREATE_INFO;
-  vi.image = t.image;
-  vi.viewType = VK_IMAGE_VIEW_TYPE_2D;
-  vi.format = kFormat;
-  vi.subresourceRange = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
-  ASSERT_EQ(vkCreateImageView(core.device, &vi, nullptr, &t.view), VK_SUCCESS);
-
-  VkAttachmentDescription colour{};
-  colour.format = kFormat;
-  colour.samples = VK_SAMPLE_COUNT_1_BIT;
-  colour.loadOp = VK_ATTACHMENT_LOAD_OP_CLEAR;
-  colour.storeOp = VK_ATTACHMENT_STORE_OP_STORE;
-  colour.stencilLoadOp = VK_ATTACHMENT_LOAD_OP_DONT_CARE;
-  colour.stencilStoreOp = VK_ATTACHMENT_STORE_OP_DONT_CARE;
-  colour.initialLayout = VK_IMAGE_LAYOUT_UNDEFINED;
-  colour.finalLayout = VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL;
-  VkAttachmentReference ref{0, VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL};
-  VkSubpassDescription sub{};
-  sub.pipelineBindPoint = VK_PIPELINE_BIND_POINT_GRAPHICS;
-  sub.colorAttachmentCount = 1;
-  sub.pColorAttachments = &ref;
-  // The copy after the pass reads what the subpass wrote.
-  VkSubpassDependency dep{};
-  dep.srcSubpass = 0;
-  dep.dstSubpass = VK_SUBPASS_EXTERNAL;
-  dep.srcStageMask = VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT;
-  dep.dstStageMask = VK_PIPELINE_STAGE_TRANSFER_BIT;
-  dep.srcAccessMask = VK_ACCESS_COLOR_ATTACHMENT_WRITE_BIT;
-  dep.dstAccessMask = VK_ACCESS_TRANSFER_READ_BIT;
-  VkRenderPassCreateInfo ri{};
-  ri.sType = VK_STRUCTURE_TYPE_RENDER_PASS_CREATE_INFO;
-  ri.attachmentCount = 1;
-  ri.pAttachments = &colour;
-  ri.subpassCount = 1;
-  ri.pSubpasses = &sub;
-  ri.dependencyCount = 1;
-  ri.pDependencies = &dep;
-  ASSERT_EQ(vkCreateRenderPass(core.device, &ri, nullptr, &t.pass), VK_SUCCESS);
-
-  VkFramebufferCreateInfo fi{};
-  fi.sType = VK_STRUCTURE_TYPE_FRAMEBUFFER_CREATE_INFO;
-  fi.renderPass = t.pass;
-  fi.attachmentCount = 1;
-  fi.pAttachments = &t.view;
-  fi.width = kWidth;
-  fi.height = kHeight;
-  fi.layers = 1;
-  ASSERT_EQ(vkCreateFramebuffer(core.device, &fi, nullptr, &t.framebuffer), VK_SUCCESS);
+std::optional<Scene> makeScene(gpu::Context& ctx) {
+  auto renderer = render::SceneRenderer::create(ctx, render::kDefaultColourFormat, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+  EXPECT_TRUE(renderer.ok()) << (renderer.ok() ? "" : renderer.message());
+  auto target = render::OffscreenTarget::create(ctx, kWidth, kHeight, render::kDefaultColourFormat);
+  EXPECT_TRUE(target.ok()) << (target.ok() ? "" : target.message());
+  auto tooth = render::ToothSurfaces::create(ctx);
+  EXPECT_TRUE(tooth.ok()) << (tooth.ok() ? "" : tooth.message());
+  if (!renderer || !target || !tooth) return std::nullopt;
+  render::FrameState frame;
+  frame.tooth_shown = false;
+  frame.drill_shown = false;
+  frame.mirror_shown = false;
+  frame.background = {0.0f, 0.0f, 0.0f};  // black, so that anything ImGui draws shows
+  return Scene{std::move(*renderer), std::move(*target), std::move(*tooth), frame};
 }
 
-// Renders one frame of the panel and the overlay for `state` and returns its RGBA pixels.
-std::vector<std::byte> renderFrame(gpu::Context& ctx, ImGuiLayer& layer, const Target& t, UiState& state,
-                                   gpu::Buffer& readback) {
+// Renders one frame of the panel and the overlay for `state` through the scene pass and returns its RGB pixels.
+std::vector<uint8_t> renderFrame(gpu::Context& ctx, ImGuiLayer& layer, Scene& scene, UiState& state) {
   layer.newFrame(int(kWidth), int(kHeight), 1.0 / 60.0);
   drawParamPanel(state);
   drawOverlay(state);
   Status s = gpu::submitAndWait(ctx, "imgui test frame", [&](gpu::Commands& c) -> Status {
-    VkClearValue clear{};
-    clear.color = {{0.0f, 0.0f, 0.0f, 1.0f}};
-    VkRenderPassBeginInfo bi{};
-    bi.sType = VK_STRUCTURE_TYPE_RENDER_PASS_BEGIN_INFO;
-    bi.renderPass = t.pass;
-    bi.framebuffer = t.framebuffer;
-    bi.renderArea = {{0, 0}, {kWidth, kHeight}};
-    bi.clearValueCount = 1;
-    bi.pClearValues = &clear;
-    vkCmdBeginRenderPass(c.cmd(), &bi, VK_SUBPASS_CONTENTS_INLINE);
-    layer.render(c.cmd());
-    vkCmdEndRenderPass(c.cmd());
-    VkBufferImageCopy region{};
-    region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
-    region.imageExtent = {kWidth, kHeight, 1};
-    vkCmdCopyImageToBuffer(c.cmd(), t.image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, readback.handle(), 1, &region);
-    c.use(readback);
-    return Ok{};
+    scene.renderer.markSubmitted(c.serial());
+    return scene.renderer.recordFrame(c.cmd(), scene.target.image(), scene.tooth, scene.frame,
+                                      [&](VkCommandBuffer cmd) { layer.render(cmd); });
   });
   EXPECT_TRUE(s.ok()) << s.message();
-  std::vector<std::byte> pixels(size_t(kWidth) * kHeight * 4);
-  Status d = readback.download(ctx, pixels);
-  EXPECT_TRUE(d.ok()) << d.message();
-  return pixels;
+  auto pixels = scene.target.readback(ctx);
+  EXPECT_TRUE(pixels.ok()) << (pixels.ok() ? "" : pixels.message());
+  return pixels.ok() ? std::move(pixels->rgb) : std::vector<uint8_t>{};
 }
 
 TEST_F(ImGuiLayerTest, RendersThePanelOffscreenCleanlyAndReproducibly) {
-  Target target;
-  ASSERT_NO_FATAL_FAILURE(makeTarget(*ctx_, target));
-  auto readback = gpu::Buffer::create(*ctx_, uint64_t(kWidth) * kHeight * 4, gpu::MemoryKind::HostVisible,
-                                      gpu::BufferUse::Transfer, "imgui readback");
-  ASSERT_TRUE(readback.ok()) << readback.message();
+  std::optional<Scene> scene = makeScene(*ctx_);
+  ASSERT_TRUE(scene.has_value());
   {
-    auto layer = ImGuiLayer::create(*ctx_, target.pass, 0, 2, nullptr);
+    auto layer = ImGuiLayer::create(*ctx_, scene->renderer.renderPass(), 0, 2, nullptr);
     ASSERT_TRUE(layer.ok()) << layer.message();
     EXPECT_FALSE(layer->wantsMouse());
 
@@ -190,15 +78,16 @@ TEST_F(ImGuiLayerTest, RendersThePanelOffscreenCleanlyAndReproducibly) {
     state.stats = {16.7, 1000.0, 1.2, 4096};
     state.force = {2.0, 8.0, true};
     // Frame 1 measures the auto-sized overlay and hides it; frames 2 and 3 are the same frame.
-    renderFrame(*ctx_, *layer, target, state, *readback);
-    std::vector<std::byte> second = renderFrame(*ctx_, *layer, target, state, *readback);
-    std::vector<std::byte> third = renderFrame(*ctx_, *layer, target, state, *readback);
+    renderFrame(*ctx_, *layer, *scene, state);
+    std::vector<uint8_t> second = renderFrame(*ctx_, *layer, *scene, state);
+    std::vector<uint8_t> third = renderFrame(*ctx_, *layer, *scene, state);
+    ASSERT_EQ(second.size(), size_t(kWidth) * kHeight * 3);
     EXPECT_TRUE(second == third) << "the same inputs gave different pixels";
 
     // Something was drawn over the black clear: the panel covers a good part of the image.
     size_t lit = 0;
-    for (size_t i = 0; i < second.size(); i += 4)
-      if (second[i] != std::byte{0} || second[i + 1] != std::byte{0} || second[i + 2] != std::byte{0}) ++lit;
+    for (size_t i = 0; i < second.size(); i += 3)
+      if (second[i] != 0 || second[i + 1] != 0 || second[i + 2] != 0) ++lit;
     EXPECT_GT(lit, size_t(kWidth) * kHeight / 10);
 
     // Without a frame open, the layer ends one cleanly when nothing is to be drawn.
@@ -206,6 +95,8 @@ TEST_F(ImGuiLayerTest, RendersThePanelOffscreenCleanlyAndReproducibly) {
     layer->discardFrame();
   }
   ASSERT_TRUE(ctx_->waitIdle().ok());
+  // The target's view dies before the renderer; it forgets its framebuffer for it first.
+  scene->renderer.forgetTarget(scene->target.image().view);
 }
 
 }  // namespace
