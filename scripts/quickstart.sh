@@ -6,6 +6,7 @@ cd "$(dirname "$0")/.."
 cmake --preset dev >/dev/null
 cmake --build --preset dev
 # Check the Vulkan device, then the main job: the scripted caries removal on the built-in molar,
-# recorded and scored (dentsim-demo/ holds the session, the volumes, the score and its picture).
+# shown in the simulator window (headless where no display answers), recorded and scored
+# (dentsim-demo/ holds the session, the volumes, the score, its picture and frames).
 ./build/src/app/dentsim gpu
-./build/src/app/dentsim demo --headless --out dentsim-demo
+./build/src/app/dentsim demo --out dentsim-demo

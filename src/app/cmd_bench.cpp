@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "app/commands.h"
+#include "app/frames_bench.h"
 #include "app/terminal_progress.h"
 #include "bench/haptic_bench.h"
 #include "bench/memory_bench.h"
@@ -492,6 +493,19 @@ void addBenchCommand(CLI::App& root, Action& action) {
   haptic->add_option("--out", hopts->out, "Output folder")->capture_default_str();
   haptic->add_option("--device", hopts->device, "Device index or name substring (also DENTSIM_DEVICE)");
   haptic->callback([hopts, &action] { action = [hopts] { return runHapticBenchCommand(*hopts); }; });
+
+  auto fopts = std::make_shared<FramesBenchOptions>();
+  CLI::App* frames = bench->add_subcommand("frames", "Frame time of the simulator while the demo drills the molar at "
+                                                     "several levels: re-mesh, tooth, tools, mirror pass, panel");
+  frames->add_option("--levels", fopts->levels, "Octree levels")->delimiter(',')->check(CLI::Range(6, 11));
+  frames->add_option("--frames", fopts->frames, "Frames drawn per level")->check(CLI::Range(4, 100000))->capture_default_str();
+  frames->add_option("--from", fopts->from_s, "Loop time of the first frame [s]")->capture_default_str();
+  frames->add_option("--width", fopts->width, "Frame width [px]")->check(CLI::Range(64, 8192))->capture_default_str();
+  frames->add_option("--height", fopts->height, "Frame height [px]")->check(CLI::Range(64, 8192))->capture_default_str();
+  frames->add_flag("--window", fopts->window, "Draw into a window (needs a display) instead of offscreen");
+  frames->add_option("--out", fopts->out, "Output folder")->capture_default_str();
+  frames->add_option("--device", fopts->device, "Vulkan device index or name part");
+  frames->callback([fopts, &action] { action = [fopts] { return runFramesBench(*fopts); }; });
 }
 
 }  // namespace dentsim::app

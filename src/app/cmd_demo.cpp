@@ -27,6 +27,7 @@ struct DemoOptions {
   std::string params;                // a preset (.json); default: dentsim's defaults
   double exit_after_s = 0.0;         // windowed: close at this loop time (0: when the user closes it)
   int width = 1280, height = 800;    // window or frame size [px]
+  std::string mirror = "mirror_size4";  // the mirror the script holds beside the tooth; "none": none
 };
 
 // The final tooth as a mesh, beside the other files: what a reader opens in any 3-D viewer.
@@ -54,6 +55,7 @@ int runDemo(const DemoOptions& o) {
   so.params = o.params;
   so.task = "caries";
   so.demo_script = true;
+  so.mirror = o.mirror == "none" ? "" : o.mirror;
   so.score_at_end = true;
   so.headless = o.headless;
   so.out = o.out;
@@ -148,6 +150,7 @@ void addDemoCommand(CLI::App& root, Action& action) {
   cmd->add_option("--level", o->level, "Octree level of the molar")->check(CLI::Range(6, 11))->capture_default_str();
   cmd->add_flag("--headless", o->headless, "No window: frames go offscreen to PNG (also when no display answers)");
   cmd->add_flag("--realtime", o->realtime, "Without a Vulkan device: run the haptic loop at its rate on its real-time thread");
+  cmd->add_option("--mirror", o->mirror, "The mirror held beside the tooth, or 'none'")->capture_default_str();
   cmd->add_option("--exit-after", o->exit_after_s, "Windowed: close at this loop time [s] (default: when you close it)");
   cmd->add_option("--width", o->width, "Window or frame width [px]")->check(CLI::Range(64, 8192))->capture_default_str();
   cmd->add_option("--height", o->height, "Window or frame height [px]")->check(CLI::Range(64, 8192))->capture_default_str();

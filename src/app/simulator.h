@@ -43,6 +43,8 @@ struct SimulatorOptions {
   bool score_at_end = false;            // score the cut when the script ends, write score files, show it
   bool exit_at_end = false;             // quit one frame after the script ends (windowed too)
   std::string device;                   // Vulkan device index or name part; empty: the best
+  int bench_frames = 0;                 // > 0: draw every frame (headless too), stop after this many
+  double bench_from_s = 0.0;            // ... from this loop time on (the script's steps before run undrawn) [s]
 };
 
 struct SimulatorOutcome {
@@ -51,11 +53,15 @@ struct SimulatorOutcome {
   uint64_t frames = 0;                  // frames of loop time (lockstep) or drawn (windowed)
   uint64_t drawn = 0;                   // frames drawn (headless draws only what it writes)
   double wall_s = 0.0;
-  double frame_ms_mean = 0.0;           // CPU time from one frame's start to the next's [ms]
+  // Frame times [ms]: windowed, from one frame's start to the next's (what the student sees);
+  // headless, each drawn frame's own time (re-mesh, panel, draw, wait), without the haptic steps.
+  double frame_ms_mean = 0.0;
+  double frame_ms_p50 = 0.0;
   double frame_ms_p95 = 0.0;
   double haptic_rate_hz = 0.0;          // haptic steps per wall second over the run
   uint64_t haptic_steps = 0;
   double remesh_ms_mean = 0.0;          // incremental re-mesh per frame that had edits [ms]
+  uint64_t triangles = 0;               // the tooth's surface at the end
   double removed_mm3 = 0.0;
   std::vector<std::string> written;     // files written, in order
   double score = -1.0;                  // the end score, when one was made

@@ -245,6 +245,21 @@ class PresetReader : public JsonSchemaReader {
   }
 };
 
+// A section with one object per tissue ("tissues", "looks"), each overriding the fields it names.
+template <class S, size_t N>
+bool readPerTissue(const json& root, const char* section, const Field<S> (&fields)[N],
+                   std::array<S, DS_MATERIAL_COUNT>& out, PresetReader& r) {
+  auto it = root.find(section);
+  if (it == root.end()) return true;
+  if (!r.object(*it, section, tissueKeys())) return false;
+  for (Material m : kTissues) {
+    const std::string key = materialName(m);
+    auto t = it->find(key);
+    if (t != it->end() && !r.fields(*t, jsonChildPath(section, key), fields, &out[size_t(m)])) return false;
+  }
+  return true;
+}
+
 // The whole preset schema: format and version first (so that another JSON file is named as such),
 // then each section in file order.
 void readPreset(const json& root, PresetReader& r, SimParams* p) {
@@ -283,14 +298,7 @@ void readPreset(const json& root, PresetReader& r, SimParams* p) {
   }
   if (!r.object(root, "", kTopKeys)) return;
 
-  if (auto it = root.find("tissues"); it != root.end()) {
-    if (!r.object(*it, "tissues", tissueKeys())) return;
-    for (Material m : kTissues) {
-      const std::string key = materialName(m);
-      auto t = it->find(key);
-      if (t != it->end() && !r.fields(*t, jsonChildPath("tissues", key), kTissueFields, &p->tissue(m))) return;
-    }
-  }
+  if (!readPerTissue(root, "tissues", kTissueFields, p->tissues, r)) return;
   // Bur entries merge into the defaults; a new bur name is allowed, so there is no list of known keys.
   if (auto it = root.find("burs"); it != root.end()) {
     if (!it->is_object()) {
@@ -315,14 +323,7 @@ void readPreset(const json& root, PresetReader& r, SimParams* p) {
   if (auto it = root.find("device"); it != root.end() && !r.fields(*it, "device", kDeviceFields, &p->device)) return;
   if (auto it = root.find("point_shell"); it != root.end() && !r.fields(*it, "point_shell", kPointShellFields, &p->point_shell))
     return;
-  if (auto it = root.find("looks"); it != root.end()) {
-    if (!r.object(*it, "looks", tissueKeys())) return;
-    for (Material m : kTissues) {
-      const std::string key = materialName(m);
-      auto t = it->find(key);
-      if (t != it->end() && !r.fields(*t, jsonChildPath("looks", key), kLookFields, &p->look(m))) return;
-    }
-  }
+  if (!readPerTissue(root, "looks", kLookFields, p->looks, r)) return;
   if (auto it = root.find("view"); it != root.end()) {
     if (!r.fields(*it, "view", kViewFields, &p->view)) return;
     const double n = p->view.normal_neighbours;

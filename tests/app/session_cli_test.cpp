@@ -38,7 +38,8 @@ nlohmann::json printedJson(const std::string& output) {
 }
 
 // One demo for the whole suite: the molar at level 7 with a preset that cuts ten times faster and
-// spaces the shell points wider, so the scripted removal takes about a second, sanitizers aside.
+// spaces the shell points wider, and no mirror, so the scripted removal takes about a second,
+// sanitizers aside (the suite runs it once per test process).
 class SessionCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -47,7 +48,7 @@ class SessionCli : public ::testing::Test {
     std::ofstream(preset) << R"({"format":"dentsim-params","version":1,"cutting":{"removal_rate_mm3_per_s":40},)"
                              R"("point_shell":{"head_spacing_mm":0.1,"shank_spacing_mm":0.2}})";
     const test::NoLeakCheckForGpuChild no_leak_check;  // the demo draws its frames on the GPU
-    demo_ = new test::CommandResult(runDentsim("demo --headless --level 7 --params " + preset + " --out " + out()));
+    demo_ = new test::CommandResult(runDentsim("demo --headless --level 7 --mirror none --params " + preset + " --out " + out()));
   }
   static void TearDownTestSuite() {
     delete demo_;
@@ -232,7 +233,7 @@ TEST_F(SessionCli, ScoringVolumesOfDifferentGridsFailsNamingTheFile) {
   ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
   const std::string other = dir_->file("other");
   const test::NoLeakCheckForGpuChild no_leak_check;
-  ASSERT_EQ(runDentsim("demo --headless --level 6 --out " + other + " --params " + dir_->file("fast.json")).exit_code, 0);
+  ASSERT_EQ(runDentsim("demo --headless --level 6 --mirror none --out " + other + " --params " + dir_->file("fast.json")).exit_code, 0);
   test::expectCleanFailure(runDentsim("score --task caries --initial " + file("initial.dvol") + " --final " + other +
                                       "/final.dvol -o " + dir_->file("x.json") + " --png " + dir_->file("x.png")),
                            other + "/final.dvol", "level", dir_->file("x.json"));
