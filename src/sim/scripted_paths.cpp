@@ -14,18 +14,11 @@ namespace dentsim {
 // ---- probing the volume -------------------------------------------------------------------------
 
 TissueBox tissueBox(const BrickVolume& volume, const VolumeFrame& frame) {
-  uint32_t lo[3] = {UINT32_MAX, UINT32_MAX, UINT32_MAX}, hi[3] = {0, 0, 0};
-  volume.forEachBrick([&](const BrickView& b) {
-    if (b.uniform && voxelFill(b.value) == 0) return;
-    const uint32_t c[3] = {b.coord.x, b.coord.y, b.coord.z};
-    for (size_t a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], c[a]);
-      hi[a] = std::max(hi[a], c[a]);
-    }
-  });
+  const BrickBox b = tissueBricks(volume);
   TissueBox box;
-  if (lo[0] > hi[0]) return box;
+  if (b.empty()) return box;
   const double brick_mm = frame.voxel_mm * DS_BRICK_DIM;
+  const uint32_t lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
   for (int a = 0; a < 3; ++a) {
     box.lo[a] = frame.origin_mm[size_t(a)] + double(lo[a]) * brick_mm;
     box.hi[a] = frame.origin_mm[size_t(a)] + double(hi[a] + 1) * brick_mm;

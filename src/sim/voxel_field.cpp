@@ -66,24 +66,14 @@ VoxelField::VoxelField(const BrickVolume& volume, const VolumeFrame& frame)
 }
 
 void VoxelField::findTissueBox() {
-  uint32_t lo[3] = {UINT32_MAX, UINT32_MAX, UINT32_MAX}, hi[3] = {0, 0, 0};
-  volume_.forEachBrick([&](const BrickView& b) {
-    if (b.uniform && voxelFill(b.value) == 0) return;
-    const uint32_t c[3] = {b.coord.x, b.coord.y, b.coord.z};
-    for (size_t a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], c[a]);
-      hi[a] = std::max(hi[a], c[a]);
-    }
-  });
-  if (lo[0] > hi[0]) {  // no tissue: a box no query meets
+  const BrickBox b = tissueBricks(volume_);
+  if (b.empty()) {  // no tissue: a box no query meets
     tissue_lo_ = Vec3{1, 1, 1};
     tissue_hi_ = Vec3{-1, -1, -1};
     return;
   }
-  for (int a = 0; a < 3; ++a) {
-    tissue_lo_[a] = double(lo[a]) * DS_BRICK_DIM;
-    tissue_hi_[a] = double(hi[a] + 1) * DS_BRICK_DIM;
-  }
+  tissue_lo_ = Vec3{double(b.lo.x), double(b.lo.y), double(b.lo.z)} * double(DS_BRICK_DIM);
+  tissue_hi_ = Vec3{double(b.hi.x + 1), double(b.hi.y + 1), double(b.hi.z + 1)} * double(DS_BRICK_DIM);
 }
 
 void VoxelField::invalidate() {

@@ -399,4 +399,14 @@ bool BrickVolume::operator==(const BrickVolume& other) const {
   return true;
 }
 
+BrickBox tissueBricks(const BrickVolume& volume) {
+  BrickBox box;
+  volume.forEachBrick([&](const BrickView& b) {
+    if (b.uniform && voxelFill(b.value) == 0) return;
+    box.lo = {std::min(box.lo.x, b.coord.x), std::min(box.lo.y, b.coord.y), std::min(box.lo.z, b.coord.z)};
+    box.hi = {std::max(box.hi.x, b.coord.x), std::max(box.hi.y, b.coord.y), std::max(box.hi.z, b.coord.z)};
+  });
+  return box;
+}
+
 }  // namespace dentsim

@@ -157,6 +157,15 @@ class BrickVolume {
   std::vector<uint32_t> free_bricks_; // brick slots ready for reuse
 };
 
+// The brick coordinates of every brick holding tissue, as an inclusive box; empty (lo > hi) when
+// there is none.
+struct BrickBox {
+  BrickCoord lo{UINT32_MAX, UINT32_MAX, UINT32_MAX};
+  BrickCoord hi{0, 0, 0};
+  bool empty() const { return lo.x > hi.x; }
+};
+BrickBox tissueBricks(const BrickVolume& volume);
+
 // A tooth as loaded: the constant frame and the mutable voxels.
 struct ToothVolume {
   VolumeFrame frame;    // placement; never changes after loading
