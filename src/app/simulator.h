@@ -58,7 +58,7 @@ struct SimulatorOutcome {
   double frame_ms_mean = 0.0;
   double frame_ms_p50 = 0.0;
   double frame_ms_p95 = 0.0;
-  double haptic_rate_hz = 0.0;          // haptic steps per wall second over the run
+  double haptic_rate_hz = 0.0;          // haptic steps per wall second from the first segment's start
   uint64_t haptic_steps = 0;
   double remesh_ms_mean = 0.0;          // incremental re-mesh per frame that had edits [ms]
   uint64_t triangles = 0;               // the tooth's surface at the end
