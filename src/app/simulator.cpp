@@ -144,7 +144,6 @@ struct Segment {
   std::unique_ptr<HapticLoop> loop;
   std::unique_ptr<SessionRecorder> recorder;
   std::string session_path;
-  uint64_t steps_before = 0;          // steps of earlier segments (the haptic rate spans them all)
 };
 
 class Simulator {
@@ -287,7 +286,6 @@ Status Simulator::loadDrill() {
 Status Simulator::startSegment() {
   segment_ = Segment{};
   segment_.index = ++segments_;
-  segment_.steps_before = steps_done_;
   // The starting tooth is saved first: saving compacts the volume, which would drop the spare
   // bricks the loop reserves for cutting.
   const std::string suffix = segment_.index == 1 ? "" : "-" + std::to_string(segment_.index);
@@ -305,8 +303,10 @@ Status Simulator::startSegment() {
                                              : static_cast<PenSource*>(virtual_[size_t(role)].get());
     if (!pen) continue;
     loop.attach(role, pen);
+    // A new loop's time starts at 0, and a session's proxies start on the reading its first step
+    // consumes, which is what replay assumes.
     PenReading first;
-    if (pen->read(segment_t0_, &first)) loop.placeTool(role, first.grip);
+    if (pen->read(0.0, &first)) loop.placeTool(role, first.grip);
   }
   if (!o_.out.empty()) {
     SessionInfo info;
