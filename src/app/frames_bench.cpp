@@ -20,10 +20,6 @@ struct FramesRow {
   SimulatorOutcome run;
 };
 
-Status writeText(const std::string& path, const std::string& text) {
-  return writeFileAtomic(path, std::span(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
-}
-
 std::string fmt(const char* f, double v) {
   char b[64];
   std::snprintf(b, sizeof b, f, v);
@@ -97,7 +93,7 @@ int runFramesBench(const FramesBenchOptions& o) {
   for (const auto& [name, text] : {std::pair{std::string("frames.json"), j.dump(2) + "\n"},
                                    {std::string("frames.md"), md},
                                    {std::string("frames.svg"), svg}})
-    if (Status st = writeText(o.out + "/" + name, text); !st) return fail(st.message());
+    if (Status st = writeFileAtomic(o.out + "/" + name, text); !st) return fail(st.message());
   std::printf("\n%swrote %s/frames.json, frames.md, frames.svg\n", md.c_str(), o.out.c_str());
   return 0;
 }

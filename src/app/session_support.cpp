@@ -145,7 +145,7 @@ Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, cons
 
 Status writeScoreReport(const std::string& path, const nlohmann::ordered_json& report) {
   const std::string text = report.dump(2) + "\n";
-  return writeFileAtomic(path, std::span<const uint8_t>(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
+  return writeFileAtomic(path, text);
 }
 
 RgbImage scorePicture(const ToothVolume& initial, const ToothVolume& final_, const ToothVolume* ideal) {

@@ -676,10 +676,7 @@ Status Simulator::writeShot(const RgbImage& image, const std::string& stem, cons
   j["panel_shown"] = imgui_.has_value();
   if (panel_rect_[2] > 0) j["panel_rect"] = panel_rect_;
   const std::string text = j.dump(2) + "\n";
-  if (Status st = writeFileAtomic(outPath(stem + ".json"), std::span(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
-      !st)
-    return st;
-  return Ok{};
+  return writeFileAtomic(outPath(stem + ".json"), text);
 }
 
 Status Simulator::drawFrame(bool shot_due, const std::string& shot_stem, bool frame_due, const std::string& frame_stem) {

@@ -112,4 +112,8 @@ Status writeFileAtomic(const std::string& path, std::span<const uint8_t> bytes) 
   return commitTemporary(temp, path);
 }
 
+Status writeFileAtomic(const std::string& path, const std::string& text) {
+  return writeFileAtomic(path, std::span(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
+}
+
 }  // namespace dentsim

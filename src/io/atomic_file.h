@@ -15,6 +15,8 @@ Result<std::vector<uint8_t>> readFileBytes(const std::string& path, uint64_t max
 
 // Writes bytes to `path` atomically: a temporary sibling, fsync, then rename over `path`.
 Status writeFileAtomic(const std::string& path, std::span<const uint8_t> bytes);
+// The same for text (JSON reports, presets, sidecars): its bytes as they are.
+Status writeFileAtomic(const std::string& path, const std::string& text);
 
 // For writers that must produce the file themselves (libnifti): a temporary sibling of `path`
 // that keeps its extension ("a/labels.nii.gz" -> "a/labels.tmp-<pid>-<n>.nii.gz"), then

@@ -724,7 +724,7 @@ Status savePenPath(const std::string& file, const PenPath& path) {
   if (Status s = checkPenPath(path, file); !s) return s;
   try {
     const std::string text = endsWithNoCase(file, ".json") ? penPathJson(path) : penPathCsv(path);
-    return writeFileAtomic(file, std::span(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
+    return writeFileAtomic(file, text);
   } catch (const std::bad_alloc&) {
     return makeError(file, "out of memory encoding " + std::to_string(path.samples.size()) + " samples");
   }

@@ -362,7 +362,7 @@ Status saveSimParams(const std::string& path, const SimParams& params) {
   const std::string text = simParamsJson(params);
   // Refuse to write what could not be read back (a value out of range, a bad bur name).
   if (auto check = parseSimParams(text, ""); !check) return makeError(path, "not saved: " + check.message());
-  return writeFileAtomic(path, std::span(reinterpret_cast<const uint8_t*>(text.data()), text.size()));
+  return writeFileAtomic(path, text);
 }
 
 bool operator==(const TissueParams& a, const TissueParams& b) { return sameFields(a, b, kTissueFields); }
