@@ -48,7 +48,7 @@
 #include "ui/imgui_layer.h"
 #include "ui/param_panel.h"
 #include "ui/preset_store.h"
-#include "ui/virtual_pen.h"
+#include "ui/pen_input.h"
 #include "ui/window.h"
 #include "volume/tooth_file.h"
 #include "volume/volume_hash.h"
@@ -196,7 +196,7 @@ class Simulator {
   // Pens: a script, or the mouse and keys.
   std::optional<PenPath> script_;
   std::unique_ptr<ScriptedPen> scripted_[2];
-  std::unique_ptr<ui::VirtualPen> virtual_[2];
+  std::unique_ptr<devices::VirtualPen> virtual_[2];
   std::unique_ptr<ui::PenInput> input_;
   double script_end_s_ = 0.0;
 
@@ -422,8 +422,8 @@ Status Simulator::setUp() {
     scripted_[0] = std::make_unique<ScriptedPen>(*script_, PenRole::Drill);
     scripted_[1] = std::make_unique<ScriptedPen>(*script_, PenRole::Mirror);
   } else {
-    virtual_[0] = std::make_unique<ui::VirtualPen>(drillStartGrip(box_, 3.0));
-    virtual_[1] = std::make_unique<ui::VirtualPen>(mirrorGrip(box_, render::fromGlm(camera_.eye())));
+    virtual_[0] = std::make_unique<devices::VirtualPen>(drillStartGrip(box_, 3.0));
+    virtual_[1] = std::make_unique<devices::VirtualPen>(mirrorGrip(box_, render::fromGlm(camera_.eye())));
     input_ = std::make_unique<ui::PenInput>(camera_, virtual_[0].get(), virtual_[1].get());
     input_->reset(PenRole::Drill, drillStartGrip(box_, 3.0));
     input_->reset(PenRole::Mirror, mirrorGrip(box_, render::fromGlm(camera_.eye())));

@@ -1,0 +1,307 @@
+// The safety layer: clamping keeps direction, the ramp-up after a small first command, the 3 ms watchdog, zero on disable and on a signal.
+#include "devices/safety_layer.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <csignal>
+#include <thread>
+
+#include "devices/fake_devices.h"
+#include "sim/haptic_loop.h"
+
+namespace dentsim::devices {
+namespace {
+
+constexpr int64_t kMs = 1'000'000;
+
+// Limits 10 N and 200 N mm, enabled, armed at t = 0 and past its ramp by t = 1 s.
+void arm(SafetyLayer& s, int64_t* now) {
+  s.setLimits(10.0, 200.0);
+  s.enable();
+  s.command(Wrench{{0, 0, 0.1}, {}}, 0);
+  EXPECT_EQ(s.output(0).gate, SafetyGate::Pass);
+  *now = 1000 * kMs;
+}
+
+TEST(SafetyLayer, ClampKeepsTheDirection) {
+  int64_t t = 0;
+  SafetyLayer s;
+  arm(s, &t);
+  s.command(Wrench{{30, 40, 0}, {0, 0, -500}}, t);
+  const SafetyLayer::Output o = s.output(t);
+  EXPECT_EQ(o.gate, SafetyGate::Pass);
+  EXPECT_TRUE(o.clamped);
+  // 50 N along (0.6, 0.8, 0) becomes 10 N the same way: (6, 8, 0); the moment 200 along -z.
+  EXPECT_NEAR(o.wrench.force.x, 6.0, 1e-12);
+  EXPECT_NEAR(o.wrench.force.y, 8.0, 1e-12);
+  EXPECT_EQ(o.wrench.force.z, 0.0);
+  EXPECT_NEAR(o.wrench.moment.z, -200.0, 1e-9);
+  // Within the limits, the command passes untouched.
+  s.command(Wrench{{1, -2, 3}, {4, 5, 6}}, t + kMs);
+  const SafetyLayer::Output p = s.output(t + kMs);
+  EXPECT_FALSE(p.clamped);
+  EXPECT_EQ(p.wrench.force, (Vec3{1, -2, 3}));
+  EXPECT_EQ(p.wrench.moment, (Vec3{4, 5, 6}));
+}
+
+TEST(SafetyLayer, NonFiniteCommandsGiveZero) {
+  int64_t t = 0;
+  SafetyLayer s;
+  arm(s, &t);
+  s.command(Wrench{{NAN, 1, 1}, {}}, t);
+  EXPECT_EQ(s.output(t).wrench.force, Vec3{});
+  s.command(Wrench{{INFINITY, 0, 0}, {}}, t + 1);
+  EXPECT_EQ(s.output(t + 1).wrench.force, Vec3{});
+}
+
+TEST(SafetyLayer, NoTorqueLimitMeansNoTorque) {
+  SafetyLayer s;
+  s.setLimits(10.0, 0.0);  // a 3-DOF pen
+  s.enable();
+  s.command(Wrench{{0, 0, 0.2}, {1, 2, 3}}, 0);
+  const SafetyLayer::Output o = s.output(0);
+  EXPECT_EQ(o.gate, SafetyGate::Pass);
+  EXPECT_EQ(o.wrench.moment, Vec3{});
+  EXPECT_EQ(o.wrench.force, (Vec3{0, 0, 0.2}));
+}
+
+TEST(SafetyLayer, NothingGoesOutUntilASmallFirstCommandThenTheCeilingRamps) {
+  SafetyParams p;  // arm at 0.5 N, ramp over 0.5 s
+  SafetyLayer s(p);
+  s.setLimits(10.0, 0.0);
+  s.enable();
+  // Enabled with the tool deep in the tooth: 6 N asked, nothing sent.
+  for (int64_t t = 0; t < 5 * kMs; t += kMs) {
+    s.command(Wrench{{0, 0, 6}, {}}, t);
+    const SafetyLayer::Output o = s.output(t);
+    EXPECT_EQ(o.gate, SafetyGate::Disarmed) << t;
+    EXPECT_EQ(o.wrench.force, Vec3{});
+  }
+  // The first small command arms it at t = 5 ms and passes.
+  const int64_t armed = 5 * kMs;
+  s.command(Wrench{{0, 0, 0.3}, {}}, armed);
+  EXPECT_EQ(s.output(armed).wrench.force, (Vec3{0, 0, 0.3}));
+  // Then the ceiling grows linearly: 0.5 + (10 - 0.5) * f after a fraction f of the ramp.
+  for (double f : {0.1, 0.25, 0.5, 0.75}) {
+    const int64_t t = armed + int64_t(f * 500 * kMs);
+    s.command(Wrench{{0, -100, 0}, {}}, t);
+    const SafetyLayer::Output o = s.output(t);
+    EXPECT_TRUE(o.clamped);
+    EXPECT_NEAR(-o.wrench.force.y, 0.5 + 9.5 * f, 1e-9) << f;
+    EXPECT_EQ(o.wrench.force.x, 0.0);
+  }
+  const int64_t done = armed + 600 * kMs;
+  s.command(Wrench{{0, -100, 0}, {}}, done);
+  EXPECT_NEAR(-s.output(done).wrench.force.y, 10.0, 1e-9);
+}
+
+TEST(SafetyLayer, WatchdogZeroesWithin3msAndLatches) {
+  int64_t t = 0;
+  SafetyLayer s;
+  arm(s, &t);
+  s.command(Wrench{{0, 0, 2}, {}}, t);
+  // 3.0 ms after the command it still passes; a microsecond later it is zero and latched.
+  EXPECT_EQ(s.output(t + 3 * kMs).gate, SafetyGate::Pass);
+  const SafetyLayer::Output late = s.output(t + 3 * kMs + 1000);
+  EXPECT_EQ(late.gate, SafetyGate::Watchdog);
+  EXPECT_EQ(late.wrench.force, Vec3{});
+  EXPECT_TRUE(s.faulted());
+  // Fresh commands do not clear it: a loop that stalled once is not trusted until re-enabled.
+  s.command(Wrench{{0, 0, 0.1}, {}}, t + 5 * kMs);
+  EXPECT_EQ(s.output(t + 5 * kMs).gate, SafetyGate::Watchdog);
+  // disable + enable clears it, and the ramp starts again from a small command.
+  s.disable();
+  s.enable();
+  EXPECT_FALSE(s.faulted());
+  s.command(Wrench{{0, 0, 5}, {}}, t + 6 * kMs);
+  EXPECT_EQ(s.output(t + 6 * kMs).gate, SafetyGate::Disarmed);
+  s.command(Wrench{{0, 0, 0.1}, {}}, t + 7 * kMs);
+  EXPECT_EQ(s.output(t + 7 * kMs).gate, SafetyGate::Pass);
+}
+
+TEST(SafetyLayer, EnabledButNeverCommandedFaultsAfterTheWatchdog) {
+  SafetyLayer s;
+  s.setLimits(10.0, 0.0);
+  s.enable();
+  EXPECT_EQ(s.output(100 * kMs).gate, SafetyGate::Disarmed);  // the clock starts at the first output
+  EXPECT_EQ(s.output(103 * kMs).gate, SafetyGate::Disarmed);
+  EXPECT_EQ(s.output(103 * kMs + 1).gate, SafetyGate::Watchdog);
+}
+
+TEST(SafetyLayer, DisableGivesZeroAtOnce) {
+  int64_t t = 0;
+  SafetyLayer s;
+  arm(s, &t);
+  s.command(Wrench{{0, 3, 0}, {}}, t);
+  EXPECT_EQ(s.output(t).wrench.force, (Vec3{0, 3, 0}));
+  s.disable();
+  const SafetyLayer::Output o = s.output(t);
+  EXPECT_EQ(o.gate, SafetyGate::NotEnabled);
+  EXPECT_EQ(o.wrench.force, Vec3{});
+}
+
+TEST(SafetyLayer, ASignalZeroesEveryLayer) {
+  int64_t t = 0;
+  SafetyLayer a, b;
+  arm(a, &t);
+  arm(b, &t);
+  installDeviceSignalHandlers();
+  a.command(Wrench{{1, 0, 0}, {}}, t);
+  b.command(Wrench{{0, 1, 0}, {}}, t);
+  ASSERT_EQ(a.output(t).gate, SafetyGate::Pass);
+  ASSERT_EQ(std::raise(SIGTERM), 0);  // the first signal only sets the flag
+  EXPECT_TRUE(allDevicesZeroRequested());
+  for (SafetyLayer* s : {&a, &b}) {
+    const SafetyLayer::Output o = s->output(t);
+    EXPECT_EQ(o.gate, SafetyGate::Stopping);
+    EXPECT_EQ(o.wrench.force, Vec3{});
+  }
+  clearAllDevicesZeroForTest();
+  std::signal(SIGTERM, SIG_DFL);
+  EXPECT_EQ(a.output(t).gate, SafetyGate::Pass);
+}
+
+// A loop thread commands with rising demands while an output thread samples: no output ever
+// exceeds the limit, and every direction is kept. The loop holds its demand small until the output
+// side has armed. The watchdog is out of the way here (a loaded machine may stall either thread
+// for milliseconds); the tests above time it exactly.
+TEST(SafetyLayer, ConcurrentCommandAndOutputNeverExceedTheCeiling) {
+  SafetyParams params;
+  params.watchdog_ms = 10'000;
+  SafetyLayer s(params);
+  s.setLimits(4.0, 0.0);
+  s.enable();
+  std::atomic<bool> done{false}, armed{false}, started{false};
+  std::thread loop([&] {
+    const int64_t t0 = steadyNowNs();
+    double demand = 0.1;
+    while (steadyNowNs() - t0 < 60 * kMs) {
+      if (armed) demand += 0.01;
+      s.command(Wrench{{demand * 0.6, 0, -demand * 0.8}, {}}, steadyNowNs());
+      started = true;
+      std::this_thread::sleep_for(std::chrono::microseconds(100));
+    }
+    done = true;
+  });
+  while (!started) std::this_thread::yield();
+  uint64_t passed = 0;
+  double largest = 0.0;
+  while (!done) {
+    const SafetyLayer::Output o = s.output(steadyNowNs());
+    const double n = norm(o.wrench.force);
+    EXPECT_LE(n, 4.0 + 1e-12);
+    largest = std::max(largest, n);
+    if (o.gate == SafetyGate::Pass) armed = true;
+    if (n > 0) {
+      ++passed;
+      EXPECT_NEAR(o.wrench.force.x / n, 0.6, 1e-9);
+      EXPECT_NEAR(o.wrench.force.z / n, -0.8, 1e-9);
+    }
+  }
+  loop.join();
+  EXPECT_GT(passed, 0u);
+  EXPECT_GT(largest, 0.1);
+}
+
+// ---- through a device ----
+
+TEST(DeviceSafety, EnableNeedsReadyAndAWatchdogFaultMovesTheDeviceToFault) {
+  test::FakePen pen;
+  ASSERT_TRUE(pen.open().ok());
+  ASSERT_EQ(pen.state(), DeviceState::Ready);
+  ASSERT_TRUE(pen.enable().ok());
+  EXPECT_EQ(pen.state(), DeviceState::Enabled);
+  pen.command(Wrench{{0, 0, 0.2}, {}}, 0);
+  EXPECT_EQ(pen.sendToMotors(1 * kMs).wrench.force, (Vec3{0, 0, 0.2}));
+  // Forces go to the motors clamped to the spec: 10 N.
+  pen.command(Wrench{{0, 0, 50}, {}}, 900 * kMs);
+  EXPECT_NEAR(pen.sendToMotors(900 * kMs).wrench.force.z, 10.0, 1e-12);
+  // No command for more than 3 ms: zero, and the device is in Fault with the reason.
+  EXPECT_EQ(pen.sendToMotors(903 * kMs + 1).wrench.force, Vec3{});
+  EXPECT_EQ(pen.state(), DeviceState::Fault);
+  EXPECT_NE(pen.reason().find("watchdog"), std::string::npos) << pen.reason();
+  EXPECT_FALSE(pen.enable().ok());  // not from Fault: disable first
+  pen.disable();
+  EXPECT_EQ(pen.state(), DeviceState::Ready);
+  EXPECT_TRUE(pen.enable().ok());
+}
+
+TEST(DeviceSafety, ZeroWhileNotHomedAndOnDisableAndClose) {
+  test::FakePen pen;
+  pen.unplug();
+  pen.replug();  // back, but not homed
+  ASSERT_EQ(pen.state(), DeviceState::NeedsHoming);
+  EXPECT_FALSE(pen.enable().ok());
+  pen.command(Wrench{{0, 0, 0.2}, {}}, 0);
+  EXPECT_EQ(pen.sendToMotors(0).gate, SafetyGate::NotEnabled);
+  pen.home();
+  ASSERT_TRUE(pen.enable().ok());
+  pen.command(Wrench{{0, 0, 0.2}, {}}, kMs);
+  EXPECT_EQ(pen.sendToMotors(kMs).wrench.force, (Vec3{0, 0, 0.2}));
+  pen.disable();
+  EXPECT_EQ(pen.sendToMotors(kMs).wrench.force, Vec3{});
+  ASSERT_TRUE(pen.enable().ok());
+  pen.command(Wrench{{0, 0, 0.2}, {}}, 2 * kMs);
+  EXPECT_EQ(pen.sendToMotors(2 * kMs).gate, SafetyGate::Pass);
+  pen.close();
+  EXPECT_EQ(pen.sent().back().wrench.force, Vec3{});
+  EXPECT_EQ(pen.state(), DeviceState::Disconnected);
+}
+
+// A real output thread at about 2 kHz beside a commanding thread that then stops. Judged by the
+// command stamps (a loaded machine may stall either thread): every force sent had a command at most
+// 3 ms old, the zero came only once the newest command was older than that, and it latched a Fault.
+TEST(DeviceSafety, WatchdogOnAnOutputThread) {
+  test::FakePen pen;
+  ASSERT_TRUE(pen.open().ok());
+  ASSERT_TRUE(pen.enable().ok());
+  std::atomic<bool> stop{false};
+  std::vector<std::pair<int64_t, SafetyLayer::Output>> log;
+  std::thread io([&] {
+    while (!stop) {
+      const int64_t now = steadyNowNs();
+      log.emplace_back(now, pen.sendToMotors(now));
+      std::this_thread::sleep_for(std::chrono::microseconds(500));
+    }
+  });
+  std::vector<int64_t> commands;
+  for (int k = 0; k < 50; ++k) {
+    const int64_t now = steadyNowNs();
+    pen.command(Wrench{{0, 0, 0.2}, {}}, now);
+    commands.push_back(now);
+    std::this_thread::sleep_for(std::chrono::microseconds(500));
+  }
+  const int64_t give_up = steadyNowNs() + 2'000 * kMs;
+  while (pen.state() != DeviceState::Fault && steadyNowNs() < give_up) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  stop = true;
+  io.join();
+  ASSERT_EQ(pen.state(), DeviceState::Fault);
+  const auto newest_before = [&](int64_t t) {
+    int64_t s = INT64_MIN;
+    for (int64_t c : commands) {
+      if (c <= t) s = c;
+    }
+    return s;
+  };
+  constexpr int64_t kPublishSlack = 200'000;  // a command is stamped just before it is published
+  bool seen_zero = false;
+  for (const auto& [t, o] : log) {
+    if (o.gate == SafetyGate::Pass) {
+      ASSERT_FALSE(seen_zero) << "force out again after the watchdog";
+      EXPECT_LE(t - newest_before(t), 3 * kMs);
+    } else if (o.gate == SafetyGate::Watchdog) {
+      if (!seen_zero) {
+        EXPECT_GT(t - newest_before(t), 3 * kMs - kPublishSlack);
+      }
+      seen_zero = true;
+      EXPECT_EQ(o.wrench.force, Vec3{});
+    }
+  }
+  EXPECT_TRUE(seen_zero);
+}
+
+}  // namespace
+}  // namespace dentsim::devices
