@@ -8,6 +8,7 @@ packages=(
   glslc glslang-tools spirv-tools
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   libglfw3-dev libglm-dev libimgui-dev libopenal-dev libusb-1.0-0-dev libhidapi-dev
+  umockdev libumockdev-dev
   xvfb xauth
   libgtest-dev libgmock-dev
   libnifti2-dev zlib1g-dev libzstd-dev libxxhash-dev
