@@ -55,7 +55,7 @@ int runDemo(const DemoOptions& o) {
   so.params = o.params;
   so.task = "caries";
   so.demo_script = true;
-  so.mirror = o.mirror == "none" ? "" : o.mirror;
+  so.mirror_tool = o.mirror == "none" ? "" : o.mirror;
   so.score_at_end = true;
   so.headless = o.headless;
   so.out = o.out;

@@ -1,4 +1,4 @@
-// `dentsim run`: the interactive simulator, in a window with the mouse as the pens, or headless with a pen script.
+// `dentsim run`: the interactive simulator, in a window with haptic pens or the mouse as the pens, or headless with a pen script.
 #include <cstdio>
 #include <memory>
 
@@ -23,14 +23,22 @@ void printOutcome(const SimulatorOutcome& r) {
 
 void addRunCommand(CLI::App& root, Action& action) {
   auto o = std::make_shared<SimulatorOptions>();
-  auto mirror = std::make_shared<std::string>("mirror_size4");
   CLI::App* cmd = root.add_subcommand("run", "The simulator: drill a tooth with the mouse (or a pen script) in a window, or headless to PNG frames");
   cmd->add_option("--tooth", o->tooth, "Tooth file (.dvol); default: the built-in molar");
   cmd->add_option("--level", o->level, "Octree level of the built-in molar")->check(CLI::Range(6, 11))->capture_default_str();
   cmd->add_option("--params", o->params, "Parameter preset (.json); default: dentsim's defaults");
   cmd->add_option("--task", o->task, "Task scored: caries, cavity or a task file")->capture_default_str();
-  cmd->add_option("--drill", o->drill, "The bur on the drill pen; default: the task's");
-  cmd->add_option("--mirror", *mirror, "The mirror tool, or 'none'")->capture_default_str();
+  cmd->add_option("--bur", o->bur, "The bur on the drill pen; default: the task's");
+  cmd->add_option("--mirror-tool", o->mirror_tool, "The mirror tool")->capture_default_str();
+  cmd->add_option("--drill", o->drill_pen,
+                  "The drill's pen: virtual, falcon[:N], openhaptics[:NAME], script:FILE or replay:FILE "
+                  "(`dentsim devices` lists them); default: the pen script, else virtual");
+  cmd->add_option("--mirror", o->mirror_pen, "The mirror's pen (as --drill), or 'none' for no mirror");
+  cmd->add_option("--pedal", o->pedal, "The foot pedal: none, hid[:N], hid:VVVV:PPPP[,layout] or hid:/dev/hidrawN")
+      ->capture_default_str();
+  cmd->add_option("--falcon-firmware", o->falcon_firmware, "The Novint Falcon's firmware file (you supply it)");
+  cmd->add_option("--reach", o->reach_mm, "How much of the scene a hardware pen's workspace spans [mm]")
+      ->check(CLI::Range(1.0, 1000.0))->capture_default_str();
   cmd->add_option("--pen-script", o->pen_script, "Pen path (CSV or JSON) that both pens play, instead of the mouse");
   cmd->add_flag("--demo-script", o->demo_script, "Play the built-in caries removal path, the mirror held beside the tooth");
   cmd->add_flag("--headless", o->headless, "No window: frames go offscreen, to PNG (also when no display answers)");
@@ -48,11 +56,9 @@ void addRunCommand(CLI::App& root, Action& action) {
   cmd->add_flag("--score-at-end", o->score_at_end, "Score the cut when the pen script ends");
   cmd->add_flag("--exit-at-end", o->exit_at_end, "Quit one frame after the pen script ends, windowed too");
   cmd->add_option("--device", o->device, "Vulkan device index or name part");
-  cmd->callback([o, mirror, &action] {
-    action = [o, mirror] {
-      SimulatorOptions options = *o;
-      options.mirror = *mirror == "none" ? "" : *mirror;
-      auto r = runSimulator(options);
+  cmd->callback([o, &action] {
+    action = [o] {
+      auto r = runSimulator(*o);
       if (!r) return fail(r.message());
       printOutcome(*r);
       return 0;

@@ -23,6 +23,7 @@ void addDemoCommand(CLI::App& root, Action& action);
 void addReplayCommand(CLI::App& root, Action& action);
 void addScoreCommand(CLI::App& root, Action& action);
 void addRunCommand(CLI::App& root, Action& action);
+void addDevicesCommand(CLI::App& root, Action& action);
 
 // Prints "dentsim: <message>" on stderr and returns exit code 1: the one way commands report errors.
 int fail(const std::string& message);

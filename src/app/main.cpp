@@ -29,6 +29,7 @@ int main(int argc, char** argv) {
   addMakeToothCommand(root, action);
   addMeshCommand(root, action);
   addRunCommand(root, action);
+  addDevicesCommand(root, action);
   addDemoCommand(root, action);
   addReplayCommand(root, action);
   addScoreCommand(root, action);

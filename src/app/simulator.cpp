@@ -28,6 +28,10 @@
 #include <nlohmann/json.hpp>
 
 #include "app/session_support.h"
+#include "devices/device_pen.h"
+#include "devices/device_registry.h"
+#include "devices/software_pen.h"
+#include "devices/virtual_pen.h"
 #include "gpu/compute.h"
 #include "gpu/context.h"
 #include "io/atomic_file.h"
@@ -126,10 +130,6 @@ void addStillMirror(PenPath& path, const Pose& grip) {
   std::stable_sort(path.samples.begin(), path.samples.end(), [](const PenSample& a, const PenSample& b) { return a.t_s < b.t_s; });
 }
 
-bool hasPen(const PenPath& path, PenRole role) {
-  return std::any_of(path.samples.begin(), path.samples.end(), [role](const PenSample& s) { return s.pen == role; });
-}
-
 double pathEnd(const PenPath& path) {
   double end_s = 0.0;
   for (const PenSample& s : path.samples) end_s = std::max(end_s, s.t_s);
@@ -162,6 +162,10 @@ class Simulator {
   Status loadTooth();
   Status loadDrill();
   Status startSegment();
+  Status setUpPens();
+  void enableDevices();
+  void serviceDevices();
+  void closeDevices();
   Status endSegment(const std::string& reason);
   Status frame();
   Status handleActions(ui::PanelActions& actions);
@@ -193,10 +197,15 @@ class Simulator {
   std::optional<ToolModel> drill_tool_, mirror_tool_;
   std::string drill_name_;
 
-  // Pens: a script, or the mouse and keys.
+  // Pens: a device each (the virtual pen, a script's, hardware) seen by the loop through a
+  // DevicePen; the pedal; the mouse and keys for the virtual ones.
   std::optional<PenPath> script_;
-  std::unique_ptr<ScriptedPen> scripted_[2];
-  std::unique_ptr<devices::VirtualPen> virtual_[2];
+  std::array<std::unique_ptr<devices::HapticDevice>, 2> devices_;
+  std::array<std::unique_ptr<devices::DevicePen>, 2> pens_;
+  std::array<devices::VirtualPen*, 2> virtual_{};  // into devices_, where a pen is virtual
+  std::array<devices::DeviceState, 2> shown_state_{};
+  std::unique_ptr<devices::FootPedal> pedal_;
+  devices::DeviceState shown_pedal_state_ = devices::DeviceState::Disconnected;
   std::unique_ptr<ui::PenInput> input_;
   double script_end_s_ = 0.0;
 
@@ -299,8 +308,7 @@ Status Simulator::startSegment() {
   HapticLoop& loop = *segment_.loop;
   for (PenRole role : {PenRole::Drill, PenRole::Mirror}) {
     if (role == PenRole::Mirror && !mirror_tool_) continue;
-    PenSource* pen = scripted_[size_t(role)] ? static_cast<PenSource*>(scripted_[size_t(role)].get())
-                                             : static_cast<PenSource*>(virtual_[size_t(role)].get());
+    PenSource* pen = pens_[size_t(role)].get();
     if (!pen) continue;
     loop.attach(role, pen);
     // A new loop's time starts at 0, and a session's proxies start on the reading its first step
@@ -315,13 +323,15 @@ Status Simulator::startSegment() {
     info.task = task_ ? task_->name : "";
     info.tooth_file = tooth_name;
     info.tooth_source = o_.tooth.empty() ? builtinToothSource(o_.level) : o_.tooth;
-    info = sessionHeader(std::move(info), cut_, params_, drill_name_, mirror_tool_ ? o_.mirror : "");
+    info = sessionHeader(std::move(info), cut_, params_, drill_name_, mirror_tool_ ? o_.mirror_tool : "");
     segment_.session_path = outPath("session" + suffix + ".dses");
     segment_.recorder = std::make_unique<SessionRecorder>();
     if (Status st = segment_.recorder->start(loop, segment_.session_path, info); !st) return st;
   }
   if (!lockstep_)
     if (Status st = loop.start(); !st) return st;
+  // Forces may go out only now that the loop commands them every step (the watchdog counts from here).
+  enableDevices();
   rate_steps_ = steps_done_;
   rate_t0_ = Clock::now();
   if (segments_ == 1) haptic_t0_ = rate_t0_;
@@ -332,6 +342,9 @@ Status Simulator::startSegment() {
 Status Simulator::endSegment(const std::string& reason) {
   if (!segment_.loop) return Ok{};
   HapticLoop& loop = *segment_.loop;
+  // Zero force before the loop stops commanding it (else every pen would latch a watchdog fault).
+  for (auto& d : devices_)
+    if (d) d->disable();
   loop.stop();
   segment_t0_ = loopTime();
   steps_done_ += loop.stepsRun();
@@ -359,6 +372,132 @@ Status Simulator::endSegment(const std::string& reason) {
   return result;
 }
 
+// ---- pens and pedal ----------------------------------------------------------------------------------------
+
+Status Simulator::setUpPens() {
+  const Pose drill_start = drillStartGrip(box_, 3.0);
+  const Pose mirror_start = mirrorGrip(box_, render::fromGlm(camera_.eye()));
+  const bool scripted = !o_.pen_script.empty() || o_.demo_script;
+  if (scripted) {
+    if (o_.demo_script) {
+      CariesPathSettings ps;
+      auto path = cariesRemovalPath(initial_.voxels, initial_.frame, params_, drill_name_, ps);
+      if (!path) return path.error();
+      script_ = std::move(path->path);
+    } else {
+      auto path = loadPenPath(o_.pen_script);
+      if (!path) return path.error();
+      script_ = std::move(*path);
+    }
+    if (mirror_tool_ && !hasPen(*script_, PenRole::Mirror)) addStillMirror(*script_, mirror_start);
+    script_end_s_ = pathEnd(*script_);
+  }
+  // The pedal first: the drill's pen reads it.
+  if (!o_.pedal.empty() && o_.pedal != "none") {
+    auto pedal = devices::makePedal(o_.pedal);
+    if (!pedal) return makeError("pedal", pedal.message());
+    pedal_ = std::move(*pedal);
+    if (Status st = pedal_->open(); !st) return makeError("pedal", st.message());
+    shown_pedal_state_ = pedal_->state();
+  }
+  // Hardware pens map their workspace around the tool's start, turned with the camera.
+  const render::CameraBasis basis = camera_.basis();
+  const Quat screen = quatFromAxes(render::fromGlm(basis.right), render::fromGlm(basis.up), -render::fromGlm(basis.forward));
+  bool physical = false;
+  for (PenRole role : {PenRole::Drill, PenRole::Mirror}) {
+    if (role == PenRole::Mirror && !mirror_tool_) continue;
+    const size_t r = size_t(role);
+    const std::string& chosen = role == PenRole::Drill ? o_.drill_pen : o_.mirror_pen;
+    const std::string where = std::string(penRoleName(role)) + " pen";
+    const Pose& start = role == PenRole::Drill ? drill_start : mirror_start;
+    if (chosen.empty() && scripted) {
+      devices_[r] = std::make_unique<devices::SoftwarePen>(
+          "script", std::make_unique<ScriptedPen>(*script_, role),
+          devices::softwarePenSpec("pen script", params_.device.max_force_n, params_.device.max_torque_n_mm));
+    } else {
+      auto name = devices::parsePenName(chosen.empty() ? "virtual" : chosen);
+      if (!name) return makeError(where, name.message());
+      devices::PenContext pc;
+      pc.role = role;
+      pc.start_grip = start;
+      pc.max_force_n = params_.device.max_force_n;
+      pc.max_torque_n_mm = params_.device.max_torque_n_mm;
+      pc.falcon.firmware_path = o_.falcon_firmware;
+      auto made = devices::makePen(*name, pc);
+      if (!made) return makeError(where, made.message());
+      devices_[r] = std::move(*made);
+    }
+    devices::HapticDevice& device = *devices_[r];
+    if (Status st = device.open(); !st) return makeError(where, st.message());
+    shown_state_[r] = device.state();
+    if (device.state() != devices::DeviceState::Ready)
+      note(where + " " + device.name() + ": " + devices::stateName(device.state()) + " (" + device.reason() + ")");
+    physical = physical || device.spec().physical;
+    if (auto* sw = dynamic_cast<devices::SoftwarePen*>(&device)) virtual_[r] = dynamic_cast<devices::VirtualPen*>(&sw->source());
+    pens_[r] = std::make_unique<devices::DevicePen>(device, devices::mapWorkspace(device.spec(), start, o_.reach_mm, screen),
+                                                    role == PenRole::Drill ? pedal_.get() : nullptr);
+  }
+  if (physical) {
+    if (lockstep_)
+      return makeError("run", "a hardware pen needs the real-time haptic thread: drop --headless and --lockstep");
+    // Ctrl-C and friends zero every pen at once; the frame loop then ends the run cleanly.
+    devices::installDeviceSignalHandlers();
+  }
+  if (virtual_[0] || virtual_[1]) {
+    input_ = std::make_unique<ui::PenInput>(camera_, virtual_[0], virtual_[1]);
+    input_->reset(PenRole::Drill, drill_start);
+    if (mirror_tool_) input_->reset(PenRole::Mirror, mirror_start);
+  }
+  return Ok{};
+}
+
+void Simulator::enableDevices() {
+  for (size_t r = 0; r < devices_.size(); ++r) {
+    devices::HapticDevice* d = devices_[r].get();
+    if (!d) continue;
+    if (d->state() == devices::DeviceState::Fault) d->disable();  // a watchdog fault clears on a new segment
+    if (d->state() != devices::DeviceState::Ready) continue;
+    if (Status st = d->enable(); !st) note(st.message());
+  }
+}
+
+void Simulator::serviceDevices() {
+  if (devices::allDevicesZeroRequested() && !quit_) {
+    note("dentsim: stopping on a signal; every pen's force is zero");
+    quit_ = true;
+  }
+  for (size_t r = 0; r < devices_.size(); ++r) {
+    devices::HapticDevice* d = devices_[r].get();
+    if (!d) continue;
+    d->service();
+    // A pen back from an unplug (replugged and homed) takes force again while the loop runs.
+    if (segment_.loop && d->state() == devices::DeviceState::Ready)
+      if (Status st = d->enable(); !st) note(st.message());
+    const devices::DeviceState now = d->state();
+    // Ready and Enabled are the usual states; a pen leaving them or coming back is news.
+    if (now != shown_state_[r] && !(devices::tracking(now) && devices::tracking(shown_state_[r]))) {
+      const std::string why = d->reason();
+      note(std::string(penRoleName(PenRole(r))) + " pen " + d->name() + ": " + devices::stateName(now) +
+           (why.empty() ? "" : " (" + why + ")"));
+    }
+    shown_state_[r] = now;
+  }
+  if (pedal_) {
+    pedal_->service();
+    if (pedal_->state() != shown_pedal_state_) {
+      shown_pedal_state_ = pedal_->state();
+      const std::string why = pedal_->reason();
+      note("pedal " + pedal_->name() + ": " + devices::stateName(shown_pedal_state_) + (why.empty() ? "" : " (" + why + ")"));
+    }
+  }
+}
+
+void Simulator::closeDevices() {
+  for (auto& d : devices_)
+    if (d) d->close();
+  if (pedal_) pedal_->close();
+}
+
 Status Simulator::setUp() {
   // Window or not: a display that does not answer means headless, with a notice.
   headless_ = o_.headless;
@@ -382,11 +521,11 @@ Status Simulator::setUp() {
   auto task = builtinTask(o_.task);
   if (!task) return task.error();
   task_ = std::move(*task);
-  drill_name_ = o_.drill.empty() ? task_->drill_tool : o_.drill;
+  drill_name_ = o_.bur.empty() ? task_->drill_tool : o_.bur;
   if (Status st = loadTooth(); !st) return st;
   if (Status st = loadDrill(); !st) return st;
-  if (!o_.mirror.empty()) {
-    auto m = loadToolModel(o_.mirror, params_.point_shell);
+  if (!o_.mirror_tool.empty() && o_.mirror_pen != "none") {
+    auto m = loadToolModel(o_.mirror_tool, params_.point_shell);
     if (!m) return m.error();
     mirror_tool_ = std::move(*m);
   }
@@ -405,30 +544,7 @@ Status Simulator::setUp() {
     camera_.setDistance(camera_.distance() * float((radius + 0.5 * norm(face - c)) / radius) * 0.8f);
   }
 
-  // Pens.
-  if (!o_.pen_script.empty() || o_.demo_script) {
-    if (o_.demo_script) {
-      CariesPathSettings ps;
-      auto path = cariesRemovalPath(initial_.voxels, initial_.frame, params_, drill_name_, ps);
-      if (!path) return path.error();
-      script_ = std::move(path->path);
-    } else {
-      auto path = loadPenPath(o_.pen_script);
-      if (!path) return path.error();
-      script_ = std::move(*path);
-    }
-    if (mirror_tool_ && !hasPen(*script_, PenRole::Mirror)) addStillMirror(*script_, mirrorGrip(box_, render::fromGlm(camera_.eye())));
-    script_end_s_ = pathEnd(*script_);
-    scripted_[0] = std::make_unique<ScriptedPen>(*script_, PenRole::Drill);
-    scripted_[1] = std::make_unique<ScriptedPen>(*script_, PenRole::Mirror);
-  } else {
-    virtual_[0] = std::make_unique<devices::VirtualPen>(drillStartGrip(box_, 3.0));
-    virtual_[1] = std::make_unique<devices::VirtualPen>(mirrorGrip(box_, render::fromGlm(camera_.eye())));
-    input_ = std::make_unique<ui::PenInput>(camera_, virtual_[0].get(), virtual_[1].get());
-    input_->reset(PenRole::Drill, drillStartGrip(box_, 3.0));
-    input_->reset(PenRole::Mirror, mirrorGrip(box_, render::fromGlm(camera_.eye())));
-  }
-
+  if (Status st = setUpPens(); !st) return st;
 
   // Window, device, swapchain.
   gpu::ContextOptions co;
@@ -506,7 +622,7 @@ Status Simulator::setUp() {
   ui_.bur = drill_name_;
   ui_.level = initial_.frame.level;
   ui_.task = o_.task;
-  ui_.pedal_present = script_.has_value();
+  ui_.pedal_present = script_.has_value() || pedal_ != nullptr;
   ui_.presets = presets_->list();
   ui_.force.max_force_n = params_.device.max_force_n;
 
@@ -916,7 +1032,8 @@ Status Simulator::frame() {
   ui_.force.force_n = norm(drill.display.force);
   ui_.force.contact = drill.contacts > 0;
   ui_.force.max_force_n = ui_.params.device.max_force_n;
-  if (script_) ui_.turbine_speed = state.pedal;
+  if (ui_.pedal_present) ui_.turbine_speed = state.pedal;
+  serviceDevices();
   const double wall = std::chrono::duration<double>(Clock::now() - rate_t0_).count();
   const uint64_t steps_now = steps_done_ + (segment_.loop ? segmentSteps() : 0);
   if (wall > 0.5) {
@@ -983,6 +1100,7 @@ Result<SimulatorOutcome> Simulator::run() {
   }
   // Whatever happened, the loop stops and the recording is closed, so that no drilling is lost.
   if (Status st = endSegment(result ? "completed" : "error"); !st && result) result = st;
+  closeDevices();
   if (ctx_) (void)ctx_->waitIdle();  // teardown: a failure here changes nothing the user keeps
   if (!result) return result.error();
   // With validation on (DENTSIM_VALIDATION=1, as in the tests), any error fails the run.

@@ -24,9 +24,17 @@ struct SimulatorOptions {
   int level = 9;                        // octree level of the built-in molar
   std::string params;                   // a preset file; empty: dentsim's defaults
   std::string task = "caries";          // the task scored ("caries", "cavity" or a task file)
-  std::string drill;                    // the bur; empty: the task's
-  std::string mirror = "mirror_size4";  // the mirror tool; empty: none
+  std::string bur;                      // the bur on the drill pen; empty: the task's
+  std::string mirror_tool = "mirror_size4";  // the mirror tool; empty: none
   std::string pen_script;               // a pen path (CSV or JSON) both pens play; empty: mouse and keys
+  // The pens' devices (devices/device_registry.h): "virtual", "falcon:0", "openhaptics:Default",
+  // "script:FILE", "replay:FILE". Empty: the pen script where there is one, else the virtual pen.
+  // The mirror's "none" means no mirror at all.
+  std::string drill_pen;
+  std::string mirror_pen;
+  std::string pedal;                    // "none", "hid[:...]"; empty: none (the script, the wheel or keys set the speed)
+  std::string falcon_firmware;          // the Falcon's firmware file; empty: where devices/falcon_device.h looks
+  double reach_mm = 40.0;               // a hardware pen's workspace spans this much of the scene [mm]
   bool demo_script = false;             // the built-in caries removal path, the mirror held distally
   bool headless = false;                // offscreen frames, no window (also when no display answers)
   int width = 1280, height = 800;       // window or frame size [px]

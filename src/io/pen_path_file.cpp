@@ -623,6 +623,10 @@ std::string_view penRoleName(PenRole pen) {
   return "unknown";
 }
 
+bool hasPen(const PenPath& path, PenRole pen) {
+  return std::any_of(path.samples.begin(), path.samples.end(), [pen](const PenSample& s) { return s.pen == pen; });
+}
+
 Status checkPenPath(const PenPath& path, const std::string& where) {
   if (path.samples.empty()) return makeError(where, "no samples");
   SampleChecker checker;

@@ -71,6 +71,8 @@ Status savePenPath(const std::string& file, const PenPath& path);
 
 // "drill" or "mirror" ("unknown" for a value outside the enum).
 std::string_view penRoleName(PenRole pen);
+// True when the path has at least one sample for `pen`.
+bool hasPen(const PenPath& path, PenRole pen);
 
 // Checks what the readers check, without changing anything: at least one sample; finite numbers;
 // t_s >= 0 and non-decreasing (the readers sort by time, so a path they return passes); rotation norm

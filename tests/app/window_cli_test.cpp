@@ -1,4 +1,4 @@
-// The simulator window end to end: under Xvfb on lavapipe, `dentsim run` plays the demo path and its screenshots show the tooth, the bur, the mirror's reflection and the parameter window; the cut changes the tooth; headless frames equal windowed ones.
+// The simulator window end to end: under Xvfb on lavapipe, `dentsim run` plays the demo path and its screenshots show the tooth, the bur, the mirror's reflection and the parameter window; the cut changes the tooth; headless frames equal windowed ones; two pens at once, one a hardware backend.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/png_file.h"
+#include "io/session_file.h"
 #include "test_support.h"
 
 namespace dentsim {
@@ -170,6 +171,60 @@ TEST_F(WindowCli, HeadlessFramesEqualWindowedFramesOfTheSameState) {
     for (int x = 0; x < a->width; ++x) tooth += toothColoured(a->pixel(x, y));
   EXPECT_GT(tooth, a->width * a->height / 50);
 }
+
+// Device names that name nothing usable fail at once, in one line naming the pen and the device,
+// with no window needed.
+TEST(DeviceCli, MissingOrUnknownPensAreOneLineErrors) {
+  const auto falcon = runDentsim("run --level 6 --drill falcon:0 --exit-after 0.1 --headless");
+  EXPECT_EQ(falcon.exit_code, 1) << falcon.output;
+  EXPECT_NE(falcon.output.find("drill pen: falcon:0:"), std::string::npos) << falcon.output;
+  const auto unknown = runDentsim("run --level 6 --mirror joystick --exit-after 0.1 --headless");
+  EXPECT_EQ(unknown.exit_code, 1) << unknown.output;
+  EXPECT_NE(unknown.output.find("mirror pen: pen 'joystick'"), std::string::npos) << unknown.output;
+  const auto absent = test::runCommand("DENTSIM_OPENHAPTICS_LIB=/nonexistent/libHD.so " + std::string(DENTSIM_BINARY) +
+                                       " run --level 6 --drill openhaptics --exit-after 0.1 --headless");
+  EXPECT_EQ(absent.exit_code, 1) << absent.output;
+  EXPECT_NE(absent.output.find("OpenHaptics not installed"), std::string::npos) << absent.output;
+  const auto pedal = runDentsim("run --level 6 --pedal usb --exit-after 0.1 --headless");
+  EXPECT_EQ(pedal.exit_code, 1) << pedal.output;
+  EXPECT_NE(pedal.output.find("pedal 'usb'"), std::string::npos) << pedal.output;
+}
+
+#ifdef DENTSIM_FAKE_HD_LIB
+// Two pens at once: the drill on an OpenHaptics pen (the fake HDAPI library, loaded by the plug-in
+// as it would load libHD.so) and the mirror on the virtual pen, in a window with the real-time
+// loop. `dentsim devices` lists the pen as ready; the session records both pens at every step, the
+// drill where the still pen holds it.
+TEST_F(WindowCli, TwoPensAtOnceAHardwareDrillAndAVirtualMirror) {
+  TempDir dir;
+  const std::string env = std::string("DENTSIM_OPENHAPTICS_LIB=") + DENTSIM_FAKE_HD_LIB + " ";
+  const auto list = test::runCommand(env + DENTSIM_BINARY + " devices --json");
+  ASSERT_EQ(list.exit_code, 0) << list.output;
+  const nlohmann::json devices = nlohmann::json::parse(list.output, nullptr, false);
+  ASSERT_TRUE(devices.is_array()) << list.output;
+  bool listed = false;
+  for (const auto& d : devices)
+    if (d["name"] == "openhaptics:Default") listed = d["state"] == "ready" && d["usable"] == true;
+  EXPECT_TRUE(listed) << list.output;
+
+  const std::string out = dir.file("pens");
+  const test::NoLeakCheckForGpuChild no_leak_check;
+  const auto r = test::runCommand(env + "DENTSIM_VALIDATION=1 xvfb-run -a -s '-screen 0 1280x800x24' " +
+                                  std::string(DENTSIM_BINARY) + " run --level 6 --params " + writeFastPreset(dir) +
+                                  " --drill openhaptics:Default --mirror virtual --exit-after 0.5 --no-ui"
+                                  " --width 640 --height 400 --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  auto session = readSessionFile(out + "/session.dses");
+  ASSERT_TRUE(session.ok()) << session.message() << "\n" << r.output;
+  ASSERT_GE(session->steps.size(), 400u) << "0.5 s of loop time at 1 kHz";
+  const Pose drill = session->steps.front().reading[0].grip;
+  for (const SessionStep& s : session->steps) {
+    ASSERT_TRUE(s.hasReading(0) && s.hasReading(1)) << "step " << s.step;
+    EXPECT_EQ(s.reading[0].grip, drill) << "step " << s.step << ": the fake pen holds still";
+    EXPECT_EQ(s.reading[0].pedal, 0.0);
+  }
+}
+#endif
 
 }  // namespace
 }  // namespace dentsim

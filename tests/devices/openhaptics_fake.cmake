@@ -9,3 +9,8 @@ if(TARGET dentsim_devices_tests)
   target_link_libraries(dentsim_devices_tests PRIVATE ${CMAKE_DL_LIBS})
   add_dependencies(dentsim_devices_tests dentsim_fake_hd)
 endif()
+# The app suite runs `dentsim run --drill openhaptics:Default` under Xvfb with the fake in place of libHD.so.
+if(TARGET dentsim_app_tests)
+  target_compile_definitions(dentsim_app_tests PRIVATE DENTSIM_FAKE_HD_LIB="$<TARGET_FILE:dentsim_fake_hd>")
+  add_dependencies(dentsim_app_tests dentsim_fake_hd)
+endif()
