@@ -3,6 +3,7 @@
 add_library(dentsim_fake_hd MODULE ${CMAKE_CURRENT_SOURCE_DIR}/devices/fake_hd/fake_hd.cpp)
 # dentsim_options brings the warnings and, in the sanitizer preset, the same sanitizers as the test.
 target_link_libraries(dentsim_fake_hd PRIVATE dentsim_options Threads::Threads)
+target_include_directories(dentsim_fake_hd PRIVATE ${PROJECT_SOURCE_DIR})  # devices/hdapi_abi.h
 set_target_properties(dentsim_fake_hd PROPERTIES CXX_VISIBILITY_PRESET default)
 if(TARGET dentsim_devices_tests)
   target_compile_definitions(dentsim_devices_tests PRIVATE DENTSIM_FAKE_HD_LIB="$<TARGET_FILE:dentsim_fake_hd>")

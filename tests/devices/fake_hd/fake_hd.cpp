@@ -15,63 +15,15 @@
 #include <thread>
 #include <vector>
 
+#include "devices/hdapi_abi.h"
+
 namespace {
 
-// ---- 1. HDAPI types and values (the same facts the plug-in declares) ----
-using HDuint = unsigned int;
-using HDboolean = unsigned char;
-using HDushort = unsigned short;
-using HDint = int;
-using HDdouble = double;
-using HDerror = unsigned int;
-using HDenum = unsigned int;
-using HDstring = const char*;
-using HHD = unsigned int;
-using HDCallbackCode = unsigned int;
-using HDSchedulerHandle = unsigned long;
-using HDSchedulerCallback = HDCallbackCode (*)(void*);
-
-struct HDErrorInfo {
-  HDerror errorCode;
-  int internalErrorCode;
-  HHD hHD;
-};
-
-constexpr HDerror kSuccess = 0x0000;
-constexpr HDerror kInvalidEnum = 0x0100;
-constexpr HDerror kInvalidOperation = 0x0102;
-constexpr HDerror kBadHandle = 0x0104;
-constexpr HDerror kDeviceFault = 0x0300;
-constexpr HDerror kDeviceAlreadyInitiated = 0x0301;
-constexpr HDerror kCommError = 0x0302;
-constexpr HDerror kIllegalBegin = 0x0400;
-constexpr HDerror kIllegalEnd = 0x0401;
-
-constexpr HDenum kCurrentButtons = 0x2000;
-constexpr HDenum kCurrentPosition = 0x2050;
-constexpr HDenum kCurrentVelocity = 0x2051;
-constexpr HDenum kCurrentTransform = 0x2052;
-constexpr HDenum kCurrentAngularVelocity = 0x2053;
-constexpr HDenum kDeviceModelType = 0x2501;
-constexpr HDenum kDeviceSerialNumber = 0x2504;
-constexpr HDenum kUsableWorkspaceDimensions = 0x2551;
-constexpr HDenum kInputDof = 0x2553;
-constexpr HDenum kOutputDof = 0x2554;
-constexpr HDenum kCalibrationStyle = 0x2555;
-constexpr HDenum kUpdateRate = 0x2600;
-constexpr HDenum kNominalMaxStiffness = 0x2602;
-constexpr HDenum kNominalMaxForce = 0x2603;
-constexpr HDenum kNominalMaxDamping = 0x2609;
-constexpr HDenum kNominalMaxTorqueForce = 0x2622;
-constexpr HDenum kCurrentForce = 0x2700;
-constexpr HDenum kCurrentTorque = 0x2701;
-constexpr HDenum kForceOutput = 0x4000;
-constexpr HDenum kMaxForceClamping = 0x4001;
-constexpr HDenum kCalibrationOk = 0x5000;
-constexpr HDenum kCalibrationNeedsUpdate = 0x5001;
-constexpr HHD kInvalidHandle = 0xFFFFFFFF;
+// ---- 1. HDAPI types and values: the plug-in's own declarations (devices/hdapi_abi.h) ----
+using namespace dentsim::devices::hd;
+using HDErrorInfo = ErrorInfo;
+using HDSchedulerCallback = SchedulerCallback;
 constexpr HHD kDefaultHandle = 1;
-constexpr HDCallbackCode kCallbackDone = 0;
 
 // ---- 2. the simulated pen ----
 // Its numbers are those of a 3D Systems Touch as its data sheet gives them; the tests read them
