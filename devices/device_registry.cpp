@@ -1,11 +1,13 @@
 // The device handler: pen and pedal names to backends, and the list of what is connected.
 #include "devices/device_registry.h"
 
+#include <cctype>
 #include <charconv>
 
 #include "devices/hid_pedal.h"
 #include "devices/software_pen.h"
 #include "devices/virtual_pen.h"
+#include "io/parse_guard.h"
 #include "io/session_file.h"
 
 namespace dentsim::devices {
@@ -21,7 +23,8 @@ Result<PenName> parsePenName(const std::string& text) {
   const size_t colon = text.find(':');
   n.backend = text.substr(0, colon);
   if (colon != std::string::npos) n.arg = text.substr(colon + 1);
-  const auto bad = [&](const std::string& why) { return makeError("pen '" + text + "'", why); };
+  // The name is the user's text: echoed escaped, so a stray line break cannot split the message.
+  const auto bad = [&](const std::string& why) { return makeError("pen '" + escapeControl(text) + "'", why); };
   if (n.backend == "virtual") {
     if (colon != std::string::npos) return bad("the virtual pen takes no argument");
   } else if (n.backend == "script" || n.backend == "replay") {
@@ -30,7 +33,8 @@ Result<PenName> parsePenName(const std::string& text) {
     if (n.arg.empty()) n.arg = "0";
     int index = -1;
     const auto [end, ec] = std::from_chars(n.arg.data(), n.arg.data() + n.arg.size(), index);
-    if (ec != std::errc{} || end != n.arg.data() + n.arg.size() || index < 0 || index > 63)
+    if (!std::isdigit(static_cast<unsigned char>(n.arg[0])) || ec != std::errc{} || end != n.arg.data() + n.arg.size() ||
+        index < 0 || index > 63)
       return bad("the Falcon's index must be a number 0..63 (falcon:0 is the first on the bus)");
   } else if (n.backend == "openhaptics") {
     if (n.arg.empty()) n.arg = "Default";
@@ -65,14 +69,14 @@ Result<std::unique_ptr<HapticDevice>> makePen(const PenName& name, const PenCont
   }
   if (name.backend == "falcon") return makeFalcon(std::stoi(name.arg), context.falcon);
   if (name.backend == "openhaptics") return makeOpenHapticsPen(name.arg, context.openhaptics);
-  return makeError("pen '" + name.text + "'", std::string("unknown pen; choose one of ") + kPenChoices);
+  return makeError("pen '" + escapeControl(name.text) + "'", std::string("unknown pen; choose one of ") + kPenChoices);
 }
 
 Result<std::unique_ptr<FootPedal>> makePedal(const std::string& name) {
   if (name.empty() || name == "none") return std::unique_ptr<FootPedal>{};
   if (name == "hid") return makeHidPedal("0");
   if (name.rfind("hid:", 0) == 0) return makeHidPedal(name.substr(4));
-  return makeError("pedal '" + name + "'", "unknown pedal; choose none, hid[:N], hid:VVVV:PPPP[,...] or hid:/dev/hidrawN");
+  return makeError("pedal '" + escapeControl(name) + "'", "unknown pedal; choose none, hid[:N], hid:VVVV:PPPP[,...] or hid:/dev/hidrawN");
 }
 
 std::vector<DeviceEntry> listDevices(const PenContext& context) {

@@ -24,6 +24,8 @@
 #include <fstream>
 #include <thread>
 
+#include "io/parse_guard.h"
+
 namespace dentsim::devices {
 namespace {
 
@@ -148,7 +150,8 @@ std::optional<PedalLayout> layoutFromReportDescriptor(std::span<const uint8_t> d
   while (i < d.size()) {
     const uint8_t prefix = d[i];
     if (prefix == 0xFE) {  // long item: size, tag, data; no pedal uses them
-      if (i + 1 >= d.size()) return std::nullopt;
+      // Its size byte, its tag and its data must all be there, as for a short item.
+      if (i + 2 >= d.size() || i + 3 + d[i + 1] > d.size()) return std::nullopt;
       i += 3 + d[i + 1];
       continue;
     }
@@ -262,6 +265,7 @@ bool parseInt(const std::string& text, Int* out, int base = 10) {
   if (base == 0) {  // decimal, or hex with 0x
     base = 10;
     if (text.size() > 2 && text[0] == '0' && (text[1] == 'x' || text[1] == 'X')) first += 2, base = 16;
+    if (base == 16 && (*first == '-' || *first == '+')) return false;  // "0x-5" is no number
   }
   const auto [ptr, ec] = std::from_chars(first, last, *out, base);
   return ec == std::errc() && ptr == last;
@@ -279,7 +283,8 @@ Result<HidPedalSpec> parseHidPedalSpec(const std::string& spec_in) {
   std::string body = spec_in.rfind("hid:", 0) == 0 ? spec_in.substr(4) : spec_in;
   HidPedalSpec spec;
   spec.text = "hid:" + body;
-  const auto fail = [&](const std::string& what) { return makeError(spec.text, what); };
+  // The spec is the user's text: echoed escaped, so a stray line break cannot split the message.
+  const auto fail = [&](const std::string& what) { return makeError(escapeControl(spec.text), escapeControl(what)); };
 
   const std::vector<std::string> parts = splitOn(body, ',');
   const std::string& target = parts[0];

@@ -12,12 +12,14 @@
 
 namespace dentsim {
 
-// A token from a file, shortened and with unprintable bytes escaped, so a message stays one line.
-inline std::string quoteToken(std::string_view token, size_t max_shown = 32) {
-  std::string out = "\"";
-  for (size_t i = 0; i < token.size() && i < max_shown; ++i) {
-    const auto c = uint8_t(token[i]);
-    if (c < 0x20 || c >= 0x7f) {
+// Text with its control bytes escaped as \xNN (with `high`, bytes 0x80 and up too), shortened to
+// max_shown bytes: what user input may be echoed as inside a one-line error. A name typed by the
+// user keeps its UTF-8; a token from a binary file does not.
+inline std::string escapeControl(std::string_view text, size_t max_shown = 200, bool high = false) {
+  std::string out;
+  for (size_t i = 0; i < text.size() && i < max_shown; ++i) {
+    const auto c = uint8_t(text[i]);
+    if (c < 0x20 || c == 0x7f || (high && c >= 0x80)) {
       char buf[8];
       std::snprintf(buf, sizeof buf, "\\x%02x", unsigned(c));
       out += buf;
@@ -25,8 +27,13 @@ inline std::string quoteToken(std::string_view token, size_t max_shown = 32) {
       out += char(c);
     }
   }
-  if (token.size() > max_shown) out += "...";
-  return out + "\"";
+  if (text.size() > max_shown) out += "...";
+  return out;
+}
+
+// A token from a file, shortened and with unprintable bytes escaped, so a message stays one line.
+inline std::string quoteToken(std::string_view token, size_t max_shown = 32) {
+  return "\"" + escapeControl(token, max_shown, true) + "\"";
 }
 
 // Parsers check sizes before allocating, so this only catches what those checks cannot foresee

@@ -30,13 +30,19 @@ TEST(PenNames, ParseEveryBackendAndItsDefaults) {
 }
 
 TEST(PenNames, BadNamesSayWhatAndWhy) {
-  for (const char* bad : {"", "falconx", "falcon:-1", "falcon:1x", "falcon:64", "virtual:2", "script:", "replay", "mouse"}) {
+  for (const char* bad : {"", "falconx", "falcon:-1", "falcon:-0", "falcon:+1", "falcon:1x", "falcon:64", "virtual:2", "script:",
+                          "replay", "mouse"}) {
     auto r = parsePenName(bad);
     ASSERT_FALSE(r.ok()) << bad;
     EXPECT_NE(r.message().find(std::string("'") + bad + "'"), std::string::npos) << r.message();
   }
   auto r = parsePenName("mouse");
   EXPECT_NE(r.message().find("falcon"), std::string::npos) << "the error lists the choices: " << r.message();
+  // A line break typed into a name is echoed escaped: the error stays one line.
+  auto broken = parsePenName("falcon:\n");
+  ASSERT_FALSE(broken.ok());
+  EXPECT_EQ(broken.message().find('\n'), std::string::npos) << broken.message();
+  EXPECT_NE(broken.message().find("pen 'falcon:\\x0a'"), std::string::npos) << broken.message();
 }
 
 TEST(SoftwarePens, AScriptBehindTheInterfaceReadsLikeTheScriptedPen) {

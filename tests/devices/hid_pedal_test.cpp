@@ -368,6 +368,10 @@ TEST(HidPedalDescriptor, MalformedOrEmpty) {
   EXPECT_FALSE(layoutFromReportDescriptor({}));
   const std::vector<uint8_t> truncated = {0x05, 0x01, 0x26, 0xFF};  // a two-byte item with one byte left
   EXPECT_FALSE(layoutFromReportDescriptor(truncated));
+  // A long item whose data runs past the end, after an axis that was complete.
+  const std::vector<uint8_t> long_cut = {0x05, 0x01, 0x09, 0x30, 0x15, 0x00, 0x26, 0xFF, 0x00, 0x75,
+                                         0x08, 0x95, 0x01, 0x81, 0x02, 0xFE, 0xFF, 0x00};
+  EXPECT_FALSE(layoutFromReportDescriptor(long_cut));
   const std::vector<uint8_t> pop_empty = {0xB4};  // Pop with nothing pushed
   EXPECT_FALSE(layoutFromReportDescriptor(pop_empty));
   const std::vector<uint8_t> keyboard_only = {0x05, 0x07, 0x19, 0xE0, 0x29, 0xE7, 0x75, 0x01, 0x95, 0x08, 0x81, 0x02};
@@ -454,6 +458,7 @@ TEST(HidPedalSpec, BadSpecsNameTheSpecOnOneLine) {
       {"0,key=2", "bad key"},
       {"0,report=300", "bad report"},
       {"0,serial=", "empty serial"},
+      {"0,axis=0:8:0x-5:100", "bad axis"},  // a sign after 0x is no hex number
   };
   for (const Bad& b : bad) {
     auto parsed = parseHidPedalSpec(b.spec);
@@ -468,6 +473,11 @@ TEST(HidPedalSpec, BadSpecsNameTheSpecOnOneLine) {
     ASSERT_FALSE(pedal.ok());
     EXPECT_EQ(pedal.message(), message);
   }
+  // A line break typed into the spec is echoed escaped: the error stays one line.
+  auto broken = parseHidPedalSpec("0\n");
+  ASSERT_FALSE(broken.ok());
+  EXPECT_EQ(broken.message().find('\n'), std::string::npos) << broken.message();
+  EXPECT_EQ(broken.message().rfind("hid:0\\x0a: ", 0), 0u) << broken.message();
 }
 
 // ---- the pedal against a fake device ----
