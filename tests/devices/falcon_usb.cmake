@@ -13,7 +13,7 @@ if(UMOCKDEV_FOUND)
     set_target_properties(dentsim_devices_usb_tests PROPERTIES CROSSCOMPILING_EMULATOR ${UMOCKDEV_WRAPPER})
     # ASan insists on being first in the link order; umockdev's LD_PRELOAD comes before it.
     if(DENTSIM_SANITIZE)
-      set(falcon_usb_env "ASAN_OPTIONS=verify_asan_link_order=0")
+      set(falcon_usb_env "ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:verify_asan_link_order=0")
     endif()
   endif()
   gtest_discover_tests(dentsim_devices_usb_tests
