@@ -213,6 +213,7 @@ CutStep Cutter::remove(BrickVolume& volume, VoxelField& field, const SimParams& 
     if (edits != nullptr) edits->push(packVoxelEdit(index, now));
     ++out.voxels_changed;
     out.removed_mm3 += double(fill - left) * unit_mm3;
+    out.removed_by_material_mm3[size_t(m)] += double(fill - left) * unit_mm3;
   }
   if (edits != nullptr) edits->publish();
   return out;

@@ -19,6 +19,8 @@
 // deferred), so the two copies of the voxels never disagree.
 #pragma once
 
+#include <array>
+
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -38,6 +40,8 @@ struct CutStep {
   double demand_mm3 = 0.0;        // removal_rate * ability * speed * dt [mm^3]
   double expected_mm3 = 0.0;      // demand * mean hardness: what the step should remove [mm^3]
   double removed_mm3 = 0.0;       // what it did remove, from the fill change [mm^3]
+  // The same by tissue, indexed by Material (Empty unused): what the sound engine colours the cut by.
+  std::array<double, DS_MATERIAL_COUNT> removed_by_material_mm3{};
   bool deferred = false;          // not cut: no room in the channel or the volume's reserve
 };
 

@@ -167,6 +167,8 @@ const StepReport& HapticLoop::step() {
   totals_.pedal = report_.speed;
   totals_.rpm = report_.speed * p.turbine.max_rpm;
   totals_.removed_mm3 += report_.cut.removed_mm3;
+  for (size_t m = 0; m < totals_.removed_by_material_mm3.size(); ++m)
+    totals_.removed_by_material_mm3[m] += report_.cut.removed_by_material_mm3[m];
   totals_.voxels_changed += report_.cut.voxels_changed;
   totals_.deferred_cuts += report_.cut.deferred ? 1 : 0;
   state_.publish(totals_);

@@ -58,6 +58,7 @@ struct HapticState {
   double pedal = 0.0;                  // turbine speed [0..1]
   double rpm = 0.0;                    // turbine speed [1/min]
   double removed_mm3 = 0.0;            // tissue removed since start [mm^3]
+  std::array<double, DS_MATERIAL_COUNT> removed_by_material_mm3{};  // the same by tissue (Material index)
   uint64_t voxels_changed = 0;         // voxel edits since start
   uint64_t deferred_cuts = 0;          // steps whose cut waited for room
 };

@@ -1,6 +1,7 @@
 // Running sessions: the scripted recording (on the loop's thread or back to back) and the step-for-step replay.
 #include "sim/session_run.h"
 
+#include <algorithm>
 #include <chrono>
 #include <thread>
 
@@ -165,6 +166,8 @@ Result<ReplayOutcome> replaySession(const SessionRecording& session, ToothVolume
       ++out.force_mismatches;
     }
     if (options.progress && (i + 1) % 1000 == 0) options.progress(i + 1, steps.size());
+    if (options.observe && ((i + 1) % std::max<uint64_t>(options.observe_every, 1) == 0 || i + 1 == steps.size()))
+      options.observe(loop.latest());
   }
   out.steps = loop.stepsRun();
   out.removed_mm3 = loop.latest().removed_mm3;

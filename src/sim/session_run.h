@@ -13,6 +13,7 @@
 #include "core/result.h"
 #include "io/pen_path_file.h"
 #include "io/session_file.h"
+#include "sim/haptic_loop.h"
 #include "sim/sim_params.h"
 #include "volume/brick_volume.h"
 
@@ -52,6 +53,10 @@ Result<SessionOutcome> recordScriptedSession(ToothVolume& tooth, const SimParams
 struct ReplayOptions {
   bool allow_other_tooth = false;  // replay although the tooth's hash differs (a warning, not an error)
   std::function<void(uint64_t step, uint64_t steps)> progress;  // called every 1000 steps; may be empty
+  // Called with the loop's state after every observe_every steps, and after the last step: what
+  // follows the replay at a frame or block rate (the sound engine). May be empty.
+  std::function<void(const HapticState& state)> observe;
+  uint64_t observe_every = 10;
 };
 
 struct ReplayOutcome {

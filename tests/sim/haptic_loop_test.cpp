@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <mutex>
 #include <thread>
@@ -53,6 +54,7 @@ struct CutRun {
   std::vector<uint64_t> edits;
   Pose final_tool;
   Wrench last_force;
+  std::array<double, DS_MATERIAL_COUNT> by_material_mm3{};  // the loop's running totals by tissue
 };
 
 CutRun runCut(Material tissue, double ability, double pedal, double seconds) {
@@ -82,6 +84,7 @@ CutRun runCut(Material tissue, double ability, double pedal, double seconds) {
   channel.drain(&run.edits);
   run.final_volume = b.volume;
   run.final_tool = loop.proxy(PenRole::Drill)->toolPose();
+  run.by_material_mm3 = loop.latest().removed_by_material_mm3;
   run.last_force = pen.lastDisplayed();
   return run;
 }
@@ -99,8 +102,11 @@ TEST(HapticLoop, CuttingRemovesHardnessTimesAbilityTimesSpeedTimesTime) {
     const double predicted = rate * defaults.tissue(c.tissue).hardness * c.ability * c.pedal * c.seconds;
     SCOPED_TRACE(materialName(c.tissue) + " ability " + std::to_string(c.ability) + " pedal " + std::to_string(c.pedal));
     EXPECT_NEAR(run.removed_mm3, predicted, 0.10 * predicted);
-    // The volume's own totals agree with what the steps say they removed.
+    // The volume's own totals agree with what the steps say they removed, and all of it is booked
+    // to the one tissue there is (what the sound engine colours the cut by).
     EXPECT_NEAR(run.reported_mm3, run.removed_mm3, 1e-9 + 1e-6 * run.removed_mm3);
+    for (size_t m = 0; m < run.by_material_mm3.size(); ++m)
+      EXPECT_NEAR(run.by_material_mm3[m], m == size_t(c.tissue) ? run.removed_mm3 : 0.0, 1e-9 + 1e-6 * run.removed_mm3) << m;
     // The head was on tissue for (nearly) every step.
     EXPECT_GT(double(run.cut_steps), 0.97 * c.seconds * defaults.device.rate_hz);
   }
