@@ -12,6 +12,7 @@
 #include "sim/builtin_tooth.h"
 #include "sim/scripted_paths.h"
 #include "sim/session_run.h"
+#include "ui/window.h"
 #include "volume/surface_mesher.h"
 #include "volume/tooth_file.h"
 #include "volume/volume_hash.h"
@@ -28,6 +29,7 @@ struct DemoOptions {
   double exit_after_s = 0.0;         // windowed: close at this loop time (0: when the user closes it)
   int width = 1280, height = 800;    // window or frame size [px]
   std::string mirror = "mirror_size4";  // the mirror the script holds beside the tooth; "none": none
+  bool sound = true;                 // the window plays it; headless, it goes to sound.wav
 };
 
 // The final tooth as a mesh, beside the other files: what a reader opens in any 3-D viewer.
@@ -64,6 +66,9 @@ int runDemo(const DemoOptions& o) {
   so.exit_after_s = o.exit_after_s;
   so.view = "buccal";
   so.shots_s = {1.0};
+  so.sound = o.sound;
+  // Headless (asked for, or no display), the sound goes to a file beside the frames.
+  if (o.sound && (o.headless || !ui::whyNoDisplay().empty())) so.audio_out = (fs::path(o.out) / "sound.wav").string();
   so.frame_every_s = 20.0;
   auto run = runSimulator(so);
   if (!run && gpu::isNoDeviceError(run.error())) {
@@ -76,7 +81,8 @@ int runDemo(const DemoOptions& o) {
   auto final_tooth = loadTooth((fs::path(o.out) / "final.dvol").string());
   if (!final_tooth) return fail(final_tooth.message());
   if (int rc = writeFinalMesh(o.out, *final_tooth); rc != 0) return rc;
-  std::printf("wrote %s: initial.dvol session.dses final.dvol final.ply score.json score.png and frames\n", o.out.c_str());
+  std::printf("wrote %s: initial.dvol session.dses final.dvol final.ply score.json score.png%s and frames\n", o.out.c_str(),
+              so.audio_out.empty() ? "" : " sound.wav");
   return 0;
 }
 
@@ -155,6 +161,7 @@ void addDemoCommand(CLI::App& root, Action& action) {
   cmd->add_option("--width", o->width, "Window or frame width [px]")->check(CLI::Range(64, 8192))->capture_default_str();
   cmd->add_option("--height", o->height, "Window or frame height [px]")->check(CLI::Range(64, 8192))->capture_default_str();
   cmd->add_option("--params", o->params, "Parameter preset (.json); default: dentsim's defaults");
+  cmd->add_flag("!--no-sound", o->sound, "No sound (headless: no sound.wav)");
   cmd->callback([o, &action] { action = [o] { return runDemo(*o); }; });
 }
 

@@ -1,4 +1,4 @@
-// `dentsim replay SESSION [--headless] [--tooth X.dvol] [-o final.dvol]`: replays a recorded session step for step and checks it ends where the recording did.
+// `dentsim replay SESSION [--headless] [--tooth X.dvol] [-o final.dvol] [--audio-out S.wav]`: replays a recorded session step for step, checks it ends where the recording did, and can write its sound.
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -7,6 +7,11 @@
 
 #include "app/commands.h"
 #include "app/session_support.h"
+#include "audio/sound_engine.h"
+#include "audio/sound_feed.h"
+#include "render/camera.h"
+#include "sim/scripted_paths.h"
+#include "sim/tool_library.h"
 #include "io/session_file.h"
 #include "sim/session_run.h"
 #include "volume/tooth_file.h"
@@ -24,7 +29,30 @@ struct ReplayCliOptions {
   bool headless = false;   // no window (the only mode until the simulator window lands)
   bool allow_other_tooth = false;
   bool json = false;       // one JSON object on stdout
+  std::string audio_out;   // the session's sound, rendered offline to this WAV file
 };
+
+// The sound of the replay: the engine follows the loop 100 times a second of loop time, heard from
+// where the simulator's first (buccal) view stands.
+Result<std::unique_ptr<audio::SoundEngine>> replaySound(const std::string& audio_out, const ToothVolume& tooth,
+                                                        ReplayOptions* ro, audio::SoundFeed* feed) {
+  audio::EngineOptions eo;
+  eo.audio_out = audio_out;
+  auto engine = audio::SoundEngine::create(eo);
+  if (!engine) return engine.error();
+  const TissueBox box = tissueBox(tooth.voxels, tooth.frame);
+  render::OrbitCamera camera;
+  camera.setView(render::ViewPreset::Buccal, render::toGlm(box.centre()), float(0.5 * norm(box.hi - box.lo)));
+  camera.orbit(0.0f, 0.52f);
+  const render::CameraBasis basis = camera.basis();
+  (*engine)->setListener(render::fromGlm(camera.eye()), render::fromGlm(basis.forward), render::fromGlm(basis.up));
+  audio::SoundEngine* e = engine->get();
+  ro->observe_every = 10;
+  ro->observe = [e, feed](const HapticState& state) {
+    e->update(feed->next(state, state.tools[size_t(PenRole::Drill)].tool.apply(kBurGripLocal)));
+  };
+  return engine;
+}
 
 int runReplay(const ReplayCliOptions& o) {
   auto session = readSessionFile(o.session);
@@ -36,8 +64,17 @@ int runReplay(const ReplayCliOptions& o) {
   const ToothVolume initial = *tooth;
   ReplayOptions ro;
   ro.allow_other_tooth = o.allow_other_tooth;
+  audio::SoundFeed feed;
+  std::unique_ptr<audio::SoundEngine> sound;
+  if (!o.audio_out.empty()) {
+    auto engine = replaySound(o.audio_out, *tooth, &ro, &feed);
+    if (!engine) return fail(engine.message());
+    sound = std::move(*engine);
+  }
   auto outcome = replaySession(*session, *tooth, ro);
   if (!outcome) return fail(o.session + ": " + outcome.message());
+  if (sound)
+    if (Status st = sound->finish(); !st) return fail(st.message());
   for (const std::string& w : outcome->warnings)
     if (w != session->truncation_warning) std::fprintf(stderr, "dentsim: warning: %s: %s\n", o.session.c_str(), w.c_str());
   if (!o.output.empty())
@@ -105,6 +142,7 @@ void addReplayCommand(CLI::App& root, Action& action) {
   cmd->add_option("--report", o->report, "Write the score report (.json) when the session names a task");
   cmd->add_option("--png", o->png, "Write the score picture (.png) when the session names a task");
   cmd->add_option("--task", o->task, "Score against this task (caries, cavity or a task file) instead of the session's");
+  cmd->add_option("--audio-out", o->audio_out, "Write the session's sound to this WAV file (rendered offline)");
   cmd->add_flag("--json", o->json, "Print one JSON object");
   cmd->callback([o, &action] { action = [o] { return runReplay(*o); }; });
 }

@@ -39,6 +39,12 @@ void addRunCommand(CLI::App& root, Action& action) {
   cmd->add_option("--falcon-firmware", o->falcon_firmware, "The Novint Falcon's firmware file (you supply it)");
   cmd->add_option("--reach", o->reach_mm, "How much of the scene a hardware pen's workspace spans [mm]")
       ->check(CLI::Range(1.0, 1000.0))->capture_default_str();
+  cmd->add_option("--audio-out", o->audio_out, "Render the sound offline to this WAV file (headless too) instead of playing it");
+  cmd->add_flag("!--no-sound", o->sound, "No sound at all");
+  cmd->add_option("--turbine-wav", o->turbine_wav, "A turbine recording (WAV) to play instead of the synthesized whine");
+  cmd->add_option("--cutting-wav", o->cutting_wav, "A cutting recording (WAV) to play instead of the synthesized noise");
+  cmd->add_option("--recorded-rpm", o->recorded_rpm, "The turbine recording's speed [1/min]")
+      ->check(CLI::Range(100.0, 1e6))->capture_default_str();
   cmd->add_option("--pen-script", o->pen_script, "Pen path (CSV or JSON) that both pens play, instead of the mouse");
   cmd->add_flag("--demo-script", o->demo_script, "Play the built-in caries removal path, the mirror held beside the tooth");
   cmd->add_flag("--headless", o->headless, "No window: frames go offscreen, to PNG (also when no display answers)");

@@ -28,6 +28,8 @@
 #include <nlohmann/json.hpp>
 
 #include "app/session_support.h"
+#include "audio/sound_engine.h"
+#include "audio/sound_feed.h"
 #include "devices/device_pen.h"
 #include "devices/device_registry.h"
 #include "devices/software_pen.h"
@@ -163,6 +165,8 @@ class Simulator {
   Status loadDrill();
   Status startSegment();
   Status setUpPens();
+  Status setUpSound();
+  void updateSound(const HapticState& state);
   void enableDevices();
   void serviceDevices();
   void closeDevices();
@@ -208,6 +212,10 @@ class Simulator {
   devices::DeviceState shown_pedal_state_ = devices::DeviceState::Disconnected;
   std::unique_ptr<ui::PenInput> input_;
   double script_end_s_ = 0.0;
+
+  // Sound: live, offline to a file, or none.
+  std::unique_ptr<audio::SoundEngine> sound_;
+  audio::SoundFeed sound_feed_;
 
   EditChannel edits_;
   std::vector<uint64_t> batch_;
@@ -498,6 +506,39 @@ void Simulator::closeDevices() {
   if (pedal_) pedal_->close();
 }
 
+Status Simulator::setUpSound() {
+  if (!o_.sound || (headless_ && o_.audio_out.empty())) {
+    ui_.sound.output = "no sound";
+    return Ok{};
+  }
+  audio::EngineOptions eo;
+  eo.audio_out = o_.audio_out;
+  eo.turbine_wav = o_.turbine_wav;
+  eo.cutting_wav = o_.cutting_wav;
+  eo.recorded_rpm = o_.recorded_rpm;
+  auto engine = audio::SoundEngine::create(eo);
+  if (!engine) return makeError("sound", engine.message());
+  sound_ = std::move(*engine);
+  if (sound_->silent()) {
+    note("dentsim: " + sound_->notice());
+    ui_.sound.output = sound_->notice();
+  } else {
+    ui_.sound.output = sound_->offline() ? "writing " + fs::path(o_.audio_out).filename().string() : "OpenAL Soft";
+  }
+  return Ok{};
+}
+
+// The sound follows the frame: the listener at the camera, the sources at the handpiece.
+void Simulator::updateSound(const HapticState& state) {
+  if (!sound_) return;
+  const render::CameraBasis basis = camera_.basis();
+  sound_->setListener(render::fromGlm(camera_.eye()), render::fromGlm(basis.forward), render::fromGlm(basis.up));
+  sound_->setVolume(ui_.sound.volume);
+  sound_->setMute(ui_.sound.mute);
+  const ToolState& drill = state.tools[size_t(PenRole::Drill)];
+  sound_->update(sound_feed_.next(state, drill.tool.apply(kBurGripLocal)));
+}
+
 Status Simulator::setUp() {
   // Window or not: a display that does not answer means headless, with a notice.
   headless_ = o_.headless;
@@ -545,6 +586,7 @@ Status Simulator::setUp() {
   }
 
   if (Status st = setUpPens(); !st) return st;
+  if (Status st = setUpSound(); !st) return st;
 
   // Window, device, swapchain.
   gpu::ContextOptions co;
@@ -1034,6 +1076,7 @@ Status Simulator::frame() {
   ui_.force.max_force_n = ui_.params.device.max_force_n;
   if (ui_.pedal_present) ui_.turbine_speed = state.pedal;
   serviceDevices();
+  updateSound(state);
   const double wall = std::chrono::duration<double>(Clock::now() - rate_t0_).count();
   const uint64_t steps_now = steps_done_ + (segment_.loop ? segmentSteps() : 0);
   if (wall > 0.5) {
@@ -1101,6 +1144,10 @@ Result<SimulatorOutcome> Simulator::run() {
   // Whatever happened, the loop stops and the recording is closed, so that no drilling is lost.
   if (Status st = endSegment(result ? "completed" : "error"); !st && result) result = st;
   closeDevices();
+  if (sound_ && sound_->offline()) {
+    if (Status st = sound_->finish(); !st && result) result = st;
+    else if (st) out_.written.push_back(o_.audio_out);
+  }
   if (ctx_) (void)ctx_->waitIdle();  // teardown: a failure here changes nothing the user keeps
   if (!result) return result.error();
   // With validation on (DENTSIM_VALIDATION=1, as in the tests), any error fails the run.

@@ -35,6 +35,12 @@ struct SimulatorOptions {
   std::string pedal;                    // "none", "hid[:...]"; empty: none (the script, the wheel or keys set the speed)
   std::string falcon_firmware;          // the Falcon's firmware file; empty: where devices/falcon_device.h looks
   double reach_mm = 40.0;               // a hardware pen's workspace spans this much of the scene [mm]
+  // Sound (docs/SOUND.md): played live in a window; `audio_out` renders it offline to a WAV file
+  // (headless too) through OpenAL's loopback device instead.
+  bool sound = true;                    // false: no sound at all
+  std::string audio_out;                // FILE.wav; empty: live in a window, none headless
+  std::string turbine_wav, cutting_wav; // recordings replacing the synthesized voices; empty: synthesized
+  double recorded_rpm = 40000.0;        // the turbine recording's speed [1/min]
   bool demo_script = false;             // the built-in caries removal path, the mirror held distally
   bool headless = false;                // offscreen frames, no window (also when no display answers)
   int width = 1280, height = 800;       // window or frame size [px]

@@ -242,6 +242,16 @@ void burSection(const Frame& f) {
   forceGauge(s.force, -kLabelWidth);
 }
 
+// Volume and mute; the output line says where the sound goes (or why there is none).
+void soundSection(const Frame& f) {
+  if (!section(f, "sound", "Sound", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  SoundControls& snd = f.state.sound;
+  f.actions.sound_changed |= sliderDouble(f, "sound.volume", "volume", snd.volume, 0.0, 1.0, "%.2f");
+  f.actions.sound_changed |= ImGui::Checkbox("mute", &snd.mute);
+  f.record("sound.mute");
+  if (!snd.output.empty()) ImGui::TextDisabled("%s", snd.output.c_str());
+}
+
 void surfaceSection(const Frame& f) {
   if (!section(f, "surface", "Surface", ImGuiTreeNodeFlags_DefaultOpen)) return;
   UiState& s = f.state;
@@ -457,6 +467,7 @@ PanelActions drawParamPanel(UiState& state, WidgetRects* rects) {
     ImGui::PushItemWidth(-kLabelWidth);
     tissuesSection(f);
     burSection(f);
+    soundSection(f);
     surfaceSection(f);
     taskSection(f);
     presetSection(f);

@@ -65,6 +65,13 @@ struct ForceGauge {
   bool contact = false;      // the bur touches tissue
 };
 
+// The sound's controls; the app applies them to the sound engine each frame.
+struct SoundControls {
+  double volume = 0.8;     // [0, 1]
+  bool mute = false;
+  std::string output;      // where the sound goes, one line ("OpenAL Soft", "sound.wav", "no sound device: silent")
+};
+
 struct UiState {
   SimParams params = defaultSimParams();   // the working set the panel edits
   std::string bur = "round_bur_010";       // the drill's tool name (toolCatalog / params.burs)
@@ -79,6 +86,7 @@ struct UiState {
   ScoreSummary score;                      // set by the app after a score
   OverlayStats stats;                      // set by the app each frame
   ForceGauge force;                        // set by the app each frame
+  SoundControls sound;                     // volume and mute edited here; output set by the app
   std::string status;                      // last error or notice, one line ("preset 'soft' saved")
 };
 
@@ -95,6 +103,7 @@ struct PanelActions {
   bool level_changed = false;        // UiState::level: rebuild the tooth
   bool normal_mode_changed = false;  // params.view.normal_neighbours (params_changed too): re-mesh
   bool task_changed = false;         // UiState::task
+  bool sound_changed = false;        // UiState::sound volume or mute
   bool start = false, stop = false, reset = false, score = false;
   std::string load_preset;           // a preset to load; empty: none
   std::string save_preset;           // save params under this name; empty: none

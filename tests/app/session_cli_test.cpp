@@ -1,6 +1,7 @@
 // The session commands end to end: `demo --headless` writes its six files, `replay` reproduces the final volume and score, `score` reports and draws, and bad sessions fail cleanly.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -10,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/session_file.h"
+#include "io/wav_file.h"
 #include "test_support.h"
 #include "volume/tooth_file.h"
 
@@ -109,6 +111,41 @@ TEST_F(SessionCli, ReplayReproducesTheFinalVolumeByteForByteAndTheScore) {
     EXPECT_EQ(j["total"].get<double>(), score["total"].get<double>());
     EXPECT_EQ(readBytes(out), readBytes(file("final.dvol")));
     EXPECT_EQ(readBytes(png), readBytes(file("score.png")));  // the same picture, pixel for pixel
+  }
+}
+
+// The sound: the headless demo writes sound.wav beside its frames, and a replay renders a recorded
+// session's sound offline; both follow the session's own clock, and a replay's file is the same
+// every time.
+TEST_F(SessionCli, DemoAndReplayWriteTheSessionsSoundOnItsClock) {
+  ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
+  auto session = readSessionFile(file("session.dses"));
+  ASSERT_TRUE(session.ok()) << session.message();
+  const double session_s = double(session->steps.size()) / session->info.rate_hz;
+  auto demo = readWav(file("sound.wav"));
+  ASSERT_TRUE(demo.ok()) << demo.message();
+  EXPECT_EQ(demo->channels, 2);
+  EXPECT_EQ(demo->sample_rate, 48000);
+  // From the first frame (1/30 s of loop time in) to the last: the session less one frame or so.
+  const double demo_s = double(demo->samples.size()) / 2.0 / demo->sample_rate;
+  EXPECT_NEAR(demo_s, session_s, 0.1) << "session " << session_s << " s";
+
+  std::vector<uint8_t> first;
+  for (int run = 0; run < 2; ++run) {
+    const std::string wav = dir_->file("replayed" + std::to_string(run) + ".wav");
+    const test::CommandResult r = runDentsim("replay " + file("session.dses") + " --headless --audio-out " + wav);
+    ASSERT_EQ(r.exit_code, 0) << r.output;
+    auto replayed = readWav(wav);
+    ASSERT_TRUE(replayed.ok()) << replayed.message();
+    // Blocks of 10 steps from step 10: exactly the session's time less the first block, in frames.
+    const auto frames = int64_t(replayed->samples.size() / 2);
+    EXPECT_EQ(frames, std::llround(double(session->steps.size()) / session->info.rate_hz * 48000.0) - 480);
+    // The turbine runs while the script drills: the file is far from silent.
+    double sum2 = 0.0;
+    for (float v : replayed->samples) sum2 += double(v) * v;
+    EXPECT_GT(std::sqrt(sum2 / double(replayed->samples.size())), 0.01);
+    if (run == 0) first = readBytes(wav);
+    else EXPECT_EQ(readBytes(wav), first) << "a replay's sound is deterministic";
   }
 }
 

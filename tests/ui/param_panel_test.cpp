@@ -103,6 +103,7 @@ void expectOnly(const PanelActions& a, const std::vector<std::string>& set) {
   EXPECT_EQ(a.level_changed, has("level")) << "level_changed";
   EXPECT_EQ(a.normal_mode_changed, has("normals")) << "normal_mode_changed";
   EXPECT_EQ(a.task_changed, has("task")) << "task_changed";
+  EXPECT_EQ(a.sound_changed, has("sound")) << "sound_changed";
   EXPECT_EQ(a.start, has("start")) << "start";
   EXPECT_EQ(a.stop, has("stop")) << "stop";
   EXPECT_EQ(a.reset, has("reset")) << "reset";
@@ -118,7 +119,7 @@ TEST_F(PanelTest, EveryWidgetIsLaidOutAndIdleFramesAskNothing) {
   for (const char* key : {"tab.enamel", "tab.dentin", "tab.pulp", "tab.caries", "tissues.enamel.stiffness_n_per_mm3",
                           "tissues.enamel.damping_s_per_mm", "tissues.enamel.friction", "tissues.enamel.hardness",
                           "looks.enamel.diffuse", "looks.enamel.alpha", "looks.enamel.ambient", "looks.enamel.specular",
-                          "looks.enamel.shininess", "bur", "bur.cutting_ability", "turbine.speed", "turbine.max_rpm",
+                          "looks.enamel.shininess", "bur", "bur.cutting_ability", "turbine.speed", "turbine.max_rpm", "sound.volume", "sound.mute",
                           "view.normal_neighbours.8", "view.normal_neighbours.64", "view.normal_neighbours.216",
                           "level", "task", "start", "stop", "reset", "score", "preset", "load", "save_name", "save"}) {
     ASSERT_TRUE(rects_.count(key)) << key;
@@ -273,6 +274,25 @@ TEST_F(PanelTest, TurbineSpeedFromSliderWheelAndKeysWithoutAPedal) {
   c = click(centre("turbine.speed"));
   EXPECT_DOUBLE_EQ(state_.turbine_speed, 0.5);
   EXPECT_FALSE(c.press.speed_changed);
+}
+
+TEST_F(PanelTest, VolumeSliderAndMuteBoxSetTheSoundAndNothingElse) {
+  frame();
+  const SimParams before = state_.params;
+  // The slider's centre is half volume; past its right end, full.
+  Click c = click(centre("sound.volume"));
+  EXPECT_EQ(state_.sound.volume, 0.5);
+  expectOnly(c.press, {"sound"});
+  const WidgetRect r = rect("sound.volume");
+  drag(centre("sound.volume"), ImVec2(r.max_x + 400.0f, (r.min_y + r.max_y) * 0.5f));
+  EXPECT_EQ(state_.sound.volume, 1.0);
+  EXPECT_FALSE(state_.sound.mute);
+  Click m = click(centre("sound.mute"));
+  EXPECT_TRUE(state_.sound.mute);
+  EXPECT_TRUE(m.press.sound_changed || m.release.sound_changed);
+  click(centre("sound.mute"));
+  EXPECT_FALSE(state_.sound.mute);
+  EXPECT_TRUE(state_.params == before) << "sound is not a tactile or visual parameter";
 }
 
 TEST_F(PanelTest, LoadAndSaveButtonsNameThePreset) {
