@@ -49,12 +49,9 @@ class CuttingVoice final : public Voice {
     const double fs = params_.sample_rate;
     for (size_t n = 0; n < out.size(); ++n) {
       const double u = double(n + 1) / n_samples;
-      const double commanded = lerp(from.turbine_rpm, to.turbine_rpm, u);
-      const double force = lerp(from.force_n, to.force_n, u);
-      const double contact = lerp(from.contact ? 1.0 : 0.0, to.contact ? 1.0 : 0.0, u);
-      const double removal = lerp(from.removal_mm3_per_s, to.removal_mm3_per_s, u);
+      const internal::Glide g = internal::glide(from, to, u);
       // The bur turns with the rotor, so the rattle follows the same spin and load as the whine.
-      const double rpm = rotor_.step(loadedRotorRpm(commanded, force, contact, params_));
+      const double rpm = rotor_.step(loadedRotorRpm(g.rpm, g.force_n, g.contact, params_));
       revolution_ += rpm / 60.0 / fs;
       revolution_ -= std::floor(revolution_);
       // Every band filters the same noise each sample, cutting or not, so that the filters are
@@ -62,7 +59,7 @@ class CuttingVoice final : public Voice {
       const double white = noise_.next();
       std::array<double, kTissues> band{};
       for (size_t t = 0; t < size_t(kTissues); ++t) band[t] = bands_[t].second.process(bands_[t].first.process(white));
-      const double power = cuttingPower(removal, force, contact, params_);
+      const double power = cuttingPower(g.removal_mm3_per_s, g.force_n, g.contact, params_);
       if (power == 0.0) {
         out[n] = 0.0f;
         continue;
@@ -70,7 +67,7 @@ class CuttingVoice final : public Voice {
       const double m = rattle(revolution_);
       double mix = 0.0;
       for (size_t t = 0; t < size_t(kTissues); ++t) {
-        const double share = std::clamp(lerp(from.removal_share[t], to.removal_share[t], u), 0.0, 1.0);
+        const double share = std::clamp(g.share(from, to, t), 0.0, 1.0);
         mix += share * bands_[t].scale * (1.0 + bands_[t].roughness * m) * band[t];
       }
       out[n] = softLimit(params_.cutting_gain * kBandRms * std::sqrt(power) * mix);
@@ -78,7 +75,6 @@ class CuttingVoice final : public Voice {
   }
 
  private:
-  static double lerp(double a, double b, double u) { return a + (b - a) * u; }
 
   struct Band {
     internal::Biquad first, second;

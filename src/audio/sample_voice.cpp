@@ -48,16 +48,15 @@ class SampleVoice final : public Voice {
     const double length = double(loop_.size());
     for (size_t n = 0; n < out.size(); ++n) {
       const double u = double(n + 1) / n_samples;
-      const double force = lerp(from.force_n, to.force_n, u);
-      const double contact = lerp(from.contact ? 1.0 : 0.0, to.contact ? 1.0 : 0.0, u);
+      const internal::Glide g = internal::glide(from, to, u);
       double ratio = 1.0, level = 0.0;
       if (role_ == SampleRole::Turbine) {
         // Pitch and level both follow the rotor, which glides, so neither steps.
-        const double rpm = rotor_.step(loadedRotorRpm(lerp(from.turbine_rpm, to.turbine_rpm, u), force, contact, params_));
+        const double rpm = rotor_.step(loadedRotorRpm(g.rpm, g.force_n, g.contact, params_));
         ratio = rpm / recorded_rpm_;
         level = std::min(ratio, 1.0);
       } else {
-        level = std::sqrt(cuttingPower(lerp(from.removal_mm3_per_s, to.removal_mm3_per_s, u), force, contact, params_));
+        level = std::sqrt(cuttingPower(g.removal_mm3_per_s, g.force_n, g.contact, params_));
       }
       out[n] = level == 0.0 ? 0.0f : softLimit(level * interpolate(position_));
       position_ += step_ * ratio;
@@ -66,7 +65,6 @@ class SampleVoice final : public Voice {
   }
 
  private:
-  static double lerp(double a, double b, double u) { return a + (b - a) * u; }
 
   // Catmull-Rom cubic through the four loop samples around `x`, wrapping at the seam.
   double interpolate(double x) const {

@@ -25,10 +25,8 @@ class TurbineVoice final : public Voice {
     for (size_t n = 0; n < out.size(); ++n) {
       // The block's inputs glide: sample n sees them (n + 1) / N of the way from `from` to `to`.
       const double u = double(n + 1) / n_samples;
-      const double commanded = lerp(from.turbine_rpm, to.turbine_rpm, u);
-      const double force = lerp(from.force_n, to.force_n, u);
-      const double contact = lerp(from.contact ? 1.0 : 0.0, to.contact ? 1.0 : 0.0, u);
-      const double rpm = rotor_.step(loadedRotorRpm(commanded, force, contact, params_));
+      const internal::Glide g = internal::glide(from, to, u);
+      const double rpm = rotor_.step(loadedRotorRpm(g.rpm, g.force_n, g.contact, params_));
       const double hiss = hiss_filter_.process(noise_.next());
       if (rpm == 0.0) {
         out[n] = 0.0f;
@@ -45,7 +43,6 @@ class TurbineVoice final : public Voice {
   }
 
  private:
-  static double lerp(double a, double b, double u) { return a + (b - a) * u; }
 
   // A harmonic fades out as it nears Nyquist instead of aliasing or vanishing with a click.
   double nyquistTaper(double f) const {

@@ -97,6 +97,24 @@ Result<std::unique_ptr<Voice>> makeSampleVoice(const std::string& wav_file, Samp
 // ---- Internals shared by the voices ------------------------------------------------------------
 namespace internal {
 
+// What a voice sees at sample n of a block of N: its inputs u = (n + 1) / N of the way from the
+// block's first state to its last; contact as a weight in [0, 1], so it fades rather than clicks.
+struct Glide {
+  double rpm = 0.0;       // commanded turbine speed [1/min]
+  double force_n = 0.0;
+  double contact = 0.0;
+  double removal_mm3_per_s = 0.0;
+  double share(const SoundInput& from, const SoundInput& to, size_t tissue) const {
+    return from.removal_share[tissue] + (to.removal_share[tissue] - from.removal_share[tissue]) * u;
+  }
+  double u = 0.0;
+};
+inline Glide glide(const SoundInput& from, const SoundInput& to, double u) {
+  const auto mix = [u](double a, double b) { return a + (b - a) * u; };
+  return {mix(from.turbine_rpm, to.turbine_rpm), mix(from.force_n, to.force_n),
+          mix(from.contact ? 1.0 : 0.0, to.contact ? 1.0 : 0.0), mix(from.removal_mm3_per_s, to.removal_mm3_per_s), u};
+}
+
 // White noise from a 32-bit xorshift (Marsaglia's shifts 13, 17, 5): deterministic for a seed,
 // uniform in [-sqrt 3, sqrt 3), so of unit variance.
 class WhiteNoise {

@@ -13,7 +13,7 @@
 // accepts, so the panel can never produce a set that would not save.
 //
 // Windows and where they sit (fixed first positions, no .ini file, so frames are reproducible):
-//   "Parameters"      right edge, full height: tissues, bur and turbine, surface, task, presets,
+//   "Parameters"      right edge, full height: tissues, bur and turbine, sound, surface, task, presets,
 //                     advanced (coupling, device, cutting, point shells), score, status line
 //   "##overlay"       top-left, takes no input: frame time, haptic rate, re-mesh time, triangles,
 //                     rpm, force gauge, contact
