@@ -73,8 +73,10 @@ int runReplay(const ReplayCliOptions& o) {
   }
   auto outcome = replaySession(*session, *tooth, ro);
   if (!outcome) return fail(o.session + ": " + outcome.message());
-  if (sound)
+  if (sound) {
     if (Status st = sound->finish(); !st) return fail(st.message());
+    if (!o.json) std::printf("wrote %s (%.1f s of sound)\n", o.audio_out.c_str(), double(sound->framesRendered()) / double(audio::EngineOptions{}.sample_rate));
+  }
   for (const std::string& w : outcome->warnings)
     if (w != session->truncation_warning) std::fprintf(stderr, "dentsim: warning: %s: %s\n", o.session.c_str(), w.c_str());
   if (!o.output.empty())
