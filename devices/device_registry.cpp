@@ -72,11 +72,15 @@ Result<std::unique_ptr<HapticDevice>> makePen(const PenName& name, const PenCont
   return makeError("pen '" + escapeControl(name.text) + "'", std::string("unknown pen; choose one of ") + kPenChoices);
 }
 
-Result<std::unique_ptr<FootPedal>> makePedal(const std::string& name) {
-  if (name.empty() || name == "none") return std::unique_ptr<FootPedal>{};
-  if (name == "hid") return makeHidPedal("0");
-  if (name.rfind("hid:", 0) == 0) return makeHidPedal(name.substr(4));
+Status checkPedalName(const std::string& name) {
+  if (name.empty() || name == "none" || name == "hid" || name.rfind("hid:", 0) == 0) return Ok{};
   return makeError("pedal '" + escapeControl(name) + "'", "unknown pedal; choose none, hid[:N], hid:VVVV:PPPP[,...] or hid:/dev/hidrawN");
+}
+
+Result<std::unique_ptr<FootPedal>> makePedal(const std::string& name) {
+  if (Status st = checkPedalName(name); !st) return st.error();
+  if (name.empty() || name == "none") return std::unique_ptr<FootPedal>{};
+  return makeHidPedal(name == "hid" ? "0" : name.substr(4));
 }
 
 std::vector<DeviceEntry> listDevices(const PenContext& context) {

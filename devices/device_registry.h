@@ -42,6 +42,9 @@ struct PenContext {
 
 // The pen `name` names, made but not opened (the caller opens it and reports its state).
 Result<std::unique_ptr<HapticDevice>> makePen(const PenName& name, const PenContext& context);
+// One-line error unless `name` is a pedal name ("none", "hid", "hid:SPEC"); the SPEC itself is
+// checked when the pedal is made.
+Status checkPedalName(const std::string& name);
 // The pedal `name` names, made but not opened; null for "none".
 Result<std::unique_ptr<FootPedal>> makePedal(const std::string& name);
 

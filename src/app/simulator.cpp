@@ -553,6 +553,14 @@ Status Simulator::setUp() {
     return makeError("run", "headless with the mouse as the pen would never end: give --exit-after or a pen script");
   if (!(o_.fps > 0)) return makeError("run", "--fps must be > 0");
 
+  // Names are checked before anything loads, so a mistyped pen or pedal fails at once.
+  for (const std::string* pen : {&o_.drill_pen, &o_.mirror_pen}) {
+    if (pen->empty() || (pen == &o_.mirror_pen && *pen == "none")) continue;
+    if (auto name = devices::parsePenName(*pen); !name)
+      return makeError(pen == &o_.drill_pen ? "drill pen" : "mirror pen", name.message());
+  }
+  if (Status st = devices::checkPedalName(o_.pedal); !st) return makeError("pedal", st.message());
+
   params_ = defaultSimParams();
   if (!o_.params.empty()) {
     auto p = loadSimParams(o_.params);
