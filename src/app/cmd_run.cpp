@@ -56,6 +56,11 @@ void addRunCommand(CLI::App& root, Action& action) {
   cmd->add_option("--exit-after", o->exit_after_s, "Quit at this loop time [s]");
   cmd->add_flag("--lockstep", o->lockstep, "Step the haptic loop from the frame loop (reproducible frames; always when headless)");
   cmd->add_option("--fps", o->fps, "Loop time per frame in lockstep [frames/s]")->capture_default_str();
+  cmd->add_option("--idle-latency-us", o->idle_latency_us,
+                  "While the haptic thread runs, ask that idle CPUs wake within this many us "
+                  "(/dev/cpu_dma_latency; costs power); -1: do not ask")
+      ->check(CLI::Range(-1, 1000000))
+      ->capture_default_str();
   cmd->add_flag("!--no-ui", o->ui, "Hide the parameter window and the overlay");
   cmd->add_option("--view", o->view, "First camera view: occlusal, buccal, lingual, mesial or distal")->capture_default_str();
   cmd->add_flag("!--no-vsync", o->vsync, "Present as fast as frames come (frame-rate measurements)");

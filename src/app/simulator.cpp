@@ -314,6 +314,7 @@ Status Simulator::startSegment() {
   segment_.loop = std::make_unique<HapticLoop>(cut_.voxels, cut_.frame, params_, *drill_tool_,
                                                mirror_tool_ ? &*mirror_tool_ : nullptr, &edits_);
   HapticLoop& loop = *segment_.loop;
+  loop.setIdleLatencyUs(o_.idle_latency_us);
   for (PenRole role : {PenRole::Drill, PenRole::Mirror}) {
     if (role == PenRole::Mirror && !mirror_tool_) continue;
     PenSource* pen = pens_[size_t(role)].get();

@@ -50,6 +50,7 @@ struct SimulatorOptions {
   double exit_after_s = 0.0;            // quit at this loop time; 0: when the window closes, or
                                         // headless, when the script ends (a virtual pen needs it) [s]
   bool lockstep = false;                // the frame loop steps the haptic loop (always when headless)
+  int idle_latency_us = 0;              // while the loop's thread runs, idle CPUs wake within this [us]; < 0: not asked
   double fps = 30.0;                    // loop time per frame in lockstep [frames/s]
   bool ui = true;                       // the parameter window and the overlay
   std::string view = "buccal";          // the first camera view (occlusal, buccal, lingual, mesial, distal)

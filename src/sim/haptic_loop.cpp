@@ -9,6 +9,8 @@
 #include <cmath>
 #include <system_error>
 
+#include "sim/idle_latency.h"
+
 namespace dentsim {
 
 namespace {
@@ -200,6 +202,11 @@ void HapticLoop::run() {
   sched_param sp{};
   sp.sched_priority = 80;
   (void)pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);
+
+  // Held until run() returns; set up before the first step, read by others after stop() joins.
+  const IdleLatencyRequest idle(idle_latency_us_);
+  idle_latency_note_ = idle.note();
+  idle_latency_held_ = idle.held();
 
   auto period_ns = [&] { return int64_t(std::llround(1e9 / active_params_->device.rate_hz)); };
   int64_t deadline = steadyNowNs();

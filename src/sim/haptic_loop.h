@@ -17,6 +17,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -118,7 +119,8 @@ class HapticLoop {
   // One step at loop time step() / rate. Deterministic: the same pens and volume give the same result.
   const StepReport& step();
 
-  // Runs step() on a thread at the parameter set's rate, with absolute deadlines.
+  // Runs step() on a thread at the parameter set's rate, with absolute deadlines. While it runs, the
+  // thread asks that idle CPUs wake within idleLatencyUs() (IdleLatencyRequest; negative: do not ask).
   Status start();
   void stop();
   bool running() const { return thread_.joinable(); }
@@ -142,6 +144,12 @@ class HapticLoop {
   // The step-time histogram of the thread's steps (read after stop()).
   const StepTimes& stepTimes() const { return times_; }
   uint64_t stepsRun() const { return step_; }
+  // Only while the thread is stopped. Default 0: idle CPUs poll instead of sleeping (see idle_latency.h).
+  void setIdleLatencyUs(int32_t us) { idle_latency_us_ = us; }
+  int32_t idleLatencyUs() const { return idle_latency_us_; }
+  // What the last run got from that request (IdleLatencyRequest::note; read after stop()).
+  const std::string& idleLatencyNote() const { return idle_latency_note_; }
+  bool idleLatencyHeld() const { return idle_latency_held_; }
   double dt() const { return 1.0 / active_params_->device.rate_hz; }
   ToolProxy* proxy(PenRole role) { return proxies_[size_t(role)].get(); }
 
@@ -184,6 +192,9 @@ class HapticLoop {
   uint64_t step_ = 0;
   std::thread thread_;
   std::atomic<bool> stop_requested_{false};
+  int32_t idle_latency_us_ = 0;
+  std::string idle_latency_note_ = "not requested";
+  bool idle_latency_held_ = false;
   void (*hook_)(uint64_t, void*) = nullptr;
   void* hook_user_ = nullptr;
 };
