@@ -10,6 +10,7 @@
 
 #include <pthread.h>
 #include <sched.h>
+#include <time.h>
 
 #include <algorithm>
 #include <atomic>
@@ -28,6 +29,7 @@
 #include "io/atomic_file.h"
 #include "sim/edit_channel.h"
 #include "sim/haptic_loop.h"
+#include "sim/idle_latency.h"
 #include "sim/pen.h"
 #include "sim/sim_params.h"
 #include "sim/tool_library.h"
@@ -134,6 +136,51 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+struct ReplayedRun {
+  StepTimeSummary times;
+  StepLoad load;
+  double removed_mm3 = 0.0;
+  uint64_t voxels_changed = 0;
+};
+
+// The thread run's steps again, on the calling thread at its own priority and without the drain
+// thread: back to back (period_ns 0: the compute alone), or each started period_ns after the last
+// began, idle in between as the loop's thread is (a step that overruns starts the next at once).
+// A paced run holds the thread's request on idle CPUs (idle_latency_us), as the thread does.
+ReplayedRun replaySteps(BrickVolume& volume, const VolumeFrame& frame, const SimParams& params, const ToolModel& tool,
+                        const PenPath& path, uint64_t steps, int64_t period_ns, int32_t idle_latency_us) {
+  const IdleLatencyRequest idle(period_ns > 0 ? idle_latency_us : -1);
+  EditChannel edits;
+  ScriptedPen pen(path, PenRole::Drill);
+  HapticLoop loop(volume, frame, params, tool, nullptr, &edits);
+  loop.attach(PenRole::Drill, &pen);
+  loop.placeTool(PenRole::Drill, path.samples.front().pose);
+  StepTimes times;
+  LoadSums sums;
+  std::vector<uint64_t> sink;
+  sink.reserve(size_t{1} << 16);
+  int64_t next = steadyNowNs();
+  for (uint64_t i = 0; i < steps; ++i) {
+    if (period_ns > 0 && i > 0) {
+      next += period_ns;
+      if (steadyNowNs() < next) {
+        const timespec ts{time_t(next / 1'000'000'000), long(next % 1'000'000'000)};
+        while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
+        }
+      } else {
+        next = steadyNowNs();  // the last step overran its slot: the schedule restarts now
+      }
+    }
+    const int64_t t0 = steadyNowNs();
+    loop.step();
+    times.add(steadyNowNs() - t0);
+    sums.add(loop.latest().tools[size_t(PenRole::Drill)]);
+    sink.clear();
+    edits.drain(&sink);
+  }
+  return {summarize(times), sums.load(), loop.latest().removed_mm3, loop.latest().voxels_changed};
+}
+
 }  // namespace
 
 // ---- 2. one level ----------------------------------------------------------------------------------
@@ -190,6 +237,7 @@ Result<HapticBenchRow> runHapticBench(int level, const VolumeMaker& make_volume,
     EditChannel edits;
     ScriptedPen pen(path->path, PenRole::Drill);
     HapticLoop loop(tooth->voxels, tooth->frame, params, *tool, nullptr, &edits);
+    loop.setIdleLatencyUs(s.idle_latency_us);
     loop.attach(PenRole::Drill, &pen);
     loop.placeTool(PenRole::Drill, path->path.samples.front().pose);
     ThreadProbe probe;
@@ -248,6 +296,8 @@ Result<HapticBenchRow> runHapticBench(int level, const VolumeMaker& make_volume,
     row.missed_deadlines = loop.counters().missed_deadlines.load();
     row.pen_dropouts = loop.counters().pen_dropouts.load();
     row.scheduler = schedulerName(probe.policy, probe.priority);
+    row.idle_latency_held = loop.idleLatencyHeld();
+    row.idle_latency_note = loop.idleLatencyNote();
     const HapticState& state = loop.latest();  // the thread has stopped: this thread reads now
     probe.sums.add(state.tools[size_t(PenRole::Drill)]);
     row.load = probe.sums.load();
@@ -265,45 +315,46 @@ Result<HapticBenchRow> runHapticBench(int level, const VolumeMaker& make_volume,
   row.p99_met = row.thread.p99_us < s.goal_p99_us;
   row.max_met = row.thread.max_us < s.goal_max_us;
   {
-    char line[256];
+    char line[512];
     std::snprintf(line, sizeof line,
                   "level %d thread (%s): %llu steps, p50 %.1f us, p99 %.1f us, max %.1f us, %llu missed; "
-                  "%.0f points sampled/step (%.0f skipped), removed %.3f mm^3",
+                  "%.0f points sampled/step (%.0f skipped), removed %.3f mm^3; %s",
                   level, row.scheduler.c_str(), static_cast<unsigned long long>(row.thread.steps), row.thread.p50_us,
                   row.thread.p99_us, row.thread.max_us, static_cast<unsigned long long>(row.missed_deadlines),
-                  row.load.points_mean, row.load.clear_mean, row.removed_mm3);
+                  row.load.points_mean, row.load.clear_mean, row.removed_mm3, row.idle_latency_note.c_str());
     say(line);
   }
 
-  // ---- the same steps back to back on this thread ----
+  // ---- the same steps on this thread: back to back, then each started 1 ms after the last ----
   if (pristine) {
-    EditChannel edits;
-    ScriptedPen pen(path->path, PenRole::Drill);
-    HapticLoop loop(*pristine, tooth->frame, params, *tool, nullptr, &edits);
-    loop.attach(PenRole::Drill, &pen);
-    loop.placeTool(PenRole::Drill, path->path.samples.front().pose);
-    StepTimes times;
-    LoadSums sums;
-    std::vector<uint64_t> sink;
-    sink.reserve(size_t{1} << 16);
-    const uint64_t steps = row.thread.steps;  // the very steps the thread ran
-    for (uint64_t i = 0; i < steps; ++i) {
-      const int64_t t0 = steadyNowNs();
-      loop.step();
-      times.add(steadyNowNs() - t0);
-      sums.add(loop.latest().tools[size_t(PenRole::Drill)]);
-      sink.clear();
-      edits.drain(&sink);
-    }
+    // Paced last: it cuts a copy, and the back-to-back run the untouched volume itself.
+    std::optional<BrickVolume> paced_volume;
+    if (s.after_idle) paced_volume = *pristine;
+    const ReplayedRun back_to_back =
+        replaySteps(*pristine, tooth->frame, params, *tool, path->path, row.thread.steps, 0, -1);
     row.has_step_only = true;
-    row.step_only = summarize(times);
-    row.step_only_load = sums.load();
-    row.step_only_removed_mm3 = loop.latest().removed_mm3;
-    row.step_only_voxels_changed = loop.latest().voxels_changed;
+    row.step_only = back_to_back.times;
+    row.step_only_load = back_to_back.load;
+    row.step_only_removed_mm3 = back_to_back.removed_mm3;
+    row.step_only_voxels_changed = back_to_back.voxels_changed;
     char line[256];
     std::snprintf(line, sizeof line, "level %d step only: p50 %.1f us, p99 %.1f us, max %.1f us, mean %.1f us", level,
                   row.step_only.p50_us, row.step_only.p99_us, row.step_only.max_us, row.step_only.mean_us);
     say(line);
+    if (paced_volume) {
+      const auto period_ns = int64_t(std::llround(1e9 / rate));
+      const ReplayedRun paced =
+          replaySteps(*paced_volume, tooth->frame, params, *tool, path->path, row.thread.steps, period_ns,
+                      s.idle_latency_us);
+      row.has_after_idle = true;
+      row.after_idle = paced.times;
+      row.after_idle_removed_mm3 = paced.removed_mm3;
+      row.after_idle_voxels_changed = paced.voxels_changed;
+      std::snprintf(line, sizeof line, "level %d after idle: p50 %.1f us, p99 %.1f us, max %.1f us, mean %.1f us",
+                    level, row.after_idle.p50_us, row.after_idle.p99_us, row.after_idle.max_us,
+                    row.after_idle.mean_us);
+      say(line);
+    }
   }
   return row;
 }
@@ -347,6 +398,11 @@ nlohmann::json hapticReportJson(const HapticReportInfo& info, const std::vector<
                    {"load", loadJson(r.step_only_load)},
                    {"removed_mm3", r.step_only_removed_mm3},
                    {"voxels_changed", r.step_only_voxels_changed}};
+    nlohmann::json after_idle = nullptr;
+    if (r.has_after_idle)
+      after_idle = {{"times", timesJson(r.after_idle)},
+                    {"removed_mm3", r.after_idle_removed_mm3},
+                    {"voxels_changed", r.after_idle_voxels_changed}};
     levels.push_back({{"level", r.level},
                       {"voxel_mm", r.voxel_mm},
                       {"dense_bricks", r.dense_bricks},
@@ -367,6 +423,7 @@ nlohmann::json hapticReportJson(const HapticReportInfo& info, const std::vector<
                                   {"missed_deadlines", r.missed_deadlines},
                                   {"pen_dropouts", r.pen_dropouts},
                                   {"scheduler", r.scheduler},
+                                  {"idle_latency", {{"held", r.idle_latency_held}, {"note", r.idle_latency_note}}},
                                   {"wall_s", r.wall_s},
                                   {"load", loadJson(r.load)},
                                   {"removed_mm3", r.removed_mm3},
@@ -377,6 +434,7 @@ nlohmann::json hapticReportJson(const HapticReportInfo& info, const std::vector<
                                   {"mirror_checked", r.mirror_checked},
                                   {"mirror_equal", r.mirror_equal}}},
                       {"step_only", step_only},
+                      {"after_idle", after_idle},
                       {"p99_met", r.p99_met},
                       {"max_met", r.max_met}});
     if (r.level == s.goal_level) goal = {{"p99_met", r.p99_met}, {"max_met", r.max_met}};
@@ -392,6 +450,8 @@ nlohmann::json hapticReportJson(const HapticReportInfo& info, const std::vector<
           {"settings", {{"tool", s.tool},
                         {"rate_hz", defaultSimParams().device.rate_hz},
                         {"step_only", s.step_only},
+                        {"after_idle", s.after_idle},
+                        {"idle_latency_us", s.idle_latency_us},
                         {"replay_edits", s.replay_edits},
                         {"drain_period_ms", s.drain_period_ms},
                         {"poll_period_ms", s.poll_period_ms},
@@ -455,6 +515,11 @@ std::string hapticRowsTable(const std::vector<HapticBenchRow>& rows, const Hapti
         << fmt("%.0f", r.step_only_load.clear_mean) << " | "
         << fmt("%.0f", r.step_only_load.contacts_mean) << ", " << r.step_only_load.contacts_max << " | "
         << fmt("%.3f", r.step_only_removed_mm3) << " | " << count(r.step_only_voxels_changed) << " | - | - |\n";
+    if (r.has_after_idle)  // the same steps as step only: their load is that run's
+      o << "| " << r.level << " | " << fmt("%.4f", r.voxel_mm) << " | after idle | " << count(r.after_idle.steps)
+        << " | - | " << fmt("%.1f", r.after_idle.p50_us) << " | " << fmt("%.1f", r.after_idle.p99_us) << " | "
+        << fmt("%.1f", r.after_idle.max_us) << " | " << fmt("%.1f", r.after_idle.mean_us) << " | (as step only) | | | "
+        << fmt("%.3f", r.after_idle_removed_mm3) << " | " << count(r.after_idle_voxels_changed) << " | - | - |\n";
   }
   return o.str();
 }
@@ -484,7 +549,9 @@ std::string hapticReportMarkdown(const HapticReportInfo& info, const std::vector
        "field, from every step's snapshot. Points skipped: those still within the clearance of their last sample "
        "(the contacts are exactly those of a full test); points in clusters of empty 64^3 chunks count in neither. "
        "Step only: the same steps on the "
-       "bench thread, back to back, no deadlines: the compute alone. Goals (level "
+       "bench thread, back to back, no deadlines: the compute alone. After idle: the same steps on the bench "
+       "thread at its normal priority, without the drain thread, each started 1 ms after the last began, so "
+       "the thread idles between them as the loop's does: what idling alone costs the next step. Goals (level "
     << s.goal_level << "): p99 under " << fmt("%g", s.goal_p99_us) << " us and max under " << fmt("%g", s.goal_max_us)
     << " us on the thread.\n\n";
   if (!info.command.empty()) o << "Command: `" << info.command << "`\n\n";
@@ -499,6 +566,11 @@ std::string hapticReportMarkdown(const HapticReportInfo& info, const std::vector
       << fmt("%.3f", r.load.lowest_tip_mm) << " | " << r.edits_drained << " | "
       << (r.mirror_checked ? (r.mirror_equal ? "equal" : "DIFFERS") : "not checked") << " | "
       << fmt("%.2f", r.wall_s) << " |\n";
+  o << "\nIdle CPUs while the thread and the after-idle run ran (requested: "
+    << (s.idle_latency_us < 0 ? std::string("nothing") : "wake within " + std::to_string(s.idle_latency_us) + " us")
+    << "):";
+  for (const HapticBenchRow& r : rows) o << " level " << r.level << ": " << r.idle_latency_note << ".";
+  o << "\n";
   return o.str();
 }
 
@@ -513,6 +585,8 @@ std::string hapticRowsSvg(const std::vector<HapticBenchRow>& rows, const HapticB
     series.push_back(std::move(thread));
     if (r.has_step_only)
       series.push_back({"level " + std::to_string(r.level) + ", step only", r.step_only.tail, int(i), "7,4"});
+    if (r.has_after_idle)
+      series.push_back({"level " + std::to_string(r.level) + ", after idle", r.after_idle.tail, int(i), "2,2"});
     for (auto [n, us] : r.thread.tail) nines_max = std::max(nines_max, n);
   }
   series.push_back({"p99 goal", {{2.0, s.goal_p99_us}, {nines_max, s.goal_p99_us}}, 4, "2,3"});

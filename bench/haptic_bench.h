@@ -6,7 +6,8 @@
 //
 // Contents
 //   1. One level: the loop on its real-time thread (with a second thread draining the voxel edits,
-//      as the renderer would), then the same steps back to back on the caller's thread
+//      as the renderer would), then the same steps on the caller's thread, back to back and then
+//      each 1 ms after the last (idle between, as the loop's thread is)
 //   2. The report: JSON, Markdown, SVG
 // The cavity preparation itself is sim's (src/sim/scripted_paths.h), shared with the demo and tasks.
 #pragma once
@@ -36,6 +37,8 @@ struct HapticBenchSettings {
   std::string tool = "round_bur_010";   // built-in bur (loadToolModel)
   CavityPathSettings path;
   bool step_only = true;                // also step the same steps back to back on the caller's thread
+  bool after_idle = true;               // and again each 1 ms after the last began (with step_only only)
+  int32_t idle_latency_us = 0;          // the thread's (and the after-idle run's) PM QoS request; < 0: none
   bool replay_edits = true;             // the drain thread applies the edits to a mirror copy, compared at the end
   double drain_period_ms = 4.0;         // the drain thread's sleep between drains [ms] (a 240 Hz renderer)
   double poll_period_ms = 10.0;         // the bench thread's sleep between looks at the loop's time [ms]
@@ -99,6 +102,12 @@ struct HapticBenchRow {
   StepLoad step_only_load;
   double step_only_removed_mm3 = 0.0;
   uint64_t step_only_voxels_changed = 0;
+  bool idle_latency_held = false;     // the thread run's request on idle CPUs was granted
+  std::string idle_latency_note;      // what was held, or why not
+  bool has_after_idle = false;        // the same steps, each started 1 ms after the last: idle between
+  StepTimeSummary after_idle;
+  double after_idle_removed_mm3 = 0.0;
+  uint64_t after_idle_voxels_changed = 0;
 
   bool p99_met = false;             // thread.p99_us < goal_p99_us
   bool max_met = false;             // thread.max_us < goal_max_us

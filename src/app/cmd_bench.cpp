@@ -60,7 +60,8 @@ struct HapticBenchOptions {
   std::vector<int> levels{9, 10};  // octree levels of the molar
   std::string out = "docs/bench";  // folder for JSON, Markdown and SVG
   bool cpu_voxelize = false;       // voxelize with the CPU reference even where there is a GPU
-  bool no_step_only = false;       // skip the back-to-back run
+  bool no_step_only = false;       // skip the back-to-back run (and the one after idle)
+  bool no_after_idle = false;      // skip the run whose steps each follow 1 ms after the last
   std::string device;              // Vulkan device override
 };
 
@@ -378,6 +379,7 @@ int runHapticBenchCommand(HapticBenchOptions o) {
   std::filesystem::create_directories(o.out, ec);
   if (ec) return fail(o.out + ": cannot create output folder: " + ec.message());
   o.settings.step_only = !o.no_step_only;
+  o.settings.after_idle = !o.no_after_idle;
 
   std::optional<gpu::Context> context;
   if (!o.cpu_voxelize) {
@@ -393,7 +395,9 @@ int runHapticBenchCommand(HapticBenchOptions o) {
   info.model = model.description;
   info.command = "dentsim bench haptic --levels " + joined(o.levels) + " --laps " +
                  joined(std::vector<double>{o.settings.path.laps}) + (o.cpu_voxelize ? " --cpu-voxelize" : "") +
-                 (o.no_step_only ? " --no-step-only" : "");
+                 (o.no_step_only ? " --no-step-only" : "") + (o.no_after_idle ? " --no-after-idle" : "") +
+                 (o.settings.idle_latency_us != 0 ? " --idle-latency-us " + std::to_string(o.settings.idle_latency_us)
+                                                  : std::string());
   info.cpu = cpuModel();
   info.cpu_threads = int(std::thread::hardware_concurrency());
   info.voxelizer = context ? "the GPU voxelizer on " + context->device().name : std::string("the CPU reference");
@@ -482,14 +486,21 @@ void addBenchCommand(CLI::App& root, Action& action) {
 
   auto hopts = std::make_shared<HapticBenchOptions>();
   CLI::App* haptic = bench->add_subcommand("haptic", "Step time of the 1 kHz haptic loop while a 1 mm round bur "
-                                                     "prepares a class I cavity in the molar (thread and step-only "
-                                                     "runs, missed deadlines, points per step)");
+                                                     "prepares a class I cavity in the molar (thread, step-only and "
+                                                     "after-idle runs, missed deadlines, points per step)");
   haptic->add_option("--levels", hopts->levels, "Octree levels")->delimiter(',')->check(CLI::Range(5, 11))
       ->capture_default_str();
   haptic->add_option("--laps", hopts->settings.path.laps, "Laps of the cavity outline")->check(CLI::Range(0.05, 20.0))
       ->capture_default_str();
   haptic->add_flag("--cpu-voxelize", hopts->cpu_voxelize, "Voxelize the molar with the CPU reference");
   haptic->add_flag("--no-step-only", hopts->no_step_only, "Skip the back-to-back run on the bench thread");
+  haptic->add_flag("--no-after-idle", hopts->no_after_idle,
+                   "Skip the run on the bench thread whose steps each start 1 ms after the last");
+  haptic->add_option("--idle-latency-us", hopts->settings.idle_latency_us,
+                     "While the loop runs, ask that idle CPUs wake within this many us (/dev/cpu_dma_latency); "
+                     "-1: do not ask")
+      ->check(CLI::Range(-1, 1000000))
+      ->capture_default_str();
   haptic->add_option("--out", hopts->out, "Output folder")->capture_default_str();
   haptic->add_option("--device", hopts->device, "Device index or name substring (also DENTSIM_DEVICE)");
   haptic->callback([hopts, &action] { action = [hopts] { return runHapticBenchCommand(*hopts); }; });

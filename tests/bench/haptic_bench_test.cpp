@@ -2,6 +2,7 @@
 #include "bench/haptic_bench.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -128,9 +129,13 @@ TEST(HapticBenchTest, ShortRunReportIsConsistent) {
   EXPECT_LE(r.missed_deadlines, r.thread.steps);
   EXPECT_EQ(r.pen_dropouts, 0u);
   EXPECT_FALSE(r.scheduler.empty());
+  // The thread asked idle CPUs to stay awake (the default bound, 0 us); granted only where the
+  // request file is writable, and the report says which.
+  EXPECT_EQ(r.idle_latency_held, ::access("/dev/cpu_dma_latency", W_OK) == 0) << r.idle_latency_note;
+  EXPECT_NE(r.idle_latency_note.find("/dev/cpu_dma_latency"), std::string::npos) << r.idle_latency_note;
 
   // Percentiles are ordered.
-  for (const StepTimeSummary* t : {&r.thread, &r.step_only}) {
+  for (const StepTimeSummary* t : {&r.thread, &r.step_only, &r.after_idle}) {
     EXPECT_GT(t->p50_us, 0.0);
     EXPECT_LE(t->p50_us, t->p90_us);
     EXPECT_LE(t->p90_us, t->p99_us);
@@ -167,6 +172,11 @@ TEST(HapticBenchTest, ShortRunReportIsConsistent) {
   EXPECT_EQ(r.step_only_load.points_max, r.load.points_max);
   EXPECT_EQ(r.step_only_load.clear_mean, r.load.clear_mean);
   EXPECT_EQ(r.step_only_load.contacts_max, r.load.contacts_max);
+  // So does the run whose steps each start 1 ms after the last.
+  ASSERT_TRUE(r.has_after_idle);
+  EXPECT_EQ(r.after_idle.steps, r.thread.steps);
+  EXPECT_EQ(r.after_idle_voxels_changed, r.voxels_changed);
+  EXPECT_EQ(r.after_idle_removed_mm3, r.removed_mm3);
 
   // The goals are computed, not asserted: this is a tiny level on a shared machine.
   EXPECT_EQ(r.p99_met, r.thread.p99_us < s.goal_p99_us);
@@ -186,7 +196,14 @@ TEST(HapticBenchTest, ShortRunReportIsConsistent) {
   const std::string md = hapticReportMarkdown(info, rows);
   EXPECT_NE(md.find("| 7 | "), std::string::npos);
   EXPECT_NE(md.find("step only"), std::string::npos);
-  EXPECT_NE(hapticRowsSvg(rows, s).find("level 7, thread"), std::string::npos);
+  EXPECT_NE(md.find("| after idle | "), std::string::npos);
+  EXPECT_NE(md.find(r.idle_latency_note), std::string::npos);
+  EXPECT_EQ(j["levels"][0]["thread"]["idle_latency"]["held"], r.idle_latency_held);
+  EXPECT_EQ(j["levels"][0]["after_idle"]["times"]["steps"], r.after_idle.steps);
+  EXPECT_EQ(j["levels"][0]["after_idle"]["voxels_changed"], r.after_idle_voxels_changed);
+  const std::string svg = hapticRowsSvg(rows, s);
+  EXPECT_NE(svg.find("level 7, thread"), std::string::npos);
+  EXPECT_NE(svg.find("level 7, after idle"), std::string::npos);
 
   const test::TempDir dir;
   ASSERT_TRUE(writeHapticReport(dir.path().string(), info, rows).ok());
