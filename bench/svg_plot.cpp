@@ -93,4 +93,58 @@ std::string svgLinePlot(const std::string& title, const std::string& x_label, co
   return o.str();
 }
 
+std::string svgBarChart(const std::string& title, const std::string& y_label, const std::vector<std::string>& categories,
+                        const std::vector<BarSeries>& series, double y_max, double y_tick, double mark,
+                        const std::string& mark_label) {
+  constexpr double kW = 640, kH = 400, kLeft = 70, kRight = 150, kTop = 40, kBottom = 60;
+  const char* colours[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"};
+  const double plot_w = kW - kLeft - kRight, plot_h = kH - kTop - kBottom;
+  auto py = [&](double y) { return kTop + plot_h * (1.0 - std::clamp(y / y_max, 0.0, 1.0)); };
+  std::ostringstream o;
+  o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << kW << "\" height=\"" << kH << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
+  o << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
+  o << "<text x=\"" << kW / 2 << "\" y=\"22\" text-anchor=\"middle\" font-size=\"15\">" << escape(title) << "</text>\n";
+  // The y axis and its ticks.
+  for (double y = 0.0; y <= y_max + 1e-9; y += y_tick) {
+    o << "<line x1=\"" << kLeft << "\" x2=\"" << kLeft + plot_w << "\" y1=\"" << py(y) << "\" y2=\"" << py(y)
+      << "\" stroke=\"#ddd\"/>\n";
+    o << "<text x=\"" << kLeft - 6 << "\" y=\"" << py(y) + 4 << "\" text-anchor=\"end\">" << number(y) << "</text>\n";
+  }
+  o << "<text transform=\"translate(18," << kTop + plot_h / 2 << ") rotate(-90)\" text-anchor=\"middle\">" << escape(y_label)
+    << "</text>\n";
+  // The bars: each group takes an equal slot, its bars 80% of it.
+  const double slot = categories.empty() ? plot_w : plot_w / double(categories.size());
+  const double bar = series.empty() ? 0.0 : 0.8 * slot / double(series.size());
+  for (size_t c = 0; c < categories.size(); ++c) {
+    const double x0 = kLeft + slot * double(c) + 0.1 * slot;
+    for (size_t k = 0; k < series.size(); ++k) {
+      const double v = c < series[k].values.size() ? series[k].values[c] : 0.0;
+      o << "<rect x=\"" << x0 + bar * double(k) << "\" y=\"" << py(v) << "\" width=\"" << bar * 0.92 << "\" height=\""
+        << kTop + plot_h - py(v) << "\" fill=\"" << colours[k % 6] << "\"><title>" << escape(series[k].name) << " "
+        << escape(categories[c]) << ": " << number(v) << "</title></rect>\n";
+    }
+    o << "<text x=\"" << kLeft + slot * (double(c) + 0.5) << "\" y=\"" << kTop + plot_h + 18 << "\" text-anchor=\"middle\">"
+      << escape(categories[c]) << "</text>\n";
+  }
+  if (mark >= 0)
+    o << "<line x1=\"" << kLeft << "\" x2=\"" << kLeft + plot_w << "\" y1=\"" << py(mark) << "\" y2=\"" << py(mark)
+      << "\" stroke=\"#444\" stroke-dasharray=\"6,4\"/>\n";
+  o << "<line x1=\"" << kLeft << "\" x2=\"" << kLeft << "\" y1=\"" << kTop << "\" y2=\"" << kTop + plot_h << "\" stroke=\"black\"/>\n";
+  o << "<line x1=\"" << kLeft << "\" x2=\"" << kLeft + plot_w << "\" y1=\"" << kTop + plot_h << "\" y2=\"" << kTop + plot_h
+    << "\" stroke=\"black\"/>\n";
+  for (size_t k = 0; k < series.size(); ++k) {
+    const double ly = kTop + 10 + 20 * double(k);
+    o << "<rect x=\"" << kW - kRight + 15 << "\" y=\"" << ly - 9 << "\" width=\"12\" height=\"12\" fill=\"" << colours[k % 6] << "\"/>\n";
+    o << "<text x=\"" << kW - kRight + 33 << "\" y=\"" << ly + 2 << "\">" << escape(series[k].name) << "</text>\n";
+  }
+  if (mark >= 0 && !mark_label.empty()) {
+    const double ly = kTop + 10 + 20 * double(series.size());
+    o << "<line x1=\"" << kW - kRight + 15 << "\" x2=\"" << kW - kRight + 27 << "\" y1=\"" << ly - 3 << "\" y2=\"" << ly - 3
+      << "\" stroke=\"#444\" stroke-dasharray=\"3,2\"/>\n";
+    o << "<text x=\"" << kW - kRight + 33 << "\" y=\"" << ly + 2 << "\">" << escape(mark_label) << "</text>\n";
+  }
+  o << "</svg>\n";
+  return o.str();
+}
+
 }  // namespace dentsim::bench

@@ -1,4 +1,4 @@
-// `dentsim bench memory`, `bench voxelize`, `bench mesh` and `bench haptic`: brick bytes, voxelization and meshing time beside the paper, OpenVDB and VTK, and the haptic step time.
+// `dentsim bench memory`, `bench voxelize`, `bench mesh`, `bench haptic` and `bench frames`: brick bytes, voxelization and meshing time beside the paper, OpenVDB and VTK, the haptic step time, the frame time (`bench scores` is in cmd_bench_scores.cpp).
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -517,6 +517,8 @@ void addBenchCommand(CLI::App& root, Action& action) {
   frames->add_option("--out", fopts->out, "Output folder")->capture_default_str();
   frames->add_option("--device", fopts->device, "Vulkan device index or name part");
   frames->callback([fopts, &action] { action = [fopts] { return runFramesBench(*fopts); }; });
+
+  addScoresBenchCommand(*bench, action);
 }
 
 }  // namespace dentsim::app

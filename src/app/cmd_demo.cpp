@@ -6,11 +6,12 @@
 #include "app/commands.h"
 #include "app/mesh_output.h"
 #include "app/session_support.h"
+#include "eval/cut_score.h"
 #include "app/simulator.h"
 #include "gpu/context.h"
 #include "io/session_file.h"
 #include "sim/builtin_tooth.h"
-#include "sim/scripted_paths.h"
+#include "sim/novice_paths.h"
 #include "sim/session_run.h"
 #include "ui/window.h"
 #include "volume/surface_mesher.h"
@@ -30,6 +31,7 @@ struct DemoOptions {
   int width = 1280, height = 800;    // window or frame size [px]
   std::string mirror = "mirror_size4";  // the mirror the script holds beside the tooth; "none": none
   bool sound = true;                 // the window plays it; headless, it goes to sound.wav
+  std::string attempt = "expert";    // the careful removal, or one with a fault (sim/novice_paths.h)
 };
 
 // The final tooth as a mesh, beside the other files: what a reader opens in any 3-D viewer.
@@ -57,6 +59,7 @@ int runDemo(const DemoOptions& o) {
   so.params = o.params;
   so.task = "caries";
   so.demo_script = true;
+  so.attempt = o.attempt;
   so.mirror_tool = o.mirror == "none" ? "" : o.mirror;
   so.score_at_end = true;
   so.headless = o.headless;
@@ -107,11 +110,11 @@ int runCpuDemo(const DemoOptions& o) {
   std::printf("tooth: built-in molar, level %d, %.4f mm voxels, hash %s\n", o.level, tooth->frame.voxel_mm,
               volumeHashHex(tooth->voxels, tooth->frame).c_str());
 
-  CariesPathSettings ps;
-  auto path = cariesRemovalPath(tooth->voxels, tooth->frame, params, task->drill_tool, ps);
+  const std::optional<Attempt> attempt = parseAttempt(o.attempt);
+  if (!attempt) return fail("--attempt: \"" + o.attempt + "\" is not one of " + attemptNames());
+  auto path = cariesAttemptPath(*attempt, tooth->voxels, tooth->frame, params, task->drill_tool);
   if (!path) return fail(path.message());
-  std::printf("path: %d layers over the lesion (%.3f mm^3 of caries), %.1f s\n", path->layers, path->lesion_mm3,
-              path->duration_s);
+  std::printf("path: the %s caries removal, %.1f s\n", o.attempt.c_str(), path->samples.empty() ? 0.0 : path->samples.back().t_s);
 
   SessionInfo info;
   info.created_utc = utcNow();
@@ -124,7 +127,7 @@ int runCpuDemo(const DemoOptions& o) {
   so.mirror_tool = "";
   so.realtime = o.realtime;
   const std::string session_path = (fs::path(o.out) / "session.dses").string();
-  auto run = recordScriptedSession(*tooth, params, path->path, session_path, info, so);
+  auto run = recordScriptedSession(*tooth, params, *path, session_path, info, so);
   if (!run) return fail(run.message());
   std::printf("session: %s, %llu steps in %.1f s, removed %.4f mm^3, final volume %s\n", session_path.c_str(),
               static_cast<unsigned long long>(run->steps), run->wall_s, run->removed_mm3, run->final_hash.c_str());
@@ -136,12 +139,13 @@ int runCpuDemo(const DemoOptions& o) {
 
   auto session = readSessionFile(session_path);
   if (!session) return fail(session.message());
-  auto score = scoreCut(*task, initial, *tooth, nullptr, &*session, ScoreFiles{initial_path, final_path, "", session_path});
+  auto score = scoreCut(*task, initial, *tooth, nullptr, &*session, scoreFiles(initial_path, final_path, session_path));
   if (!score) return fail(score.message());
+  for (const std::string& w : score->warnings) std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
   const std::string report_path = (fs::path(o.out) / "score.json").string();
   if (Status st = writeScoreReport(report_path, score->report); !st) return fail(st.message());
   const std::string png_path = (fs::path(o.out) / "score.png").string();
-  if (Status st = writeScoreImage(png_path, initial, *tooth, nullptr); !st) return fail(st.message());
+  if (Status st = writeScoreImage(png_path, *task, initial, *tooth, *score, nullptr); !st) return fail(st.message());
   std::printf("%s\n", score->summary.c_str());
   std::printf("wrote %s: initial.dvol session.dses final.dvol final.ply score.json score.png\n", o.out.c_str());
   return 0;
@@ -162,6 +166,9 @@ void addDemoCommand(CLI::App& root, Action& action) {
   cmd->add_option("--height", o->height, "Window or frame height [px]")->check(CLI::Range(64, 8192))->capture_default_str();
   cmd->add_option("--params", o->params, "Parameter preset (.json); default: dentsim's defaults");
   cmd->add_flag("!--no-sound", o->sound, "No sound (headless: no sound.wav)");
+  cmd->add_option("--attempt", o->attempt, "The careful removal, or one with a fault: " + attemptNames())
+      ->check(CLI::IsMember(attemptNameList()))
+      ->capture_default_str();
   cmd->callback([o, &action] { action = [o] { return runDemo(*o); }; });
 }
 

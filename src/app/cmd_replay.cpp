@@ -7,6 +7,7 @@
 
 #include "app/commands.h"
 #include "app/session_support.h"
+#include "eval/cut_score.h"
 #include "audio/sound_engine.h"
 #include "audio/sound_feed.h"
 #include "render/camera.h"
@@ -100,15 +101,16 @@ int runReplay(const ReplayCliOptions& o) {
     else std::fprintf(stderr, "dentsim: warning: %s: not scored: %s\n", o.session.c_str(), found.message().c_str());
   }
   if (task) {
-    auto s = scoreCut(*task, initial, *tooth, nullptr, &*session, ScoreFiles{"", o.output, "", o.session});
+    auto s = scoreCut(*task, initial, *tooth, nullptr, &*session, scoreFiles("", o.output, o.session));
     if (!s) return fail(o.session + ": " + s.message());
     score = std::move(*s);
+    for (const std::string& w : score->warnings) std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
     j["task"] = task->name;
     j["total"] = score->total;
     if (!o.report.empty())
       if (Status st = writeScoreReport(o.report, score->report); !st) return fail(st.message());
     if (!o.png.empty())
-      if (Status st = writeScoreImage(o.png, initial, *tooth, score->ideal ? &*score->ideal : nullptr); !st)
+      if (Status st = writeScoreImage(o.png, *task, initial, *tooth, *score, nullptr); !st)
         return fail(st.message());
   }
   if (o.json) {

@@ -4,6 +4,7 @@
 
 #include "app/commands.h"
 #include "app/simulator.h"
+#include "sim/novice_paths.h"
 
 namespace dentsim::app {
 namespace {
@@ -46,7 +47,11 @@ void addRunCommand(CLI::App& root, Action& action) {
   cmd->add_option("--recorded-rpm", o->recorded_rpm, "The turbine recording's speed [1/min]")
       ->check(CLI::Range(100.0, 1e6))->capture_default_str();
   cmd->add_option("--pen-script", o->pen_script, "Pen path (CSV or JSON) that both pens play, instead of the mouse");
-  cmd->add_flag("--demo-script", o->demo_script, "Play the built-in caries removal path, the mirror held beside the tooth");
+  cmd->add_flag("--demo-script", o->demo_script,
+                "Play the task's scripted preparation (caries removal or class I cavity), the mirror held beside the tooth");
+  cmd->add_option("--attempt", o->attempt, "With --demo-script: the careful one or one with a fault: " + attemptNames())
+      ->check(CLI::IsMember(attemptNameList()))
+      ->capture_default_str();
   cmd->add_flag("--headless", o->headless, "No window: frames go offscreen, to PNG (also when no display answers)");
   cmd->add_option("--width", o->width, "Window or frame width [px]")->check(CLI::Range(64, 8192))->capture_default_str();
   cmd->add_option("--height", o->height, "Window or frame height [px]")->check(CLI::Range(64, 8192))->capture_default_str();

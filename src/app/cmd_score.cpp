@@ -6,6 +6,7 @@
 
 #include "app/commands.h"
 #include "app/session_support.h"
+#include "eval/cut_score.h"
 #include "io/session_file.h"
 #include "volume/tooth_file.h"
 
@@ -32,10 +33,6 @@ int runScore(const ScoreCliOptions& o) {
     auto loaded = loadTooth(o.ideal);
     if (!loaded) return fail(loaded.message());
     ideal = std::move(*loaded);
-  } else if (task->kind == TaskKind::Cavity) {
-    auto made = idealForTask(*task, *initial);
-    if (!made) return fail(made.message());
-    ideal = std::move(*made);
   }
   std::optional<SessionRecording> session;
   if (!o.session.empty()) {
@@ -44,11 +41,13 @@ int runScore(const ScoreCliOptions& o) {
     if (!read->truncation_warning.empty()) std::fprintf(stderr, "dentsim: warning: %s\n", read->truncation_warning.c_str());
     session = std::move(*read);
   }
-  const ScoreFiles files{o.initial, o.final_, o.ideal, o.session};
+  ScoreFiles files = scoreFiles(o.initial, o.final_, o.session);
+  files.ideal = o.ideal;
   auto score = scoreCut(*task, *initial, *final_, ideal ? &*ideal : nullptr, session ? &*session : nullptr, files);
   if (!score) return fail(score.message());
   if (Status st = writeScoreReport(o.report, score->report); !st) return fail(st.message());
-  if (Status st = writeScoreImage(o.png, *initial, *final_, task->kind == TaskKind::Cavity && ideal ? &*ideal : nullptr); !st)
+  for (const std::string& w : score->warnings) std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
+  if (Status st = writeScoreImage(o.png, *task, *initial, *final_, *score, ideal ? &*ideal : nullptr); !st)
     return fail(st.message());
   if (o.json)
     std::printf("%s\n", score->report.dump(2).c_str());

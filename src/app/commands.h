@@ -24,6 +24,8 @@ void addReplayCommand(CLI::App& root, Action& action);
 void addScoreCommand(CLI::App& root, Action& action);
 void addRunCommand(CLI::App& root, Action& action);
 void addDevicesCommand(CLI::App& root, Action& action);
+// `dentsim bench scores`, added under `bench` by addBenchCommand.
+void addScoresBenchCommand(CLI::App& bench, Action& action);
 
 // Prints "dentsim: <message>" on stderr and returns exit code 1: the one way commands report errors.
 int fail(const std::string& message);

@@ -28,6 +28,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/session_support.h"
+#include "eval/cut_score.h"
 #include "audio/sound_engine.h"
 #include "audio/sound_feed.h"
 #include "devices/device_pen.h"
@@ -47,6 +48,7 @@
 #include "sim/edit_channel.h"
 #include "sim/haptic_loop.h"
 #include "sim/pen.h"
+#include "sim/novice_paths.h"
 #include "sim/scripted_paths.h"
 #include "sim/session_recorder.h"
 #include "sim/session_run.h"
@@ -389,10 +391,16 @@ Status Simulator::setUpPens() {
   const bool scripted = !o_.pen_script.empty() || o_.demo_script;
   if (scripted) {
     if (o_.demo_script) {
-      CariesPathSettings ps;
-      auto path = cariesRemovalPath(initial_.voxels, initial_.frame, params_, drill_name_, ps);
+      // The task's own preparation, as the careful dentist does it or with one fault.
+      const std::optional<Attempt> attempt = parseAttempt(o_.attempt);
+      if (!attempt) return makeError("--attempt", "\"" + o_.attempt + "\" is not one of " + attemptNames());
+      CavityPathSettings cavity;
+      if (const std::optional<double> r = burHeadRadiusMm(drill_name_)) cavity.bur_radius_mm = *r;
+      auto path = task_->kind == TaskKind::Caries
+                      ? cariesAttemptPath(*attempt, initial_.voxels, initial_.frame, params_, drill_name_)
+                      : cavityAttemptPath(*attempt, initial_.voxels, initial_.frame, cavity);
       if (!path) return path.error();
-      script_ = std::move(path->path);
+      script_ = std::move(*path);
     } else {
       auto path = loadPenPath(o_.pen_script);
       if (!path) return path.error();
@@ -915,39 +923,53 @@ Status Simulator::scoreNow() {
   view_.voxels.compact();
   // The statistics come from the session when one segment holds the whole cut.
   std::optional<SessionRecording> session;
-  ScoreFiles files{"initial.dvol", "final.dvol", "", ""};
+  ScoreFiles files = scoreFiles("initial.dvol", "final.dvol", "");
+  files.no_session_reason = segments_ > 1 ? "the cut spans " + std::to_string(segments_) + " segments, and no one session holds it"
+                                          : "no session was recorded (no --out folder)";
   if (segments_ == 1 && !o_.out.empty()) {
     auto read = readSessionFile(outPath("session.dses"));
     if (read) {
       session = std::move(*read);
-      files = ScoreFiles{outPath("initial.dvol"), outPath("final.dvol"), "", outPath("session.dses")};
+      files = scoreFiles(outPath("initial.dvol"), outPath("final.dvol"), outPath("session.dses"));
+    } else {
+      files.no_session_reason = read.message();
     }
   }
   auto score = scoreCut(*task_, initial_, view_, nullptr, session ? &*session : nullptr, files);
   if (!score) return score.error();
   ui_.score.valid = true;
   ui_.score.total = score->total;
+  ui_.score.total_max = score->total_max;
   ui_.score.rows.clear();
-  // One row per component ("removal 49.8 / 50"), then the volumes a teacher asks about first.
+  // One row per component ("removal 49.8 / 50"), the deductions, then the volumes a teacher asks about first.
   char text[64];
   if (auto c = score->report.find("components"); c != score->report.end())
     for (const auto& [name, part] : c->items()) {
-      std::snprintf(text, sizeof text, "%.1f / %d", part.value("points", 0.0), part.value("max", 0));
+      if (part["points"].is_number())
+        std::snprintf(text, sizeof text, "%.1f / %d", part["points"].get<double>(), part.value("max", 0));
+      else
+        std::snprintf(text, sizeof text, "not scored");
       ui_.score.rows.push_back({name, text});
     }
+  if (auto d = score->report.find("deductions"); d != score->report.end())
+    for (const auto& [name, part] : d->items())
+      if (part.contains("points") && part["points"].is_number()) {
+        std::snprintf(text, sizeof text, "-%.1f", part["points"].get<double>());
+        ui_.score.rows.push_back({name, text});
+      }
   if (auto r = score->report.find("caries_remaining_mm3"); r != score->report.end() && r->is_number()) {
     std::snprintf(text, sizeof text, "%.3f mm^3", r->get<double>());
     ui_.score.rows.push_back({"caries left", text});
   }
   ui_.score.rows.push_back({"pulp exposed", score->report.value("pulp_exposed", false) ? "yes" : "no"});
-  const ToothVolume* ideal = score->ideal ? &*score->ideal : nullptr;
-  const RgbImage picture = scorePicture(initial_, view_, ideal);
+  const RgbImage picture = scorePicture(*task_, initial_, view_, *score, nullptr);
   ui_.score.image_width = picture.width;
   ui_.score.image_height = picture.height;
   if (Status st = renderer_->setOverlayImage(picture); !st) return st;
   score_shown_ = true;
   out_.score = score->total;
   note(score->summary);
+  for (const std::string& w : score->warnings) note("warning: " + w);
   if (!o_.out.empty()) {
     if (Status st = saveTooth(outPath("final.dvol"), view_); !st) return st;
     if (Status st = writeScoreReport(outPath("score.json"), score->report); !st) return st;

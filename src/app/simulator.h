@@ -41,7 +41,8 @@ struct SimulatorOptions {
   std::string audio_out;                // FILE.wav; empty: live in a window, none headless
   std::string turbine_wav, cutting_wav; // recordings replacing the synthesized voices; empty: synthesized
   double recorded_rpm = 40000.0;        // the turbine recording's speed [1/min]
-  bool demo_script = false;             // the built-in caries removal path, the mirror held distally
+  bool demo_script = false;             // the task's scripted preparation (caries removal or class I), the mirror held distally
+  std::string attempt = "expert";       // with demo_script: the careful one, or one with a fault (sim/novice_paths.h)
   bool headless = false;                // offscreen frames, no window (also when no display answers)
   int width = 1280, height = 800;       // window or frame size [px]
   std::string out;                      // folder for the session, teeth, screenshots and frames; empty: none

@@ -11,7 +11,6 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
-#include <cstring>
 #include <limits>
 
 
@@ -32,10 +31,10 @@ struct Rgb {
 Rgb mix(const Rgb& a, const Rgb& b, double t) { return {a.r + (b.r - a.r) * t, a.g + (b.g - a.g) * t, a.b + (b.b - a.b) * t}; }
 
 constexpr Rgb kBackground{0.16, 0.17, 0.20};
-constexpr Rgb kOvercut{0.90, 0.10, 0.08};
+constexpr Rgb kRed{0.90, 0.10, 0.08};
 constexpr Rgb kUndercut{0.12, 0.32, 0.95};
 constexpr double kUndercutTint = 0.8;   // blend toward blue of a fully under-cut hit voxel
-constexpr double kOvercutFog = 0.6;     // opacity of one fully over-cut voxel: one voxel of error shows
+constexpr double kRedFog = 0.6;         // opacity of one full red voxel: one voxel of error shows
 constexpr uint32_t kSurfaceFill = 16;   // a voxel at least half full is surface
 
 Rgb tissueColour(uint32_t material) {
@@ -50,12 +49,6 @@ Rgb tissueColour(uint32_t material) {
 
 Voxel at(const BrickView& b, uint32_t offset) { return b.uniform ? b.value : b.voxels[offset]; }
 
-// Over-cut of one voxel [fill units]: k - r with both clipped to the initial fill.
-uint32_t overcutOf(Voxel initial, Voxel final_, Voxel ideal) {
-  const uint32_t fi = layout::voxelMaterial(initial) == DS_MAT_EMPTY ? 0u : voxelFill(initial);
-  const uint32_t r = std::min(voxelFill(final_), fi), k = std::min(voxelFill(ideal), fi);
-  return k > r ? k - r : 0u;
-}
 uint32_t undercutOf(Voxel initial, Voxel final_, Voxel ideal) {
   const uint32_t fi = layout::voxelMaterial(initial) == DS_MAT_EMPTY ? 0u : voxelFill(initial);
   const uint32_t r = std::min(voxelFill(final_), fi), k = std::min(voxelFill(ideal), fi);
@@ -68,9 +61,10 @@ struct Volumes {
   const BrickVolume& initial;
   const BrickVolume& final_;
   const BrickVolume* ideal;
+  const CutMarks* red;
 };
 
-// One byte per brick: 1 when a ray must look inside (surface or over-cut there); and their bounds.
+// One byte per brick: 1 when a ray must look inside (surface or red there); and their bounds.
 struct Occupancy {
   uint32_t brick_dim = 0;
   std::vector<uint8_t> occupied;         // (brick_dim^3), x fastest
@@ -94,14 +88,7 @@ Occupancy occupancy(const Volumes& v) {
         bool occ = false;
         if (f.uniform) occ = voxelFill(f.value) >= kSurfaceFill;
         for (uint32_t n = 0; !f.uniform && !occ && n < DS_BRICK_VOXELS; ++n) occ = voxelFill(f.voxels[n]) >= kSurfaceFill;
-        if (!occ && v.ideal) {
-          // Over-cut needs tissue that the student removed: none in an empty or uncut brick.
-          const BrickView i = v.initial.brick(c), k = v.ideal->brick(c);
-          if (i.uniform && voxelFill(i.value) == 0) continue;
-          if (i.uniform && f.uniform && i.value == f.value) continue;
-          if (!i.uniform && !f.uniform && std::memcmp(i.voxels, f.voxels, DS_BRICK_VOXELS) == 0) continue;
-          for (uint32_t n = 0; !occ && n < DS_BRICK_VOXELS; ++n) occ = overcutOf(at(i, n), at(f, n), at(k, n)) > 0;
-        }
+        if (!occ && v.red) occ = v.red->brickHasMarks(c);
         if (!occ) continue;
         o.occupied[bx + size_t(o.brick_dim) * (by + size_t(o.brick_dim) * bz)] = 1;
         const std::array<uint32_t, 3> b{bx, by, bz};
@@ -165,7 +152,7 @@ class RayCaster {
       t0 = std::max(t0, ta);
       t1 = std::min(t1, tb);
     }
-    double fog = 0.0;  // opacity of the red over-cut fog gathered so far
+    double fog = 0.0;  // opacity of the red fog gathered so far
     constexpr double kNudge = 1e-7;  // into the next cell [voxels]
     double t = t0;
     while (t < t1) {
@@ -199,11 +186,11 @@ class RayCaster {
         const Voxel f = at(vf, n);
         if (voxelFill(f) >= kSurfaceFill) {
           const Rgb surface = shade(ix, f, v_.ideal ? undercutOf(at(vi, n), f, at(vk, n)) : 0u, d, light);
-          return mix(surface, kOvercut, fog);
+          return mix(surface, kRed, fog);
         }
-        if (v_.ideal) {
-          const uint32_t over = overcutOf(at(vi, n), f, at(vk, n));
-          if (over > 0) fog = 1.0 - (1.0 - fog) * (1.0 - kOvercutFog * over / DS_FILL_FULL);
+        if (v_.red) {
+          const uint32_t red = v_.red->at(uint32_t(ix[0]), uint32_t(ix[1]), uint32_t(ix[2]));
+          if (red > 0) fog = 1.0 - (1.0 - fog) * (1.0 - kRedFog * red / DS_FILL_FULL);
         }
         const size_t a = t_max[0] < t_max[1] ? (t_max[0] < t_max[2] ? 0 : 2) : (t_max[1] < t_max[2] ? 1 : 2);
         t = t_max[a];
@@ -214,7 +201,7 @@ class RayCaster {
       }
       t = std::max(t, t_enter + kNudge);  // rounding must never stall the march
     }
-    return mix(kBackground, kOvercut, fog);
+    return mix(kBackground, kRed, fog);
   }
 
  private:
@@ -278,14 +265,14 @@ void renderView(const RayCaster& caster, const ScoreView& view, const Occupancy&
 // ---- 5. renderScoreImage, PNG --------------------------------------------------------------------
 
 ScoreImage renderScoreImage(const ToothVolume& initial, const ToothVolume& final_, const ToothVolume* ideal,
-                            const ScoreImageOptions& options) {
+                            const CutMarks* red, const ScoreImageOptions& options) {
   assert(initial.voxels.level() == final_.voxels.level());
   assert(!ideal || ideal->voxels.level() == initial.voxels.level());
   ScoreImage out;
   out.image.width = std::clamp(options.width, 16, 8192);
   out.image.height = std::clamp(options.height, 16, 8192);
   out.image.rgb.assign(size_t(out.image.width) * size_t(out.image.height) * 3, 0);
-  const Volumes volumes{initial.voxels, final_.voxels, ideal ? &ideal->voxels : nullptr};
+  const Volumes volumes{initial.voxels, final_.voxels, ideal ? &ideal->voxels : nullptr, red};
   const Occupancy occ = occupancy(volumes);
   const RayCaster caster(volumes, occ);
   // The oblique view looks from mesial-buccal and above (buccal is -y, mesial -x in the molar's frame).

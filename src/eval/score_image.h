@@ -1,12 +1,13 @@
-// The score picture (like the paper's Figure 20): the cut tooth, over-cut in red and under-cut in blue, ray cast on the CPU into a PNG.
+// The score picture (like the paper's Figure 20): the cut tooth, the cut that should not have been made in red and under-cut in blue, ray cast on the CPU into a PNG.
 //
 // Orthographic views of the final tooth: each pixel's ray stops at the first voxel whose final fill
 // is at least half (16 of 31); that voxel is shaded Lambert (normal from the central-difference
 // gradient of fill) in its tissue's colour, tinted blue by its under-cut (remaining material that
-// the ideal removes). Over-cut voxels (removed where the ideal keeps material) that the ray passes
-// before the surface add red fog, so over-cut shows red over whatever lies behind it. Without an
-// ideal there is neither; remaining caries shows in its brown. Rays skip bricks that hold neither
-// surface nor over-cut.
+// the ideal removes). The red voxels the caller marks (the over-cut of a cavity, the healthy tissue
+// cut outside the allowed zone of a caries removal; ToothDiff holds both) add red fog where the ray
+// passes them before the surface, so they show red over whatever lies behind. Without an ideal
+// there is no blue; remaining caries shows in its brown. Rays skip bricks that hold neither
+// surface nor red.
 #pragma once
 
 #include <array>
@@ -16,6 +17,7 @@
 
 #include "core/result.h"
 #include "core/rigid.h"
+#include "eval/cut_marks.h"
 #include "io/png_file.h"
 #include "volume/brick_volume.h"
 
@@ -44,8 +46,9 @@ struct ScoreImage {
   std::vector<ScoreView> views;  // left to right
 };
 
-// Renders the views. The volumes must share the level (compareTeeth checks frames); ideal may be null.
+// Renders the views. The volumes must share the level (compareTeeth checks frames); ideal and red
+// may be null (no blue, no red). red's amounts are fill units removed per voxel.
 ScoreImage renderScoreImage(const ToothVolume& initial, const ToothVolume& final_, const ToothVolume* ideal,
-                            const ScoreImageOptions& options = {});
+                            const CutMarks* red, const ScoreImageOptions& options = {});
 
 }  // namespace dentsim

@@ -1,11 +1,14 @@
-// Scores 0..100 of a student's cut: caries removal (the paper's Table 4) and cavity preparation (Table 5), corrected, and their JSON report.
+// Scores 0..100 of a student's cut: caries removal (the paper's Table 4) and cavity preparation (Table 5), corrected and extended to count healthy tissue, force and pulp exposure, and their JSON report.
 //
-// docs/SCORING.md states each formula, the paper's form, and the rules this adds (an attempt that
-// removed nothing earns nothing; no contact samples, no force points).
+// docs/SCORING.md states each formula, the paper's form, and the rules this adds: healthy tissue cut
+// outside the allowed zone costs points, an exposed pulp caps the total, a part whose input is
+// missing is "not scored" (never free points), and an attempt that misses its target earns nothing.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -16,38 +19,51 @@
 
 namespace dentsim {
 
-// Caries removal: removal 0..50, time 0..25, force 0..25 [points].
+// Caries removal: the paper's removal 0..50, time 0..25 and force 0..25, less the healthy tissue
+// cut outside the allowed zone, capped when the pulp is exposed [points].
 struct CariesScore {
-  double removal = 0.0;               // 50 x removed caries / initial caries
-  double time = 0.0;                  // 25 x (failure - elapsed) / (failure - target), clamped; 0 if no caries removed
-  double force = 0.0;                 // 25 x (contact - over) / contact, clamped; 0 without contact samples
-  double total = 0.0;                 // removal + time + force, 0..100
-  double removed_fraction = 0.0;      // removed caries / initial caries; 0 when the tooth has none
+  double removal = 0.0;                 // 50 x removed caries / initial caries
+  std::optional<double> time;           // 25 x (failure - elapsed) / (failure - target), clamped; 0 if no caries removed; none without a session
+  std::optional<double> force;          // 25 x (contact - over) / contact, clamped; 0 without contact samples; none without a session
+  double paper_total = 0.0;             // Table 4's total over the parts scored: removal + time + force
+  double healthy_deduction = 0.0;       // healthy_coefficient x 100 x healthy outside / caries initial [points]
+  bool pulp_cap_applied = false;        // the pulp is exposed and the cap lowered the total
+  double total = 0.0;                   // the headline: clamp(paper_total - healthy_deduction, 0, total_max), capped
+  double total_max = 100.0;             // what the parts scored can reach: 100, or 50 without a session
+  double removed_fraction = 0.0;        // removed caries / initial caries; 0 when the tooth has none
   double caries_initial_mm3 = 0.0;
   double caries_removed_mm3 = 0.0;
   double caries_remaining_mm3 = 0.0;
-  double enamel_removed_mm3 = 0.0;    // healthy tissue removed [mm^3]
+  double enamel_removed_mm3 = 0.0;      // healthy tissue removed anywhere [mm^3]
   double dentin_removed_mm3 = 0.0;
   double pulp_removed_mm3 = 0.0;
+  double healthy_outside_mm3 = 0.0;     // enamel, dentin and pulp removed in the container [mm^3]
+  double healthy_outside_percent = 0.0; // of the initial caries volume
   bool pulp_exposed = false;
   uint64_t exposed_pulp_voxels = 0;
 };
 
-// Cavity preparation: four components 0..25 each [points].
+// Cavity preparation: the paper's four parts 0..25 each, less the force errors, capped when the pulp
+// is exposed [points].
 struct CavityScore {
-  double undercut = 0.0;              // 25 - undercut x coef x 100 / ideal, clamped
-  double overcut = 0.0;               // 25 - overcut x coef x 100 / ideal, clamped (near + gross)
-  double parallel = 0.0;              // 25 - parallel_over x coef, clamped
-  double time = 0.0;                  // 25 - max(0, elapsed - target) x coef / 60, clamped
-  double total = 0.0;                 // the sum, 0..100
-  bool nothing_removed = false;       // the attempt removed no tissue: every component is 0
-  double ideal_mm3 = 0.0;             // the ideal cavity's volume
+  double undercut = 0.0;                // 25 - undercut x coef x 100 / ideal, clamped
+  double overcut = 0.0;                 // 25 - overcut x coef x 100 / ideal, clamped (near + gross)
+  std::optional<double> parallel;       // 25 - parallel_over x coef, clamped; none without a session
+  std::optional<double> time;           // 25 - max(0, elapsed - target) x coef / 60, clamped; none without a session
+  double paper_total = 0.0;             // Table 5's total over the parts scored
+  std::optional<double> force_deduction;  // force_coefficient x 100 x force_over / contact; none without a session
+  bool pulp_cap_applied = false;
+  double total = 0.0;                   // clamp(paper_total - force_deduction, 0, total_max), capped
+  double total_max = 100.0;             // 100, or 50 without a session
+  bool nothing_removed = false;         // the attempt removed no tissue
+  bool ideal_missed = false;            // it removed nothing of the ideal cavity: every part is 0
+  double ideal_mm3 = 0.0;               // the ideal cavity's volume
   double removed_mm3 = 0.0;
   double undercut_mm3 = 0.0;
   double overcut_mm3 = 0.0;
-  double overcut_near_mm3 = 0.0;      // within leeway_mm of the ideal cavity (reported, not scored apart)
-  double overcut_gross_mm3 = 0.0;
-  double undercut_percent = 0.0;      // of the ideal volume
+  double overcut_near_mm3 = 0.0;        // in the leeway around the ideal cavity (reported, not scored apart)
+  double overcut_gross_mm3 = 0.0;       // in the container
+  double undercut_percent = 0.0;        // of the ideal volume
   double overcut_percent = 0.0;
   bool pulp_exposed = false;
   uint64_t exposed_pulp_voxels = 0;
@@ -56,24 +72,38 @@ struct CavityScore {
 // Clamps v to [lo, hi].
 double clampScore(double v, double lo, double hi);
 
-CariesScore scoreCariesRemoval(const ToothDiff& diff, const SessionStats& stats, const Task& task);
+// `stats` null: there is no session, and the parts that need one are not scored.
+CariesScore scoreCariesRemoval(const ToothDiff& diff, const SessionStats* stats, const Task& task);
 // Errors when the diff has no ideal or the ideal cavity is empty (nothing to compare with).
-Result<CavityScore> scoreCavityPreparation(const ToothDiff& diff, const SessionStats& stats, const Task& task);
+Result<CavityScore> scoreCavityPreparation(const ToothDiff& diff, const SessionStats* stats, const Task& task);
+
+// Why a score may be wrong although it computes: the task's insertion axis points away from the
+// tooth's crown, the ideal cavity lies mostly outside the crown half, or the cut does not overlap
+// the ideal at all. Each line names the task and the tooth (`tooth_name`).
+std::vector<std::string> scoreWarnings(const Task& task, const ToothDiff& diff, const std::string& tooth_name);
 
 // The files a score came from, as the caller names them (empty: not given).
 struct ScoreInputs {
   std::string task;
   std::string initial;
   std::string final_;
-  std::string ideal;
+  std::optional<IdealSpec> ideal;   // the ideal used, whatever its source
+  std::string ideal_from;           // where it was named: "task" or "command line"
   std::string session;
+  std::string no_session_reason = "no session was given";  // when session is empty
+  std::vector<std::string> warnings;  // scoreWarnings() and the caller's own
 };
 
-// The "dentsim-score" report (version 1): task, inputs, each component with its formula inputs, the
-// total, volumes per tissue [mm^3], session statistics. docs/SCORING.md lists the fields.
+// The "dentsim-score" report (version 2): task, inputs, each part with its formula inputs (null with
+// a reason when not scored), the paper's total, the deductions, the total and what it is out of,
+// the zones, warnings, volumes per tissue [mm^3], session statistics. docs/SCORING.md lists the fields.
 nlohmann::ordered_json scoreReportJson(const Task& task, const ScoreInputs& inputs, const ToothDiff& diff,
-                                       const SessionStats& stats, const CariesScore& score);
+                                       const SessionStats* stats, const CariesScore& score);
 nlohmann::ordered_json scoreReportJson(const Task& task, const ScoreInputs& inputs, const ToothDiff& diff,
-                                       const SessionStats& stats, const CavityScore& score);
+                                       const SessionStats* stats, const CavityScore& score);
+
+// One line for the terminal: the total out of its maximum, each part, what was not scored and why.
+std::string scoreSummary(const CariesScore& score, const ScoreInputs& inputs);
+std::string scoreSummary(const CavityScore& score, const ScoreInputs& inputs);
 
 }  // namespace dentsim

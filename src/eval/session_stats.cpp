@@ -28,11 +28,13 @@ SessionStats sessionStats(const SessionRecording& session, const Task& task) {
     ++s.contact_samples;
     const double force = norm(step.force_n[kDrill]);
     if (force > task.force_error_n) ++s.force_over;
-    const double tilt = burTiltDeg(step.reading[kDrill].grip, task.cavity.insertion_axis);
+    const double tilt = burTiltDeg(step.reading[kDrill].grip, task.insertion_axis);
     if (tilt > task.cavity.parallel_error_deg) ++s.parallel_over;
     s.max_force_n = std::max(s.max_force_n, force);
+    s.mean_force_n += force;
     s.max_tilt_deg = std::max(s.max_tilt_deg, tilt);
   }
+  if (s.contact_samples > 0) s.mean_force_n /= double(s.contact_samples);
   return s;
 }
 

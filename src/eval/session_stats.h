@@ -18,7 +18,8 @@ struct SessionStats {
   uint64_t force_over = 0;        // contact samples with |drill force| > task.force_error_n
   uint64_t parallel_over = 0;     // contact samples with the bur tilted > cavity.parallel_error_deg off the axis
   double max_force_n = 0.0;       // largest |drill force| over contact samples [N]
-  double max_tilt_deg = 0.0;      // largest tilt from cavity.insertion_axis over contact samples [deg]
+  double mean_force_n = 0.0;      // mean |drill force| over contact samples [N]; 0 without any
+  double max_tilt_deg = 0.0;      // largest tilt from task.insertion_axis over contact samples [deg]
 };
 
 // The bur's tilt from `axis` (unit) [deg], in [0, 180]: the angle between the drill grip frame's +z
@@ -26,7 +27,7 @@ struct SessionStats {
 double burTiltDeg(const Pose& grip, const Vec3& axis);
 
 // Counts over the whole recording. A step without a drill reading is not in contact. The tilt is
-// measured against task.cavity.insertion_axis for either kind of task (a caries task reports it too).
+// measured against task.insertion_axis for either kind of task (a caries task reports it too).
 SessionStats sessionStats(const SessionRecording& session, const Task& task);
 
 }  // namespace dentsim

@@ -3,7 +3,6 @@
 
 #include <cmath>
 #include <exception>
-#include <set>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -18,7 +17,7 @@ namespace {
 using json = nlohmann::json;
 
 constexpr const char* kFormat = "dentsim-task";
-constexpr int kVersion = 1;
+constexpr int kVersion = 2;  // version 1 files are read too
 constexpr uint64_t kMaxTaskBytes = 1u << 20;  // a task is under 1 kB
 
 // Checks values against the schema and keeps the first problem as "<path>: <problem>".
@@ -105,29 +104,52 @@ class TaskReader : public JsonSchemaReader {
 };
 
 constexpr double kHuge = 1e9;
+const std::string kNonNegative = ">= 0 and <= 1e9";
 
-void readCavity(const json& j, TaskReader& r, CavityTask* c) {
-  const std::string path = "cavity";
-  if (!r.object(j, path,
-                {"undercut_coefficient", "overcut_coefficient", "parallel_coefficient", "time_coefficient",
-                 "parallel_error_deg", "insertion_axis", "leeway_mm", "ideal"}))
-    return;
-  const std::string non_negative = ">= 0 and <= 1e9";
-  if (!r.number(j, path, "undercut_coefficient", false, 0, true, kHuge, non_negative, &c->undercut_coefficient)) return;
-  if (!r.number(j, path, "overcut_coefficient", false, 0, true, kHuge, non_negative, &c->overcut_coefficient)) return;
-  if (!r.number(j, path, "parallel_coefficient", false, 0, true, kHuge, non_negative, &c->parallel_coefficient)) return;
-  if (!r.number(j, path, "time_coefficient", false, 0, true, kHuge, non_negative, &c->time_coefficient)) return;
-  if (!r.number(j, path, "parallel_error_deg", false, 0, false, 90, "in (0, 90]", &c->parallel_error_deg)) return;
-  if (!r.direction(j, path, "insertion_axis", &c->insertion_axis)) return;
-  if (!r.number(j, path, "leeway_mm", false, 0, true, 1, "in [0, 1]", &c->leeway_mm)) return;
-  const json* ideal = r.member(j, path, "ideal", true);
-  if (!ideal) return;
-  const std::string ideal_path = jsonChildPath(path, "ideal");
-  if (!r.object(*ideal, ideal_path, {"kind", "path"})) return;
+// The ideal: {"kind": ..., "path": ...} at `path`.
+bool readIdeal(const json& ideal, const std::string& path, TaskReader& r, IdealSpec* out) {
+  if (!r.object(ideal, path, {"kind", "path"})) return false;
   size_t kind = 0;
-  if (!r.choice(*ideal, ideal_path, "kind", {"builtin_path", "volume", "session"}, &kind)) return;
-  c->ideal.kind = static_cast<IdealKind>(kind);
-  r.string(*ideal, ideal_path, "path", true, false, &c->ideal.path);
+  if (!r.choice(ideal, path, "kind", {"builtin_path", "volume", "session"}, &kind)) return false;
+  out->kind = static_cast<IdealKind>(kind);
+  return r.string(ideal, path, "path", true, false, &out->path);
+}
+
+// The zone's keys (insertion_axis, leeway_mm, ideal) in object j at `path`: the root in version 2,
+// "cavity" in version 1.
+bool readZone(const json& j, const std::string& path, TaskReader& r, Task* t) {
+  if (!r.direction(j, path, "insertion_axis", &t->insertion_axis)) return false;
+  if (!r.number(j, path, "leeway_mm", false, 0, true, 1, "in [0, 1]", &t->leeway_mm)) return false;
+  const json* ideal = r.member(j, path, "ideal", t->kind == TaskKind::Cavity);
+  if (!ideal) return !r.failed();
+  t->ideal.emplace();
+  return readIdeal(*ideal, jsonChildPath(path, "ideal"), r, &*t->ideal);
+}
+
+// The cavity object's coefficients; version 1 also holds the zone's keys there.
+void readCavity(const json& j, int version, TaskReader& r, Task* t) {
+  const std::string path = "cavity";
+  std::vector<std::string> keys = {"undercut_coefficient", "overcut_coefficient", "parallel_coefficient",
+                                   "time_coefficient", "parallel_error_deg"};
+  if (version == 1)
+    keys.insert(keys.end(), {"insertion_axis", "leeway_mm", "ideal"});
+  else
+    keys.push_back("force_coefficient");
+  if (!r.object(j, path, keys)) return;
+  CavityTask* c = &t->cavity;
+  if (!r.number(j, path, "undercut_coefficient", false, 0, true, kHuge, kNonNegative, &c->undercut_coefficient)) return;
+  if (!r.number(j, path, "overcut_coefficient", false, 0, true, kHuge, kNonNegative, &c->overcut_coefficient)) return;
+  if (!r.number(j, path, "parallel_coefficient", false, 0, true, kHuge, kNonNegative, &c->parallel_coefficient)) return;
+  if (!r.number(j, path, "time_coefficient", false, 0, true, kHuge, kNonNegative, &c->time_coefficient)) return;
+  if (!r.number(j, path, "force_coefficient", false, 0, true, kHuge, kNonNegative, &c->force_coefficient)) return;
+  if (!r.number(j, path, "parallel_error_deg", false, 0, false, 90, "in (0, 90]", &c->parallel_error_deg)) return;
+  if (version == 1) readZone(j, path, r, t);
+}
+
+void readCaries(const json& j, TaskReader& r, Task* t) {
+  const std::string path = "caries";
+  if (!r.object(j, path, {"healthy_coefficient"})) return;
+  r.number(j, path, "healthy_coefficient", false, 0, true, kHuge, kNonNegative, &t->caries.healthy_coefficient);
 }
 
 // The whole schema: format and version first, so that another JSON file is named as such.
@@ -142,20 +164,23 @@ void readTask(const json& root, TaskReader& r, Task* t) {
     r.fail("format", quotedForMessage(format) + " is not \"" + kFormat + "\"");
     return;
   }
-  const json* version = r.member(root, "", "version", true);
-  if (!version) return;
-  if (!version->is_number_integer()) {
-    r.fail("version", std::string("expected an integer, got ") + version->type_name());
+  const json* version_json = r.member(root, "", "version", true);
+  if (!version_json) return;
+  if (!version_json->is_number_integer()) {
+    r.fail("version", std::string("expected an integer, got ") + version_json->type_name());
     return;
   }
-  if (version->dump() != std::to_string(kVersion)) {
-    r.fail("version", version->dump() + " is not supported (this build reads version " + std::to_string(kVersion) + ")");
+  const std::string version_text = version_json->dump();
+  if (version_text != "1" && version_text != std::to_string(kVersion)) {
+    r.fail("version", version_text + " is not supported (this build reads versions 1 to " + std::to_string(kVersion) + ")");
     return;
   }
-  if (!r.object(root, "",
-                {"format", "version", "name", "kind", "title", "tooth", "level", "tools", "target_s", "failure_s",
-                 "force_error_n", "cavity"}))
-    return;
+  const int version = version_text == "1" ? 1 : kVersion;
+  std::vector<std::string> keys = {"format",    "version",   "name",          "kind",  "title", "tooth", "level",
+                                   "tools",     "target_s",  "failure_s",     "force_error_n", "cavity"};
+  if (version >= 2)
+    keys.insert(keys.end(), {"insertion_axis", "leeway_mm", "ideal", "pulp_exposure_cap", "caries"});
+  if (!r.object(root, "", keys)) return;
   if (!r.string(root, "", "name", true, true, &t->name)) return;
   size_t kind = 0;
   if (!r.choice(root, "", "kind", {"caries", "cavity"}, &kind)) return;
@@ -172,22 +197,32 @@ void readTask(const json& root, TaskReader& r, Task* t) {
 
   if (!r.number(root, "", "target_s", true, 0, false, kHuge, "> 0 and <= 1e9", &t->target_s)) return;
   if (!r.number(root, "", "force_error_n", true, 0, false, kHuge, "> 0 and <= 1e9", &t->force_error_n)) return;
+  if (version >= 2) {
+    if (!r.number(root, "", "pulp_exposure_cap", false, 0, true, 100, "in [0, 100]", &t->pulp_exposure_cap)) return;
+    if (!readZone(root, "", r, t)) return;
+  }
+  // Each kind's own keys; the other kind's are mistakes.
+  const char* own = t->kind == TaskKind::Caries ? "caries" : "cavity";
+  const char* other = t->kind == TaskKind::Caries ? "cavity" : "caries";
+  if (root.contains(other)) {
+    r.fail(other, std::string("only for kind \"") + other + "\"");
+    return;
+  }
   if (t->kind == TaskKind::Caries) {
-    if (root.contains("cavity")) {
-      r.fail("cavity", "only for kind \"cavity\"");
+    if (!r.number(root, "", "failure_s", true, 0, false, kHuge, "> 0 and <= 1e9", &t->failure_s)) return;
+    if (!(t->failure_s > t->target_s)) {
+      r.fail("failure_s", json(t->failure_s).dump() + " is not > target_s (" + json(t->target_s).dump() + ")");
       return;
     }
-    if (!r.number(root, "", "failure_s", true, 0, false, kHuge, "> 0 and <= 1e9", &t->failure_s)) return;
-    if (!(t->failure_s > t->target_s))
-      r.fail("failure_s", json(t->failure_s).dump() + " is not > target_s (" + json(t->target_s).dump() + ")");
+    if (const json* caries = r.member(root, "", own, false)) readCaries(*caries, r, t);
     return;
   }
   if (root.contains("failure_s")) {
     r.fail("failure_s", "only for kind \"caries\"");
     return;
   }
-  const json* cavity = r.member(root, "", "cavity", true);
-  if (cavity) readCavity(*cavity, r, &t->cavity);
+  // Version 1 requires the cavity object (it holds the ideal); version 2 only its coefficients.
+  if (const json* cavity = r.member(root, "", own, version == 1)) readCavity(*cavity, version, r, t);
 }
 
 }  // namespace

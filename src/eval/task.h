@@ -4,6 +4,7 @@
 // embedded assets and resolves the tooth and the ideal that a task names.
 #pragma once
 
+#include <optional>
 #include <string>
 
 #include "core/result.h"
@@ -16,7 +17,7 @@ enum class TaskKind {
   Cavity,  // cavity preparation against a professional's result (Table 5)
 };
 
-// Where the professional's final tooth of a cavity task comes from; the app turns it into a volume.
+// Where the professional's final tooth comes from; the app turns it into a volume.
 enum class IdealKind {
   BuiltinPath,  // a scripted bur path by name, run on the task's tooth
   Volume,       // a .dvol file of the professional's final tooth
@@ -28,16 +29,19 @@ struct IdealSpec {
   std::string path;  // name (BuiltinPath) or file; a relative file is relative to the task file's folder
 };
 
+// The caries-removal terms beyond the paper's Table 4; defaults are docs/SCORING.md's.
+struct CariesTask {
+  double healthy_coefficient = 0.5;   // points per percent of the caries volume of healthy tissue cut outside the zone
+};
+
 // The cavity-preparation terms; defaults are docs/SCORING.md's.
 struct CavityTask {
   double undercut_coefficient = 1.0;  // points per percent of the ideal volume left standing
   double overcut_coefficient = 1.0;   // points per percent of the ideal volume cut beyond it
   double parallel_coefficient = 0.01; // points per contact sample tilted beyond parallel_error_deg
   double time_coefficient = 5.0;      // points per minute beyond target_s
+  double force_coefficient = 0.25;    // points per percent of contact samples over force_error_n
   double parallel_error_deg = 10.0;   // tolerated tilt of the bur from insertion_axis [deg], (0, 90]
-  Vec3 insertion_axis{0, 0, 1};       // the bur's ideal +z axis (tip along -z), unit length
-  double leeway_mm = 0.2;             // shell around the ideal cavity for near-margin over-cut [mm], [0, 1]
-  IdealSpec ideal;                    // the professional's final tooth
 };
 
 struct Task {
@@ -51,13 +55,20 @@ struct Task {
   double target_s = 0.0;              // time a good student needs [s], > 0
   double failure_s = 0.0;             // caries: time that earns no time points [s], > target_s; 0 for cavity
   double force_error_n = 3.0;         // a contact sample above this force is an error [N], > 0
+  // Where the student may cut (docs/SCORING.md, "The allowed zone"), for both kinds.
+  Vec3 insertion_axis{0, 0, 1};       // the bur's ideal +z axis (tip along -z), unit length, tooth grid axes
+  double leeway_mm = 0.2;             // shell around the target that a cut may reach unpunished [mm], [0, 1]
+  std::optional<IdealSpec> ideal;     // the professional's final tooth; required for kind Cavity
+  double pulp_exposure_cap = 50.0;    // an exposed pulp caps the total at this [points of 100], [0, 100]
+  CariesTask caries;                  // kind Caries only (defaults otherwise)
   CavityTask cavity;                  // kind Cavity only (defaults otherwise)
 };
 
 // "caries" or "cavity".
 const char* taskKindName(TaskKind kind);
 
-// Parses a task file's text. Errors are one line, "<where>: <key path>: <problem>": unknown keys,
+// Parses a task file's text, version 2 or the older version 1 (whose insertion_axis, leeway_mm and
+// ideal sit inside "cavity"). Errors are one line, "<where>: <key path>: <problem>": unknown keys,
 // missing keys, wrong types, values out of range, a key that does not belong to the task's kind.
 Result<Task> parseTask(const std::string& json_text, const std::string& where);
 // Reads and parses a task file (at most 1 MiB). Errors name the path.

@@ -1,10 +1,9 @@
-// The voxel comparison: one pass over the bricks of the three volumes, then the leeway split of the over-cut voxels.
+// The voxel comparison: the target's masks, then one pass over the bricks of the three volumes that files every voxel's fill by tissue and zone.
 //
 // Contents
 //   1. Frame checks
-//   2. The brick pass: fill amounts per tissue, ideal-cavity masks, over-cut voxels, pulp exposure
-//   3. The leeway split: near-margin or gross, by the distance to the ideal cavity computed per brick
-//      that has over-cut, axis by axis, in a dense copy of the cavity's bits around it
+//   2. The ideal cavity's masks
+//   3. The brick pass: fill amounts per tissue and zone, cut marks, pulp exposure
 //   4. compareTeeth
 #include "eval/tooth_diff.h"
 
@@ -14,7 +13,6 @@
 #include <cstring>
 #include <limits>
 #include <sstream>
-#include <unordered_map>
 #include <vector>
 
 namespace dentsim {
@@ -23,11 +21,12 @@ TissueAmounts& TissueAmounts::operator+=(const TissueAmounts& o) {
   initial += o.initial;
   remaining += o.remaining;
   removed += o.removed;
-  ideal_cavity += o.ideal_cavity;
-  undercut += o.undercut;
-  overcut += o.overcut;
-  overcut_near += o.overcut_near;
-  overcut_gross += o.overcut_gross;
+  target += o.target;
+  target_removed += o.target_removed;
+  leeway += o.leeway;
+  leeway_removed += o.leeway_removed;
+  container += o.container;
+  container_removed += o.container_removed;
   return *this;
 }
 
@@ -41,6 +40,13 @@ const TissueAmounts& ToothDiff::tissue(Material m) const {
 TissueAmounts ToothDiff::total() const {
   TissueAmounts sum;
   for (const TissueAmounts& t : tissues) sum += t;
+  return sum;
+}
+
+TissueAmounts ToothDiff::healthy() const {
+  TissueAmounts sum;
+  for (size_t t = 0; t < kScoredTissues.size(); ++t)
+    if (kScoredTissues[t] != Material::Caries) sum += tissues[t];
   return sum;
 }
 
@@ -79,36 +85,7 @@ Status sameFrame(const ToothVolume& a, const std::string& a_name, const ToothVol
   return Ok{};
 }
 
-// ---- 2. the brick pass ---------------------------------------------------------------------------
-
-// One over-cut voxel, kept for the leeway split.
-struct OverVoxel {
-  uint32_t x, y, z;   // voxel coordinates
-  uint32_t units;     // its over-cut [fill units]
-  uint32_t tissue;    // index into kScoredTissues
-};
-
-using CavityMask = std::array<uint64_t, DS_BRICK_VOXELS / 64>;  // bit n: voxel n of the brick has c > 0
-
-// The ideal-cavity bits of the bricks that have any, by linear brick index.
-class CavityMasks {
- public:
-  explicit CavityMasks(uint32_t brick_dim) : brick_dim_(brick_dim) {}
-
-  void set(uint64_t brick, uint32_t offset) { masks_[brick][offset >> 6] |= uint64_t{1} << (offset & 63u); }
-  const CavityMask* find(uint64_t brick) const {
-    auto it = masks_.find(brick);
-    return it == masks_.end() ? nullptr : &it->second;
-  }
-
-  uint64_t linearBrick(uint32_t bx, uint32_t by, uint32_t bz) const {
-    return bx + uint64_t{brick_dim_} * (by + uint64_t{brick_dim_} * bz);
-  }
-
- private:
-  uint32_t brick_dim_;
-  std::unordered_map<uint64_t, CavityMask> masks_;
-};
+// ---- 2. the ideal cavity's masks ---------------------------------------------------------------------
 
 Voxel at(const BrickView& b, uint32_t offset) { return b.uniform ? b.value : b.voxels[offset]; }
 
@@ -118,17 +95,40 @@ bool sameBrick(const BrickView& a, const BrickView& b) {
   return a.voxels == b.voxels || std::memcmp(a.voxels, b.voxels, DS_BRICK_VOXELS) == 0;
 }
 
-// Everything the pass gathers.
+// The ideal's share of a voxel's initial fill: c = i - min(k, i), for tissue only.
+uint32_t idealCavityOf(Voxel initial, Voxel ideal) {
+  if (tissueIndex(layout::voxelMaterial(initial)) < 0) return 0;
+  const uint32_t fi = voxelFill(initial);
+  return fi - std::min(voxelFill(ideal), fi);
+}
+
+void markIdealCavity(const BrickVolume& initial, const BrickVolume& ideal, TargetMasks* masks) {
+  const uint32_t bd = initial.brickDim();
+  for (uint32_t bz = 0; bz < bd; ++bz)
+    for (uint32_t by = 0; by < bd; ++by)
+      for (uint32_t bx = 0; bx < bd; ++bx) {
+        const BrickCoord c{bx, by, bz};
+        const BrickView vi = initial.brick(c), vk = ideal.brick(c);
+        if (sameBrick(vi, vk)) continue;
+        for (uint32_t n = 0; n < DS_BRICK_VOXELS; ++n)
+          if (idealCavityOf(at(vi, n), at(vk, n)) > 0) masks->set(c, n);
+      }
+}
+
+// ---- 3. the brick pass ---------------------------------------------------------------------------
+
 struct Pass {
   std::array<TissueAmounts, 4> tissues{};
-  std::vector<OverVoxel> over;             // in brick order
   std::vector<uint64_t> exposed_pulp;      // linear voxel indices, with repeats
+  uint64_t target_in_crown_half = 0;
+  CutMarks beyond_target, healthy_outside_zone;
 };
 
 class BrickPass {
  public:
-  BrickPass(const BrickVolume& initial, const BrickVolume& final_, const BrickVolume* ideal, CavityMasks* masks)
-      : i_(initial), f_(final_), k_(ideal), masks_(masks), dim_(initial.dim()) {}
+  BrickPass(const BrickVolume& initial, const BrickVolume& final_, const BrickVolume* ideal, const TargetMasks& masks,
+            LeewayField& leeway, const CrownEstimate& crown)
+      : i_(initial), f_(final_), k_(ideal), masks_(masks), leeway_(leeway), crown_(crown), dim_(initial.dim()) {}
 
   void run(Pass* out) {
     out_ = out;
@@ -142,51 +142,54 @@ class BrickPass {
   void brick(BrickCoord c) {
     const BrickView vi = i_.brick(c), vf = f_.brick(c);
     const BrickView vk = k_ ? k_->brick(c) : vi;
-    if (sameBrick(vi, vf) && sameBrick(vi, vk)) return untouched(vi);
-    const uint64_t linear_brick = masks_->linearBrick(c.x, c.y, c.z);
+    const TargetMasks::Mask* target = masks_.find(c);
+    const bool band = leeway_.inBand(c);
+    if (!target && !band && sameBrick(vi, vf) && sameBrick(vi, vk)) return untouched(vi);
     for (uint32_t n = 0; n < DS_BRICK_VOXELS; ++n) {
       const Voxel v = at(vi, n);
       const int t = tissueIndex(layout::voxelMaterial(v));
       if (t < 0) continue;
       const uint32_t fi = voxelFill(v);
       const uint32_t r = std::min(voxelFill(at(vf, n)), fi);
-      const uint32_t k = k_ ? std::min(voxelFill(at(vk, n)), fi) : fi;
+      const uint32_t removed = fi - r;
+      const uint32_t share = k_ ? idealCavityOf(v, at(vk, n)) : (target && TargetMasks::test(*target, n) ? fi : 0u);
+      const uint32_t in_target = std::min(removed, share), beyond = removed - in_target, kept = fi - share;
       TissueAmounts& a = out_->tissues[size_t(t)];
       a.initial += fi;
       a.remaining += r;
-      a.removed += fi - r;
+      a.removed += removed;
+      a.target += share;
+      a.target_removed += in_target;
       const uint32_t x = c.x * DS_BRICK_DIM + (n & 7u), y = c.y * DS_BRICK_DIM + ((n >> 3) & 7u),
                      z = c.z * DS_BRICK_DIM + (n >> 6);
-      if (k_) {
-        a.ideal_cavity += fi - k;
-        if (k < fi) masks_->set(linear_brick, n);
-        if (r > k) a.undercut += r - k;
-        if (k > r) {
-          a.overcut += k - r;
-          out_->over.push_back({x, y, z, k - r, uint32_t(t)});
-        }
+      if (kept > 0) {
+        // A voxel with a share in the target is at distance 0 from it.
+        const bool near = share > 0 || (band && leeway_.near(c)[n] != 0);
+        (near ? a.leeway : a.container) += kept;
+        (near ? a.leeway_removed : a.container_removed) += beyond;
+        out_->beyond_target.add(x, y, z, beyond);
+        if (!near && layout::voxelMaterial(v) != DS_MAT_CARIES) out_->healthy_outside_zone.add(x, y, z, beyond);
       }
+      if (share > 0 && dot(Vec3{x + 0.5, y + 0.5, z + 0.5}, crown_.axis) >= crown_.middle())
+        out_->target_in_crown_half += share;
       if (layout::voxelMaterial(v) == DS_MAT_PULP && r < fi) out_->exposed_pulp.push_back(linear(x, y, z));
       if (r == 0 && fi > 0) pulpNextTo(vi, vf, x, y, z);
     }
   }
 
-  // A brick equal in all volumes: nothing removed, nothing to compare.
+  // A brick equal in all volumes and away from the target: all of it remains, in the container.
   void untouched(const BrickView& b) {
-    if (b.uniform) {
-      const int t = tissueIndex(layout::voxelMaterial(b.value));
+    auto add = [&](Voxel v, uint64_t count) {
+      const int t = tissueIndex(layout::voxelMaterial(v));
       if (t < 0) return;
-      const uint64_t units = uint64_t{voxelFill(b.value)} * DS_BRICK_VOXELS;
-      out_->tissues[size_t(t)].initial += units;
-      out_->tissues[size_t(t)].remaining += units;
-      return;
-    }
-    for (uint32_t n = 0; n < DS_BRICK_VOXELS; ++n) {
-      const int t = tissueIndex(layout::voxelMaterial(b.voxels[n]));
-      if (t < 0) continue;
-      out_->tissues[size_t(t)].initial += voxelFill(b.voxels[n]);
-      out_->tissues[size_t(t)].remaining += voxelFill(b.voxels[n]);
-    }
+      const uint64_t units = uint64_t{voxelFill(v)} * count;
+      TissueAmounts& a = out_->tissues[size_t(t)];
+      a.initial += units;
+      a.remaining += units;
+      a.container += units;
+    };
+    if (b.uniform) return add(b.value, DS_BRICK_VOXELS);
+    for (uint32_t n = 0; n < DS_BRICK_VOXELS; ++n) add(b.voxels[n], 1);
   }
 
   // The voxel at (x,y,z) was cut empty: a face neighbour that is pulp and still holds fill lies open.
@@ -217,131 +220,23 @@ class BrickPass {
   const BrickVolume& i_;
   const BrickVolume& f_;
   const BrickVolume* k_;
-  CavityMasks* masks_;
+  const TargetMasks& masks_;
+  LeewayField& leeway_;
+  const CrownEstimate& crown_;
   uint32_t dim_;
   Pass* out_ = nullptr;
 };
-
-// ---- 3. the leeway split -------------------------------------------------------------------------
-
-// The ideal-cavity bits around one brick, copied into a dense block so that a voxel's search reads
-// memory directly instead of hashing a brick per offset: the brick and `reach` bricks on each side.
-class CavityBlock {
- public:
-  explicit CavityBlock(int32_t brick_reach)
-      : reach_(brick_reach), side_(int64_t(DS_BRICK_DIM) * (2 * brick_reach + 1)),
-        bits_(size_t(side_ * side_ * side_), 0) {}
-
-  // Fills the block around brick (bx,by,bz); false when no ideal cavity lies in it.
-  bool load(const CavityMasks& masks, uint32_t bx, uint32_t by, uint32_t bz, int64_t brick_dim) {
-    std::fill(bits_.begin(), bits_.end(), uint8_t{0});
-    origin_ = {(int64_t{bx} - reach_) * DS_BRICK_DIM, (int64_t{by} - reach_) * DS_BRICK_DIM,
-               (int64_t{bz} - reach_) * DS_BRICK_DIM};
-    bool any = false;
-    for (int32_t dz = -reach_; dz <= reach_; ++dz)
-      for (int32_t dy = -reach_; dy <= reach_; ++dy)
-        for (int32_t dx = -reach_; dx <= reach_; ++dx) {
-          const int64_t nx = int64_t{bx} + dx, ny = int64_t{by} + dy, nz = int64_t{bz} + dz;
-          if (nx < 0 || ny < 0 || nz < 0 || nx >= brick_dim || ny >= brick_dim || nz >= brick_dim) continue;
-          const CavityMask* m = masks.find(masks.linearBrick(uint32_t(nx), uint32_t(ny), uint32_t(nz)));
-          if (!m) continue;
-          any = true;
-          for (uint32_t n = 0; n < DS_BRICK_VOXELS; ++n)
-            if (((*m)[n >> 6] >> (n & 63u)) & 1u)
-              bits_[index(nx * DS_BRICK_DIM + (n & 7u), ny * DS_BRICK_DIM + ((n >> 3) & 7u),
-                          nz * DS_BRICK_DIM + (n >> 6))] = 1;
-        }
-    return any;
-  }
-  // Squared distance [voxels^2] from each voxel of the central brick (offset n, x fastest) to the
-  // nearest ideal-cavity voxel, or kFar when none lies within `reach` voxels on every axis. Squared
-  // Euclidean distance separates by axis: min over x, then add dy^2 and take the min over y, then z.
-  // Only the rows that reach the central brick are computed: O((8 + 2 reach)^2 x (8 + 2 reach)).
-  static constexpr int64_t kFar = std::numeric_limits<int64_t>::max() / 4;
-  void centreDistances(int32_t reach, std::array<int64_t, DS_BRICK_VOXELS>* out) const {
-    const int64_t c = int64_t(reach_) * DS_BRICK_DIM;  // the central brick's first voxel in block coordinates
-    const int64_t w = DS_BRICK_DIM + 2 * int64_t{reach};  // rows and columns that can reach it
-    const int64_t lo = c - reach;
-    // Along x: per row (y, z), the nearest set bit to each central x, by one sweep each way.
-    std::vector<int64_t> fx(size_t(w * w * DS_BRICK_DIM), kFar);  // [z][y][x], x central
-    for (int64_t z = 0; z < w; ++z)
-      for (int64_t y = 0; y < w; ++y) {
-        const uint8_t* row = &bits_[size_t(side_ * ((lo + y) + side_ * (lo + z)))];
-        for (int64_t x = 0; x < int64_t{DS_BRICK_DIM}; ++x) {
-          int64_t best = kFar;
-          for (int64_t d = 0; d <= reach && best == kFar; ++d)
-            if (row[c + x - d] || row[c + x + d]) best = d * d;
-          fx[size_t(x + DS_BRICK_DIM * (y + w * z))] = best;
-        }
-      }
-    // Along y, then z: add the squared step and keep the minimum over the window.
-    std::vector<int64_t> fy(size_t(w * DS_BRICK_DIM * DS_BRICK_DIM), kFar);  // [z][y][x], x and y central
-    for (int64_t z = 0; z < w; ++z)
-      for (int64_t y = 0; y < int64_t{DS_BRICK_DIM}; ++y)
-        for (int64_t x = 0; x < int64_t{DS_BRICK_DIM}; ++x) {
-          int64_t best = kFar;
-          for (int64_t d = -reach; d <= reach; ++d) {
-            const int64_t v = fx[size_t(x + DS_BRICK_DIM * ((y + reach + d) + w * z))];
-            if (v != kFar) best = std::min(best, v + d * d);
-          }
-          fy[size_t(x + DS_BRICK_DIM * (y + DS_BRICK_DIM * z))] = best;
-        }
-    for (uint32_t n = 0; n < DS_BRICK_VOXELS; ++n) {
-      const int64_t x = n & 7u, y = (n >> 3) & 7u, z = n >> 6;
-      int64_t best = kFar;
-      for (int64_t d = -reach; d <= reach; ++d) {
-        const int64_t v = fy[size_t(x + DS_BRICK_DIM * (y + DS_BRICK_DIM * (z + reach + d)))];
-        if (v != kFar) best = std::min(best, v + d * d);
-      }
-      (*out)[n] = best;
-    }
-  }
-
- private:
-  size_t index(int64_t x, int64_t y, int64_t z) const {
-    return size_t((x - origin_[0]) + side_ * ((y - origin_[1]) + side_ * (z - origin_[2])));
-  }
-  int32_t reach_;
-  int64_t side_;
-  std::array<int64_t, 3> origin_{};
-  std::vector<uint8_t> bits_;  // (side^3), x fastest
-};
-
-void splitOverCut(const std::vector<OverVoxel>& over, const CavityMasks& masks, uint32_t dim, double leeway_voxels,
-                  std::array<TissueAmounts, 4>* tissues) {
-  if (over.empty()) return;
-  // 1e-9 keeps a leeway that is an exact multiple of the voxel (0.2 mm at 0.05 mm) inclusive.
-  const double limit = leeway_voxels * leeway_voxels * (1.0 + 1e-9);
-  const auto reach = int32_t(std::floor(leeway_voxels * (1.0 + 1e-9)));
-  const int32_t brick_reach = std::max(1, (reach + int32_t(DS_BRICK_DIM) - 1) / int32_t(DS_BRICK_DIM));
-  const int64_t brick_dim = dim >> DS_BRICK_LOG2;
-  CavityBlock block(brick_reach);
-  std::array<int64_t, DS_BRICK_VOXELS> dist2{};
-  uint64_t loaded_brick = ~uint64_t{0};
-  bool cavity_nearby = false;
-  for (const OverVoxel& v : over) {
-    // The voxels come brick by brick: one block per brick. A block without ideal cavity makes every
-    // over-cut voxel of the brick gross at once.
-    const uint32_t bx = v.x >> DS_BRICK_LOG2, by = v.y >> DS_BRICK_LOG2, bz = v.z >> DS_BRICK_LOG2;
-    const uint64_t brick = masks.linearBrick(bx, by, bz);
-    if (brick != loaded_brick) {
-      loaded_brick = brick;
-      cavity_nearby = block.load(masks, bx, by, bz, brick_dim);
-      if (cavity_nearby) block.centreDistances(reach, &dist2);
-    }
-    const uint32_t n = layout::brickCoordToOffset(v.x & 7u, v.y & 7u, v.z & 7u);
-    const bool near = cavity_nearby && dist2[n] != CavityBlock::kFar && double(dist2[n]) <= limit;
-    (near ? (*tissues)[v.tissue].overcut_near : (*tissues)[v.tissue].overcut_gross) += v.units;
-  }
-}
 
 }  // namespace
 
 // ---- 4. compareTeeth -----------------------------------------------------------------------------
 
 Result<ToothDiff> compareTeeth(const ToothVolume& initial, const ToothVolume& final_, const ToothVolume* ideal,
-                               double leeway_mm, const DiffNames& names) {
-  if (!(leeway_mm >= 0) || !std::isfinite(leeway_mm)) return makeError("", "leeway " + number(leeway_mm) + " mm is not >= 0");
+                               const ZoneOptions& zone, const DiffNames& names) {
+  if (!(zone.leeway_mm >= 0) || !std::isfinite(zone.leeway_mm))
+    return makeError("", "leeway " + number(zone.leeway_mm) + " mm is not >= 0");
+  if (!finite(zone.access_axis) || !(norm(zone.access_axis) > 1e-9))
+    return makeError("", "the insertion axis has no direction");
   if (!(initial.frame.voxel_mm > 0))
     return makeError(names.initial, "voxel size " + number(initial.frame.voxel_mm) + " mm is not > 0");
   if (initial.frame.level != initial.voxels.level())
@@ -354,13 +249,25 @@ Result<ToothDiff> compareTeeth(const ToothVolume& initial, const ToothVolume& fi
   ToothDiff diff;
   diff.voxel_mm = initial.frame.voxel_mm;
   diff.has_ideal = ideal != nullptr;
-  diff.leeway_mm = leeway_mm;
+  diff.target_kind = ideal ? TargetKind::IdealCavity : TargetKind::CariesAccess;
+  diff.access_axis = normalized(zone.access_axis);
+  diff.leeway_mm = zone.leeway_mm;
+  diff.crown = estimateCrown(initial.voxels);
 
-  CavityMasks masks(initial.voxels.brickDim());
+  const double leeway_voxels = zone.leeway_mm / diff.voxel_mm;
+  TargetMasks masks(initial.voxels.brickDim());
+  if (ideal)
+    markIdealCavity(initial.voxels, ideal->voxels, &masks);
+  else
+    markCariesAccess(initial.voxels, diff.access_axis, uint32_t(std::ceil(leeway_voxels / DS_BRICK_DIM)) + 1, &masks);
+  LeewayField leeway(masks, leeway_voxels);
+
   Pass pass;
-  BrickPass(initial.voxels, final_.voxels, ideal ? &ideal->voxels : nullptr, &masks).run(&pass);
+  BrickPass(initial.voxels, final_.voxels, ideal ? &ideal->voxels : nullptr, masks, leeway, diff.crown).run(&pass);
   diff.tissues = pass.tissues;
-  if (ideal) splitOverCut(pass.over, masks, initial.voxels.dim(), leeway_mm / diff.voxel_mm, &diff.tissues);
+  diff.target_in_crown_half = pass.target_in_crown_half;
+  diff.beyond_target = std::move(pass.beyond_target);
+  diff.healthy_outside_zone = std::move(pass.healthy_outside_zone);
 
   std::sort(pass.exposed_pulp.begin(), pass.exposed_pulp.end());
   diff.exposed_pulp_voxels =

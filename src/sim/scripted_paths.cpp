@@ -5,89 +5,13 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <optional>
 #include <vector>
 
-#include "sim/voxel_field.h"
+#include "model/tool_generator.h"
+#include "volume/cut_zone.h"
 
 namespace dentsim {
-
-// ---- probing the volume -------------------------------------------------------------------------
-
-TissueBox tissueBox(const BrickVolume& volume, const VolumeFrame& frame) {
-  const BrickBox b = tissueBricks(volume);
-  TissueBox box;
-  if (b.empty()) return box;
-  const double brick_mm = frame.voxel_mm * DS_BRICK_DIM;
-  const uint32_t lo[3] = {b.lo.x, b.lo.y, b.lo.z}, hi[3] = {b.hi.x, b.hi.y, b.hi.z};
-  for (int a = 0; a < 3; ++a) {
-    box.lo[a] = frame.origin_mm[size_t(a)] + double(lo[a]) * brick_mm;
-    box.hi[a] = frame.origin_mm[size_t(a)] + double(hi[a] + 1) * brick_mm;
-  }
-  return box;
-}
-
-namespace {
-
-// Column probes of one volume: the topmost crossing of the haptic field's surface (phi = 0, what the
-// student feels and sees), searched downward from above the tissue one voxel at a time.
-class SurfaceProbe {
- public:
-  SurfaceProbe(const BrickVolume& volume, const VolumeFrame& frame, const TissueBox& box)
-      : field_(volume, frame), top_mm_(box.hi.z + frame.voxel_mm), bottom_mm_(box.lo.z - frame.voxel_mm) {}
-
-  // Height [mm] of the surface in the column through (x, y); nullopt when the column holds no tissue.
-  std::optional<double> surface(double x, double y) {
-    const double step = field_.voxelMm();
-    auto inside = [&](double z) { return field_.sample(field_.toVoxel({x, y, z})).phi > 0; };
-    if (inside(top_mm_)) return top_mm_;
-    const auto steps = int64_t(std::ceil((top_mm_ - bottom_mm_) / step));
-    for (int64_t i = 1; i <= steps; ++i) {
-      double below = top_mm_ - double(i) * step;
-      if (!inside(below)) continue;
-      double above = below + step;
-      for (int k = 0; k < 12; ++k) {  // to 1/4096 voxel
-        const double mid = 0.5 * (above + below);
-        (inside(mid) ? below : above) = mid;
-      }
-      return 0.5 * (above + below);
-    }
-    return std::nullopt;
-  }
-
-  // The tip height of a ball of radius r [mm] coming down over (x, y): the highest of the columns
-  // under it, each lowered by the ball's sag at its distance from the axis.
-  std::optional<double> restingTip(double x, double y, double r) {
-    constexpr double kRings[] = {0.0, 0.35, 0.7, 0.95};  // ring radius / r
-    constexpr int kSpokes = 12;
-    std::optional<double> best;
-    for (double ring : kRings) {
-      const double rho = ring * r;
-      const int spokes = ring == 0.0 ? 1 : kSpokes;
-      const double sag = r - std::sqrt(r * r - rho * rho);
-      for (int k = 0; k < spokes; ++k) {
-        const double angle = 2.0 * std::numbers::pi * double(k) / kSpokes;
-        const std::optional<double> h = surface(x + rho * std::cos(angle), y + rho * std::sin(angle));
-        if (h && (!best || *h - sag > *best)) best = *h - sag;
-      }
-    }
-    return best;
-  }
-
- private:
-  VoxelField field_;
-  double top_mm_;
-  double bottom_mm_;
-};
-
-}  // namespace
-
-std::optional<double> restingTipHeight(const BrickVolume& volume, const VolumeFrame& frame, double x_mm, double y_mm,
-                                       double radius_mm) {
-  const TissueBox box = tissueBox(volume, frame);
-  if (box.empty()) return std::nullopt;
-  SurfaceProbe probe(volume, frame, box);
-  return probe.restingTip(x_mm, y_mm, radius_mm);
-}
 
 // ---- 1. the cavity preparation path ----------------------------------------------------------------
 
@@ -112,12 +36,13 @@ Result<CavityPath> cavityPreparationPath(const BrickVolume& volume, const Volume
   for (int j = -n; j <= n; ++j)
     for (int i = -n; i <= n; ++i) {
       if (i * i + j * j > n * n) continue;
-      const double x = out.crown_centre_mm.x + s.fossa_grid_mm * i, y = out.crown_centre_mm.y + s.fossa_grid_mm * j;
+      const double x = out.crown_centre_mm.x + s.search_offset_mm.x + s.fossa_grid_mm * i,
+                   y = out.crown_centre_mm.y + s.search_offset_mm.y + s.fossa_grid_mm * j;
       const std::optional<double> z = probe.restingTip(x, y, r);
       if (z && (!fossa || *z < fossa->z)) fossa = Vec3{x, y, *z};
     }
   if (!fossa) return makeError(where, "no tissue under the bur within " + std::to_string(s.fossa_search_mm) +
-                                          " mm of the crown's centre");
+                                          " mm of the search's centre");
   out.fossa_mm = *fossa;
 
   const Vec3 grip{0.0, 0.0, s.grip_z_mm};
@@ -194,68 +119,172 @@ Result<CavityPath> cavityPreparationPath(const BrickVolume& volume, const Volume
 
 // ---- 2. the caries removal path ------------------------------------------------------------------
 
-namespace {
+std::optional<double> burHeadRadiusMm(const std::string& bur) {
+  for (const ToolSpec& t : toolCatalog())
+    if (t.name == bur && (t.kind == ToolKind::RoundBur || t.kind == ToolKind::FissureBur)) return 0.5 * t.head_diameter_mm;
+  return std::nullopt;
+}
 
-// The caries voxels' box (grid indices, inclusive) and their solid volume in fill units.
-struct Lesion {
-  uint32_t lo[3] = {UINT32_MAX, UINT32_MAX, UINT32_MAX};
-  uint32_t hi[3] = {0, 0, 0};
-  uint64_t fill = 0;
-  void add(uint32_t x, uint32_t y, uint32_t z, uint64_t f) {
+LesionBox findLesion(const BrickVolume& volume) {
+  LesionBox lesion;
+  auto add = [&](uint32_t x, uint32_t y, uint32_t z, uint64_t f) {
     const uint32_t c[3] = {x, y, z};
     for (size_t a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], c[a]);
-      hi[a] = std::max(hi[a], c[a]);
+      lesion.lo[a] = std::min(lesion.lo[a], c[a]);
+      lesion.hi[a] = std::max(lesion.hi[a], c[a]);
     }
-    fill += f;
-  }
-};
-
-Lesion findLesion(const BrickVolume& volume) {
-  Lesion lesion;
+    lesion.fill += f;
+  };
   volume.forEachBrick([&](const BrickView& b) {
     const uint32_t bx = b.coord.x * DS_BRICK_DIM, by = b.coord.y * DS_BRICK_DIM, bz = b.coord.z * DS_BRICK_DIM;
     if (b.uniform) {
       if (voxelMaterial(b.value) != Material::Caries || voxelFill(b.value) == 0) return;
-      lesion.add(bx, by, bz, 0);
-      lesion.add(bx + DS_BRICK_DIM - 1, by + DS_BRICK_DIM - 1, bz + DS_BRICK_DIM - 1,
-                 uint64_t(voxelFill(b.value)) * DS_BRICK_VOXELS);
+      add(bx, by, bz, 0);
+      add(bx + DS_BRICK_DIM - 1, by + DS_BRICK_DIM - 1, bz + DS_BRICK_DIM - 1, uint64_t(voxelFill(b.value)) * DS_BRICK_VOXELS);
       return;
     }
     for (uint32_t i = 0; i < DS_BRICK_VOXELS; ++i) {
       const Voxel v = b.voxels[i];
       if (voxelMaterial(v) != Material::Caries || voxelFill(v) == 0) continue;
-      lesion.add(bx + (i & 7u), by + ((i >> 3) & 7u), bz + (i >> 6), voxelFill(v));
+      add(bx + (i & 7u), by + ((i >> 3) & 7u), bz + (i >> 6), voxelFill(v));
     }
   });
   return lesion;
 }
 
-// Evenly spaced positions from a to b at most `spacing` apart; the middle alone when a > b.
-std::vector<double> spread(double a, double b, double spacing) {
-  if (a >= b) return {0.5 * (a + b)};
-  const auto gaps = std::max<int64_t>(1, int64_t(std::ceil((b - a) / spacing - 1e-9)));
-  std::vector<double> out;
-  for (int64_t k = 0; k <= gaps; ++k) out.push_back(a + (b - a) * double(k) / double(gaps));
-  return out;
-}
+namespace {
+
+// The planner's view of the tooth around the lesion: the allowed zone, and which voxels earlier
+// positions have already claimed for removal, both dense over one box.
+class CariesPlanner {
+ public:
+  CariesPlanner(const BrickVolume& volume, const VolumeFrame& frame, const SimParams& params, double rate,
+                const LesionBox& lesion, const CariesPathSettings& s)
+      : volume_(volume), frame_(frame), params_(params), rate_(rate), r_(s.bur_radius_mm),
+        masks_(volume.brickDim()) {
+    const double v = frame.voxel_mm;
+    markCariesAccess(volume, {0, 0, 1}, uint32_t(std::ceil(s.leeway_mm / v / DS_BRICK_DIM)) + 1, &masks_);
+    leeway_.emplace(masks_, s.leeway_mm / v);
+    // The box: the lesion widened by a ball and the leeway across the axis, from a ball below its
+    // floor to the top of the tissue.
+    const auto pad = int64_t(std::ceil((r_ + s.leeway_mm) / v)) + 2;
+    const BrickBox tissue = tissueBricks(volume);
+    lo_ = {int64_t(lesion.lo[0]) - pad, int64_t(lesion.lo[1]) - pad, int64_t(lesion.lo[2]) - pad};
+    hi_ = {int64_t(lesion.hi[0]) + 1 + pad, int64_t(lesion.hi[1]) + 1 + pad,
+           int64_t(tissue.hi.z + 1) * DS_BRICK_DIM + int64_t(std::ceil(2 * r_ / v)) + 1};
+    zone_.emplace(volume, masks_, *leeway_, lo_, hi_);
+    for (size_t a = 0; a < 3; ++a) size_[a] = std::max<int64_t>(0, std::min<int64_t>(hi_[a], volume.dim()) - std::max<int64_t>(lo_[a], 0));
+    claimed_.assign(size_t(size_[0] * size_[1] * size_[2]), 0);
+  }
+
+  // The ball of the bur with its tip at `tip` [mm]: does it fit the allowed zone, and how much
+  // target tissue does it hold [fill units]?
+  struct Fit {
+    bool fits = false;
+    uint64_t target = 0;
+  };
+  Fit fit(const Vec3& tip) const {
+    Fit out{true, 0};
+    forBall(tip, [&](int64_t x, int64_t y, int64_t z, Voxel vox) {
+      if (voxelFill(vox) == 0 || voxelMaterial(vox) == Material::Empty) return true;
+      if (!zone_->allowed(x, y, z)) return out.fits = false;
+      if (zone_->target(x, y, z)) out.target += voxelFill(vox);
+      return true;
+    });
+    return out;
+  }
+
+  // Claims the ball's tissue that no earlier position claimed: the seconds it takes to cut at full
+  // speed, and its volume into the plan's totals [mm^3].
+  double claim(const Vec3& tip, double* caries_mm3, double* healthy_mm3) {
+    double seconds = 0.0;
+    const double voxel_mm3 = frame_.voxelVolumeMm3();
+    forBall(tip, [&](int64_t x, int64_t y, int64_t z, Voxel vox) {
+      // Positions that fit hold tissue only inside the box; the test keeps the index in range anyway.
+      if (voxelFill(vox) == 0 || voxelMaterial(vox) == Material::Empty || !inBox(x, y, z)) return true;
+      uint8_t& c = claimed_[index(x, y, z)];
+      if (c) return true;
+      c = 1;
+      const double mm3 = double(voxelFill(vox)) / DS_FILL_FULL * voxel_mm3;
+      const double hardness = params_.tissue(voxelMaterial(vox)).hardness;
+      if (hardness > 0) seconds += mm3 / (rate_ * hardness);
+      (voxelMaterial(vox) == Material::Caries ? *caries_mm3 : *healthy_mm3) += mm3;
+      return true;
+    });
+    return seconds;
+  }
+
+  // The voxel centre (x, y, z) in mm.
+  Vec3 centre(int64_t x, int64_t y, int64_t z) const {
+    const double v = frame_.voxel_mm;
+    return {frame_.origin_mm[0] + (double(x) + 0.5) * v, frame_.origin_mm[1] + (double(y) + 0.5) * v,
+            frame_.origin_mm[2] + (double(z) + 0.5) * v};
+  }
+
+ private:
+  // Calls f(x, y, z, voxel) for the grid's voxels whose centres lie in the ball, until f returns
+  // false. (The zone answers "not allowed" for tissue beyond its box.)
+  template <typename F>
+  void forBall(const Vec3& tip, F&& f) const {
+    const double v = frame_.voxel_mm;
+    const Vec3 c = tip + Vec3{0, 0, r_};
+    const int64_t dim = volume_.dim();
+    int64_t lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::max<int64_t>(0, int64_t(std::floor((c[a] - r_ - frame_.origin_mm[size_t(a)]) / v)));
+      hi[a] = std::min<int64_t>(dim - 1, int64_t(std::ceil((c[a] + r_ - frame_.origin_mm[size_t(a)]) / v)));
+    }
+    const double r2 = r_ * r_;
+    for (int64_t z = lo[2]; z <= hi[2]; ++z)
+      for (int64_t y = lo[1]; y <= hi[1]; ++y)
+        for (int64_t x = lo[0]; x <= hi[0]; ++x) {
+          const Vec3 d = centre(x, y, z) - c;
+          if (dot(d, d) > r2) continue;
+          if (!f(x, y, z, volume_.voxel(uint32_t(x), uint32_t(y), uint32_t(z)))) return;
+        }
+  }
+  bool inBox(int64_t x, int64_t y, int64_t z) const {
+    return x >= lo_[0] && y >= lo_[1] && z >= lo_[2] && x < hi_[0] && y < hi_[1] && z < hi_[2];
+  }
+  size_t index(int64_t x, int64_t y, int64_t z) const {
+    const int64_t bx = std::max<int64_t>(lo_[0], 0), by = std::max<int64_t>(lo_[1], 0), bz = std::max<int64_t>(lo_[2], 0);
+    return size_t((x - bx) + size_[0] * ((y - by) + size_[1] * (z - bz)));
+  }
+
+  const BrickVolume& volume_;
+  const VolumeFrame& frame_;
+  const SimParams& params_;
+  double rate_;                 // [mm^3/s] at hardness 1, full speed
+  double r_;                    // the ball's radius [mm]
+  TargetMasks masks_;
+  std::optional<LeewayField> leeway_;
+  std::optional<ZoneGrid> zone_;
+  std::array<int64_t, 3> lo_{}, hi_{}, size_{};
+  std::vector<uint8_t> claimed_;
+};
 
 }  // namespace
 
 Result<CariesPath> cariesRemovalPath(const BrickVolume& volume, const VolumeFrame& frame, const SimParams& params,
-                                     const std::string& bur, const CariesPathSettings& s) {
+                                     const std::string& bur, const CariesPathSettings& settings) {
   const std::string where = "caries path";
-  if (!(s.bur_radius_mm > 0) || !(s.layer_mm > 0) || !(s.line_spacing > 0) || s.overreach < 0 ||
-      !(s.speed_mm_s > 0) || !(s.margin > 0) || !(s.hold_s > 0) || !(s.descent_s > 0) || !(s.lift_s > 0) ||
-      !(s.sample_s > 0) || s.approach_mm < 0)
-    return makeError(where, "radius, layer, spacing, speed, margin, hold, descent, lift and sample period must be > 0; "
-                            "overreach and approach >= 0");
+  CariesPathSettings s = settings;
+  if (s.bur_radius_mm == 0) {
+    const std::optional<double> r = burHeadRadiusMm(bur);
+    if (!r) return makeError(where, bur + " is not a bur of the tool catalog: give the head's radius");
+    s.bur_radius_mm = *r;
+  }
+  if (!(s.bur_radius_mm > 0) || !(s.grid_mm > 0) || !(s.layer_mm > 0) || s.press_mm < 0 || !(s.margin > 0) ||
+      !(s.speed_mm_s > 0) || !(s.hop_speed_mm_s > 0) || !(s.hold_s > 0) || !(s.descent_s > 0) || !(s.lift_s > 0) ||
+      !(s.sample_s > 0) || s.approach_mm < 0 || s.leeway_mm < 0)
+    return makeError(where, "radius, grid, layer, margin, speeds, hold, descent, lift and sample period must be > 0; "
+                            "press, approach and leeway >= 0");
   const double ability = params.cuttingAbility(bur);
   if (!(ability > 0)) return makeError(where, "the parameter set gives " + bur + " no cutting ability");
   const double rate = params.cutting.removal_rate_mm3_per_s * ability;  // [mm^3/s] at hardness 1, full speed
   if (!(rate > 0)) return makeError(where, "the parameter set's removal rate is 0");
-  const Lesion lesion = findLesion(volume);
-  if (lesion.lo[0] > lesion.hi[0]) return makeError(where, "the volume holds no caries");
+  const LesionBox lesion = findLesion(volume);
+  if (lesion.empty()) return makeError(where, "the volume holds no caries");
 
   CariesPath out;
   const double v = frame.voxel_mm;
@@ -264,50 +293,57 @@ Result<CariesPath> cariesRemovalPath(const BrickVolume& volume, const VolumeFram
     out.lesion_hi_mm[a] = frame.origin_mm[size_t(a)] + double(lesion.hi[a] + 1) * v;
   }
   out.lesion_mm3 = double(lesion.fill) / DS_FILL_FULL * frame.voxelVolumeMm3();
-  const double r = s.bur_radius_mm;
-
-  // The raster: lines along x at these y, from x0 to x1.
-  const std::vector<double> ys =
-      spread(out.lesion_lo_mm.y + s.overreach * r, out.lesion_hi_mm.y - s.overreach * r, s.line_spacing * r);
-  std::vector<double> xs = spread(out.lesion_lo_mm.x + s.overreach * r, out.lesion_hi_mm.x - s.overreach * r, HUGE_VAL);
-  const double x0 = xs.front(), x1 = xs.back();
-
-  // The top: the highest the bur rests anywhere on the raster.
+  CariesPlanner planner(volume, frame, params, rate, lesion, s);
   const TissueBox box = tissueBox(volume, frame);
-  SurfaceProbe probe(volume, frame, box);
-  std::optional<double> top;
-  for (double y : ys)
-    for (double x : spread(x0, x1, 0.5 * r)) {
-      const std::optional<double> z = probe.restingTip(x, y, r);
-      if (z && (!top || *z > *top)) top = z;
-    }
-  if (!top) return makeError(where, "no tissue over the lesion");
-  const double floor_z = out.lesion_lo_mm.z;
-  out.layers = std::max(1, int(std::ceil((*top - floor_z) / s.layer_mm - 1e-9)));
+  const double top = box.hi.z + s.approach_mm;  // clear of the tooth
 
-  // Seconds each layer's tissue takes to cut: voxels under the raster's reach between the layer's
-  // tip height and the one above, each at its own hardness.
-  auto voxelRange = [&](double lo_mm, double hi_mm, int axis) {
-    const double o = frame.origin_mm[size_t(axis)];
-    const auto dim = double(volume.dim());
-    const double a = std::clamp(std::floor((lo_mm - o) / v), 0.0, dim - 1), b = std::clamp(std::floor((hi_mm - o) / v), 0.0, dim - 1);
-    return std::pair<uint32_t, uint32_t>{uint32_t(a), uint32_t(b)};
+  // The positions, layer by layer from the top; rows along x, every other row backwards.
+  const auto columns = int64_t(std::floor((out.lesion_hi_mm.x - out.lesion_lo_mm.x) / s.grid_mm)) + 1;
+  const auto rows = int64_t(std::floor((out.lesion_hi_mm.y - out.lesion_lo_mm.y) / s.grid_mm)) + 1;
+  const double x0 = 0.5 * (out.lesion_lo_mm.x + out.lesion_hi_mm.x) - 0.5 * double(columns - 1) * s.grid_mm;
+  const double y0 = 0.5 * (out.lesion_lo_mm.y + out.lesion_hi_mm.y) - 0.5 * double(rows - 1) * s.grid_mm;
+  const double floor_z = out.lesion_lo_mm.z;
+  const auto layers = int64_t(std::ceil((box.hi.z - floor_z) / s.layer_mm));
+  // A lesion far larger than the bur (a tooth in the wrong units, say) would take hours to plan.
+  constexpr double kMaxCandidates = 4e6;
+  if (double(columns) * double(rows) * double(layers + 1) > kMaxCandidates) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "the lesion spans %.1f x %.1f mm under %.1f mm of tooth: too large for a scripted removal with a "
+                  "%.2f mm bur (are the tooth's units right?)",
+                  out.lesion_hi_mm.x - out.lesion_lo_mm.x, out.lesion_hi_mm.y - out.lesion_lo_mm.y, box.hi.z - floor_z,
+                  2 * s.bur_radius_mm);
+    return makeError(where, text);
+  }
+  // A column's floor: the lowest tip that fits there. The pen never presses below it.
+  struct Position {
+    Vec3 tip;
+    size_t column = 0;
+    bool row_end = false;  // the last of its row: the bur turns here
   };
-  auto layerSeconds = [&](double z_lo, double z_hi) {
-    const auto [ix0, ix1] = voxelRange(x0 - r, x1 + r, 0);
-    const auto [iy0, iy1] = voxelRange(ys.front() - r, ys.back() + r, 1);
-    const auto [iz0, iz1] = voxelRange(z_lo, z_hi, 2);
-    double seconds = 0.0;
-    for (uint32_t z = iz0; z <= iz1; ++z)
-      for (uint32_t y = iy0; y <= iy1; ++y)
-        for (uint32_t x = ix0; x <= ix1; ++x) {
-          const Voxel vox = volume.voxel(x, y, z);
-          const double h = params.tissue(voxelMaterial(vox)).hardness;
-          if (voxelFill(vox) == 0 || !(h > 0)) continue;
-          seconds += double(voxelFill(vox)) / DS_FILL_FULL * frame.voxelVolumeMm3() / (rate * h);
-        }
-    return seconds;
-  };
+  std::vector<double> floor_of(size_t(columns * rows), HUGE_VAL);
+  std::vector<std::vector<Position>> plan;
+  for (int64_t k = layers; k >= 0; --k) {
+    const double z = floor_z + double(k) * s.layer_mm;
+    std::vector<Position> layer;
+    for (int64_t j = 0; j < rows; ++j) {
+      std::vector<Position> row;
+      for (int64_t i = 0; i < columns; ++i) {
+        const Vec3 tip{x0 + double(i) * s.grid_mm, y0 + double(j) * s.grid_mm, z};
+        const CariesPlanner::Fit f = planner.fit(tip);
+        if (!f.fits) continue;
+        const auto column = size_t(i + columns * j);
+        floor_of[column] = std::min(floor_of[column], z);
+        if (f.target > 0) row.push_back({tip, column});
+      }
+      if (j % 2 == 1) std::reverse(row.begin(), row.end());
+      if (!row.empty()) row.back().row_end = true;
+      layer.insert(layer.end(), row.begin(), row.end());
+    }
+    if (!layer.empty()) plan.push_back(std::move(layer));
+  }
+  if (plan.empty()) return makeError(where, "no position of the bur fits the allowed zone around the lesion");
+  out.layers = int(plan.size());
 
   const Vec3 grip{0.0, 0.0, s.grip_z_mm};
   auto add = [&](double t, const Vec3& tip, double pedal) {
@@ -318,69 +354,58 @@ Result<CariesPath> cariesRemovalPath(const BrickVolume& volume, const VolumeFram
     sample.pedal = pedal;
     out.path.samples.push_back(sample);
   };
-  auto samplesOver = [&](double span) { return std::max<int64_t>(1, int64_t(std::ceil(span / s.sample_s - 1e-9))); };
-
-  // Above the first line's start; the turbine starts at the end of the hold.
-  const Vec3 first{x0, ys.front(), floor_z};
-  const Vec3 above{first.x, first.y, *top + s.approach_mm};
-  add(0.0, above, 0.0);
+  // A straight move from a to b [mm, targets], sampled every sample_s.
   double t = 0.0;
-  for (int64_t k = 1, n = samplesOver(s.hold_s); k <= n; ++k) add(t + s.hold_s * double(k) / double(n), above, k < n ? 0.0 : 1.0);
-  t += s.hold_s;
-  out.cut_start_s = t;
+  auto move = [&](const Vec3& a, const Vec3& b, double duration, double pedal) {
+    const auto n = std::max<int64_t>(1, int64_t(std::floor(duration / s.sample_s + 1e-9)));
+    for (int64_t k = 1; k <= n; ++k) add(t + duration * double(k) / double(n), a + (b - a) * (double(k) / double(n)), pedal);
+    t += duration;
+  };
+  // Can the ball travel straight from a to b without leaving the zone? Checked every half grid step.
+  auto straight = [&](const Vec3& a, const Vec3& b) {
+    const auto n = int64_t(std::ceil(norm(b - a) / (0.5 * s.grid_mm)));
+    for (int64_t k = 1; k < n; ++k)
+      if (!planner.fit(a + (b - a) * (double(k) / double(n))).fits) return false;
+    return true;
+  };
 
-  // Layer by layer, the raster run forward, then backward, and so on.
-  Vec3 at = above;
-  double z_above = *top;
-  for (int layer = 0; layer < out.layers; ++layer) {
-    const double z = *top - (*top - floor_z) * double(layer + 1) / double(out.layers);
-    std::vector<Vec3> corners;
-    for (size_t i = 0; i < ys.size(); ++i) {
-      const bool forward = i % 2 == 0;
-      corners.push_back({forward ? x0 : x1, ys[i], z});
-      corners.push_back({forward ? x1 : x0, ys[i], z});
-    }
-    if (layer % 2 == 1) std::reverse(corners.begin(), corners.end());
-    // The first layer is reached by the descent; later ones drop where the last ended.
-    if (layer == 0) {
-      const Vec3 from = at, to = corners.front();
-      for (int64_t k = 1, n = samplesOver(s.descent_s); k <= n; ++k)
-        add(t + s.descent_s * double(k) / double(n), from + (to - from) * (double(k) / double(n)), 1.0);
-      t += s.descent_s;
-    }
-    double length = 0.0;
-    for (size_t i = 1; i < corners.size(); ++i) length += norm(corners[i] - corners[i - 1]);
-    const double duration = std::max({length / s.speed_mm_s, s.margin * layerSeconds(z, z_above), s.sample_s});
-    // Uniform speed along the corners' polyline.
-    const int64_t n = samplesOver(duration);
-    size_t seg = 0;
-    double seg_start = 0.0;
-    for (int64_t k = 0; k <= n; ++k) {
-      const double along = length * double(k) / double(n);
-      while (seg + 2 < corners.size() && seg_start + norm(corners[seg + 1] - corners[seg]) < along) {
-        seg_start += norm(corners[seg + 1] - corners[seg]);
-        ++seg;
+  // Above the first position; the turbine starts at the end of the hold, then the pen comes down.
+  const Vec3 first = plan.front().front().tip;
+  Vec3 above{first.x, first.y, top};
+  add(0.0, above, 0.0);
+  move(above, above, s.hold_s, 0.0);
+  out.path.samples.back().pedal = 1.0;
+  out.cut_start_s = t;
+  double caries_mm3 = 0.0, healthy_mm3 = 0.0;
+  Vec3 at = above;  // the last target
+  std::optional<Vec3> last_tip;
+  for (const std::vector<Position>& layer : plan)
+    for (const Position& p : layer) {
+      const Vec3& tip = p.tip;
+      const Vec3 target{tip.x, tip.y, std::max(tip.z - s.press_mm, floor_of[p.column] - s.floor_overshoot_mm)};
+      if (!last_tip || !straight(*last_tip, tip)) {
+        // Over the position, then down to it: the column above a position that fits fits too.
+        const Vec3 up{at.x, at.y, top}, over{tip.x, tip.y, top};
+        if (norm(up - at) > 0) move(at, up, norm(up - at) / s.hop_speed_mm_s, 1.0);
+        if (norm(over - up) > 0) move(up, over, norm(over - up) / s.hop_speed_mm_s, 1.0);
+        at = over;
+        if (last_tip) ++out.hops;
       }
-      Vec3 p = corners.front();
-      if (corners.size() > 1) {
-        const double span = norm(corners[seg + 1] - corners[seg]);
-        const double u = span > 0 ? std::clamp((along - seg_start) / span, 0.0, 1.0) : 0.0;
-        p = corners[seg] + (corners[seg + 1] - corners[seg]) * u;
-      }
-      // k == 0 drops the target to this layer where the last one ended.
-      add(t + s.sample_s + duration * double(k) / double(n), p, 1.0);
+      const double seconds = planner.claim(tip, &caries_mm3, &healthy_mm3);
+      // At a row's end the bur, which trails its target sideways, is given time to reach it.
+      const double duration =
+          std::max({norm(target - at) / s.speed_mm_s, s.margin * seconds, 1e-3}) + (p.row_end ? s.turn_s : 0.0);
+      move(at, target, duration, 1.0);
+      at = target;
+      last_tip = tip;
+      ++out.positions;
     }
-    t += duration + s.sample_s;
-    at = corners.back();
-    z_above = z;
-  }
   out.cut_end_s = t;
+  out.planned_caries_mm3 = caries_mm3;
+  out.planned_healthy_mm3 = healthy_mm3;
 
   // Pedal up, lift.
-  const Vec3 up{at.x, at.y, *top + s.approach_mm};
-  for (int64_t k = 1, n = samplesOver(s.lift_s); k <= n; ++k)
-    add(t + s.lift_s * double(k) / double(n), at + (up - at) * (double(k) / double(n)), 0.0);
-  t += s.lift_s;
+  move(at, {at.x, at.y, top}, s.lift_s, 0.0);
   out.duration_s = t;
   return out;
 }

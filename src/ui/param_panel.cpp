@@ -396,7 +396,7 @@ void scoreSection(const Frame& f) {
   const ScoreSummary& sc = f.state.score;
   if (!sc.valid) return;
   if (!section(f, "score", "Score", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  ImGui::Text("total %.1f / 100", sc.total);
+  ImGui::Text("total %.1f / %.0f", sc.total, sc.total_max);
   if (!sc.rows.empty() && ImGui::BeginTable("score rows", 2, ImGuiTableFlags_RowBg)) {
     for (const ScoreRow& r : sc.rows) {
       ImGui::TableNextRow();

@@ -44,7 +44,8 @@ struct ScoreRow {
 
 struct ScoreSummary {
   bool valid = false;            // false before a task has been scored
-  double total = 0.0;            // [0..100]
+  double total = 0.0;            // [0..total_max]
+  double total_max = 100.0;      // 100, or less when parts were not scored (no session)
   std::vector<ScoreRow> rows;    // sub-scores and volumes, in display order
   int image_width = 0;           // the red/blue picture's size [px]; the panel keeps its aspect
   int image_height = 0;

@@ -160,6 +160,44 @@ TEST_F(SessionCli, ScoreOfTheDemoGivesTheDemosTotal) {
   EXPECT_TRUE(std::filesystem::exists(png));
 }
 
+TEST_F(SessionCli, ScoreWithoutASessionLeavesTimeAndForceNotScored) {
+  ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
+  const std::string report = dir_->file("no_session.json");
+  const test::CommandResult r = runDentsim("score --task caries --initial " + file("initial.dvol") + " --final " +
+                                           file("final.dvol") + " -o " + report + " --png " + dir_->file("ns.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("/ 50 ("), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("time and force not scored: no session was given"), std::string::npos) << r.output;
+  const nlohmann::json j = readJson(report);
+  EXPECT_EQ(j["total_max"].get<double>(), 50.0);
+  EXPECT_TRUE(j["components"]["time"]["points"].is_null());
+  EXPECT_TRUE(j["components"]["force"]["points"].is_null());
+  EXPECT_EQ(j["not_scored"].size(), 2u);
+  EXPECT_LE(j["total"].get<double>(), 50.0);
+  // The same cut with its session: out of 100, and the removal part is the same.
+  const nlohmann::json with = readJson(file("score.json"));
+  EXPECT_EQ(with["total_max"].get<double>(), 100.0);
+  EXPECT_EQ(with["components"]["removal"]["points"], j["components"]["removal"]["points"]);
+}
+
+TEST_F(SessionCli, TheTrenchAttemptScoresFarBelowTheCarefulOne) {
+  ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
+  const std::string out = dir_->file("trench");
+  const test::NoLeakCheckForGpuChild no_leak_check;
+  const test::CommandResult r = runDentsim("demo --headless --level 7 --mirror none --no-sound --attempt trench --params " +
+                                           dir_->file("fast.json") + " --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const double trench = readJson(out + "/score.json")["total"].get<double>();
+  const double careful = readJson(file("score.json"))["total"].get<double>();
+  EXPECT_LT(trench, 40.0);
+  EXPECT_GE(careful - trench, 20.0);
+  // A mistyped attempt fails before anything runs.
+  const test::CommandResult bad = runDentsim("demo --headless --attempt sloppy --out " + dir_->file("bad"));
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_NE(bad.output.find("sloppy"), std::string::npos) << bad.output;
+  EXPECT_FALSE(std::filesystem::exists(dir_->file("bad")));
+}
+
 TEST_F(SessionCli, ACavityCutExactlyToTheIdealScoresFullMarks) {
   ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
   // The demo's own result as the ideal: no under-cut, no over-cut; its bur stayed upright and it

@@ -1,4 +1,4 @@
-// Tests of svgLinePlot's log axes, palette choice and dashes.
+// Tests of svgLinePlot's log axes, palette choice and dashes, and of svgBarChart's bar geometry.
 #include "bench/svg_plot.h"
 
 #include <gtest/gtest.h>
@@ -34,6 +34,18 @@ TEST(SvgPlotTest, ColourAndDashAreThoseAsked) {
        at = svg.find("stroke-dasharray=\"7,4\"", at + 1))
     ++dashes;
   EXPECT_EQ(dashes, 2u);
+}
+
+TEST(SvgPlotTest, BarsStandInTheirGroupsAtTheirHeight) {
+  // The plot is 420 x 300 px from (70, 40). Two groups of two bars: each group a 210 px slot whose
+  // bars fill 80% of it, 84 px each. 50 of 100 is half the plot's height: from y = 190 down to 340.
+  const std::string svg = svgBarChart("t", "y", {"a", "b"}, {{"first", {50.0, 100.0}}, {"second", {25.0, 0.0}}}, 100.0, 20.0, 60.0);
+  EXPECT_NE(svg.find("<rect x=\"91\" y=\"190\" width=\"77.28\" height=\"150\""), std::string::npos) << svg;
+  EXPECT_NE(svg.find("<rect x=\"175\" y=\"265\" width=\"77.28\" height=\"75\""), std::string::npos) << svg;
+  EXPECT_NE(svg.find("<rect x=\"301\" y=\"40\" width=\"77.28\" height=\"300\""), std::string::npos) << svg;
+  // The mark at 60: 40% down the plot.
+  EXPECT_NE(svg.find("y1=\"160\" y2=\"160\" stroke=\"#444\" stroke-dasharray"), std::string::npos) << svg;
+  EXPECT_NE(svg.find(">first a: 50</title>"), std::string::npos) << svg;
 }
 
 }  // namespace

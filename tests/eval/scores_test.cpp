@@ -1,4 +1,4 @@
-// Tests of the score formulas on hand-counted teeth: the empty attempt, the exact ideal, one voxel wrong, every clamp, the report.
+// Tests of the score formulas on hand-counted teeth: the empty attempt, the exact ideal, one voxel wrong, healthy tissue outside the zone, the pulp's cap, parts not scored, every clamp, warnings, the report.
 #include "eval/scores.h"
 
 #include <gtest/gtest.h>
@@ -15,7 +15,8 @@ constexpr Voxel kEmpty = 0;
 
 // ---- caries removal ------------------------------------------------------------------------------
 
-// Enamel slab with 8 caries voxels at the top, x 4..7, y 4..5, z 7.
+// Enamel slab with 8 caries voxels at the top, x 4..7, y 4..5, z 7: the target is these 8 voxels
+// (the space above them holds no tissue).
 ToothVolume cariousSlab() {
   ToothVolume t = enamelSlab();
   setBox(t, {4, 4, 7}, {8, 6, 8}, makeVoxel(Material::Caries));
@@ -23,7 +24,7 @@ ToothVolume cariousSlab() {
 }
 
 ToothDiff diffOf(const ToothVolume& initial, const ToothVolume& final_, const ToothVolume* ideal) {
-  auto d = compareTeeth(initial, final_, ideal, 0.2);
+  auto d = compareTeeth(initial, final_, ideal, ZoneOptions{});
   EXPECT_TRUE(d.ok()) << d.message();
   return d.ok() ? *d : ToothDiff{};
 }
@@ -40,40 +41,82 @@ SessionStats stats(double elapsed_s, uint64_t contact, uint64_t force_over, uint
 
 TEST(CariesScore, DoingNothingScoresZero) {
   const ToothVolume t = cariousSlab();
-  // No session steps: elapsed 0 s is before the target, but nothing was removed, so no time points;
+  // An empty session: elapsed 0 s is before the target, but nothing was removed, so no time points;
   // no contact samples, so no force points.
-  const CariesScore s = scoreCariesRemoval(diffOf(t, t, nullptr), SessionStats{}, test::cariesTask());
+  const SessionStats empty;
+  const CariesScore s = scoreCariesRemoval(diffOf(t, t, nullptr), &empty, test::cariesTask());
   EXPECT_EQ(s.removal, 0.0);
   EXPECT_EQ(s.time, 0.0);
   EXPECT_EQ(s.force, 0.0);
   EXPECT_EQ(s.total, 0.0);
+  EXPECT_EQ(s.total_max, 100.0);
 }
 
 TEST(CariesScore, HandCountedComponents) {
   const ToothVolume t = cariousSlab();
   ToothVolume student = t;
   setBox(student, {4, 4, 7}, {6, 6, 8}, kEmpty);        // 4 of 8 caries voxels
-  setBox(student, {0, 0, 7}, {2, 1, 8}, kEmpty);        // 2 healthy enamel voxels
-  // removal 50 x 4/8 = 25; time 25 x (900 - 600)/(900 - 300) = 12.5; force 25 x (10 - 2)/10 = 20.
-  const CariesScore s = scoreCariesRemoval(diffOf(t, student, nullptr), stats(600, 10, 2), test::cariesTask());
+  setBox(student, {0, 0, 7}, {2, 1, 8}, kEmpty);        // 2 healthy enamel voxels, 4 voxels from the caries
+  // removal 50 x 4/8 = 25; time 25 x (900 - 600)/(900 - 300) = 12.5; force 25 x (10 - 2)/10 = 20:
+  // Table 4's 57.5. The 2 enamel voxels are 25% of the caries' volume, at 0.5 points per percent 12.5.
+  const SessionStats st = stats(600, 10, 2);
+  const CariesScore s = scoreCariesRemoval(diffOf(t, student, nullptr), &st, test::cariesTask());
   EXPECT_DOUBLE_EQ(s.removal, 25.0);
-  EXPECT_DOUBLE_EQ(s.time, 12.5);
-  EXPECT_DOUBLE_EQ(s.force, 20.0);
-  EXPECT_DOUBLE_EQ(s.total, 57.5);
+  EXPECT_DOUBLE_EQ(*s.time, 12.5);
+  EXPECT_DOUBLE_EQ(*s.force, 20.0);
+  EXPECT_DOUBLE_EQ(s.paper_total, 57.5);
+  EXPECT_DOUBLE_EQ(s.healthy_outside_percent, 25.0);
+  EXPECT_DOUBLE_EQ(s.healthy_deduction, 12.5);
+  EXPECT_DOUBLE_EQ(s.total, 45.0);
   EXPECT_DOUBLE_EQ(s.removed_fraction, 0.5);
   EXPECT_NEAR(s.caries_initial_mm3, 0.008, 1e-15);
   EXPECT_NEAR(s.caries_removed_mm3, 0.004, 1e-15);
   EXPECT_NEAR(s.caries_remaining_mm3, 0.004, 1e-15);
   EXPECT_NEAR(s.enamel_removed_mm3, 0.002, 1e-15);
+  EXPECT_NEAR(s.healthy_outside_mm3, 0.002, 1e-15);
   EXPECT_EQ(s.dentin_removed_mm3, 0.0);
   EXPECT_FALSE(s.pulp_exposed);
+}
+
+TEST(CariesScore, HealthyCostScalesWithTheCoefficient) {
+  const ToothVolume t = cariousSlab();
+  ToothVolume student = t;
+  setBox(student, {4, 4, 7}, {8, 6, 8}, kEmpty);   // all the caries
+  student.voxels.setVoxel(12, 12, 7, kEmpty);      // one voxel far away: 12.5% of the caries
+  const SessionStats st = stats(10, 100, 0);
+  for (double coef : {0.0, 0.5, 2.0, 100.0}) {
+    Task task = test::cariesTask();
+    task.caries.healthy_coefficient = coef;
+    const CariesScore s = scoreCariesRemoval(diffOf(t, student, nullptr), &st, task);
+    EXPECT_DOUBLE_EQ(s.paper_total, 100.0);
+    EXPECT_DOUBLE_EQ(s.healthy_deduction, 12.5 * coef) << coef;
+    EXPECT_DOUBLE_EQ(s.total, std::max(0.0, 100.0 - 12.5 * coef)) << coef;  // never below 0
+  }
+}
+
+TEST(CariesScore, HealthyTissueInsideTheLeewayIsFree) {
+  const ToothVolume t = cariousSlab();
+  ToothVolume student = t;
+  setBox(student, {4, 4, 7}, {8, 6, 8}, kEmpty);
+  student.voxels.setVoxel(3, 4, 7, kEmpty);   // 0.1 mm from the caries
+  student.voxels.setVoxel(8, 6, 7, kEmpty);   // sqrt(2) voxels: 0.14 mm
+  student.voxels.setVoxel(4, 4, 5, kEmpty);   // 0.2 mm below: the bound is inclusive
+  const SessionStats st = stats(10, 100, 0);
+  const CariesScore s = scoreCariesRemoval(diffOf(t, student, nullptr), &st, test::cariesTask());
+  EXPECT_EQ(s.healthy_deduction, 0.0);
+  EXPECT_NEAR(s.enamel_removed_mm3, 0.003, 1e-15);
+  EXPECT_EQ(s.total, 100.0);
+  student.voxels.setVoxel(1, 4, 7, kEmpty);   // 0.3 mm: outside
+  const CariesScore out = scoreCariesRemoval(diffOf(t, student, nullptr), &st, test::cariesTask());
+  EXPECT_DOUBLE_EQ(out.healthy_deduction, 0.5 * 12.5);
 }
 
 TEST(CariesScore, PartialFillRemovesProportionally) {
   const ToothVolume t = cariousSlab();
   ToothVolume student = t;
   student.voxels.setVoxel(4, 4, 7, makeVoxel(Material::Caries, 20));  // 11 of 8 x 31 units
-  const CariesScore s = scoreCariesRemoval(diffOf(t, student, nullptr), stats(300, 1, 0), test::cariesTask());
+  const SessionStats st = stats(300, 1, 0);
+  const CariesScore s = scoreCariesRemoval(diffOf(t, student, nullptr), &st, test::cariesTask());
   EXPECT_NEAR(s.removal, 50.0 * 11.0 / 248.0, 1e-12);
 }
 
@@ -84,39 +127,73 @@ TEST(CariesScore, ClampsHoldAtBothEnds) {
   const ToothDiff d = diffOf(t, all_out, nullptr);
   const Task task = test::cariesTask();
   // Before the target: full time points, not more. All caries out: 50.
-  const CariesScore fast = scoreCariesRemoval(d, stats(10, 100, 0), task);
+  const SessionStats quick = stats(10, 100, 0);
+  const CariesScore fast = scoreCariesRemoval(d, &quick, task);
   EXPECT_EQ(fast.removal, 50.0);
   EXPECT_EQ(fast.time, 25.0);
   EXPECT_EQ(fast.force, 25.0);
   EXPECT_EQ(fast.total, 100.0);
   // Exactly at the target and the failure time.
-  EXPECT_EQ(scoreCariesRemoval(d, stats(300, 1, 0), task).time, 25.0);
-  EXPECT_EQ(scoreCariesRemoval(d, stats(900, 1, 0), task).time, 0.0);
+  const SessionStats at_target = stats(300, 1, 0), at_failure = stats(900, 1, 0);
+  EXPECT_EQ(scoreCariesRemoval(d, &at_target, task).time, 25.0);
+  EXPECT_EQ(scoreCariesRemoval(d, &at_failure, task).time, 0.0);
   // Beyond failure: 0, not negative. Every contact sample over the force threshold: 0.
-  const CariesScore slow = scoreCariesRemoval(d, stats(5000, 100, 100), task);
+  const SessionStats late = stats(5000, 100, 100);
+  const CariesScore slow = scoreCariesRemoval(d, &late, task);
   EXPECT_EQ(slow.time, 0.0);
   EXPECT_EQ(slow.force, 0.0);
   EXPECT_EQ(slow.total, 50.0);
 }
 
+TEST(CariesScore, WithoutASessionTimeAndForceAreNotScored) {
+  const ToothVolume t = cariousSlab();
+  ToothVolume student = t;
+  setBox(student, {4, 4, 7}, {8, 6, 8}, kEmpty);
+  student.voxels.setVoxel(12, 12, 7, kEmpty);  // 12.5% of the caries outside the zone
+  const CariesScore s = scoreCariesRemoval(diffOf(t, student, nullptr), nullptr, test::cariesTask());
+  EXPECT_FALSE(s.time.has_value());
+  EXPECT_FALSE(s.force.has_value());
+  EXPECT_EQ(s.removal, 50.0);
+  EXPECT_EQ(s.paper_total, 50.0);
+  EXPECT_EQ(s.total_max, 50.0);  // out of the parts scored, not 100
+  EXPECT_DOUBLE_EQ(s.total, 50.0 - 6.25);
+}
+
 TEST(CariesScore, ToothWithoutCariesGivesNoRemovalPoints) {
   const ToothVolume t = enamelSlab();
   ToothVolume student = t;
+  const SessionStats st = stats(100, 5, 0);
+  const CariesScore untouched = scoreCariesRemoval(diffOf(t, student, nullptr), &st, test::cariesTask());
+  EXPECT_EQ(untouched.removal, 0.0);
+  EXPECT_EQ(untouched.time, 0.0);     // no caries removed
+  EXPECT_EQ(untouched.force, 25.0);
+  EXPECT_EQ(untouched.total, 25.0);
+  // Any healthy cut on a tooth without caries has nothing to scale by: it costs everything.
   student.voxels.setVoxel(0, 0, 7, kEmpty);
-  const CariesScore s = scoreCariesRemoval(diffOf(t, student, nullptr), stats(100, 5, 0), test::cariesTask());
-  EXPECT_EQ(s.removal, 0.0);
-  EXPECT_EQ(s.time, 0.0);     // no caries removed
-  EXPECT_EQ(s.force, 25.0);
+  const CariesScore s = scoreCariesRemoval(diffOf(t, student, nullptr), &st, test::cariesTask());
+  EXPECT_EQ(s.healthy_deduction, 100.0);
+  EXPECT_EQ(s.total, 0.0);
 }
 
-TEST(CariesScore, PulpExposureIsReported) {
+TEST(CariesScore, PulpExposureCapsTheTotal) {
   ToothVolume t = cariousSlab();
   t.voxels.setVoxel(10, 10, 3, makeVoxel(Material::Pulp));
   ToothVolume student = t;
-  student.voxels.setVoxel(10, 10, 4, kEmpty);
-  const CariesScore s = scoreCariesRemoval(diffOf(t, student, nullptr), stats(100, 5, 0), test::cariesTask());
+  setBox(student, {4, 4, 7}, {8, 6, 8}, kEmpty);
+  student.voxels.setVoxel(10, 10, 3, makeVoxel(Material::Pulp, 30));  // the pulp loses one unit
+  const SessionStats st = stats(100, 5, 0);
+  Task task = test::cariesTask();
+  task.caries.healthy_coefficient = 0.0;  // the cap alone
+  const CariesScore s = scoreCariesRemoval(diffOf(t, student, nullptr), &st, task);
   EXPECT_TRUE(s.pulp_exposed);
   EXPECT_EQ(s.exposed_pulp_voxels, 1u);
+  EXPECT_EQ(s.paper_total, 100.0);
+  EXPECT_TRUE(s.pulp_cap_applied);
+  EXPECT_EQ(s.total, 50.0);
+  task.pulp_exposure_cap = 20.0;
+  EXPECT_EQ(scoreCariesRemoval(diffOf(t, student, nullptr), &st, task).total, 20.0);
+  // Without a session the cap is a share of what can be scored: 20 of 100 is 10 of 50.
+  EXPECT_EQ(scoreCariesRemoval(diffOf(t, student, nullptr), nullptr, task).total, 10.0);
 }
 
 // ---- cavity preparation --------------------------------------------------------------------------
@@ -137,12 +214,14 @@ constexpr double kIdealVoxels = 32.0;
 
 TEST(CavityScore, ExactIdealScoresFullCutting) {
   const CavityCase c;
-  auto s = scoreCavityPreparation(c.diff(), stats(600, 50, 0, 0), test::cavityTask());
+  const SessionStats st = stats(600, 50, 0, 0);
+  auto s = scoreCavityPreparation(c.diff(), &st, test::cavityTask());
   ASSERT_TRUE(s.ok()) << s.message();
   EXPECT_EQ(s->undercut, 25.0);
   EXPECT_EQ(s->overcut, 25.0);
   EXPECT_EQ(s->parallel, 25.0);
   EXPECT_EQ(s->time, 25.0);
+  EXPECT_EQ(s->force_deduction, 0.0);
   EXPECT_EQ(s->total, 100.0);
   EXPECT_NEAR(s->ideal_mm3, 0.032, 1e-15);
   EXPECT_NEAR(s->removed_mm3, 0.032, 1e-15);
@@ -151,10 +230,11 @@ TEST(CavityScore, ExactIdealScoresFullCutting) {
 TEST(CavityScore, OneExtraVoxelCostsTheCoefficient) {
   CavityCase c;
   c.student.voxels.setVoxel(10, 6, 7, kEmpty);  // beside the cavity, kept by the ideal
+  const SessionStats st = stats(600, 50, 0);
   for (double coef : {1.0, 2.5}) {
     Task task = test::cavityTask();
     task.cavity.overcut_coefficient = coef;
-    auto s = scoreCavityPreparation(c.diff(), stats(600, 50, 0), task);
+    auto s = scoreCavityPreparation(c.diff(), &st, task);
     ASSERT_TRUE(s.ok());
     EXPECT_NEAR(s->overcut, 25.0 - 1.0 * coef * 100.0 / kIdealVoxels, 1e-12) << coef;
     EXPECT_EQ(s->undercut, 25.0);
@@ -168,7 +248,8 @@ TEST(CavityScore, OneExtraVoxelCostsTheCoefficient) {
 TEST(CavityScore, PartialVoxelCostsProportionally) {
   CavityCase c;
   c.student.voxels.setVoxel(10, 6, 7, makeVoxel(Material::Enamel, 21));  // 10 units over
-  auto s = scoreCavityPreparation(c.diff(), stats(600, 50, 0), test::cavityTask());
+  const SessionStats st = stats(600, 50, 0);
+  auto s = scoreCavityPreparation(c.diff(), &st, test::cavityTask());
   ASSERT_TRUE(s.ok());
   EXPECT_NEAR(s->overcut, 25.0 - (10.0 / 31.0) * 100.0 / kIdealVoxels, 1e-12);
 }
@@ -178,7 +259,8 @@ TEST(CavityScore, OneVoxelLeftCostsTheCoefficient) {
   c.student.voxels.setVoxel(6, 6, 6, makeVoxel(Material::Enamel));  // the ideal removes it
   Task task = test::cavityTask();
   task.cavity.undercut_coefficient = 3.0;
-  auto s = scoreCavityPreparation(c.diff(), stats(600, 50, 0), task);
+  const SessionStats st = stats(600, 50, 0);
+  auto s = scoreCavityPreparation(c.diff(), &st, task);
   ASSERT_TRUE(s.ok());
   EXPECT_NEAR(s->undercut, 25.0 - 1.0 * 3.0 * 100.0 / kIdealVoxels, 1e-12);
   EXPECT_EQ(s->overcut, 25.0);
@@ -188,7 +270,8 @@ TEST(CavityScore, ClampsHoldAtBothEnds) {
   CavityCase c;
   setBox(c.student, {0, 0, 0}, {16, 16, 8}, kEmpty);  // everything: 2016 voxels over-cut
   const Task task = test::cavityTask();
-  auto wrecked = scoreCavityPreparation(c.diff(), stats(100000, 50, 0, 100000), task);
+  const SessionStats worst = stats(100000, 50, 0, 100000);
+  auto wrecked = scoreCavityPreparation(c.diff(), &worst, task);
   ASSERT_TRUE(wrecked.ok());
   EXPECT_EQ(wrecked->overcut, 0.0);
   EXPECT_EQ(wrecked->undercut, 25.0);
@@ -198,34 +281,111 @@ TEST(CavityScore, ClampsHoldAtBothEnds) {
 
   const CavityCase exact;
   // Before the target: 25, not more. One minute over at 5 per minute: 20. 100 samples tilted: 24.
-  auto fast = scoreCavityPreparation(exact.diff(), stats(1, 50, 0, 0), task);
+  const SessionStats quick = stats(1, 50, 0, 0), late_tilted = stats(660, 50, 0, 100);
+  auto fast = scoreCavityPreparation(exact.diff(), &quick, task);
   ASSERT_TRUE(fast.ok());
   EXPECT_EQ(fast->time, 25.0);
-  auto late = scoreCavityPreparation(exact.diff(), stats(660, 50, 0, 100), task);
+  auto late = scoreCavityPreparation(exact.diff(), &late_tilted, task);
   ASSERT_TRUE(late.ok());
-  EXPECT_DOUBLE_EQ(late->time, 20.0);
-  EXPECT_DOUBLE_EQ(late->parallel, 24.0);
+  EXPECT_DOUBLE_EQ(*late->time, 20.0);
+  EXPECT_DOUBLE_EQ(*late->parallel, 24.0);
   EXPECT_DOUBLE_EQ(late->total, 25.0 + 25.0 + 24.0 + 20.0);
+}
+
+TEST(CavityScore, ForceErrorsCostTheCoefficientPerPercent) {
+  const CavityCase c;
+  // 30 of 120 contact samples over the limit: 25%, at 0.25 points per percent 6.25.
+  const SessionStats st = stats(600, 120, 30);
+  auto s = scoreCavityPreparation(c.diff(), &st, test::cavityTask());
+  ASSERT_TRUE(s.ok());
+  EXPECT_DOUBLE_EQ(*s->force_deduction, 6.25);
+  EXPECT_DOUBLE_EQ(s->paper_total, 100.0);
+  EXPECT_DOUBLE_EQ(s->total, 93.75);
 }
 
 TEST(CavityScore, DoingNothingScoresZero) {
   CavityCase c;
   c.student = c.initial;
-  auto s = scoreCavityPreparation(c.diff(), SessionStats{}, test::cavityTask());
+  const SessionStats empty;
+  auto s = scoreCavityPreparation(c.diff(), &empty, test::cavityTask());
   ASSERT_TRUE(s.ok());
   EXPECT_TRUE(s->nothing_removed);
+  EXPECT_TRUE(s->ideal_missed);
   EXPECT_EQ(s->total, 0.0);
   EXPECT_NEAR(s->undercut_percent, 100.0, 1e-12);
 }
 
+TEST(CavityScore, ACutThatMissesTheIdealScoresZero) {
+  // A quick, upright cut of 8 voxels far from the ideal: without the rule it would keep the time and
+  // parallel points (50) and the under-cut's 0; with it every part is 0.
+  CavityCase c;
+  c.student = c.initial;
+  setBox(c.student, {0, 12, 6}, {4, 14, 7}, kEmpty);
+  const SessionStats st = stats(60, 50, 0, 0);
+  auto s = scoreCavityPreparation(c.diff(), &st, test::cavityTask());
+  ASSERT_TRUE(s.ok());
+  EXPECT_FALSE(s->nothing_removed);
+  EXPECT_TRUE(s->ideal_missed);
+  EXPECT_EQ(s->parallel, 0.0);
+  EXPECT_EQ(s->time, 0.0);
+  EXPECT_EQ(s->total, 0.0);
+  EXPECT_NEAR(s->overcut_gross_mm3, 0.008, 1e-15);
+}
+
+TEST(CavityScore, WithoutASessionParallelTimeAndForceAreNotScored) {
+  CavityCase c;
+  c.student.voxels.setVoxel(6, 6, 6, makeVoxel(Material::Enamel));  // one voxel left: 25 - 3.125
+  auto s = scoreCavityPreparation(c.diff(), nullptr, test::cavityTask());
+  ASSERT_TRUE(s.ok());
+  EXPECT_FALSE(s->parallel.has_value());
+  EXPECT_FALSE(s->time.has_value());
+  EXPECT_FALSE(s->force_deduction.has_value());
+  EXPECT_EQ(s->total_max, 50.0);
+  EXPECT_DOUBLE_EQ(s->total, 25.0 + 25.0 - 100.0 / kIdealVoxels);
+}
+
 TEST(CavityScore, EmptyOrMissingIdealIsAnError) {
   const ToothVolume t = enamelSlab();
-  auto none = scoreCavityPreparation(diffOf(t, t, nullptr), SessionStats{}, test::cavityTask());
+  const SessionStats empty;
+  auto none = scoreCavityPreparation(diffOf(t, t, nullptr), &empty, test::cavityTask());
   ASSERT_FALSE(none.ok());
   EXPECT_NE(none.message().find("needs the ideal"), std::string::npos) << none.message();
-  auto empty = scoreCavityPreparation(diffOf(t, t, &t), SessionStats{}, test::cavityTask());
-  ASSERT_FALSE(empty.ok());
-  EXPECT_NE(empty.message().find("ideal cavity is empty"), std::string::npos) << empty.message();
+  auto nothing = scoreCavityPreparation(diffOf(t, t, &t), &empty, test::cavityTask());
+  ASSERT_FALSE(nothing.ok());
+  EXPECT_NE(nothing.message().find("ideal cavity is empty"), std::string::npos) << nothing.message();
+}
+
+// ---- warnings ------------------------------------------------------------------------------------
+
+// Enamel over dentin, so that the crown is found facing +z.
+ToothVolume layeredSlab() {
+  ToothVolume t = test::emptyTooth();
+  setBox(t, {0, 0, 0}, {16, 16, 6}, makeVoxel(Material::Dentin));
+  setBox(t, {0, 0, 6}, {16, 16, 8}, makeVoxel(Material::Enamel));
+  return t;
+}
+
+TEST(ScoreWarnings, AGoodExerciseHasNone) {
+  const ToothVolume t = layeredSlab();
+  ToothVolume ideal = t;
+  setBox(ideal, {6, 6, 6}, {10, 10, 8}, kEmpty);
+  EXPECT_TRUE(scoreWarnings(test::cavityTask(), diffOf(t, ideal, &ideal), "t.dvol").empty());
+}
+
+TEST(ScoreWarnings, AxisAwayFromTheCrownIdealOnTheRootsAndACutElsewhere) {
+  const ToothVolume t = layeredSlab();
+  ToothVolume ideal = t, student = t;
+  setBox(ideal, {6, 6, 0}, {10, 10, 2}, kEmpty);      // at the bottom: the roots' side
+  setBox(student, {0, 0, 7}, {2, 2, 8}, kEmpty);      // nowhere near it
+  Task task = test::cavityTask();
+  task.insertion_axis = {0, 0, -1};
+  const std::vector<std::string> w = scoreWarnings(task, diffOf(t, student, &ideal), "t.dvol");
+  ASSERT_EQ(w.size(), 3u);
+  EXPECT_NE(w[0].find("task test_cavity on t.dvol: the insertion axis (0.00, 0.00, -1.00) points away from the crown"),
+            std::string::npos) << w[0];
+  EXPECT_NE(w[1].find("the ideal cavity lies mostly outside the crown half"), std::string::npos) << w[1];
+  EXPECT_NE(w[1].find("100%"), std::string::npos) << w[1];
+  EXPECT_NE(w[2].find("does not overlap the ideal cavity at all"), std::string::npos) << w[2];
 }
 
 // ---- report --------------------------------------------------------------------------------------
@@ -236,34 +396,77 @@ TEST(ScoreReport, CavityReportShowsComponentsAndInputs) {
   const ToothDiff d = c.diff();
   const Task task = test::cavityTask();
   const SessionStats st = stats(660, 50, 3, 100);
-  auto s = scoreCavityPreparation(d, st, task);
+  auto s = scoreCavityPreparation(d, &st, task);
   ASSERT_TRUE(s.ok());
-  const nlohmann::ordered_json j = scoreReportJson(task, {"t.json", "a.dvol", "b.dvol", "c.dvol", ""}, d, st, *s);
+  ScoreInputs in;
+  in.task = "t.json";
+  in.initial = "a.dvol";
+  in.final_ = "b.dvol";
+  in.ideal = IdealSpec{IdealKind::Volume, "c.dvol"};
+  in.ideal_from = "command line";
+  const nlohmann::ordered_json j = scoreReportJson(task, in, d, &st, *s);
   EXPECT_EQ(j["format"], "dentsim-score");
-  EXPECT_EQ(j["version"], 1);
+  EXPECT_EQ(j["version"], 2);
   EXPECT_EQ(j["task"]["kind"], "cavity");
   EXPECT_EQ(j["inputs"]["final"], "b.dvol");
+  EXPECT_EQ(j["inputs"]["ideal"]["path"], "c.dvol");
+  EXPECT_EQ(j["inputs"]["ideal"]["kind"], "volume");
+  EXPECT_EQ(j["inputs"]["ideal"]["from"], "command line");
   EXPECT_TRUE(j["inputs"]["session"].is_null());
   EXPECT_EQ(j["total"].get<double>(), s->total);
+  EXPECT_EQ(j["total_max"].get<double>(), 100.0);
+  EXPECT_TRUE(j["not_scored"].empty());
   EXPECT_EQ(j["components"]["overcut"]["points"].get<double>(), s->overcut);
   EXPECT_EQ(j["components"]["parallel"]["parallel_over"], 100);
-  EXPECT_EQ(j["volumes"]["enamel"]["units"]["overcut"], 31);
-  EXPECT_EQ(j["volumes"]["all"]["units"]["ideal_cavity"], 32 * 31);
+  EXPECT_EQ(j["deductions"]["force"]["force_over"], 3);
+  EXPECT_EQ(j["volumes"]["enamel"]["units"]["container_removed"] .get<uint64_t>() +
+                j["volumes"]["enamel"]["units"]["leeway_removed"].get<uint64_t>(), 31u);
+  EXPECT_EQ(j["volumes"]["all"]["units"]["target"], 32 * 31);
+  EXPECT_EQ(j["zones"]["target"], "ideal cavity");
+  EXPECT_DOUBLE_EQ(j["zones"]["target_removed_percent"].get<double>(), 100.0);
   EXPECT_EQ(j["session"]["contact_samples"], 50);
 }
 
-TEST(ScoreReport, CariesReportShowsComponents) {
+TEST(ScoreReport, MissingSessionIsNullWithTheReason) {
   const ToothVolume t = cariousSlab();
   ToothVolume student = t;
   setBox(student, {4, 4, 7}, {6, 6, 8}, kEmpty);
   const ToothDiff d = diffOf(t, student, nullptr);
+  const CariesScore s = scoreCariesRemoval(d, nullptr, test::cariesTask());
+  ScoreInputs in;
+  const nlohmann::ordered_json j = scoreReportJson(test::cariesTask(), in, d, nullptr, s);
+  EXPECT_EQ(j["total_max"].get<double>(), 50.0);
+  EXPECT_TRUE(j["components"]["time"]["points"].is_null());
+  EXPECT_EQ(j["components"]["time"]["not_scored"], "no session was given");
+  EXPECT_TRUE(j["components"]["force"]["points"].is_null());
+  ASSERT_EQ(j["not_scored"].size(), 2u);
+  EXPECT_EQ(j["not_scored"][0]["part"], "time");
+  EXPECT_EQ(j["not_scored"][1]["part"], "force");
+  EXPECT_EQ(j["session"]["missing"], "no session was given");
+  EXPECT_TRUE(j["inputs"]["ideal"].is_null());
+  const std::string line = scoreSummary(s, in);
+  EXPECT_NE(line.find("/ 50"), std::string::npos) << line;
+  EXPECT_NE(line.find("time and force not scored: no session was given"), std::string::npos) << line;
+}
+
+TEST(ScoreReport, CariesReportShowsComponentsDeductionsAndZones) {
+  const ToothVolume t = cariousSlab();
+  ToothVolume student = t;
+  setBox(student, {4, 4, 7}, {6, 6, 8}, kEmpty);
+  setBox(student, {0, 0, 7}, {2, 1, 8}, kEmpty);
+  const ToothDiff d = diffOf(t, student, nullptr);
   const SessionStats st = stats(600, 10, 2);
-  const CariesScore s = scoreCariesRemoval(d, st, test::cariesTask());
-  const nlohmann::ordered_json j = scoreReportJson(test::cariesTask(), {}, d, st, s);
+  const CariesScore s = scoreCariesRemoval(d, &st, test::cariesTask());
+  const nlohmann::ordered_json j = scoreReportJson(test::cariesTask(), {}, d, &st, s);
   EXPECT_EQ(j["task"]["kind"], "caries");
   EXPECT_EQ(j["components"]["removal"]["points"].get<double>(), 25.0);
   EXPECT_EQ(j["components"]["force"]["force_over"], 2);
-  EXPECT_EQ(j["total"].get<double>(), 57.5);
+  EXPECT_EQ(j["paper_total"].get<double>(), 57.5);
+  EXPECT_EQ(j["deductions"]["healthy"]["points"].get<double>(), 12.5);
+  EXPECT_EQ(j["total"].get<double>(), 45.0);
+  EXPECT_EQ(j["zones"]["target"], "caries and its access along the insertion axis");
+  EXPECT_DOUBLE_EQ(j["zones"]["target_removed_percent"].get<double>(), 50.0);
+  EXPECT_NEAR(j["zones"]["healthy_outside_zone_mm3"].get<double>(), 0.002, 1e-15);
   EXPECT_FALSE(j["volumes"]["caries"].contains("overcut_mm3"));  // no ideal, no over-cut
 }
 

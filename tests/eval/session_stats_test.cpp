@@ -63,7 +63,7 @@ TEST(SessionStats, TiltIsMeasuredAgainstTheTasksAxis) {
   EXPECT_NEAR(burTiltDeg(Pose{}, {0, 0, -1}), 180.0, 1e-12);  // upside down is the worst tilt
   // A task whose axis leans 30 degrees toward +x: the grip rotated the same way is parallel.
   Task task = test::cavityTask();
-  task.cavity.insertion_axis = normalized(Vec3{std::sin(30 * kDeg), 0, std::cos(30 * kDeg)});
+  task.insertion_axis = normalized(Vec3{std::sin(30 * kDeg), 0, std::cos(30 * kDeg)});
   SessionRecording r;
   r.info.rate_hz = 1000;
   r.steps.push_back(drillStep(0, 1, {}, Quat::fromAxisAngle({0, 1, 0}, 30 * kDeg)));

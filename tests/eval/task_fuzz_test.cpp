@@ -17,8 +17,21 @@ using test::pick;
 
 const std::string kWhere = "fuzz.json";
 
-// Both kinds, every key present.
+// Both kinds in both versions, every key present.
 const char* const kSeeds[] = {
+    R"({"format": "dentsim-task", "version": 2, "name": "caries_removal", "kind": "caries",
+        "title": "Remove the caries", "tooth": "builtin:molar", "level": 9,
+        "tools": {"drill": "round_bur_010", "mirror": "mirror_size4"},
+        "target_s": 300, "failure_s": 900, "force_error_n": 3.0, "insertion_axis": [0, 0, 1], "leeway_mm": 0.2,
+        "pulp_exposure_cap": 50, "ideal": {"kind": "volume", "path": "ideal.dvol"},
+        "caries": {"healthy_coefficient": 0.5}})",
+    R"({"format": "dentsim-task", "version": 2, "name": "class1_cavity", "kind": "cavity",
+        "title": "Class I", "tooth": "builtin:molar", "level": 9,
+        "tools": {"drill": "fissure_bur_010", "mirror": "mirror_size4"}, "target_s": 600, "force_error_n": 3.0,
+        "insertion_axis": [0, 0, 1], "leeway_mm": 0.2, "pulp_exposure_cap": 50,
+        "ideal": {"kind": "builtin_path", "path": "class1_cavity"},
+        "cavity": {"undercut_coefficient": 1.0, "overcut_coefficient": 1.0, "parallel_coefficient": 0.01,
+                   "time_coefficient": 5.0, "force_coefficient": 0.25, "parallel_error_deg": 10.0}})",
     R"({"format": "dentsim-task", "version": 1, "name": "caries_removal", "kind": "caries",
         "title": "Remove the caries", "tooth": "builtin:molar", "level": 9,
         "tools": {"drill": "round_bur_018", "mirror": "mirror_size4"},
@@ -71,16 +84,24 @@ TEST(TaskFuzz, MutatedTasksAreRefusedInOneLineOrKeepEveryRule) {
     ASSERT_GE(task->level, DS_MIN_LEVEL) << text;
     ASSERT_LE(task->level, DS_MAX_LEVEL) << text;
     ASSERT_FALSE(task->drill_tool.empty()) << text;
+    ASSERT_NEAR(norm(task->insertion_axis), 1.0, 1e-12) << text;
+    ASSERT_GE(task->leeway_mm, 0.0) << text;
+    ASSERT_LE(task->leeway_mm, 1.0) << text;
+    ASSERT_GE(task->pulp_exposure_cap, 0.0) << text;
+    ASSERT_LE(task->pulp_exposure_cap, 100.0) << text;
+    if (task->ideal) {
+      ASSERT_FALSE(task->ideal->path.empty()) << text;
+    }
     if (task->kind == TaskKind::Caries) {
       ASSERT_GT(task->failure_s, task->target_s) << text;
+      ASSERT_TRUE(std::isfinite(task->caries.healthy_coefficient) && task->caries.healthy_coefficient >= 0) << text;
     } else {
+      ASSERT_TRUE(task->ideal.has_value()) << text;
       const CavityTask& c = task->cavity;
-      ASSERT_NEAR(norm(c.insertion_axis), 1.0, 1e-12) << text;
       ASSERT_GT(c.parallel_error_deg, 0.0) << text;
       ASSERT_LE(c.parallel_error_deg, 90.0) << text;
-      ASSERT_GE(c.leeway_mm, 0.0) << text;
-      ASSERT_LE(c.leeway_mm, 1.0) << text;
-      for (double coef : {c.undercut_coefficient, c.overcut_coefficient, c.parallel_coefficient, c.time_coefficient})
+      for (double coef : {c.undercut_coefficient, c.overcut_coefficient, c.parallel_coefficient, c.time_coefficient,
+                          c.force_coefficient})
         ASSERT_TRUE(std::isfinite(coef) && coef >= 0) << text;
     }
   }

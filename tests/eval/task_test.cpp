@@ -1,4 +1,4 @@
-// Tests of task files: the checked-in tasks parse, defaults apply, and each kind of mistake gives its one-line error.
+// Tests of task files: the checked-in tasks parse, version 1 files still do, defaults apply, and each kind of mistake gives its one-line error.
 #include "eval/task.h"
 
 #include <gtest/gtest.h>
@@ -51,9 +51,14 @@ TEST(Task, CheckedInTasksParse) {
   ASSERT_TRUE(cavity.ok()) << cavity.message();
   EXPECT_EQ(cavity->name, "class1_cavity");
   EXPECT_EQ(cavity->kind, TaskKind::Cavity);
-  EXPECT_EQ(cavity->cavity.ideal.kind, IdealKind::BuiltinPath);
-  EXPECT_EQ(cavity->cavity.leeway_mm, 0.2);
-  EXPECT_EQ(cavity->cavity.insertion_axis, (Vec3{0, 0, 1}));
+  ASSERT_TRUE(cavity->ideal.has_value());
+  EXPECT_EQ(cavity->ideal->kind, IdealKind::BuiltinPath);
+  EXPECT_EQ(cavity->leeway_mm, 0.2);
+  EXPECT_EQ(cavity->insertion_axis, (Vec3{0, 0, 1}));
+  EXPECT_EQ(cavity->pulp_exposure_cap, 50.0);
+  EXPECT_EQ(cavity->cavity.force_coefficient, 0.25);
+  EXPECT_FALSE(caries->ideal.has_value());
+  EXPECT_EQ(caries->caries.healthy_coefficient, 0.5);
 }
 
 TEST(Task, DefaultsApplyToOmittedKeys) {
@@ -68,9 +73,55 @@ TEST(Task, DefaultsApplyToOmittedKeys) {
   EXPECT_EQ(t->cavity.parallel_coefficient, 0.01);
   EXPECT_EQ(t->cavity.time_coefficient, 5.0);
   EXPECT_EQ(t->cavity.parallel_error_deg, 10.0);
-  EXPECT_EQ(t->cavity.insertion_axis, (Vec3{0, 0, 1}));  // normalized
-  EXPECT_EQ(t->cavity.ideal.kind, IdealKind::Volume);
-  EXPECT_EQ(t->cavity.ideal.path, "ideal.dvol");
+  EXPECT_EQ(t->insertion_axis, (Vec3{0, 0, 1}));  // normalized; version 1 keeps it in "cavity"
+  ASSERT_TRUE(t->ideal.has_value());
+  EXPECT_EQ(t->ideal->kind, IdealKind::Volume);
+  EXPECT_EQ(t->ideal->path, "ideal.dvol");
+  EXPECT_EQ(t->pulp_exposure_cap, 50.0);
+  EXPECT_EQ(t->cavity.force_coefficient, 0.25);
+}
+
+// Version 2: the zone's keys at the top for both kinds; a caries task may name an ideal.
+std::string v2Text(const std::string& kind_part, const std::string& extra = "") {
+  return std::string(R"({"format": "dentsim-task", "version": 2, "name": "n", "tooth": "builtin:molar",)"
+                     R"( "tools": {"drill": "round_bur_010"}, "target_s": 300, "force_error_n": 3, )") +
+         kind_part + (extra.empty() ? "" : ", " + extra) + "}";
+}
+const std::string kV2Caries = R"("kind": "caries", "failure_s": 900)";
+const std::string kV2Cavity = R"("kind": "cavity", "ideal": {"kind": "volume", "path": "p.dvol"})";
+
+TEST(Task, VersionTwoReadsTheZoneForBothKinds) {
+  auto caries = parseTask(v2Text(kV2Caries, R"("insertion_axis": [0, -3, 0], "leeway_mm": 0.1, "pulp_exposure_cap": 30,)"
+                                            R"( "ideal": {"kind": "session", "path": "prof.dses"},)"
+                                            R"( "caries": {"healthy_coefficient": 2})"),
+                          kWhere);
+  ASSERT_TRUE(caries.ok()) << caries.message();
+  EXPECT_EQ(caries->insertion_axis, (Vec3{0, -1, 0}));
+  EXPECT_EQ(caries->leeway_mm, 0.1);
+  EXPECT_EQ(caries->pulp_exposure_cap, 30.0);
+  ASSERT_TRUE(caries->ideal.has_value());
+  EXPECT_EQ(caries->ideal->kind, IdealKind::Session);
+  EXPECT_EQ(caries->caries.healthy_coefficient, 2.0);
+
+  auto cavity = parseTask(v2Text(kV2Cavity, R"("cavity": {"force_coefficient": 1})"), kWhere);
+  ASSERT_TRUE(cavity.ok()) << cavity.message();
+  EXPECT_EQ(cavity->cavity.force_coefficient, 1.0);
+  EXPECT_EQ(cavity->cavity.undercut_coefficient, 1.0);  // the cavity object is optional in version 2
+  EXPECT_EQ(cavity->ideal->path, "p.dvol");
+}
+
+TEST(Task, VersionTwoErrors) {
+  EXPECT_EQ(errorOf(v2Text(R"("kind": "cavity")")), "t.json: ideal: missing");
+  EXPECT_EQ(errorOf(v2Text(kV2Caries, R"("pulp_exposure_cap": 101)")), "t.json: pulp_exposure_cap: 101 is not in [0, 100]");
+  EXPECT_EQ(errorOf(v2Text(kV2Caries, R"("caries": {"healthy_coefficient": -0.5})")),
+            "t.json: caries.healthy_coefficient: -0.5 is not >= 0 and <= 1e9");
+  EXPECT_EQ(errorOf(v2Text(kV2Cavity, R"("caries": {})")), "t.json: caries: only for kind \"caries\"");
+  EXPECT_EQ(errorOf(v2Text(kV2Caries, R"("cavity": {})")), "t.json: cavity: only for kind \"cavity\"");
+  // The zone's keys moved out of "cavity"; version 2 does not take them there.
+  EXPECT_EQ(errorOf(v2Text(kV2Cavity, R"("cavity": {"leeway_mm": 0.1})")).rfind("t.json: cavity.leeway_mm: unknown key", 0),
+            0u);
+  // Version 1 does not know the new keys.
+  EXPECT_EQ(errorOf(cariesText(R"("pulp_exposure_cap": 50)")).rfind("t.json: pulp_exposure_cap: unknown key", 0), 0u);
 }
 
 TEST(Task, ErrorsNameTheFileAndKey) {
@@ -79,8 +130,8 @@ TEST(Task, ErrorsNameTheFileAndKey) {
   EXPECT_EQ(errorOf("[]"), "t.json: (top level): expected an object, got array");
   EXPECT_EQ(errorOf(R"({"format": "dentsim-params", "version": 1})"),
             "t.json: format: \"dentsim-params\" is not \"dentsim-task\"");
-  EXPECT_EQ(errorOf(R"({"format": "dentsim-task", "version": 2})"),
-            "t.json: version: 2 is not supported (this build reads version 1)");
+  EXPECT_EQ(errorOf(R"({"format": "dentsim-task", "version": 3})"),
+            "t.json: version: 3 is not supported (this build reads versions 1 to 2)");
   EXPECT_EQ(errorOf(R"({"format": "dentsim-task"})"), "t.json: version: missing");
   // Unknown keys, at the top and inside.
   EXPECT_EQ(errorOf(cariesText(R"("colour": 1)")).rfind("t.json: colour: unknown key (known: format, version,", 0), 0u);

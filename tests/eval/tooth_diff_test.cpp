@@ -1,4 +1,4 @@
-// Tests of compareTeeth: fill amounts per tissue counted by hand, the set formulas for full fills, leeway split, pulp exposure, frame checks.
+// Tests of compareTeeth: fill amounts per tissue counted by hand, the set formulas for full fills, the zones (the caries' access, the leeway), pulp exposure, frame checks.
 #include "eval/tooth_diff.h"
 
 #include <gtest/gtest.h>
@@ -14,8 +14,18 @@ using test::setBox;
 constexpr Voxel kEmpty = 0;
 constexpr uint64_t kFull = DS_FILL_FULL;  // fill units of one whole voxel
 
-Result<ToothDiff> compare(const ToothVolume& i, const ToothVolume& f, const ToothVolume* k, double leeway_mm = 0.2) {
-  return compareTeeth(i, f, k, leeway_mm);
+Result<ToothDiff> compare(const ToothVolume& i, const ToothVolume& f, const ToothVolume* k, double leeway_mm = 0.2,
+                          Vec3 axis = {0, 0, 1}) {
+  return compareTeeth(i, f, k, ZoneOptions{leeway_mm, axis});
+}
+
+// Every tissue's initial fill lies in exactly one zone, and so does what was removed from it.
+void expectZonesPartition(const ToothDiff& d) {
+  for (Material m : kScoredTissues) {
+    const TissueAmounts& a = d.tissue(m);
+    EXPECT_EQ(a.target + a.leeway + a.container, a.initial) << materialName(m);
+    EXPECT_EQ(a.target_removed + a.leeway_removed + a.container_removed, a.removed) << materialName(m);
+  }
 }
 
 // ---- amounts -------------------------------------------------------------------------------------
@@ -28,9 +38,9 @@ TEST(ToothDiff, IdenticalVolumesRemoveNothing) {
   EXPECT_EQ(e.initial, 2048 * kFull);  // 16 x 16 x 8 voxels
   EXPECT_EQ(e.remaining, 2048 * kFull);
   EXPECT_EQ(e.removed, 0u);
-  EXPECT_EQ(e.ideal_cavity, 0u);
-  EXPECT_EQ(e.undercut, 0u);
-  EXPECT_EQ(e.overcut, 0u);
+  EXPECT_EQ(e.target, 0u);
+  EXPECT_EQ(e.undercut(), 0u);
+  EXPECT_EQ(e.overcut(), 0u);
   EXPECT_EQ(d->tissue(Material::Dentin), TissueAmounts{});
   EXPECT_FALSE(d->pulp_exposed);
 }
@@ -42,11 +52,11 @@ TEST(ToothDiff, CuttingExactlyTheIdealLeavesNoUnderOrOverCut) {
   auto d = compare(initial, ideal, &ideal);
   ASSERT_TRUE(d.ok()) << d.message();
   const TissueAmounts e = d->total();
-  EXPECT_EQ(e.ideal_cavity, 32 * kFull);
+  EXPECT_EQ(e.target, 32 * kFull);
   EXPECT_EQ(e.removed, 32 * kFull);
   EXPECT_EQ(e.remaining, (2048 - 32) * kFull);
-  EXPECT_EQ(e.undercut, 0u);
-  EXPECT_EQ(e.overcut, 0u);
+  EXPECT_EQ(e.undercut(), 0u);
+  EXPECT_EQ(e.overcut(), 0u);
 }
 
 TEST(ToothDiff, FullFillsGiveTheSetFormulas) {
@@ -60,11 +70,12 @@ TEST(ToothDiff, FullFillsGiveTheSetFormulas) {
   auto d = compare(initial, student, &ideal);
   ASSERT_TRUE(d.ok()) << d.message();
   const TissueAmounts e = d->total();
-  EXPECT_EQ(e.ideal_cavity, 32 * kFull);
+  EXPECT_EQ(e.target, 32 * kFull);
   EXPECT_EQ(e.removed, 32 * kFull);
-  EXPECT_EQ(e.undercut, 16 * kFull);
-  EXPECT_EQ(e.overcut, 16 * kFull);
-  EXPECT_EQ(e.overcut_near + e.overcut_gross, e.overcut);
+  EXPECT_EQ(e.undercut(), 16 * kFull);
+  EXPECT_EQ(e.overcut(), 16 * kFull);
+  EXPECT_EQ(e.leeway_removed + e.container_removed, e.overcut());
+  expectZonesPartition(*d);
 }
 
 TEST(ToothDiff, PartialFillsCountInFillUnits) {
@@ -87,11 +98,11 @@ TEST(ToothDiff, PartialFillsCountInFillUnits) {
   EXPECT_EQ(t.initial, 31u + 31u + 20u);
   EXPECT_EQ(t.remaining, 20u + 5u);
   EXPECT_EQ(t.removed, 11u + 26u + 20u);
-  EXPECT_EQ(t.ideal_cavity, 21u + 21u);
-  EXPECT_EQ(t.undercut, 10u);
-  EXPECT_EQ(t.overcut, 5u + 20u);
+  EXPECT_EQ(t.target, 21u + 21u);
+  EXPECT_EQ(t.undercut(), 10u);
+  EXPECT_EQ(t.overcut(), 5u + 20u);
   // removed = ideal cavity - under-cut + over-cut, voxel by voxel and so in the sums.
-  EXPECT_EQ(t.removed, t.ideal_cavity - t.undercut + t.overcut);
+  EXPECT_EQ(t.removed, t.target - t.undercut() + t.overcut());
 }
 
 TEST(ToothDiff, VolumesPerTissueInMm3) {
@@ -117,9 +128,12 @@ TEST(ToothDiff, VolumesPerTissueInMm3) {
   EXPECT_NEAR(d->mm3(d->tissue(Material::Enamel).removed), 0.015, 1e-15);
   EXPECT_NEAR(d->mm3(d->tissue(Material::Dentin).removed), 15 * test::kUnitMm3, 1e-15);
   EXPECT_NEAR(d->mm3(d->tissue(Material::Dentin).initial), 0.063, 1e-15);
-  // Without an ideal there is no cavity to compare with.
-  EXPECT_EQ(d->total().ideal_cavity, 0u);
-  EXPECT_EQ(d->total().overcut, 0u);
+  // Without an ideal the target is the caries and what lies above it: here the caries voxel alone
+  // (the enamel ends at z = 6). What was cut beyond it is the enamel and the dentin.
+  EXPECT_EQ(d->total().target, 1 * kFull);
+  EXPECT_EQ(d->total().target_removed, 1 * kFull);
+  EXPECT_EQ(d->total().overcut(), 15 * kFull + 15u);
+  expectZonesPartition(*d);
 }
 
 TEST(ToothDiff, UniformBricksCountLikeDenseOnes) {
@@ -136,8 +150,8 @@ TEST(ToothDiff, UniformBricksCountLikeDenseOnes) {
   const MaterialTotals totals = initial.voxels.materialTotals();
   for (Material m : kScoredTissues) EXPECT_EQ(d->tissue(m).initial, totals.fill_sum[size_t(m)]) << materialName(m);
   EXPECT_EQ(d->tissue(Material::Dentin).removed, kFull);
-  EXPECT_EQ(d->tissue(Material::Dentin).overcut, kFull);  // the ideal (the initial) kept it
-  EXPECT_EQ(d->tissue(Material::Dentin).overcut_gross, kFull);
+  EXPECT_EQ(d->tissue(Material::Dentin).overcut(), kFull);  // the ideal (the initial) kept it
+  EXPECT_EQ(d->tissue(Material::Dentin).container_removed, kFull);
 }
 
 // ---- leeway --------------------------------------------------------------------------------------
@@ -155,15 +169,15 @@ TEST(ToothDiff, LeewaySplitsNearFromGross) {
   auto d = compare(initial, student, &ideal, 0.2);
   ASSERT_TRUE(d.ok()) << d.message();
   const TissueAmounts e = d->total();
-  EXPECT_EQ(e.undercut, kFull);
-  EXPECT_EQ(e.overcut, 4 * kFull);
-  EXPECT_EQ(e.overcut_near, 2 * kFull);
-  EXPECT_EQ(e.overcut_gross, 2 * kFull);
+  EXPECT_EQ(e.undercut(), kFull);
+  EXPECT_EQ(e.overcut(), 4 * kFull);
+  EXPECT_EQ(e.leeway_removed, 2 * kFull);
+  EXPECT_EQ(e.container_removed, 2 * kFull);
   // With no leeway every over-cut voxel beside the cavity is gross.
   auto tight = compare(initial, student, &ideal, 0.0);
   ASSERT_TRUE(tight.ok());
-  EXPECT_EQ(tight->total().overcut_near, 0u);
-  EXPECT_EQ(tight->total().overcut_gross, 4 * kFull);
+  EXPECT_EQ(tight->total().leeway_removed, 0u);
+  EXPECT_EQ(tight->total().container_removed, 4 * kFull);
 }
 
 TEST(ToothDiff, PartlyCutIdealVoxelIsItsOwnNeighbour) {
@@ -174,8 +188,98 @@ TEST(ToothDiff, PartlyCutIdealVoxelIsItsOwnNeighbour) {
   student.voxels.setVoxel(3, 3, 7, makeVoxel(Material::Enamel, 5));
   auto d = compare(initial, student, &ideal, 0.0);
   ASSERT_TRUE(d.ok());
-  EXPECT_EQ(d->total().overcut, 5u);
-  EXPECT_EQ(d->total().overcut_near, 5u);
+  EXPECT_EQ(d->total().overcut(), 5u);
+  EXPECT_EQ(d->total().leeway_removed, 5u);
+}
+
+// ---- the caries' zone ------------------------------------------------------------------------------
+
+TEST(ToothDiff, CariesTargetIsTheLesionAndTheTissueAboveIt) {
+  // Caries x 4..7, y 4..5, z 3..4 (16 voxels) under the enamel's top at z = 8: the target holds
+  // the caries and the enamel over it, z 5..7 (24 voxels). Cutting exactly that is all in target.
+  ToothVolume initial = enamelSlab();
+  setBox(initial, {4, 4, 3}, {8, 6, 5}, makeVoxel(Material::Caries));
+  ToothVolume student = initial;
+  setBox(student, {4, 4, 3}, {8, 6, 8}, kEmpty);
+  auto d = compare(initial, student, nullptr);
+  ASSERT_TRUE(d.ok()) << d.message();
+  EXPECT_EQ(d->target_kind, TargetKind::CariesAccess);
+  EXPECT_EQ(d->tissue(Material::Caries).target, 16 * kFull);
+  EXPECT_EQ(d->tissue(Material::Enamel).target, 24 * kFull);
+  EXPECT_EQ(d->total().target_removed, 40 * kFull);
+  EXPECT_EQ(d->total().overcut(), 0u);
+  EXPECT_EQ(d->healthy().container_removed, 0u);
+  EXPECT_TRUE(d->healthy_outside_zone.empty());
+  // The enamel below the lesion is not on the way in: cutting it is outside the target.
+  student.voxels.setVoxel(4, 4, 0, kEmpty);
+  auto deeper = compare(initial, student, nullptr);
+  ASSERT_TRUE(deeper.ok());
+  EXPECT_EQ(deeper->healthy().container_removed, kFull);
+  EXPECT_EQ(deeper->healthy_outside_zone.at(4, 4, 0), kFull);
+  expectZonesPartition(*deeper);
+}
+
+TEST(ToothDiff, TiltedInsertionAxisSweepsTheLine) {
+  // One caries voxel at (4,8,2); along (1,0,1) the line from it meets (5,8,3) .. (9,8,7), five
+  // enamel voxels before it leaves the slab at z = 8.
+  ToothVolume initial = enamelSlab();
+  initial.voxels.setVoxel(4, 8, 2, makeVoxel(Material::Caries));
+  auto d = compare(initial, initial, nullptr, 0.0, normalized(Vec3{1, 0, 1}));
+  ASSERT_TRUE(d.ok()) << d.message();
+  EXPECT_EQ(d->tissue(Material::Caries).target, kFull);
+  EXPECT_EQ(d->tissue(Material::Enamel).target, 5 * kFull);
+  // Straight up, the column (4,8,3..7) instead: also five, but other voxels.
+  ToothVolume student = initial;
+  for (uint32_t k = 1; k <= 5; ++k) student.voxels.setVoxel(4 + k, 8, 2 + k, kEmpty);
+  auto tilted = compare(initial, student, nullptr, 0.0, normalized(Vec3{1, 0, 1}));
+  auto upright = compare(initial, student, nullptr, 0.0, {0, 0, 1});
+  ASSERT_TRUE(tilted.ok() && upright.ok());
+  EXPECT_EQ(tilted->total().target_removed, 5 * kFull);
+  EXPECT_EQ(tilted->total().container_removed, 0u);
+  EXPECT_EQ(upright->total().target_removed, 0u);
+  EXPECT_EQ(upright->total().container_removed, 5 * kFull);
+}
+
+TEST(ToothDiff, LeewayAroundTheCariesCountedByHand) {
+  // A caries voxel in the slab's top layer (z = 7): the column above it is empty space, so the
+  // target is that voxel. Within 2 voxels (0.2 mm) of it lie 13 voxels of its layer, 9 of the
+  // layer below and 1 two layers down: 23 with itself, so 22 enamel voxels of leeway.
+  ToothVolume initial = enamelSlab();
+  initial.voxels.setVoxel(8, 8, 7, makeVoxel(Material::Caries));
+  auto d = compare(initial, initial, nullptr, 0.2);
+  ASSERT_TRUE(d.ok()) << d.message();
+  const TissueAmounts& e = d->tissue(Material::Enamel);
+  EXPECT_EQ(e.target, 0u);
+  EXPECT_EQ(e.leeway, 22 * kFull);
+  EXPECT_EQ(e.container, (2047 - 22) * kFull);
+  expectZonesPartition(*d);
+  // Cutting a voxel at 2 voxels (inside) and one at sqrt(5) voxels (outside).
+  ToothVolume student = initial;
+  student.voxels.setVoxel(10, 8, 7, kEmpty);
+  student.voxels.setVoxel(10, 9, 7, kEmpty);
+  auto cut = compare(initial, student, nullptr, 0.2);
+  ASSERT_TRUE(cut.ok());
+  EXPECT_EQ(cut->tissue(Material::Enamel).leeway_removed, kFull);
+  EXPECT_EQ(cut->tissue(Material::Enamel).container_removed, kFull);
+  EXPECT_EQ(cut->healthy_outside_zone.voxelCount(), 1u);
+  EXPECT_EQ(cut->healthy_outside_zone.at(10, 9, 7), kFull);
+}
+
+TEST(ToothDiff, TargetInTheCrownHalf) {
+  // Enamel over dentin: the crown faces +z. The ideal removes 4 voxels near the top and 2 near the
+  // bottom; the crown half is z >= 4 (the tissue's bricks span z 0..8).
+  ToothVolume initial = test::emptyTooth();
+  setBox(initial, {0, 0, 0}, {16, 16, 6}, makeVoxel(Material::Dentin));
+  setBox(initial, {0, 0, 6}, {16, 16, 8}, makeVoxel(Material::Enamel));
+  ToothVolume ideal = initial;
+  setBox(ideal, {4, 4, 6}, {6, 6, 7}, kEmpty);
+  setBox(ideal, {4, 4, 0}, {6, 5, 1}, kEmpty);
+  auto d = compare(initial, initial, &ideal);
+  ASSERT_TRUE(d.ok()) << d.message();
+  EXPECT_TRUE(d->crown.from_enamel);
+  EXPECT_NEAR(d->crown.axis.z, 1.0, 1e-12);
+  EXPECT_EQ(d->total().target, 6 * kFull);
+  EXPECT_EQ(d->target_in_crown_half, 4 * kFull);
 }
 
 // ---- pulp exposure -------------------------------------------------------------------------------
@@ -238,24 +342,24 @@ TEST(ToothDiff, MismatchedLevelOrFrameIsAnErrorNamingTheFile) {
   const DiffNames names{"start.dvol", "student.dvol", "prof.dvol"};
 
   const ToothVolume bigger = test::emptyTooth(5);
-  auto level = compareTeeth(t, bigger, nullptr, 0.2, names);
+  auto level = compareTeeth(t, bigger, nullptr, ZoneOptions{}, names);
   ASSERT_FALSE(level.ok());
   EXPECT_EQ(level.message(), "student.dvol: octree level 5 differs from start.dvol's 4; score volumes of one level");
 
   ToothVolume finer = t;
   finer.frame.voxel_mm = 0.05;
-  auto size = compareTeeth(t, t, &finer, 0.2, names);
+  auto size = compareTeeth(t, t, &finer, ZoneOptions{}, names);
   ASSERT_FALSE(size.ok());
   EXPECT_EQ(size.message(), "prof.dvol: voxel size 0.05 mm differs from start.dvol's 0.1 mm");
 
   ToothVolume moved = t;
   moved.frame.origin_mm[1] = 1.5;
-  auto origin = compareTeeth(t, moved, nullptr, 0.2, names);
+  auto origin = compareTeeth(t, moved, nullptr, ZoneOptions{}, names);
   ASSERT_FALSE(origin.ok());
   EXPECT_EQ(origin.message(), "student.dvol: origin y 1.5 mm differs from start.dvol's 0 mm");
 
   // Default names are the roles.
-  auto roles = compareTeeth(t, moved, nullptr, 0.2);
+  auto roles = compareTeeth(t, moved, nullptr, ZoneOptions{});
   ASSERT_FALSE(roles.ok());
   EXPECT_EQ(roles.message().rfind("final: origin y", 0), 0u) << roles.message();
 }

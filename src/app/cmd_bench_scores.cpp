@@ -1,0 +1,98 @@
+// `dentsim bench scores [--level 8] [--out DIR]`: scripted expert and novice attempts at both built-in tasks, scored, as a table, JSON and a bar chart.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#include "app/commands.h"
+#include "bench/score_bench.h"
+#include "eval/cut_score.h"
+#include "io/atomic_file.h"
+#include "sim/builtin_tooth.h"
+
+namespace dentsim::app {
+namespace {
+
+struct ScoresBenchOptions {
+  int level = 8;                       // octree level of the built-in molar
+  std::vector<std::string> attempts;   // empty: all
+  std::string out = "docs/bench";      // scores.json, scores.md, scores.svg
+  bool pictures = false;               // also each attempt's score picture, into out/scores/
+};
+
+int runScoresBench(const ScoresBenchOptions& o) {
+  namespace fs = std::filesystem;
+  bench::ScoreBenchSettings settings;
+  if (!o.attempts.empty()) {
+    settings.attempts.clear();
+    for (const std::string& name : o.attempts) {
+      const std::optional<Attempt> a = parseAttempt(name);
+      if (!a) return fail("--attempts: \"" + name + "\" is not one of " + attemptNames());
+      settings.attempts.push_back(*a);
+    }
+  }
+  std::error_code ec;
+  fs::create_directories(o.out, ec);
+  if (ec) return fail(o.out + ": cannot create the output folder: " + ec.message());
+  // The sessions go to a private folder under the system's temporary one, removed at the end.
+  const fs::path work = fs::temp_directory_path(ec) / ("dentsim-bench-scores-" + std::to_string(::getpid()));
+  fs::create_directories(work, ec);
+  if (ec) return fail(work.string() + ": cannot create a working folder: " + ec.message());
+  settings.work_dir = work.string();
+  if (o.pictures) {
+    settings.picture_dir = (fs::path(o.out) / "scores").string();
+    fs::create_directories(settings.picture_dir, ec);
+    if (ec) return fail(settings.picture_dir + ": cannot create: " + ec.message());
+  }
+
+  auto molar = builtinMolarTooth(o.level);
+  if (!molar) return fail(molar.message());
+  auto caries = builtinTask("caries");
+  if (!caries) return fail(caries.message());
+  auto cavity = builtinTask("cavity");
+  if (!cavity) return fail(cavity.message());
+  std::printf("scores bench: the built-in molar at level %d (%.4f mm voxels)\n", o.level, molar->frame.voxel_mm);
+  auto result = bench::runScoreBench(*molar, *caries, *cavity, settings, [](const std::string& line) {
+    std::printf("  %s\n", line.c_str());
+    std::fflush(stdout);
+  });
+  fs::remove_all(work, ec);
+  if (!result) return fail(result.message());
+
+  const std::string markdown = bench::scoreBenchMarkdown(*result);
+  for (const auto& [name, text] : {std::pair<std::string, std::string>{"scores.json", bench::scoreBenchJson(*result).dump(2) + "\n"},
+                                   {"scores.md", markdown},
+                                   {"scores.svg", bench::scoreBenchSvg(*result)}})
+    if (Status st = writeFileAtomic((fs::path(o.out) / name).string(), text); !st) return fail(st.message());
+  std::printf("\n%s", markdown.c_str());
+  bool ok = true;
+  for (const bench::NoviceCheck& c : bench::checkNovices(*result))
+    if (!c.gap_ok || !c.part_ok) {
+      ok = false;
+      std::printf("check: %s %s: gap %.1f, %.1f of %.1f points lost in the fault's part\n", c.task.c_str(),
+                  attemptName(c.attempt), c.gap, c.lost_in_fault, c.lost);
+    }
+  std::printf("%s\nwrote %s/scores.json, scores.md, scores.svg%s\n",
+              ok ? "every novice scores at least 20 below the expert and loses mostly in its fault's part"
+                 : "some novices do not stand apart as they should (above)",
+              o.out.c_str(), o.pictures ? " and scores/*.png" : "");
+  return 0;
+}
+
+}  // namespace
+
+void addScoresBenchCommand(CLI::App& bench, Action& action) {
+  auto o = std::make_shared<ScoresBenchOptions>();
+  CLI::App* cmd = bench.add_subcommand("scores", "Scripted expert and novice attempts (over-cut, under-cut, heavy, slow, "
+                                                 "trench) at both built-in tasks on the molar, scored: the gaps");
+  cmd->add_option("--level", o->level, "Octree level of the molar")->check(CLI::Range(6, 10))->capture_default_str();
+  cmd->add_option("--attempts", o->attempts, "Attempts to run besides the expert: " + attemptNames())->delimiter(',');
+  cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
+  cmd->add_flag("--pictures", o->pictures, "Also write each attempt's score picture to OUT/scores/");
+  cmd->callback([o, &action] { action = [o] { return runScoresBench(*o); }; });
+}
+
+}  // namespace dentsim::app

@@ -1,0 +1,151 @@
+// Scoring a cut end to end: built-in tasks, the ideal a task names, scoreCut, and the report and picture files.
+#include "eval/cut_score.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <numbers>
+
+#include "eval/score_image.h"
+#include "eval/scores.h"
+#include "eval/session_stats.h"
+#include "io/atomic_file.h"
+#include "model/builtin_assets.h"
+#include "sim/scripted_paths.h"
+#include "sim/session_run.h"
+#include "volume/crown_estimate.h"
+#include "volume/tooth_file.h"
+
+namespace dentsim {
+
+Result<Task> builtinTask(const std::string& name) {
+  std::string file;
+  if (name == "caries" || name == "caries_removal") file = "tasks/caries_removal.json";
+  if (name == "cavity" || name == "class1_cavity") file = "tasks/class1_cavity.json";
+  if (file.empty()) {
+    if (!std::filesystem::exists(name))
+      return makeError(name, "no such task: the built-in ones are caries and cavity, or give a task file");
+    auto task = loadTask(name);
+    if (!task) return task;
+    // An ideal file is named relative to the task file.
+    if (task->ideal && task->ideal->kind != IdealKind::BuiltinPath && std::filesystem::path(task->ideal->path).is_relative())
+      task->ideal->path = (std::filesystem::path(name).parent_path() / task->ideal->path).string();
+    return task;
+  }
+  const std::span<const uint8_t> bytes = builtinAssetBytes(file);
+  if (bytes.empty()) return makeError(file, "not among the embedded assets");
+  return parseTask(std::string(bytes.begin(), bytes.end()), "assets/" + file);
+}
+
+Result<ToothVolume> idealForTask(const Task& task, const ToothVolume& initial, std::vector<std::string>* warnings) {
+  const std::string where = "task " + task.name + ": ideal";
+  if (!task.ideal) return makeError(where, "the task names no ideal");
+  const IdealSpec& ideal = *task.ideal;
+  switch (ideal.kind) {
+    case IdealKind::Volume:
+      return loadTooth(ideal.path);
+    case IdealKind::Session: {
+      auto session = readSessionFile(ideal.path);
+      if (!session) return session.error();
+      ToothVolume tooth = initial;
+      auto replayed = replaySession(*session, tooth, ReplayOptions{});
+      if (!replayed) return makeError(where, replayed.message());
+      return tooth;
+    }
+    case IdealKind::BuiltinPath: {
+      if (ideal.path != "class1_cavity") return makeError(where, "no built-in path \"" + ideal.path + "\" (there is class1_cavity)");
+      // The path looks for the fossa from +z: on a tooth whose crown faces elsewhere it drills the side or the roots.
+      const CrownEstimate crown = estimateCrown(initial.voxels);
+      if (crown.from_enamel && crown.axis.z < std::cos(45.0 * std::numbers::pi / 180.0)) {
+        char axis[96];
+        std::snprintf(axis, sizeof axis, "(%.2f, %.2f, %.2f)", crown.axis.x, crown.axis.y, crown.axis.z);
+        warnings->push_back(where + ": the built-in path class1_cavity drills from +z, but this tooth's crown faces " + axis +
+                            " (estimated from the enamel): the ideal is not an occlusal cavity on it");
+      }
+      // The professional drills with the task's own bur, as the student will.
+      const SimParams params = defaultSimParams();
+      CavityPathSettings ps;
+      if (const std::optional<double> r = burHeadRadiusMm(task.drill_tool)) ps.bur_radius_mm = *r;
+      auto path = cavityPreparationPath(initial.voxels, initial.frame, ps);
+      if (!path) return makeError(where, path.message());
+      ToothVolume tooth = initial;
+      ScriptedSessionOptions so;
+      so.drill_tool = task.drill_tool;
+      auto run = recordScriptedSession(tooth, params, path->path, "", SessionInfo{}, so);
+      if (!run) return makeError(where, run.message());
+      return tooth;
+    }
+  }
+  return makeError(where, "unknown kind");
+}
+
+Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, const ToothVolume& final_,
+                              const ToothVolume* ideal, const SessionRecording* session, const ScoreFiles& files) {
+  SessionScore out;
+  ScoreInputs inputs;
+  inputs.task = task.name;
+  inputs.initial = files.initial;
+  inputs.final_ = files.final_;
+  inputs.session = files.session;
+  inputs.no_session_reason = files.no_session_reason;
+  if (ideal) {
+    inputs.ideal = files.ideal_spec ? *files.ideal_spec
+                                    : IdealSpec{IdealKind::Volume, files.ideal.empty() ? "(given by the caller)" : files.ideal};
+    inputs.ideal_from = files.ideal_from.empty() ? "command line" : files.ideal_from;
+  } else if (task.ideal) {
+    auto made = idealForTask(task, initial, &out.warnings);
+    if (!made) return made.error();
+    out.ideal = std::move(*made);
+    ideal = &*out.ideal;
+    inputs.ideal = task.ideal;
+    inputs.ideal_from = "task";
+  }
+  DiffNames names;
+  if (!files.initial.empty()) names.initial = files.initial;
+  if (!files.final_.empty()) names.final_ = files.final_;
+  if (!files.ideal.empty()) names.ideal = files.ideal;
+  auto diff = compareTeeth(initial, final_, ideal, ZoneOptions{task.leeway_mm, task.insertion_axis}, names);
+  if (!diff) return diff.error();
+  for (std::string& w : scoreWarnings(task, *diff, names.initial)) out.warnings.push_back(std::move(w));
+  inputs.warnings = out.warnings;
+  std::optional<SessionStats> stats;
+  if (session) stats = sessionStats(*session, task);
+  const SessionStats* st = stats ? &*stats : nullptr;
+  if (task.kind == TaskKind::Caries) {
+    const CariesScore s = scoreCariesRemoval(*diff, st, task);
+    out.total = s.total;
+    out.total_max = s.total_max;
+    out.report = scoreReportJson(task, inputs, *diff, st, s);
+    out.summary = scoreSummary(s, inputs);
+  } else {
+    auto s = scoreCavityPreparation(*diff, st, task);
+    if (!s) return makeError(names.ideal, s.message());
+    out.total = s->total;
+    out.total_max = s->total_max;
+    out.report = scoreReportJson(task, inputs, *diff, st, *s);
+    out.summary = scoreSummary(*s, inputs);
+  }
+  out.diff = std::move(*diff);
+  return out;
+}
+
+Status writeScoreReport(const std::string& path, const nlohmann::ordered_json& report) {
+  const std::string text = report.dump(2) + "\n";
+  return writeFileAtomic(path, text);
+}
+
+RgbImage scorePicture(const Task& task, const ToothVolume& initial, const ToothVolume& final_, const SessionScore& score,
+                      const ToothVolume* given_ideal) {
+  ScoreImageOptions options;
+  options.oblique = true;
+  const ToothVolume* ideal = given_ideal ? given_ideal : (score.ideal ? &*score.ideal : nullptr);
+  const CutMarks& red = task.kind == TaskKind::Cavity ? score.diff.beyond_target : score.diff.healthy_outside_zone;
+  return renderScoreImage(initial, final_, ideal, &red, options).image;
+}
+
+Status writeScoreImage(const std::string& path, const Task& task, const ToothVolume& initial, const ToothVolume& final_,
+                       const SessionScore& score, const ToothVolume* given_ideal) {
+  return writePng(path, scorePicture(task, initial, final_, score, given_ideal));
+}
+
+}  // namespace dentsim

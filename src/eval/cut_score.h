@@ -1,0 +1,71 @@
+// Scoring a cut end to end: a task by name, the ideal it names, the comparison, the score with its warnings, the report and the picture.
+//
+// `dentsim score`, `replay`, `demo`, the simulator's score screen and `dentsim bench scores` all score
+// through scoreCut, so a cut scores the same whichever way it arrives.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/result.h"
+#include "eval/task.h"
+#include "eval/tooth_diff.h"
+#include "io/png_file.h"
+#include "io/session_file.h"
+#include "volume/brick_volume.h"
+
+namespace dentsim {
+
+// A task: "caries" or "cavity" (the built-in tasks, also by their full names), or a task file.
+Result<Task> builtinTask(const std::string& name_or_file);
+
+// The professional's final tooth that task.ideal names (which must be set): its built-in path drilled
+// on `initial`, its volume file, or its session replayed on `initial`. What may make it wrong for
+// this tooth (a built-in path laid out for a crown facing +z on a tooth whose crown faces elsewhere)
+// is added to *warnings.
+Result<ToothVolume> idealForTask(const Task& task, const ToothVolume& initial, std::vector<std::string>* warnings);
+
+struct SessionScore {
+  double total = 0.0;
+  double total_max = 100.0;            // 100, or less when parts were not scored
+  std::string summary;                 // one line for the terminal
+  nlohmann::ordered_json report;       // the "dentsim-score" report
+  std::optional<ToothVolume> ideal;    // the ideal this score made from the task (none when given or none)
+  ToothDiff diff;                      // the comparison, for the picture
+  std::vector<std::string> warnings;   // also in the report
+};
+
+struct ScoreFiles {
+  std::string initial, final_, ideal, session;  // names for the report; ideal: a file given in place of the task's
+  std::string no_session_reason = "no session was given";  // why there is no session, when there is none
+  std::optional<IdealSpec> ideal_spec;  // what a given ideal is, when not the volume file `ideal`
+  std::string ideal_from;               // where a given ideal was named; empty: "command line"
+};
+// The names of a score's files, the rest left at their defaults.
+inline ScoreFiles scoreFiles(std::string initial, std::string final_, std::string session) {
+  ScoreFiles f;
+  f.initial = std::move(initial);
+  f.final_ = std::move(final_);
+  f.session = std::move(session);
+  return f;
+}
+
+// Scores `final_` against `initial` with the session's statistics (none: the parts that need a
+// session are not scored). The ideal is `ideal` when given, else the task's own (made here), else
+// none: a caries task then measures against its caries and their access.
+Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, const ToothVolume& final_,
+                              const ToothVolume* ideal, const SessionRecording* session, const ScoreFiles& files);
+// Writes the report as JSON (2-space indent), atomically.
+Status writeScoreReport(const std::string& path, const nlohmann::ordered_json& report);
+// The score picture: an occlusal and an oblique view; red is the over-cut of a cavity, or the
+// healthy tissue cut outside the allowed zone of a caries removal; blue the under-cut of an ideal.
+RgbImage scorePicture(const Task& task, const ToothVolume& initial, const ToothVolume& final_, const SessionScore& score,
+                      const ToothVolume* given_ideal);
+// Writes the score picture.
+Status writeScoreImage(const std::string& path, const Task& task, const ToothVolume& initial, const ToothVolume& final_,
+                       const SessionScore& score, const ToothVolume* given_ideal);
+
+}  // namespace dentsim

@@ -1,0 +1,68 @@
+// Scripted attempts with one fault each (over-cutting, stopping early, a heavy hand, slowness, the wrong place) beside the careful dentist's, for showing that a score tells them apart.
+//
+// Each attempt is the expert's path of sim/scripted_paths.h with one thing changed, so that a score
+// should lose its points in the part that matches the fault and nowhere else:
+//   expert    the careful path itself
+//   overcut   a cut wider than it should be: for caries, a raster over the lesion's whole box and
+//             beyond; for a cavity, the expert's outline and then a wider one
+//   undercut  the expert's path, stopped when half its cutting time has passed
+//   heavy     the expert's path, pressed three times as hard
+//   slow      the expert's path at a third of the speed, hand and pedal, so that it cuts the same
+//             tissue in three times the time (at full pedal a slower bur would also cut deeper)
+//   trench    a groove across the buccal cusps, away from the caries and the fossa
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+#include "io/pen_path_file.h"
+#include "sim/scripted_paths.h"
+#include "sim/sim_params.h"
+#include "volume/brick_volume.h"
+
+namespace dentsim {
+
+enum class Attempt { Expert, Overcut, Undercut, Heavy, Slow, Trench };
+inline constexpr std::array<Attempt, 6> kAttempts = {Attempt::Expert, Attempt::Overcut, Attempt::Undercut,
+                                                     Attempt::Heavy,  Attempt::Slow,    Attempt::Trench};
+
+const char* attemptName(Attempt a);    // "expert", "overcut", "undercut", "heavy", "slow", "trench"
+const char* attemptFault(Attempt a);   // the fault in a few words, for tables
+std::optional<Attempt> parseAttempt(const std::string& name);
+// The names, for help and errors: "expert, overcut, undercut, heavy, slow, trench".
+std::string attemptNames();
+std::vector<std::string> attemptNameList();
+
+// How much each fault departs from the expert.
+struct AttemptFaults {
+  double overcut_margin_mm = 0.8;   // caries: the raster reaches this far past the lesion's box [mm]
+  double overcut_widen = 1.6;       // cavity: the second outline is this times as wide
+  double undercut_share = 0.35;      // the share of the cutting time before the pen stops
+  double heavy_press = 3.0;         // times the expert's press
+  double slow_factor = 3.0;         // times the expert's time
+  double trench_offset_mm = 2.4;    // the groove's line this far buccal (-y) of the crown's centre [mm]
+  double trench_length_mm = 5.0;    // along x [mm]
+  double trench_speed_mm_s = 0.5;   // along the groove, one lap there and back [mm/s]
+};
+
+// The caries removal attempt on this volume with the bur `bur`, from the expert's settings `base`.
+Result<PenPath> cariesAttemptPath(Attempt attempt, const BrickVolume& volume, const VolumeFrame& frame,
+                                  const SimParams& params, const std::string& bur, const CariesPathSettings& base = {},
+                                  const AttemptFaults& faults = {});
+// The class I cavity attempt on this volume, from the expert's settings `base`.
+Result<PenPath> cavityAttemptPath(Attempt attempt, const BrickVolume& volume, const VolumeFrame& frame,
+                                  const CavityPathSettings& base = {}, const AttemptFaults& faults = {});
+
+// ---- path edits, each a fault on any path -----------------------------------------------------------
+
+// Every sample `factor` times later, and the pedal divided by it.
+PenPath slowedPath(const PenPath& path, double factor);
+// The path up to `stop_s`, then pedal up and straight up by `lift_mm` over `lift_s`.
+PenPath stoppedPath(const PenPath& path, double stop_s, double lift_mm = 3.0, double lift_s = 0.3);
+// `b` after `a`: b's times shifted to start `gap_s` after a's last sample.
+PenPath joinedPaths(const PenPath& a, const PenPath& b, double gap_s = 0.01);
+
+}  // namespace dentsim
