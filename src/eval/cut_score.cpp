@@ -106,6 +106,9 @@ Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, cons
   if (!files.ideal.empty()) names.ideal = files.ideal;
   auto diff = compareTeeth(initial, final_, ideal, ZoneOptions{task.leeway_mm, task.insertion_axis}, names);
   if (!diff) return diff.error();
+  // An ideal that removed nothing cannot be what either kind of task asks for.
+  if (ideal && diff->total().target == 0)
+    return makeError(names.ideal, "the ideal cavity is empty: the ideal tooth removed nothing from the initial one");
   for (std::string& w : scoreWarnings(task, *diff, names.initial)) out.warnings.push_back(std::move(w));
   inputs.warnings = out.warnings;
   std::optional<SessionStats> stats;
