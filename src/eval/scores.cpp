@@ -442,7 +442,8 @@ std::string scoreSummary(const CariesScore& s, const ScoreInputs& inputs) {
   if (!s.force) missing.push_back("force");
   std::string line = "caries removal score " + fixed(s.total) + " / " + fixed(s.total_max, 0) + " (removal " +
                      fixed(s.removal) + " / 50" + partText("time", s.time, 25) + partText("force", s.force, 25) +
-                     ", healthy tissue -" + fixed(s.healthy_deduction) + (s.pulp_cap_applied ? ", capped: pulp exposed" : "") +
+                     (s.healthy_deduction > 0 ? ", healthy tissue -" + fixed(s.healthy_deduction) : ", no healthy tissue outside the zone") +
+                     (s.pulp_cap_applied ? ", capped: pulp exposed" : "") +
                      notScoredText(missing, inputs) + "; Table 4 alone " + fixed(s.paper_total) + "): ";
   line += fixed(100.0 * s.removed_fraction, 1) + "% of " + fixed(s.caries_initial_mm3, 3) + " mm^3 caries removed; healthy " +
           fixed(s.enamel_removed_mm3 + s.dentin_removed_mm3 + s.pulp_removed_mm3, 3) + " mm^3 removed (enamel " +
@@ -460,7 +461,7 @@ std::string scoreSummary(const CavityScore& s, const ScoreInputs& inputs) {
   std::string line = "cavity preparation score " + fixed(s.total) + " / " + fixed(s.total_max, 0) + " (under-cut " +
                      fixed(s.undercut) + " / 25, over-cut " + fixed(s.overcut) + " / 25" +
                      partText("parallel", s.parallel, 25) + partText("time", s.time, 25) +
-                     (s.force_deduction ? ", force -" + fixed(*s.force_deduction) : "") +
+                     (!s.force_deduction ? "" : *s.force_deduction > 0 ? ", force errors -" + fixed(*s.force_deduction) : ", no force errors") +
                      (s.pulp_cap_applied ? ", capped: pulp exposed" : "") + (s.ideal_missed ? ", the ideal missed" : "") +
                      notScoredText(missing, inputs) + "; Table 5 alone " + fixed(s.paper_total) + "): ";
   line += "ideal " + fixed(s.ideal_mm3, 3) + " mm^3, under-cut " + fixed(s.undercut_mm3, 3) + " mm^3, over-cut " +
