@@ -71,6 +71,8 @@ struct Runner {
     const std::string session_path = (std::filesystem::path(settings.work_dir) / (name + ".dses")).string();
     auto outcome = recordScriptedSession(d.tooth, params, *path, session_path, info, so);
     if (!outcome) return makeError(name, outcome.message());
+    if (outcome->steps_lost > 0)  // a score from a session with gaps would not be the attempt's
+      return makeError(name, "the recorder lost " + std::to_string(outcome->steps_lost) + " steps");
     auto session = readSessionFile(session_path);
     std::error_code ec;
     std::filesystem::remove(session_path, ec);

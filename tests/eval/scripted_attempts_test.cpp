@@ -49,6 +49,7 @@ Scored drillAndScore(const ToothVolume& initial, Attempt attempt, const Task& ta
   so.drill_tool = task.drill_tool;
   auto run = recordScriptedSession(out.tooth, params, *path, dir.file("s.dses"), SessionInfo{}, so);
   EXPECT_TRUE(run.ok()) << run.message();
+  EXPECT_EQ(run->steps_lost, 0u);
   auto session = readSessionFile(dir.file("s.dses"));
   EXPECT_TRUE(session.ok()) << session.message();
   auto score = scoreCut(task, initial, out.tooth, nullptr, &*session, scoreFiles("block", attemptName(attempt), "s.dses"));
