@@ -80,6 +80,31 @@ struct Quat {
   static Quat fromAxisAngle(const Vec3& axis, double radians) {
     return fromRotationVector(::dentsim::normalized(axis) * radians);
   }
+  // The rotation of a row-major 3x3 rotation matrix (matrix()'s inverse). Shepperd's method: the
+  // largest of the trace and the diagonal is the divisor, which keeps the root well conditioned
+  // for any rotation.
+  static Quat fromMatrix(const std::array<double, 9>& m) {
+    const double trace = m[0] + m[4] + m[8];
+    Quat q;
+    if (trace > 0) {
+      const double s = 2.0 * std::sqrt(1.0 + trace);
+      q = {0.25 * s, (m[7] - m[5]) / s, (m[2] - m[6]) / s, (m[3] - m[1]) / s};
+    } else if (m[0] > m[4] && m[0] > m[8]) {
+      const double s = 2.0 * std::sqrt(1.0 + m[0] - m[4] - m[8]);
+      q = {(m[7] - m[5]) / s, 0.25 * s, (m[1] + m[3]) / s, (m[2] + m[6]) / s};
+    } else if (m[4] > m[8]) {
+      const double s = 2.0 * std::sqrt(1.0 + m[4] - m[0] - m[8]);
+      q = {(m[2] - m[6]) / s, (m[1] + m[3]) / s, 0.25 * s, (m[5] + m[7]) / s};
+    } else {
+      const double s = 2.0 * std::sqrt(1.0 + m[8] - m[0] - m[4]);
+      q = {(m[3] - m[1]) / s, (m[2] + m[6]) / s, (m[5] + m[7]) / s, 0.25 * s};
+    }
+    return q.normalized();
+  }
+  // The rotation whose columns are the unit, right-handed axes x, y, z.
+  static Quat fromAxes(const Vec3& x, const Vec3& y, const Vec3& z) {
+    return fromMatrix({x.x, y.x, z.x, x.y, y.y, z.y, x.z, y.z, z.z});
+  }
   // The rotation vector of this rotation, angle in [0, pi] (the logarithm map).
   Vec3 rotationVector() const {
     const Quat q = w < 0 ? Quat{-w, -x, -y, -z} : *this;

@@ -4,12 +4,12 @@
 #include <cassert>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <vector>
 
 namespace dentsim {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kShankRadius = 0.8;     // FG shank, 1.6 mm diameter [mm]
 constexpr double kBurLength = 19.0;      // overall length of an FG bur [mm]
 constexpr int kBurSegments = 48;         // facets around a bur
@@ -21,8 +21,8 @@ struct CosSin {
   double c, s;
 };
 CosSin cosSin(double angle) {
-  while (angle > kPi) angle -= 2.0 * kPi;
-  while (angle < -kPi) angle += 2.0 * kPi;
+  while (angle > std::numbers::pi) angle -= 2.0 * std::numbers::pi;
+  while (angle < -std::numbers::pi) angle += 2.0 * std::numbers::pi;
   double c = 0.0, s = 0.0, term = 1.0;  // term = angle^n / n!
   for (int n = 0; n < 30; ++n) {
     if (n % 4 == 0) c += term;
@@ -46,7 +46,7 @@ Axis zAxis() { return {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}; }
 // Axis through o in the xz-plane, `deg` degrees from +x toward +z (negative: toward -z), with
 // `sign` = -1 pointing it toward -x.
 Axis tiltedAxis(const Vec3d& o, double deg, double sign) {
-  const CosSin cs = cosSin(deg * kPi / 180.0);
+  const CosSin cs = cosSin(deg * std::numbers::pi / 180.0);
   const Vec3d w{sign * cs.c, 0.0, cs.s};
   // u = y x w is perpendicular to w in the xz-plane; v = w x u completes the frame.
   const Vec3d u{w[2], 0.0, -w[0]};
@@ -65,7 +65,7 @@ void revolve(TriangleMesh& mesh, const std::vector<ProfilePoint>& profile, const
     mesh.positions.push_back(p);
   };
   std::vector<CosSin> ring(static_cast<size_t>(segments));
-  for (int j = 0; j < segments; ++j) ring[size_t(j)] = cosSin(2.0 * kPi * j / segments);
+  for (int j = 0; j < segments; ++j) ring[size_t(j)] = cosSin(2.0 * std::numbers::pi * j / segments);
 
   const uint32_t first = uint32_t(mesh.positions.size());
   place(0.0, profile.front().s, 1.0, 0.0);
@@ -91,7 +91,7 @@ void revolve(TriangleMesh& mesh, const std::vector<ProfilePoint>& profile, const
 // Arc of the circle about (0, centre) of radius r, from polar angle a0 to a1 (0 = the bottom pole,
 // pi = the top), end points included.
 void appendArc(std::vector<ProfilePoint>& out, double centre, double r, double a0, double a1) {
-  const int steps = std::max(1, int(std::ceil((a1 - a0) / (0.5 * kPi) * kArcSteps)));
+  const int steps = std::max(1, int(std::ceil((a1 - a0) / (0.5 * std::numbers::pi) * kArcSteps)));
   for (int i = 0; i <= steps; ++i) {
     const CosSin cs = cosSin(a0 + (a1 - a0) * i / steps);
     out.push_back({r * cs.s, centre - r * cs.c});
@@ -114,7 +114,7 @@ TriangleMesh roundBur(double d) {
   // The sphere up to its equator (so the widest ring is exactly the nominal diameter), then on
   // to the latitude where its radius meets the neck.
   std::vector<ProfilePoint> p;
-  appendArc(p, r, r, 0.0, 0.5 * kPi);
+  appendArc(p, r, r, 0.0, 0.5 * std::numbers::pi);
   const double top = r + r * std::sqrt(1.0 - 0.55 * 0.55);
   for (int i = 1; i < kArcSteps; ++i) {
     const double s = r + (top - r) * i / kArcSteps;
@@ -129,7 +129,7 @@ TriangleMesh roundBur(double d) {
 TriangleMesh fissureBur(double d, double head_length) {
   const double r = 0.5 * d, neck = 0.55 * r;
   std::vector<ProfilePoint> p;
-  appendArc(p, r, r, 0.0, 0.5 * kPi);  // rounded end
+  appendArc(p, r, r, 0.0, 0.5 * std::numbers::pi);  // rounded end
   p.push_back({r, head_length});
   appendNeckAndShank(p, neck, head_length + 0.2, head_length + 1.5);
   TriangleMesh m;
@@ -157,7 +157,7 @@ TriangleMesh mirror() {
   TriangleMesh m;
   // Disc of 22 mm (size 4), 2 mm thick, the reflective face at z = 0.
   const std::vector<ProfilePoint> disc{{0.0, -2.0},  {10.5, -2.0}, {10.9, -1.8}, {11.0, -1.4},
-                                       {11.0, -0.3}, {10.85, 0.0}, {0.0, 0.0}};
+                                       {11.0, -0.3}, {kMirrorGlassRadiusMm, 0.0}, {0.0, 0.0}};
   revolve(m, disc, zAxis(), 96);
   // Neck from inside the disc's rim, thickening into the 8 mm handle, about 120 mm long.
   const std::vector<ProfilePoint> handle{{0.0, 0.0},   {0.85, 0.0},  {0.85, 4.0},   {1.25, 10.0},

@@ -31,6 +31,12 @@ struct ToolSpec {
   double cutting_length_mm;  // length of the cutting head along the axis [mm]; 0 where none
 };
 
+// The tools a run starts with when neither the task nor the command line names others.
+inline constexpr const char* kDefaultBur = "round_bur_010";
+inline constexpr const char* kDefaultMirror = "mirror_size4";
+// The mirror's glass: the disc inside the rim that reflects (assets/tools/README.md) [mm].
+inline constexpr double kMirrorGlassRadiusMm = 10.85;
+
 // Every built-in tool, in a fixed order.
 std::span<const ToolSpec> toolCatalog();
 // The tool's mesh: welded, closed, 2-manifold shells, outward. Deterministic.

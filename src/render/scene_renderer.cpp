@@ -35,11 +35,10 @@ namespace dentsim::render {
 namespace {
 
 constexpr const char* kWhere = "render";
-constexpr double kMirrorRadiusMm = 10.85;     // the glass inside the rim (assets/tools/README.md) [mm]
 constexpr double kGlassLiftMm = 0.02;         // the glass disc sits this far in front of the face [mm]
 constexpr int kGlassSegments = 96;
 constexpr const char* kHandpieceName = "turbine_handpiece";
-constexpr const char* kMirrorName = "mirror_size4";
+constexpr const char* kMirrorName = kDefaultMirror;
 
 layout::vec4 toVec4(const glm::vec4& v) { return {v.x, v.y, v.z, v.w}; }
 
@@ -504,7 +503,7 @@ Status SceneRenderer::State::createTools() {
     if (!mesh) return mesh.error();
     DS_TRY_STATUS(upload(spec.name, creasedVertices(*mesh), tools[spec.name]));
   }
-  return upload("mirror glass", discVertices(kMirrorRadiusMm, kGlassLiftMm, kGlassSegments), glass);
+  return upload("mirror glass", discVertices(kMirrorGlassRadiusMm, kGlassLiftMm, kGlassSegments), glass);
 }
 
 Status SceneRenderer::State::createMirrorTarget() {

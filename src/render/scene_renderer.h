@@ -34,6 +34,7 @@
 #include "core/volume_frame.h"
 #include "gpu/context.h"
 #include "io/png_file.h"
+#include "model/tool_generator.h"
 #include "render/tooth_surfaces.h"
 #include "sim/sim_params.h"
 
@@ -68,7 +69,7 @@ struct FrameState {
 
   bool drill_shown = true;
   Pose drill;                                        // the bur's tool frame (ToolState::tool) [mm]
-  std::string bur = "round_bur_010";                 // a toolCatalog() bur name
+  std::string bur = kDefaultBur;                     // a toolCatalog() bur name
   bool handpiece_shown = true;                       // the turbine, sharing the bur's frame
   double drill_force_n = 0.0;                        // contact force magnitude on the drill [N]
   double max_force_n = 8.0;                          // the device's force clamp [N]; full red there

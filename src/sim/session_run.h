@@ -13,6 +13,7 @@
 #include "core/result.h"
 #include "io/pen_path_file.h"
 #include "io/session_file.h"
+#include "model/tool_generator.h"
 #include "sim/haptic_loop.h"
 #include "sim/sim_params.h"
 #include "volume/brick_volume.h"
@@ -22,7 +23,7 @@ namespace dentsim {
 // ---- recording a scripted session -------------------------------------------------------------------
 
 struct ScriptedSessionOptions {
-  std::string drill_tool = "round_bur_010";
+  std::string drill_tool = kDefaultBur;
   std::string mirror_tool;        // empty: no mirror
   bool realtime = false;          // run the loop on its real-time thread at the set's rate; else back to back
   double extra_s = 0.05;          // keep stepping this long after the path's last sample [s]

@@ -48,6 +48,25 @@ TEST(Rigid, RotationMatrixRotatesAsTheQuaternionDoes) {
   }
 }
 
+TEST(Rigid, FromMatrixInvertsMatrixOnEveryBranch) {
+  // Random rotations, plus half turns about each axis and a near half turn, which take each of
+  // Shepperd's four branches (trace > 0, then the largest diagonal entry x, y or z).
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> c(-3.0, 3.0);
+  std::vector<Quat> qs = {Quat::fromAxisAngle({1, 0, 0}, 3.1), Quat::fromAxisAngle({0, 1, 0}, 3.1),
+                          Quat::fromAxisAngle({0, 0, 1}, 3.1), Quat::fromAxisAngle({1, 1, 0}, 3.14159), Quat{}};
+  for (int n = 0; n < 100; ++n) qs.push_back(Quat::fromRotationVector({c(rng), c(rng), c(rng)}));
+  for (const Quat& q : qs) {
+    const Quat back = Quat::fromMatrix(q.matrix());
+    // q and -q are the same rotation.
+    const double dot = q.w * back.w + q.x * back.x + q.y * back.y + q.z * back.z;
+    EXPECT_NEAR(std::abs(dot), 1.0, 1e-12);
+    // fromAxes takes the matrix's columns: the images of the unit axes.
+    const Quat axes = Quat::fromAxes(q.rotate({1, 0, 0}), q.rotate({0, 1, 0}), q.rotate({0, 0, 1}));
+    EXPECT_NEAR(std::abs(q.w * axes.w + q.x * axes.x + q.y * axes.y + q.z * axes.z), 1.0, 1e-12);
+  }
+}
+
 TEST(VoxelField, ClearanceNeverOverstatesTheDistanceToTissue) {
   Block b = raggedBlock(7);
   VoxelField field(b.volume, b.frame);
