@@ -5,11 +5,12 @@
 
 #include "app/commands.h"
 #include "app/mesh_output.h"
-#include "app/session_support.h"
+#include "eval/task_tooth.h"
 #include "eval/cut_score.h"
 #include "app/simulator.h"
 #include "gpu/context.h"
 #include "io/session_file.h"
+#include "model/tool_generator.h"
 #include "sim/builtin_tooth.h"
 #include "sim/novice_paths.h"
 #include "sim/session_run.h"
@@ -29,7 +30,7 @@ struct DemoOptions {
   std::string params;                // a preset (.json); default: dentsim's defaults
   double exit_after_s = 0.0;         // windowed: close at this loop time (0: when the user closes it)
   int width = 1280, height = 800;    // window or frame size [px]
-  std::string mirror = "mirror_size4";  // the mirror the script holds beside the tooth; "none": none
+  std::string mirror = kDefaultMirror;  // the mirror the script holds beside the tooth; "none": none
   bool sound = true;                 // the window plays it; headless, it goes to sound.wav
   std::string attempt = "expert";    // the careful removal, or one with a fault (sim/novice_paths.h)
 };

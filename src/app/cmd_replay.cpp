@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
-#include "app/session_support.h"
+#include "eval/task_tooth.h"
 #include "eval/cut_score.h"
 #include "audio/sound_engine.h"
 #include "audio/sound_feed.h"

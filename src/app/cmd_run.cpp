@@ -25,20 +25,22 @@ void printOutcome(const SimulatorOutcome& r) {
 void addRunCommand(CLI::App& root, Action& action) {
   auto o = std::make_shared<SimulatorOptions>();
   CLI::App* cmd = root.add_subcommand("run", "The simulator: drill a tooth with the mouse (or a pen script) in a window, or headless to PNG frames");
-  cmd->add_option("--tooth", o->tooth, "Tooth file (.dvol); default: the built-in molar");
-  cmd->add_option("--level", o->level, "Octree level of the built-in molar")->check(CLI::Range(6, 11))->capture_default_str();
+  cmd->add_option("--tooth", o->tooth, "Tooth file (.dvol); default: the task's tooth (the built-in molar for the built-in tasks)");
+  cmd->add_option("--level", o->level, "Octree level of the built-in molar; default: the task's (9 for the built-in tasks)")
+      ->check(CLI::Range(6, 11));
   cmd->add_option("--params", o->params, "Parameter preset (.json); default: dentsim's defaults");
   cmd->add_option("--task", o->task, "Task scored: caries, cavity or a task file")->capture_default_str();
   cmd->add_option("--bur", o->bur, "The bur on the drill pen; default: the task's");
-  cmd->add_option("--mirror-tool", o->mirror_tool, "The mirror tool")->capture_default_str();
-  cmd->add_option("--drill", o->drill_pen,
+  cmd->add_option_function<std::string>("--mirror-tool", [o](const std::string& name) { o->mirror_tool = name; },
+                                        "The mirror tool; default: the task's (mirror_size4 for the built-in tasks)");
+  cmd->add_option("--drill", o->devices.drill_pen,
                   "The drill's pen: virtual, falcon[:N], openhaptics[:NAME], script:FILE or replay:FILE "
                   "(`dentsim devices` lists them); default: the pen script, else virtual");
-  cmd->add_option("--mirror", o->mirror_pen, "The mirror's pen (as --drill), or 'none' for no mirror");
-  cmd->add_option("--pedal", o->pedal, "The foot pedal: none, hid[:N], hid:VVVV:PPPP[,layout] or hid:/dev/hidrawN")
+  cmd->add_option("--mirror", o->devices.mirror_pen, "The mirror's pen (as --drill), or 'none' for no mirror");
+  cmd->add_option("--pedal", o->devices.pedal, "The foot pedal: none, hid[:N], hid:VVVV:PPPP[,layout] or hid:/dev/hidrawN")
       ->capture_default_str();
-  cmd->add_option("--falcon-firmware", o->falcon_firmware, "The Novint Falcon's firmware file (you supply it)");
-  cmd->add_option("--reach", o->reach_mm, "How much of the scene a hardware pen's workspace spans [mm]")
+  cmd->add_option("--falcon-firmware", o->devices.falcon_firmware, "The Novint Falcon's firmware file (you supply it)");
+  cmd->add_option("--reach", o->devices.reach_mm, "How much of the scene a hardware pen's workspace spans [mm]")
       ->check(CLI::Range(1.0, 1000.0))->capture_default_str();
   cmd->add_option("--audio-out", o->audio_out, "Render the sound offline to this WAV file (headless too) instead of playing it");
   cmd->add_flag("!--no-sound", o->sound, "No sound at all");

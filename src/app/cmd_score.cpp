@@ -5,7 +5,6 @@
 #include <string>
 
 #include "app/commands.h"
-#include "app/session_support.h"
 #include "eval/cut_score.h"
 #include "io/session_file.h"
 #include "volume/tooth_file.h"

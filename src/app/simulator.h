@@ -6,35 +6,28 @@
 // the frame loop steps the haptic loop itself, so that frame k shows exactly loop time k / fps:
 // those frames are reproducible, and headless frames equal windowed ones for the same state.
 //
-// Segments. A session is recorded from Start to Stop (or the end). Reset, a new bur or a new level
-// end the segment and start another on the current (or restored, or rebuilt) tooth, with its own
-// starting tooth file and session file, so that every segment replays on its own.
+// Segments. A session is recorded from Start to Stop (or the end): app/segments.h.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "app/device_rack.h"
 #include "core/result.h"
 
 namespace dentsim::app {
 
 struct SimulatorOptions {
-  std::string tooth;                    // a tooth file (.dvol); empty: the built-in molar at `level`
-  int level = 9;                        // octree level of the built-in molar
+  std::string tooth;                    // a tooth file (.dvol); empty: the task's tooth
+  int level = 0;                        // octree level of the built-in molar; 0: the task's
   std::string params;                   // a preset file; empty: dentsim's defaults
   std::string task = "caries";          // the task scored ("caries", "cavity" or a task file)
   std::string bur;                      // the bur on the drill pen; empty: the task's
-  std::string mirror_tool = "mirror_size4";  // the mirror tool; empty: none
+  std::optional<std::string> mirror_tool;    // the mirror tool; none: the task's; empty: no mirror
   std::string pen_script;               // a pen path (CSV or JSON) both pens play; empty: mouse and keys
-  // The pens' devices (devices/device_registry.h): "virtual", "falcon:0", "openhaptics:Default",
-  // "script:FILE", "replay:FILE". Empty: the pen script where there is one, else the virtual pen.
-  // The mirror's "none" means no mirror at all.
-  std::string drill_pen;
-  std::string mirror_pen;
-  std::string pedal;                    // "none", "hid[:...]"; empty: none (the script, the wheel or keys set the speed)
-  std::string falcon_firmware;          // the Falcon's firmware file; empty: where devices/falcon_device.h looks
-  double reach_mm = 40.0;               // a hardware pen's workspace spans this much of the scene [mm]
+  DeviceRackOptions devices;            // the pens, the pedal and their options (app/device_rack.h)
   // Sound (docs/SOUND.md): played live in a window; `audio_out` renders it offline to a WAV file
   // (headless too) through OpenAL's loopback device instead.
   bool sound = true;                    // false: no sound at all

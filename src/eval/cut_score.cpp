@@ -9,6 +9,7 @@
 #include "eval/score_image.h"
 #include "eval/scores.h"
 #include "eval/session_stats.h"
+#include "eval/task_tooth.h"
 #include "io/atomic_file.h"
 #include "model/builtin_assets.h"
 #include "sim/scripted_paths.h"
@@ -27,9 +28,12 @@ Result<Task> builtinTask(const std::string& name) {
       return makeError(name, "no such task: the built-in ones are caries and cavity, or give a task file");
     auto task = loadTask(name);
     if (!task) return task;
-    // An ideal file is named relative to the task file.
+    // The tooth and an ideal file are named relative to the task file.
+    const std::filesystem::path folder = std::filesystem::path(name).parent_path();
+    if (task->tooth != kBuiltinMolarTooth && std::filesystem::path(task->tooth).is_relative())
+      task->tooth = (folder / task->tooth).string();
     if (task->ideal && task->ideal->kind != IdealKind::BuiltinPath && std::filesystem::path(task->ideal->path).is_relative())
-      task->ideal->path = (std::filesystem::path(name).parent_path() / task->ideal->path).string();
+      task->ideal->path = (folder / task->ideal->path).string();
     return task;
   }
   const std::span<const uint8_t> bytes = builtinAssetBytes(file);
@@ -120,6 +124,9 @@ Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, cons
     out.total_max = s.total_max;
     out.report = scoreReportJson(task, inputs, *diff, st, s);
     out.summary = scoreSummary(s, inputs);
+    out.lines = scoreLines(s);
+    out.caries_remaining_mm3 = s.caries_remaining_mm3;
+    out.pulp_exposed = s.pulp_exposed;
   } else {
     auto s = scoreCavityPreparation(*diff, st, task);
     if (!s) return makeError(names.ideal, s.message());
@@ -127,6 +134,8 @@ Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, cons
     out.total_max = s->total_max;
     out.report = scoreReportJson(task, inputs, *diff, st, *s);
     out.summary = scoreSummary(*s, inputs);
+    out.lines = scoreLines(*s);
+    out.pulp_exposed = s->pulp_exposed;
   }
   out.diff = std::move(*diff);
   return out;

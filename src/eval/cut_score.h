@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/result.h"
+#include "eval/scores.h"
 #include "eval/task.h"
 #include "eval/tooth_diff.h"
 #include "io/png_file.h"
@@ -36,6 +37,10 @@ struct SessionScore {
   std::optional<ToothVolume> ideal;    // the ideal this score made from the task (none when given or none)
   ToothDiff diff;                      // the comparison, for the picture
   std::vector<std::string> warnings;   // also in the report
+  // What a screen shows (the report holds the same and more).
+  std::vector<ScoreLine> lines;        // parts and deductions, in the report's order
+  std::optional<double> caries_remaining_mm3;  // caries removal only
+  bool pulp_exposed = false;
 };
 
 struct ScoreFiles {

@@ -315,6 +315,32 @@ ojson tail(ojson j, const ToothDiff& diff, const SessionStats* stats, const Scor
 
 }  // namespace
 
+namespace {
+ScoreLine scorePart(const char* name, std::optional<double> points, double max) { return {name, points, max, false}; }
+ScoreLine scoreDeduction(const char* name, std::optional<double> points) { return {name, points, 0.0, true}; }
+}  // namespace
+
+// In the order scoreReportJson writes "components", then "deductions". (Filled one by one: an
+// initializer list of these aggregates is destroyed twice by this compiler's optimizer.)
+std::vector<ScoreLine> scoreLines(const CariesScore& s) {
+  std::vector<ScoreLine> lines;
+  lines.push_back(scorePart("removal", s.removal, 50.0));
+  lines.push_back(scorePart("time", s.time, 25.0));
+  lines.push_back(scorePart("force", s.force, 25.0));
+  lines.push_back(scoreDeduction("healthy", s.healthy_deduction));
+  return lines;
+}
+
+std::vector<ScoreLine> scoreLines(const CavityScore& s) {
+  std::vector<ScoreLine> lines;
+  lines.push_back(scorePart("undercut", s.undercut, 25.0));
+  lines.push_back(scorePart("overcut", s.overcut, 25.0));
+  lines.push_back(scorePart("parallel", s.parallel, 25.0));
+  lines.push_back(scorePart("time", s.time, 25.0));
+  lines.push_back(scoreDeduction("force", s.force_deduction));
+  return lines;
+}
+
 ojson scoreReportJson(const Task& task, const ScoreInputs& inputs, const ToothDiff& diff, const SessionStats* stats,
                       const CariesScore& s) {
   ojson j = header(task, inputs);

@@ -102,6 +102,16 @@ nlohmann::ordered_json scoreReportJson(const Task& task, const ScoreInputs& inpu
 nlohmann::ordered_json scoreReportJson(const Task& task, const ScoreInputs& inputs, const ToothDiff& diff,
                                        const SessionStats* stats, const CavityScore& score);
 
+// A score's parts and deductions in the report's order, for a screen to show without reading JSON.
+struct ScoreLine {
+  std::string name;               // the report's key: "removal", "time", ...; "healthy", "force"
+  std::optional<double> points;   // none: not scored (no session)
+  double max = 0.0;               // what a part can reach; 0 for a deduction
+  bool deduction = false;         // points are taken off the total
+};
+std::vector<ScoreLine> scoreLines(const CariesScore& score);
+std::vector<ScoreLine> scoreLines(const CavityScore& score);
+
 // One line for the terminal: the total out of its maximum, each part, what was not scored and why.
 std::string scoreSummary(const CariesScore& score, const ScoreInputs& inputs);
 std::string scoreSummary(const CavityScore& score, const ScoreInputs& inputs);

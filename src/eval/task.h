@@ -1,7 +1,7 @@
 // Task: what a scored exercise asks of the student (tooth, tools, time limits, thresholds, the ideal), read from assets/tasks/*.json.
 //
-// docs/SCORING.md gives every key. eval only parses the text; the app finds a task by name among the
-// embedded assets and resolves the tooth and the ideal that a task names.
+// docs/SCORING.md gives every key. This file only parses the text; eval/cut_score.h finds a task by
+// name among the embedded assets and makes the ideal it names, eval/task_tooth.h its tooth.
 #pragma once
 
 #include <optional>
@@ -17,7 +17,7 @@ enum class TaskKind {
   Cavity,  // cavity preparation against a professional's result (Table 5)
 };
 
-// Where the professional's final tooth comes from; the app turns it into a volume.
+// Where the professional's final tooth comes from; idealForTask (eval/cut_score.h) turns it into a volume.
 enum class IdealKind {
   BuiltinPath,  // a scripted bur path by name, run on the task's tooth
   Volume,       // a .dvol file of the professional's final tooth
@@ -48,8 +48,9 @@ struct Task {
   std::string name;                   // file stem ("caries_removal"); letters, digits, '_', '-', '.'
   TaskKind kind = TaskKind::Caries;
   std::string title;                  // one line for the UI; the name when the file has none
+  // What the simulator starts when the command line does not say otherwise (taskTooth, `run`).
   std::string tooth;                  // "builtin:molar" or a volume file (relative to the task's folder)
-  int level = 9;                      // octree level to run it at, DS_MIN_LEVEL..DS_MAX_LEVEL
+  int level = 9;                      // octree level of the built-in molar, DS_MIN_LEVEL..DS_MAX_LEVEL
   std::string drill_tool;             // tool on the drill pen ("round_bur_010")
   std::string mirror_tool;            // tool on the mirror pen; empty when none
   double target_s = 0.0;              // time a good student needs [s], > 0

@@ -42,6 +42,9 @@ struct SessionInfo {
   std::string params_json;      // the parameter set at step 0 (simParamsJson text); sim parses it
 };
 
+// The current time as ISO 8601 UTC ("2026-11-22T10:21:44Z"), as SessionInfo::created_utc holds it.
+std::string utcNow();
+
 // One pen's reading as the loop consumed it.
 struct SessionPenReading {
   Pose grip;                    // grip frame in the simulation frame [mm]

@@ -477,6 +477,9 @@ PanelActions drawParamPanel(UiState& state, WidgetRects* rects) {
     ImGui::Separator();
     ImGui::TextWrapped("%s", state.status.c_str());
   }
+  // Where the window is, collapsed or not: the scene centres itself in what the panel leaves free.
+  const ImVec2 panel_pos = ImGui::GetWindowPos(), panel_size = ImGui::GetWindowSize();
+  actions.panel_rect = {int(panel_pos.x), int(panel_pos.y), int(panel_size.x), int(panel_size.y)};
   ImGui::End();
 
   if (state.score.valid) actions.score_image_rect = scorePictureWindow(state.score);

@@ -109,6 +109,7 @@ struct PanelActions {
   std::string load_preset;           // a preset to load; empty: none
   std::string save_preset;           // save params under this name; empty: none
   PixelRect score_image_rect;        // where the renderer draws the score picture this frame; empty: nowhere
+  PixelRect panel_rect;              // where the "Parameters" window is this frame
 };
 
 // ---- 3. entry points ---------------------------------------------------------------------------------

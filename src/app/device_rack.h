@@ -1,0 +1,79 @@
+// The pens and the pedal of a run: which devices, opening them, force on and off with the segments, and their news every frame.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "core/result.h"
+#include "core/rigid.h"
+#include "devices/device_pen.h"
+#include "devices/foot_pedal.h"
+#include "devices/haptic_device.h"
+#include "devices/virtual_pen.h"
+#include "io/pen_path_file.h"
+#include "sim/pen.h"
+#include "sim/sim_params.h"
+
+namespace dentsim::app {
+
+// Every option of the devices, in one place: `run` fills it from the command line.
+struct DeviceRackOptions {
+  // The pens' devices (devices/device_registry.h): "virtual", "falcon:0", "openhaptics:Default",
+  // "script:FILE", "replay:FILE". Empty: the pen script where there is one, else the virtual pen.
+  // The mirror's "none" means no mirror at all.
+  std::string drill_pen;
+  std::string mirror_pen;
+  std::string pedal;              // "none", "hid[:...]"; empty: none (the script, the wheel or keys set the speed)
+  std::string falcon_firmware;    // the Falcon's firmware file; empty: where devices/falcon_device.h looks
+  double reach_mm = 40.0;         // a hardware pen's workspace spans this much of the scene [mm]
+};
+
+// Where the pens start, and how the screen is turned: a hardware pen's workspace is mapped around
+// its tool's start, turned with the camera.
+struct RackPlacement {
+  Pose drill_start, mirror_start;
+  Quat screen;
+};
+
+class DeviceRack {
+ public:
+  using Note = std::function<void(const std::string&)>;  // tells the user (terminal and status line)
+  DeviceRack(DeviceRackOptions options, Note note) : o_(std::move(options)), note_(std::move(note)) {}
+  DeviceRack(const DeviceRack&) = delete;
+  DeviceRack& operator=(const DeviceRack&) = delete;
+
+  // The names alone, before anything loads, so that a mistyped pen or pedal fails at once.
+  Status checkNames() const;
+  // Opens the pedal, then the pens (the mirror's only `with_mirror`). A pen with no device named
+  // plays `script` when there is one. A hardware pen needs the real-time haptic thread: with
+  // `lockstep` it is an error.
+  Status open(const PenPath* script, bool with_mirror, const RackPlacement& at, const DeviceParams& device, bool lockstep);
+
+  PenSource* pen(PenRole role) const { return pens_[size_t(role)].get(); }
+  devices::VirtualPen* virtualPen(PenRole role) const { return virtual_[size_t(role)]; }
+  bool hasPedal() const { return pedal_ != nullptr; }
+  bool hasVirtualPen() const { return virtual_[0] || virtual_[1]; }
+
+  // Force on at a segment's start (the watchdog counts from here), off before its loop stops.
+  void enable();
+  void disable();
+  // Every frame: reconnections, and a pen or the pedal changing state is news. `loop_running`:
+  // a pen back from an unplug takes force again. Returns true when a signal asked every pen for zero force.
+  bool service(bool loop_running);
+  void close();  // once, at the run's end
+
+ private:
+  DeviceRackOptions o_;
+  Note note_;
+  std::array<std::unique_ptr<devices::HapticDevice>, 2> devices_;
+  std::array<std::unique_ptr<devices::DevicePen>, 2> pens_;
+  std::array<devices::VirtualPen*, 2> virtual_{};  // into devices_, where a pen is virtual
+  std::array<devices::DeviceState, 2> shown_state_{};
+  std::unique_ptr<devices::FootPedal> pedal_;
+  devices::DeviceState shown_pedal_state_ = devices::DeviceState::Disconnected;
+  bool zero_told_ = false;
+};
+
+}  // namespace dentsim::app

@@ -1,0 +1,67 @@
+// What the simulator draws with: the window (or an offscreen image), the Vulkan device, the swapchain, the scene renderer, the tooth's surfaces and the panel's layer; one frame drawn and, when asked, read back.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+#include "gpu/context.h"
+#include "io/png_file.h"
+#include "render/offscreen.h"
+#include "render/scene_renderer.h"
+#include "render/swapchain.h"
+#include "render/tooth_surfaces.h"
+#include "ui/imgui_layer.h"
+#include "ui/window.h"
+
+namespace dentsim::app {
+
+struct PainterOptions {
+  bool headless = false;          // offscreen frames, no window
+  int width = 1280, height = 800; // window or frame size [px]
+  bool vsync = true;              // windowed: wait for the display's refresh
+  std::string device;             // Vulkan device index or name part; empty: the best
+  bool panel = true;              // the ImGui layer for the parameter window and the overlay
+  int normal_neighbours = 216;    // the tooth surfaces' normal mode
+};
+
+class FramePainter {
+ public:
+  // Opens the window (unless headless), the device, the swapchain or offscreen image, the renderer,
+  // the surfaces and the panel's layer. `before_panel` runs with the window before the panel's
+  // layer exists: the app's GLFW callbacks must go in first, the panel's chain to them.
+  static Result<std::unique_ptr<FramePainter>> create(const PainterOptions& options,
+                                                      const std::function<void(ui::Window&)>& before_panel);
+
+  gpu::Context& context() { return *ctx_; }
+  ui::Window* window() const { return window_.get(); }
+  render::SceneRenderer& renderer() { return *renderer_; }
+  render::ToothSurfaces& surfaces() { return *surfaces_; }
+  ui::ImGuiLayer* panel() { return panel_ ? &*panel_ : nullptr; }
+  bool windowed() const { return window_ != nullptr; }
+  // The size frames are drawn at now: the window's framebuffer, or the offscreen image.
+  VkExtent2D extent() const;
+
+  // Re-meshes the bricks in *dirty (each once, however often it is listed) and empties it.
+  Status remesh(const BrickVolume& voxels, std::vector<BrickCoord>* dirty, gpu::SurfaceUpdateStats* stats = nullptr);
+
+  // Draws one frame: `state_for` gives the frame's state for the extent drawn at. With `read_back`
+  // the picture comes back. A minimised window draws nothing and returns no picture; so does a
+  // swapchain that had to be rebuilt.
+  Result<std::optional<RgbImage>> draw(const std::function<render::FrameState(VkExtent2D)>& state_for, bool read_back);
+
+ private:
+  FramePainter() = default;
+  std::unique_ptr<ui::Window> window_;
+  std::optional<gpu::Context> ctx_;
+  std::unique_ptr<render::Swapchain> swapchain_;
+  std::optional<render::OffscreenTarget> offscreen_;
+  std::optional<render::SceneRenderer> renderer_;
+  std::optional<render::ToothSurfaces> surfaces_;
+  std::optional<ui::ImGuiLayer> panel_;
+};
+
+}  // namespace dentsim::app

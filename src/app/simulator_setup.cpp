@@ -1,0 +1,178 @@
+// The simulator's set-up: options checked, the task, tooth and tools loaded, the camera placed, the pens, the sound, the frames' device and the panel's state; the first segment started.
+#include <cstdio>
+#include <filesystem>
+
+#include "app/simulator_state.h"
+#include "app/tool_placement.h"
+#include "eval/cut_score.h"
+#include "sim/novice_paths.h"
+#include "sim/scripted_paths.h"
+#include "sim/tool_library.h"
+#include "ui/window.h"
+#include "volume/tooth_file.h"
+
+namespace dentsim::app {
+
+void Simulator::note(const std::string& text) {
+  std::printf("%s\n", text.c_str());
+  ui_.status = text;
+}
+
+// ---- set-up ----------------------------------------------------------------------------------------------
+
+Status Simulator::loadTooth() {
+  auto t = o_.tooth.empty() ? taskTooth(*task_, o_.level) : dentsim::loadTooth(o_.tooth);
+  if (!t) return t.error();
+  initial_ = std::move(*t);
+  box_ = tissueBox(initial_.voxels, initial_.frame);
+  if (box_.empty()) return makeError(toothName(), "the tooth holds no tissue");
+  cut_ = initial_;
+  view_ = initial_;
+  return Ok{};
+}
+
+Status Simulator::loadDrill() {
+  auto d = loadToolModel(drill_name_, params_.point_shell);
+  if (!d) return d.error();
+  drill_tool_ = std::move(*d);
+  return Ok{};
+}
+
+// The pen path both pens play: the task's own preparation (as the careful dentist does it, or with
+// one fault) or a script file; a mirror it does not move is held still where the demo holds it.
+Status Simulator::setUpScript(const Pose& mirror_start) {
+  if (o_.pen_script.empty() && !o_.demo_script) return Ok{};
+  if (o_.demo_script) {
+    const std::optional<Attempt> attempt = parseAttempt(o_.attempt);
+    if (!attempt) return makeError("--attempt", "\"" + o_.attempt + "\" is not one of " + attemptNames());
+    CavityPathSettings cavity;
+    if (const std::optional<double> r = burHeadRadiusMm(drill_name_)) cavity.bur_radius_mm = *r;
+    auto path = task_->kind == TaskKind::Caries
+                    ? cariesAttemptPath(*attempt, initial_.voxels, initial_.frame, params_, drill_name_)
+                    : cavityAttemptPath(*attempt, initial_.voxels, initial_.frame, cavity);
+    if (!path) return path.error();
+    script_ = std::move(*path);
+  } else {
+    auto path = loadPenPath(o_.pen_script);
+    if (!path) return path.error();
+    script_ = std::move(*path);
+  }
+  if (mirror_tool_ && !hasPen(*script_, PenRole::Mirror)) addStillMirror(*script_, mirror_start);
+  script_end_s_ = pathEnd(*script_);
+  return Ok{};
+}
+
+Status Simulator::setUp() {
+  // Window or not: a display that does not answer means headless, with a notice.
+  headless_ = o_.headless;
+  if (!headless_) {
+    if (std::string why = ui::whyNoDisplay(); !why.empty()) {
+      std::printf("dentsim: %s: running headless\n", why.c_str());
+      headless_ = true;
+    }
+  }
+  lockstep_ = headless_ || o_.lockstep;
+  if (headless_ && o_.exit_after_s <= 0 && o_.pen_script.empty() && !o_.demo_script)
+    return makeError("run", "headless with the mouse as the pen would never end: give --exit-after or a pen script");
+  if (!(o_.fps > 0)) return makeError("run", "--fps must be > 0");
+  if (Status st = rack_.checkNames(); !st) return st;
+
+  params_ = defaultSimParams();
+  if (!o_.params.empty()) {
+    auto p = loadSimParams(o_.params);
+    if (!p) return p.error();
+    params_ = std::move(*p);
+  }
+  auto task = builtinTask(o_.task);
+  if (!task) return task.error();
+  task_ = std::move(*task);
+  drill_name_ = o_.bur.empty() ? task_->drill_tool : o_.bur;
+  if (Status st = loadTooth(); !st) return st;
+  if (builtinTooth()) o_.level = initial_.frame.level;  // the task's level, when none was asked for
+  if (Status st = loadDrill(); !st) return st;
+  mirror_name_ = o_.mirror_tool ? *o_.mirror_tool : task_->mirror_tool;
+  if (!mirror_name_.empty() && o_.devices.mirror_pen != "none") {
+    auto m = loadToolModel(mirror_name_, params_.point_shell);
+    if (!m) return m.error();
+    mirror_tool_ = std::move(*m);
+  }
+
+  // Camera: the chosen side, raised 30 degrees (a side view from the chair looks down on the crown),
+  // then widened to take in the mirror where the demo holds it.
+  auto preset = render::parseViewPreset(o_.view);
+  if (!preset) return preset.error();
+  const Vec3 c = box_.centre();
+  const double radius = 0.5 * norm(box_.hi - box_.lo);
+  camera_.setView(*preset, render::toGlm(c), float(radius));
+  if (*preset != render::ViewPreset::Occlusal) camera_.orbit(0.0f, 0.52f);
+  if (mirror_tool_) {
+    const Vec3 face = mirrorGrip(box_, render::fromGlm(camera_.eye())).apply(-kMirrorGripLocal);
+    camera_.setTarget(render::toGlm((c + face) * 0.5));
+    camera_.setDistance(camera_.distance() * float((radius + 0.5 * norm(face - c)) / radius) * 0.8f);
+  }
+
+  // The pens: hardware ones map their workspace around the tool's start, turned with the camera.
+  RackPlacement at;
+  at.drill_start = drillStartGrip(box_, 3.0);
+  at.mirror_start = mirrorGrip(box_, render::fromGlm(camera_.eye()));
+  const render::CameraBasis basis = camera_.basis();
+  at.screen = Quat::fromAxes(render::fromGlm(basis.right), render::fromGlm(basis.up), -render::fromGlm(basis.forward));
+  if (Status st = setUpScript(at.mirror_start); !st) return st;
+  if (Status st = rack_.open(script_ ? &*script_ : nullptr, mirror_tool_.has_value(), at, params_.device, lockstep_); !st)
+    return st;
+  if (rack_.hasVirtualPen()) {
+    pens_ = std::make_unique<ui::PenInput>(camera_, rack_.virtualPen(PenRole::Drill), rack_.virtualPen(PenRole::Mirror));
+    pens_->reset(PenRole::Drill, at.drill_start);
+    if (mirror_tool_) pens_->reset(PenRole::Mirror, at.mirror_start);
+  }
+  input_.setPens(pens_.get());
+  RunSoundOptions so;
+  so.sound = o_.sound;
+  so.audio_out = o_.audio_out;
+  so.turbine_wav = o_.turbine_wav;
+  so.cutting_wav = o_.cutting_wav;
+  so.recorded_rpm = o_.recorded_rpm;
+  auto sound = sound_.open(so, headless_, [this](const std::string& text) { note(text); });
+  if (!sound) return sound.error();
+  ui_.sound.output = *sound;
+
+  PainterOptions po;
+  po.headless = headless_;
+  po.width = o_.width;
+  po.height = o_.height;
+  po.vsync = o_.vsync;
+  po.device = o_.device;
+  po.panel = o_.ui;
+  po.normal_neighbours = int(params_.view.normal_neighbours);
+  auto painter = FramePainter::create(po, [this](ui::Window& w) { input_.attach(w); });
+  if (!painter) return painter.error();
+  painter_ = std::move(*painter);
+  input_.setPanel(painter_->panel());
+  out_.device = painter_->context().device().name;
+  out_.windowed = !headless_;
+  gpu::SurfaceUpdateStats stats;
+  if (Status st = painter_->surfaces().build(view_.voxels, &stats); !st) return st;
+  ui_.stats.triangles = stats.triangles;
+  std::printf("tooth: %s, level %d, %.4f mm voxels; surface %llu triangles in %.1f ms on %s\n", toothName().c_str(),
+              initial_.frame.level, initial_.frame.voxel_mm, static_cast<unsigned long long>(stats.triangles),
+              stats.total_ms, out_.device.c_str());
+
+  // The panel's state.
+  presets_ = std::make_unique<ui::PresetStore>(ui::defaultPresetDirectory());
+  ui_.params = params_;
+  ui_.bur = drill_name_;
+  ui_.level = initial_.frame.level;
+  ui_.task = o_.task;
+  ui_.pedal_present = script_.has_value() || rack_.hasPedal();
+  ui_.presets = presets_->list();
+  ui_.force.max_force_n = params_.device.max_force_n;
+
+  if (!o_.out.empty()) {
+    std::error_code ec;
+    std::filesystem::create_directories(o_.out, ec);
+    if (ec) return makeError(o_.out, "cannot create the output folder: " + ec.message());
+  }
+  return startSegment();
+}
+
+}  // namespace dentsim::app

@@ -1,0 +1,106 @@
+// The simulator's state, shared by its set-up (simulator_setup.cpp) and its frame loop (simulator.cpp); private to those two files.
+#pragma once
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/device_rack.h"
+#include "app/frame_painter.h"
+#include "app/run_sound.h"
+#include "app/screenshots.h"
+#include "app/segments.h"
+#include "app/simulator.h"
+#include "app/window_input.h"
+#include "eval/task.h"
+#include "eval/task_tooth.h"
+#include "render/camera.h"
+#include "sim/surface_probe.h"
+#include "sim/tool_proxy.h"
+#include "ui/param_panel.h"
+#include "ui/pen_input.h"
+#include "ui/preset_store.h"
+
+namespace dentsim::app {
+
+class Simulator {
+ public:
+  using Clock = std::chrono::steady_clock;
+  explicit Simulator(const SimulatorOptions& o)
+      : o_(o), rack_(o.devices, [this](const std::string& text) { note(text); }),
+        input_(camera_, box_, {[this](double speed) { ui_.turbine_speed = speed; }, [this] { quit_ = true; }}),
+        shots_(o.shots_s, o.frame_every_s) {}
+  Result<SimulatorOutcome> run();
+
+ private:
+  Status setUp();
+  Status loadTooth();
+  Status loadDrill();
+  Status setUpScript(const Pose& mirror_start);
+  Status startSegment();
+  Status endSegment(const std::string& reason);
+  Status frame();
+  Status handleActions(ui::PanelActions& actions);
+  Status scoreNow();
+  render::FrameState frameState(const HapticState& state, VkExtent2D extent) const;
+  Status drawFrame(const ShotSchedule::Due& due);
+  // Pixels the scene moves left so that its centre is the middle of what the panel leaves free.
+  int sceneShiftPx() const { return painter_->panel() ? panel_rect_.width / 2 : 0; }
+  std::string outPath(const std::string& name) const { return (std::filesystem::path(o_.out) / name).string(); }
+  void note(const std::string& text);
+  // The tooth is the built-in molar (at o_.level) unless --tooth or the task names a volume file.
+  bool builtinTooth() const { return o_.tooth.empty() && task_->tooth == kBuiltinMolarTooth; }
+  std::string toothName() const { return !o_.tooth.empty() ? o_.tooth : builtinTooth() ? "built-in molar" : task_->tooth; }
+
+  SimulatorOptions o_;
+  SimulatorOutcome out_;
+  bool headless_ = false;
+  bool lockstep_ = false;
+
+  // Tooth: the haptic loop's copy (cut), the frame loop's copy (view, fed by the edits), the start.
+  ToothVolume initial_, cut_, view_;
+  TissueBox box_;
+  std::optional<Task> task_;
+  SimParams params_;
+  std::optional<ToolModel> drill_tool_, mirror_tool_;
+  std::string drill_name_, mirror_name_;
+
+  DeviceRack rack_;
+  std::optional<PenPath> script_;
+  double script_end_s_ = 0.0;
+  std::unique_ptr<ui::PenInput> pens_;  // the mouse and keys move the virtual pens
+
+  Segments segments_;
+  std::vector<BrickCoord> pending_dirty_;  // edited bricks not yet re-meshed
+
+  RunSound sound_;
+
+  std::unique_ptr<FramePainter> painter_;
+  render::OrbitCamera camera_;
+  WindowInput input_;
+  ShotSchedule shots_;
+
+  // Panel.
+  ui::UiState ui_;
+  std::unique_ptr<ui::PresetStore> presets_;
+  ui::PanelActions last_actions_;
+  bool score_shown_ = false;
+  PixelRect panel_rect_;  // the parameter window
+
+  bool quit_ = false;
+  bool quit_after_final_ = false;
+
+  // Timing.
+  Clock::time_point run_t0_, last_frame_;
+  Clock::time_point rate_t0_;    // the haptic rate shown is measured from here
+  uint64_t rate_steps_ = 0;
+  Clock::time_point haptic_t0_;  // the first segment's start
+  std::vector<double> frame_ms_;
+  double remesh_sum_ms_ = 0.0;
+  uint64_t remesh_count_ = 0;
+};
+
+}  // namespace dentsim::app

@@ -1,0 +1,49 @@
+// The tools' starting places beside the tooth's tissue box.
+#include "app/tool_placement.h"
+
+#include <algorithm>
+
+#include "sim/tool_library.h"
+
+namespace dentsim::app {
+
+Pose drillStartGrip(const TissueBox& box, double above_mm) {
+  const Vec3 c = box.centre();
+  Pose p;
+  p.position = Vec3{c.x, c.y, box.hi.z + above_mm} + kBurGripLocal;
+  return p;
+}
+
+Pose mirrorGrip(const TissueBox& box, const Vec3& eye) {
+  const Vec3 c = box.centre();
+  const Vec3 crown{c.x, c.y, box.hi.z - 2.5};
+  const Vec3 face{box.hi.x + 7.0, c.y + 4.0, box.hi.z - 1.0};
+  const Vec3 z = normalized(normalized(eye - face) + normalized(crown - face));
+  const Vec3 to_tooth = crown - face;
+  const Vec3 x = normalized(to_tooth - z * dot(to_tooth, z));
+  const Vec3 y = cross(z, x);
+  Pose p;
+  p.rotation = Quat::fromAxes(x, y, z);
+  p.position = face + p.rotation.rotate(kMirrorGripLocal);
+  return p;
+}
+
+void addStillMirror(PenPath& path, const Pose& grip) {
+  const double end_s = pathEnd(path);
+  for (double t : {0.0, end_s}) {
+    PenSample s;
+    s.t_s = t;
+    s.pen = PenRole::Mirror;
+    s.pose = grip;
+    path.samples.push_back(s);
+  }
+  std::stable_sort(path.samples.begin(), path.samples.end(), [](const PenSample& a, const PenSample& b) { return a.t_s < b.t_s; });
+}
+
+double pathEnd(const PenPath& path) {
+  double end_s = 0.0;
+  for (const PenSample& s : path.samples) end_s = std::max(end_s, s.t_s);
+  return end_s;
+}
+
+}  // namespace dentsim::app

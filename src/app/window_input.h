@@ -1,0 +1,46 @@
+// The simulator window's mouse and keys: the virtual pens (drag, wheel, arrows), the camera (orbit, pan, zoom, views 1 to 5), the turbine (wheel with Ctrl, Page keys, Space) and Escape.
+#pragma once
+
+#include <functional>
+
+#include "render/camera.h"
+#include "sim/surface_probe.h"
+#include "ui/imgui_layer.h"
+#include "ui/pen_input.h"
+#include "ui/window.h"
+
+namespace dentsim::app {
+
+class WindowInput {
+ public:
+  // What the keys and the wheel change beyond the pens and the camera.
+  struct Hooks {
+    std::function<void(double)> turbine_speed;  // the virtual pedal moved to this [0, 1]
+    std::function<void()> quit;                 // Escape
+  };
+  WindowInput(render::OrbitCamera& camera, const TissueBox& box, Hooks hooks) : camera_(camera), box_(box), hooks_(std::move(hooks)) {}
+
+  // Installs GLFW's callbacks on the window; they must go in before the panel's, which chain to them
+  // (ui/imgui_layer.h). The window and this object must outlive the callbacks' use.
+  void attach(ui::Window& window);
+  // The pens the mouse moves (none: only the camera) and the panel that takes the mouse first (none: no panel).
+  void setPens(ui::PenInput* pens) { pens_ = pens; }
+  void setPanel(const ui::ImGuiLayer* panel) { panel_ = panel; }
+
+  void onMouseButton(int button, int action, int mods);
+  void onCursor(double x, double y);
+  void onScroll(double dx, double dy);
+  void onKey(int key, int action, int mods);
+
+ private:
+  render::OrbitCamera& camera_;
+  const TissueBox& box_;
+  Hooks hooks_;
+  ui::Window* window_ = nullptr;
+  ui::PenInput* pens_ = nullptr;
+  const ui::ImGuiLayer* panel_ = nullptr;
+  bool dragging_pen_ = false, orbiting_ = false, panning_ = false;
+  double cursor_x_ = 0, cursor_y_ = 0;
+};
+
+}  // namespace dentsim::app

@@ -1,0 +1,37 @@
+// The built-in molar's names, a task's tooth and a session's starting tooth.
+#include "eval/task_tooth.h"
+
+#include <filesystem>
+
+#include "sim/builtin_tooth.h"
+#include "volume/tooth_file.h"
+
+namespace dentsim {
+
+std::string builtinToothSource(int level) { return std::string(kBuiltinMolarTooth) + ":" + std::to_string(level); }
+
+Result<ToothVolume> taskTooth(const Task& task, int level) {
+  if (task.tooth == kBuiltinMolarTooth) return builtinMolarTooth(level > 0 ? level : task.level);
+  return loadTooth(task.tooth);
+}
+
+Result<ToothVolume> resolveSessionTooth(const SessionRecording& session, const std::string& session_path,
+                                        const std::string& override_path) {
+  namespace fs = std::filesystem;
+  if (!override_path.empty()) return loadTooth(override_path);
+  const SessionInfo& info = session.info;
+  if (!info.tooth_file.empty()) {
+    const fs::path beside = fs::path(session_path).parent_path() / info.tooth_file;
+    if (fs::exists(beside)) return loadTooth(beside.string());
+  }
+  const std::string prefix = std::string(kBuiltinMolarTooth) + ":";
+  if (info.tooth_source.rfind(prefix, 0) == 0) {
+    const std::string level = info.tooth_source.substr(prefix.size());
+    if (level.size() <= 2 && !level.empty() && level.find_first_not_of("0123456789") == std::string::npos)
+      return builtinMolarTooth(std::stoi(level));
+  }
+  return makeError(session_path, "cannot find the session's tooth (file \"" + info.tooth_file + "\", source \"" +
+                                     info.tooth_source + "\"): give it with --tooth");
+}
+
+}  // namespace dentsim
