@@ -48,7 +48,8 @@ struct HapticBenchSettings {
   int goal_level = 10;                  // the level the goals are for
 };
 
-// Step-time statistics of one run [us]; percentiles are the upper edge of StepTimes' 0.5 us bins.
+// Step-time statistics of one run [us]; percentiles are nearest-rank (core/percentile.h) on StepTimes' 0.5 us
+// bins, reported as the bin's upper edge.
 struct StepTimeSummary {
   uint64_t steps = 0;
   double p50_us = 0.0, p90_us = 0.0, p99_us = 0.0, p999_us = 0.0, max_us = 0.0, mean_us = 0.0;

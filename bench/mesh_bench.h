@@ -161,9 +161,6 @@ struct BurPathResult {
 // by value: the carving changes the copy only. Errors are the runner's and burPath's.
 Result<BurPathResult> measureBurPath(ToothVolume tooth, const BurPathSettings& settings, const MeshRunner& runner);
 
-// Nearest-rank percentile (p in [0, 100]) of a non-empty list.
-double percentile(std::vector<double> values, double p);
-
 // ---- 4. normal accuracy ----------------------------------------------------------------------------
 
 struct NormalsSettings {
