@@ -1,6 +1,6 @@
 // The haptic benchmark (`dentsim bench haptic`): the 1 kHz loop's step time while a round bur prepares a class I cavity in the molar.
 //
-// The tooth comes in as a VolumeMaker (the app voxelizes the built-in molar on the GPU, tests use
+// The tooth comes in as a VolumeMaker (the command voxelizes the built-in molar on the GPU, tests use
 // the CPU reference at a small level). The drill is a scripted pen that plays a cavity preparation
 // found on the volume itself, so nothing here needs a device, a GPU or a window.
 //
