@@ -1,6 +1,6 @@
 // The haptic benchmark (`dentsim bench haptic`): the 1 kHz loop's step time while a round bur prepares a class I cavity in the molar.
 //
-// The tooth comes in as a VolumeMaker (the app voxelizes the built-in molar on the GPU, tests use
+// The tooth comes in as a VolumeMaker (the command voxelizes the built-in molar on the GPU, tests use
 // the CPU reference at a small level). The drill is a scripted pen that plays a cavity preparation
 // found on the volume itself, so nothing here needs a device, a GPU or a window.
 //
@@ -48,7 +48,8 @@ struct HapticBenchSettings {
   int goal_level = 10;                  // the level the goals are for
 };
 
-// Step-time statistics of one run [us]; percentiles are the upper edge of StepTimes' 0.5 us bins.
+// Step-time statistics of one run [us]; percentiles are nearest-rank (core/percentile.h) on StepTimes' 0.5 us
+// bins, reported as the bin's upper edge.
 struct StepTimeSummary {
   uint64_t steps = 0;
   double p50_us = 0.0, p90_us = 0.0, p99_us = 0.0, p999_us = 0.0, max_us = 0.0, mean_us = 0.0;

@@ -1,12 +1,15 @@
 // The brick-memory benchmark: our bytes and octree node counts beside the paper's Table 3 and an OpenVDB label tree.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "bench/peers.h"
+#include "core/interrupter.h"
+#include "core/result.h"
 #include "volume/brick_volume.h"
 #include "volume/octree_stats.h"
 
@@ -28,8 +31,23 @@ double paperTable3Mb(int level);
 
 MemoryRow measureMemory(const std::string& tooth, const ToothVolume& volume, double build_s);
 
+// The CT teeth of the real tooth data, each fitted into each octree level.
+struct CtMemorySettings {
+  std::string data_dir;                                  // real tooth data (../shared/data)
+  std::vector<std::string> teeth{"tooth_2", "tooth_3"};  // CT teeth in data_dir/ct
+  std::vector<int> levels{8, 9, 10};                     // octree levels to fit each tooth into
+};
+
+// Imports data_dir/ct/<tooth>.nii.gz at each level (the data README's labels and pitch) and
+// measures it; `progress` sees each import, `log` gets one line per row. Errors: a tooth that
+// cannot be read or imported.
+Result<std::vector<MemoryRow>> measureCtTeeth(const CtMemorySettings& settings, Interrupter& progress,
+                                              const std::function<void(const std::string&)>& log = {});
+
 nlohmann::json memoryRowsJson(const std::vector<MemoryRow>& rows);
 std::string memoryRowsTable(const std::vector<MemoryRow>& rows);  // Markdown
 std::string memoryRowsSvg(const std::vector<MemoryRow>& rows);
+// Writes memory.json, memory.md and memory.svg into `dir`, each atomically. Errors name the file.
+Status writeMemoryReport(const std::string& dir, const std::vector<MemoryRow>& rows);
 
 }  // namespace dentsim::bench

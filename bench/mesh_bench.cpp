@@ -25,6 +25,7 @@
 
 #include "bench/svg_plot.h"
 #include "bench/voxelize_bench.h"
+#include "core/percentile.h"
 #include "io/atomic_file.h"
 #include "volume/surface_mesher.h"
 #include "volume/volume_edit.h"
@@ -225,13 +226,6 @@ Result<MeshLevelRow> measureMeshLevel(const ToothVolume& tooth, const MeshBenchS
 }
 
 // ---- 4. the bur path -------------------------------------------------------------------------------
-
-double percentile(std::vector<double> values, double p) {
-  assert(!values.empty() && p >= 0.0 && p <= 100.0);
-  std::sort(values.begin(), values.end());
-  const size_t rank = size_t(std::ceil(p / 100.0 * double(values.size())));
-  return values[std::clamp<size_t>(rank, 1, values.size()) - 1];
-}
 
 Result<std::vector<Vec3d>> burPath(const ToothVolume& tooth, const BurPathSettings& s) {
   assert(s.frames >= 1 && s.fps > 0.0 && s.speed_mm_s > 0.0 && s.diameter_mm > 0.0);

@@ -1,7 +1,8 @@
 // The meshing benchmark (the paper's Figure 15, issue 4): re-meshing time per level and normal mode, a bur's per-frame re-mesh, normal accuracy, VTK beside it.
 //
-// dentsim's mesher comes in as callables (MeshRunner), so the app passes the GPU mesher and tests the
-// CPU reference; tooth volumes come in the same way (VolumeMaker). Nothing here needs a GPU.
+// dentsim's mesher comes in as callables (MeshRunner), so the command passes the GPU mesher
+// (gpuMeshRunner, bench/gpu_runners.h) and tests the CPU reference; tooth volumes come in the same
+// way (VolumeMaker). Nothing here needs a GPU.
 //
 // Contents
 //   1. What is injected: the mesher and the volumes
@@ -52,7 +53,8 @@ struct MeshRunner {
 // it too (a stand-in until an incremental CPU path exists), so its part times are full times.
 MeshRunner cpuReferenceRunner();
 
-// The tooth at one level: the app voxelizes the built-in molar on the GPU, tests build small solids.
+// The tooth at one level: the command voxelizes the built-in molar on the GPU (layersVolumeMaker in
+// bench/gpu_runners.h), tests build small solids.
 using VolumeMaker = std::function<Result<ToothVolume>(int level)>;
 
 // A VolumeMaker that voxelizes `layers` with the CPU reference into a grid fitted to their bounds
@@ -160,9 +162,6 @@ struct BurPathResult {
 // Builds the surface once (full, untimed), then carves and updates frame by frame. `tooth` is taken
 // by value: the carving changes the copy only. Errors are the runner's and burPath's.
 Result<BurPathResult> measureBurPath(ToothVolume tooth, const BurPathSettings& settings, const MeshRunner& runner);
-
-// Nearest-rank percentile (p in [0, 100]) of a non-empty list.
-double percentile(std::vector<double> values, double p);
 
 // ---- 4. normal accuracy ----------------------------------------------------------------------------
 

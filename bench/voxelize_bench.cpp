@@ -6,6 +6,7 @@
 //   3. JSON
 //   4. Markdown
 //   5. SVG
+//   6. Files
 #include "bench/voxelize_bench.h"
 
 #include <algorithm>
@@ -13,8 +14,10 @@
 #include <cstdio>
 #include <map>
 #include <sstream>
+#include <utility>
 
 #include "bench/svg_plot.h"
+#include "io/atomic_file.h"
 
 namespace dentsim::bench {
 
@@ -126,6 +129,36 @@ Result<VoxelizeRow> measureVoxelize(const DecimatedModel& model, const VolumeFra
       for (size_t k = 0; k < model.layers.size(); ++k) r.tissues[k].openvdb_ms = median(layer_ms[k]);
   }
   return r;
+}
+
+Result<std::vector<VoxelizeRow>> runVoxelizeBench(const std::vector<MeshLayer>& layers, const Bounds3& bounds,
+                                                  const std::vector<int>& levels, const std::vector<double>& percents,
+                                                  const VoxelizeBenchSettings& settings, const DentsimVoxelizer& dentsim,
+                                                  const std::function<void(const std::string&)>& log) {
+  // Decimation depends on the share only; every level voxelizes the same decimated meshes.
+  std::vector<DecimatedModel> models;
+  for (double percent : percents) models.push_back(decimateModel(layers, percent / 100.0));
+
+  std::vector<VoxelizeRow> rows;
+  for (int level : levels) {
+    // The full model's grid, so a level has one voxel size for every share.
+    auto frame = fitGridToLevel(bounds, level);
+    if (!frame) return frame.error();
+    for (const DecimatedModel& m : models) {
+      auto row = measureVoxelize(m, *frame, settings, dentsim);
+      if (!row) return row.error();
+      rows.push_back(std::move(row).value());
+      const VoxelizeRow& r = rows.back();
+      char line[512];
+      int n = std::snprintf(line, sizeof line, "level %d, %g%% (%llu triangles): dentsim %.1f ms", r.level,
+                            r.fraction * 100.0, static_cast<unsigned long long>(r.triangles), r.dentsim_ms);
+      if (r.openvdb.available)
+        std::snprintf(line + n, sizeof line - size_t(n), ", OpenVDB filled %.1f ms (x%.2f), narrow band %.1f ms (x%.2f)",
+                      r.openvdb.ms, r.openvdb.ratio, r.openvdb_band.ms, r.openvdb_band.ratio);
+      if (log) log(line);
+    }
+  }
+  return rows;
 }
 
 // ---- 3. JSON -----------------------------------------------------------------------------------
@@ -297,6 +330,17 @@ std::string voxelizeRowsSvg(const std::vector<VoxelizeRow>& rows) {
   }
   return svgLinePlot("Voxelization time of the molar (grid 2^L per side)", "triangles, all layers (log)",
                      "time [ms] (log)", series, /*log_y=*/true, /*log_x=*/true);
+}
+
+// ---- 6. files -----------------------------------------------------------------------------------
+
+Status writeVoxelizeReport(const std::string& dir, const VoxelizeReportInfo& info, const std::vector<VoxelizeRow>& rows) {
+  for (const auto& [name, text] :
+       {std::pair{std::string("voxelize.json"), voxelizeReportJson(info, rows).dump(2) + "\n"},
+        {std::string("voxelize.md"), voxelizeReportMarkdown(info, rows)},
+        {std::string("voxelize.svg"), voxelizeRowsSvg(rows)}})
+    if (Status s = writeFileAtomic(dir + "/" + name, text); !s) return s;
+  return Ok{};
 }
 
 }  // namespace dentsim::bench

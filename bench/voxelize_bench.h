@@ -55,7 +55,7 @@ struct DentsimRun {
   MaterialTotals totals;      // voxels and fill per material of the result
 };
 
-// Runs dentsim's voxelizer once: the app passes the GPU one, tests a fake.
+// Runs dentsim's voxelizer once: gpuVoxelizer (bench/gpu_runners.h) in the command, a fake in tests.
 using DentsimVoxelizer = std::function<Result<DentsimRun>(const std::vector<MeshLayer>& layers,
                                                           const VolumeFrame& frame)>;
 
@@ -112,6 +112,14 @@ struct VoxelizeRow {
 Result<VoxelizeRow> measureVoxelize(const DecimatedModel& model, const VolumeFrame& frame,
                                     const VoxelizeBenchSettings& settings, const DentsimVoxelizer& dentsim);
 
+// Every level of `levels` (a grid fitted to `bounds`, so a level has one voxel size for every
+// share) times every share of `percents` [%] of the layers' triangles. `log` gets one line per row.
+// Errors are measureVoxelize's and the grid's.
+Result<std::vector<VoxelizeRow>> runVoxelizeBench(const std::vector<MeshLayer>& layers, const Bounds3& bounds,
+                                                  const std::vector<int>& levels, const std::vector<double>& percents,
+                                                  const VoxelizeBenchSettings& settings, const DentsimVoxelizer& dentsim,
+                                                  const std::function<void(const std::string&)>& log = {});
+
 // Median of a non-empty list (the mean of the middle two for an even count).
 double median(std::vector<double> values);
 
@@ -131,5 +139,7 @@ struct VoxelizeReportInfo {
 nlohmann::json voxelizeReportJson(const VoxelizeReportInfo& info, const std::vector<VoxelizeRow>& rows);
 std::string voxelizeReportMarkdown(const VoxelizeReportInfo& info, const std::vector<VoxelizeRow>& rows);
 std::string voxelizeRowsSvg(const std::vector<VoxelizeRow>& rows);
+// Writes voxelize.json, voxelize.md and voxelize.svg into `dir`, each atomically. Errors name the file.
+Status writeVoxelizeReport(const std::string& dir, const VoxelizeReportInfo& info, const std::vector<VoxelizeRow>& rows);
 
 }  // namespace dentsim::bench

@@ -1,8 +1,7 @@
-// `dentsim bench memory`, `bench voxelize`, `bench mesh`, `bench haptic` and `bench frames`: brick bytes, voxelization and meshing time beside the paper, OpenVDB and VTK, the haptic step time, the frame time (`bench scores` is in cmd_bench_scores.cpp).
-#include <chrono>
+// `dentsim bench memory|voxelize|mesh|haptic|frames`: the options, then the runner in bench/ (frames_bench.cpp for frames), then what it printed and wrote (`bench scores` is in cmd_bench_scores.cpp).
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -10,28 +9,23 @@
 
 #include "app/commands.h"
 #include "app/frames_bench.h"
+#include "app/gpu_choice.h"
 #include "app/terminal_progress.h"
+#include "bench/bench_molar.h"
+#include "bench/gpu_runners.h"
 #include "bench/haptic_bench.h"
+#include "bench/host_info.h"
 #include "bench/memory_bench.h"
 #include "bench/mesh_bench.h"
 #include "bench/voxelize_bench.h"
-#include "app/gpu_choice.h"
 #include "gpu/context.h"
-#include "gpu/gpu_surface.h"
-#include "gpu/gpu_voxelizer.h"
-#include "io/nifti_labels.h"
-#include "model/builtin_assets.h"
-#include "volume/label_import.h"
-#include "volume/mesh_voxelizer.h"
 
 namespace dentsim::app {
 namespace {
 
-struct BenchOptions {
-  std::string data_dir;                            // real tooth data (../shared/data)
-  std::vector<std::string> teeth{"tooth_2", "tooth_3"};  // CT teeth in data_dir/ct
-  std::vector<int> levels{8, 9, 10};               // octree levels to fit each tooth into
-  std::string out = "bench-out";                   // folder for JSON, Markdown and SVG
+struct MemoryBenchOptions {
+  bench::CtMemorySettings settings;
+  std::string out = "bench-out";  // folder for JSON, Markdown and SVG
 };
 
 struct VoxelizeBenchOptions {
@@ -70,116 +64,10 @@ std::string defaultDataDir() {
   return "../shared/data";
 }
 
-Status writeText(const std::string& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  out.close();
-  if (!out) return makeError(path, "cannot write");
-  return Ok{};
-}
-
-int runMemoryBench(const BenchOptions& o) {
-  std::error_code ec;
-  std::filesystem::create_directories(o.out, ec);
-  if (ec) return fail(o.out + ": cannot create output folder: " + ec.message());
-  auto map = parseLabelMap("1=caries,2=enamel,3=dentin");  // the data README's labels
-  if (!map) return fail(map.message());
-  std::vector<bench::MemoryRow> rows;
-  TerminalProgress progress;
-  for (const std::string& tooth : o.teeth) {
-    const std::string path = o.data_dir + "/ct/" + tooth + ".nii.gz";
-    auto image = readNiftiLabels(path);
-    if (!image) return fail(image.message() + " (set --data or DENTSIM_DATA_DIR)");
-    for (int level : o.levels) {
-      LabelImportOptions opt;
-      opt.map = *map;
-      opt.level = level;
-      opt.source_pitch_mm = 0.034;  // the header says 1.0; the data README gives the true pitch
-      opt.where = path;
-      const auto start = std::chrono::steady_clock::now();
-      auto volume = importLabels(*image, opt, progress);
-      if (!volume) return fail(volume.message());
-      volume->voxels.compact();
-      const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      rows.push_back(bench::measureMemory(tooth, *volume, build_s));
-      const auto& r = rows.back();
-      std::printf("%s level %d: dentsim %.2f MB, %s %s MB, paper %.1f MB\n", tooth.c_str(), level,
-                  double(r.stats.bytes) / 1e6, r.openvdb.name.c_str(),
-                  r.openvdb.available ? std::to_string(double(r.openvdb.bytes) / 1e6).c_str() : "n/a", r.paper_mb);
-    }
-  }
-  const std::string table = bench::memoryRowsTable(rows);
-  std::printf("\n%s", table.c_str());
-  for (const auto& [name, text] : {std::pair{std::string("memory.json"), bench::memoryRowsJson(rows).dump(2) + "\n"},
-                                   {std::string("memory.md"), table},
-                                   {std::string("memory.svg"), bench::memoryRowsSvg(rows)}}) {
-    if (auto s = writeText(o.out + "/" + name, text); !s) return fail(s.message());
-  }
-  std::printf("wrote %s/memory.json, memory.md, memory.svg\n", o.out.c_str());
-  return 0;
-}
-
-// ---- bench voxelize -----------------------------------------------------------------------------
-
-// dentsim's side of a run: ray set-up and GPU voxelization into bricks mirrored on the CPU, timed by
-// the host clock from the meshes to the CPU bricks.
-bench::DentsimVoxelizer gpuVoxelizer(gpu::Context& context, const VoxelizeOptions& options) {
-  return [&context, options](const std::vector<MeshLayer>& layers,
-                             const VolumeFrame& frame) -> Result<bench::DentsimRun> {
-    const auto start = std::chrono::steady_clock::now();
-    auto setup = makeRaySetup(layers, frame, options);
-    if (!setup) return setup.error();
-    gpu::VoxelizeTiming timing;
-    auto volume = gpu::voxelizeGpu(context, *setup, options, &timing);
-    if (!volume) return volume.error();
-    bench::DentsimRun run;
-    run.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-    run.kernel_ms = timing.kernels_ms;
-    run.hits = timing.hits;
-    run.dense_bricks = volume->stats().dense_bricks;
-    run.totals = volume->materialTotals();
-    return run;
-  };
-}
-
-// The built-in molar's layers, or freshly generated ones (the same meshes) while assets/ is empty.
-struct MolarModel {
-  MolarLayers molar;
-  std::string description;
-
-  // Views of the four layers for the voxelizer; valid while this lives.
-  std::vector<MeshLayer> layers() const {
-    return {{Material::Enamel, &molar.enamel, "enamel"},
-            {Material::Dentin, &molar.dentin, "dentin"},
-            {Material::Pulp, &molar.pulp, "pulp"},
-            {Material::Caries, &molar.caries, "caries"}};
-  }
-  Bounds3 bounds() const {
-    Bounds3 b;
-    for (const MeshLayer& l : layers()) b.add(l.mesh->bounds());
-    return b;
-  }
-};
-MolarModel loadMolarForBench() {
-  MolarModel m;
-  if (auto loaded = loadBuiltinMolar()) {
-    m.molar = std::move(loaded).value();
-    m.description = "built-in four-layer molar (assets/teeth/molar_*.stl)";
-  } else {
-    m.molar = generateMolar();
-    m.description = "four-layer molar from generateMolar() (assets/ held none: " + loaded.message() + ")";
-  }
-  return m;
-}
-
-std::string cpuModel() {
-  std::ifstream in("/proc/cpuinfo");
-  for (std::string line; std::getline(in, line);)
-    if (line.rfind("model name", 0) == 0) {
-      const size_t colon = line.find(':');
-      if (colon != std::string::npos) return line.substr(line.find_first_not_of(' ', colon + 1));
-    }
-  return "unknown CPU";
+// Progress lines of a runner, shown as they come.
+void printLine(const std::string& line) {
+  std::printf("%s\n", line.c_str());
+  std::fflush(stdout);
 }
 
 template <class T>
@@ -189,19 +77,35 @@ std::string joined(const std::vector<T>& values) {
   return o.str();
 }
 
-int runVoxelizeBench(const VoxelizeBenchOptions& o) {
+Status createOutputFolder(const std::string& out) {
   std::error_code ec;
-  std::filesystem::create_directories(o.out, ec);
-  if (ec) return fail(o.out + ": cannot create output folder: " + ec.message());
+  std::filesystem::create_directories(out, ec);
+  if (ec) return makeError(out, "cannot create output folder: " + ec.message());
+  return Ok{};
+}
 
+// ---- bench memory ------------------------------------------------------------------------------
+
+int runMemoryBench(const MemoryBenchOptions& o) {
+  if (Status s = createOutputFolder(o.out); !s) return fail(s.message());
+  TerminalProgress progress;
+  auto rows = bench::measureCtTeeth(o.settings, progress, printLine);
+  if (!rows) return fail(rows.message());
+  std::printf("\n%s", bench::memoryRowsTable(*rows).c_str());
+  if (Status s = bench::writeMemoryReport(o.out, *rows); !s) return fail(s.message());
+  std::printf("wrote %s/memory.json, memory.md, memory.svg\n", o.out.c_str());
+  return 0;
+}
+
+// ---- bench voxelize -----------------------------------------------------------------------------
+
+int runVoxelizeBench(const VoxelizeBenchOptions& o) {
+  if (Status s = createOutputFolder(o.out); !s) return fail(s.message());
   gpu::ContextOptions context_options;
   context_options.device_override = o.device;
   auto context = gpu::Context::create(gpu::withEnvironment(context_options));
   if (!context) return fail(context.message());
-
-  const MolarModel model = loadMolarForBench();
-  const std::vector<MeshLayer> layers = model.layers();
-  const Bounds3 bounds = model.bounds();
+  const bench::BenchMolar model = bench::loadBenchMolar();
 
   VoxelizeOptions voxelize;
   voxelize.subsamples = o.subsamples;
@@ -210,114 +114,28 @@ int runVoxelizeBench(const VoxelizeBenchOptions& o) {
   info.command = "dentsim bench voxelize --levels " + joined(o.levels) + " --fractions " + joined(o.fractions) +
                  " --repeat " + std::to_string(o.repeat) + " --subsamples " + std::to_string(o.subsamples) +
                  (o.no_peers ? " --no-peers" : "");
-  info.cpu = cpuModel();
+  info.cpu = bench::cpuModel();
   info.cpu_threads = int(std::thread::hardware_concurrency());
-  const gpu::DeviceInfo& device = context->device();
-  info.device = device.name + (device.driver_info.empty() ? "" : " (" + device.driver_info + ")");
+  info.device = bench::deviceLabel(context->device());
   info.subsamples = o.subsamples;
   info.settings.repeats = o.repeat;
   info.settings.peers = !o.no_peers;
   std::printf("voxelize bench: %s\ndentsim on %s; CPU %s, %d threads\n", info.model.c_str(), info.device.c_str(),
               info.cpu.c_str(), info.cpu_threads);
 
-  // Decimation depends on the share only; every level voxelizes the same decimated meshes.
-  std::vector<bench::DecimatedModel> models;
-  for (double percent : o.fractions) models.push_back(bench::decimateModel(layers, percent / 100.0));
-
-  const bench::DentsimVoxelizer dentsim = gpuVoxelizer(*context, voxelize);
-  std::vector<bench::VoxelizeRow> rows;
-  for (int level : o.levels) {
-    // The full molar's grid, so a level has one voxel size for every share.
-    auto frame = fitGridToLevel(bounds, level);
-    if (!frame) return fail(frame.message());
-    for (const bench::DecimatedModel& m : models) {
-      auto row = bench::measureVoxelize(m, *frame, info.settings, dentsim);
-      if (!row) return fail(row.message());
-      rows.push_back(std::move(row).value());
-      const bench::VoxelizeRow& r = rows.back();
-      std::printf("level %d, %g%% (%llu triangles): dentsim %.1f ms", r.level, r.fraction * 100.0,
-                  static_cast<unsigned long long>(r.triangles), r.dentsim_ms);
-      if (r.openvdb.available)
-        std::printf(", OpenVDB filled %.1f ms (x%.2f), narrow band %.1f ms (x%.2f)", r.openvdb.ms, r.openvdb.ratio,
-                    r.openvdb_band.ms, r.openvdb_band.ratio);
-      std::printf("\n");
-      std::fflush(stdout);
-    }
-  }
-
-  const std::string report = bench::voxelizeReportMarkdown(info, rows);
-  std::printf("\n%s", report.c_str());
-  for (const auto& [name, text] :
-       {std::pair{std::string("voxelize.json"), bench::voxelizeReportJson(info, rows).dump(2) + "\n"},
-        {std::string("voxelize.md"), report},
-        {std::string("voxelize.svg"), bench::voxelizeRowsSvg(rows)}}) {
-    if (auto s = writeText(o.out + "/" + name, text); !s) return fail(s.message());
-  }
+  auto rows = bench::runVoxelizeBench(model.layers(), model.bounds(), o.levels, o.fractions, info.settings,
+                                      bench::gpuVoxelizer(*context, voxelize), printLine);
+  if (!rows) return fail(rows.message());
+  std::printf("\n%s", bench::voxelizeReportMarkdown(info, *rows).c_str());
+  if (Status s = bench::writeVoxelizeReport(o.out, info, *rows); !s) return fail(s.message());
   std::printf("wrote %s/voxelize.json, voxelize.md, voxelize.svg\n", o.out.c_str());
   return 0;
 }
 
 // ---- bench mesh --------------------------------------------------------------------------------
 
-// The molar at a level: the GPU voxelizer on `context`, or the CPU reference when it is null (the
-// same voxels). `context` and `layers` must outlive the maker.
-bench::VolumeMaker molarVolumeMaker(gpu::Context* context, const std::vector<MeshLayer>& layers, Bounds3 bounds) {
-  if (context == nullptr) return bench::cpuVolumeMaker(layers);
-  return [context, &layers, bounds](int level) -> Result<ToothVolume> {
-    auto frame = fitGridToLevel(bounds, level);
-    if (!frame) return frame.error();
-    VoxelizeOptions vo;
-    auto setup = makeRaySetup(layers, *frame, vo);
-    if (!setup) return setup.error();
-    auto voxels = gpu::voxelizeGpu(*context, *setup, vo);
-    if (!voxels) return voxels.error();
-    voxels->compact();
-    return ToothVolume{*frame, std::move(voxels).value()};
-  };
-}
-
-// The GPU mesher as a bench runner. One GpuSurface for the mode being measured; a new one when the
-// mode changes, so that three level-10 surfaces never sit in memory at once.
-bench::MeshRunner gpuMeshRunner(gpu::Context& context) {
-  struct Held {
-    std::optional<gpu::GpuSurface> surface;
-    int normals = 0;
-  };
-  auto held = std::make_shared<Held>();
-  const auto timing = [](double ms, const gpu::SurfaceUpdateStats& st) {
-    return bench::MeshTiming{ms, st.timestamps ? st.count_kernel_ms + st.emit_kernel_ms : 0.0, st.triangles,
-                             st.blocks_meshed};
-  };
-  bench::MeshRunner r;
-  r.name = "GPU mesher (GpuSurface)";
-  r.full = [&context, held, timing](const ToothVolume& tooth, int normals) -> Result<bench::MeshTiming> {
-    if (!held->surface || held->normals != normals) {
-      held->surface.reset();
-      auto s = gpu::GpuSurface::create(context, {.normal_neighbours = normals});
-      if (!s) return s.error();
-      held->surface.emplace(std::move(s).value());
-      held->normals = normals;
-    }
-    gpu::SurfaceUpdateStats st;
-    const auto t0 = std::chrono::steady_clock::now();
-    if (Status b = held->surface->build(tooth.voxels, &st); !b) return b.error();
-    return timing(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), st);
-  };
-  r.update = [held, timing](const ToothVolume& tooth, std::span<const BrickCoord> dirty,
-                            int normals) -> Result<bench::MeshTiming> {
-    if (!held->surface || held->normals != normals) return makeError("bench mesh", "update before a full build");
-    gpu::SurfaceUpdateStats st;
-    const auto t0 = std::chrono::steady_clock::now();
-    if (Status u = held->surface->update(tooth.voxels, dirty, &st); !u) return u.error();
-    return timing(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), st);
-  };
-  return r;
-}
-
 int runMeshBench(MeshBenchOptions o) {
-  std::error_code ec;
-  std::filesystem::create_directories(o.out, ec);
-  if (ec) return fail(o.out + ": cannot create output folder: " + ec.message());
+  if (Status s = createOutputFolder(o.out); !s) return fail(s.message());
   o.settings.warmup = !o.no_warmup;
   o.settings.peers = !o.no_peers;
   o.settings.bur = !o.no_bur;
@@ -329,12 +147,11 @@ int runMeshBench(MeshBenchOptions o) {
     if (!opened) return fail(opened.message());
     context = std::move(*opened);
   }
-  const MolarModel model = loadMolarForBench();
+  const bench::BenchMolar model = bench::loadBenchMolar();
   const std::vector<MeshLayer> layers = model.layers();
-  const Bounds3 bounds = model.bounds();
   // The molar is voxelized on the GPU where there is one (the CPU reference gives the same voxels).
-  const bench::VolumeMaker maker = molarVolumeMaker(context ? &*context : nullptr, layers, bounds);
-  const bench::MeshRunner runner = context ? gpuMeshRunner(*context) : bench::cpuReferenceRunner();
+  const bench::VolumeMaker maker = bench::layersVolumeMaker(context ? &*context : nullptr, layers, model.bounds());
+  const bench::MeshRunner runner = context ? bench::gpuMeshRunner(*context) : bench::cpuReferenceRunner();
 
   bench::MeshReportInfo info;
   info.model = model.description;
@@ -343,20 +160,14 @@ int runMeshBench(MeshBenchOptions o) {
                  " --repeat " + std::to_string(st.repeats) + " --frames " + std::to_string(st.bur_path.frames) +
                  (o.no_peers ? " --no-peers" : "") + (o.no_bur ? " --no-bur" : "") +
                  (o.no_normals ? " --no-normals" : "") + (o.cpu ? " --cpu" : "");
-  info.cpu = cpuModel();
+  info.cpu = bench::cpuModel();
   info.cpu_threads = int(std::thread::hardware_concurrency());
-  info.device = context ? context->device().name + (context->device().driver_info.empty()
-                                                        ? ""
-                                                        : " (" + context->device().driver_info + ")")
-                        : "none";
+  info.device = context ? bench::deviceLabel(context->device()) : "none";
   info.runner = runner.name;
   info.settings = o.settings;
   std::printf("mesh bench: %s\n%s; CPU %s, %d threads\n", info.model.c_str(), info.runner.c_str(), info.cpu.c_str(),
               info.cpu_threads);
-  auto report = bench::runMeshBench(o.settings, maker, runner, [](const std::string& line) {
-    std::printf("%s\n", line.c_str());
-    std::fflush(stdout);
-  });
+  auto report = bench::runMeshBench(o.settings, maker, runner, printLine);
   if (!report) return fail(report.message());
   if (Status w = bench::writeMeshReport(o.out, info, *report); !w) return fail(w.message());
   std::printf("\n%s", bench::meshReportMarkdown(info, *report).c_str());
@@ -366,18 +177,8 @@ int runMeshBench(MeshBenchOptions o) {
 
 // ---- bench haptic ------------------------------------------------------------------------------
 
-// The three load averages of /proc/loadavg ("0.52 0.60 0.71"), or "unknown".
-std::string loadAverage() {
-  std::ifstream in("/proc/loadavg");
-  std::string one, five, fifteen;
-  if (!(in >> one >> five >> fifteen)) return "unknown";
-  return one + " " + five + " " + fifteen;
-}
-
 int runHapticBenchCommand(HapticBenchOptions o) {
-  std::error_code ec;
-  std::filesystem::create_directories(o.out, ec);
-  if (ec) return fail(o.out + ": cannot create output folder: " + ec.message());
+  if (Status s = createOutputFolder(o.out); !s) return fail(s.message());
   o.settings.step_only = !o.no_step_only;
   o.settings.after_idle = !o.no_after_idle;
 
@@ -387,9 +188,9 @@ int runHapticBenchCommand(HapticBenchOptions o) {
     if (!opened) return fail(opened.message());
     context = std::move(*opened);
   }
-  const MolarModel model = loadMolarForBench();
+  const bench::BenchMolar model = bench::loadBenchMolar();
   const std::vector<MeshLayer> layers = model.layers();
-  const bench::VolumeMaker maker = molarVolumeMaker(context ? &*context : nullptr, layers, model.bounds());
+  const bench::VolumeMaker maker = bench::layersVolumeMaker(context ? &*context : nullptr, layers, model.bounds());
 
   bench::HapticReportInfo info;
   info.model = model.description;
@@ -398,25 +199,22 @@ int runHapticBenchCommand(HapticBenchOptions o) {
                  (o.no_step_only ? " --no-step-only" : "") + (o.no_after_idle ? " --no-after-idle" : "") +
                  (o.settings.idle_latency_us != 0 ? " --idle-latency-us " + std::to_string(o.settings.idle_latency_us)
                                                   : std::string());
-  info.cpu = cpuModel();
+  info.cpu = bench::cpuModel();
   info.cpu_threads = int(std::thread::hardware_concurrency());
   info.voxelizer = context ? "the GPU voxelizer on " + context->device().name : std::string("the CPU reference");
   info.settings = o.settings;
-  info.load_before = loadAverage();
+  info.load_before = bench::loadAverage();
   std::printf("haptic bench: %s\n%s; CPU %s, %d threads; load average %s\n", info.model.c_str(),
               info.voxelizer.c_str(), info.cpu.c_str(), info.cpu_threads, info.load_before.c_str());
   std::fflush(stdout);
 
   std::vector<bench::HapticBenchRow> rows;
   for (int level : o.levels) {
-    auto row = bench::runHapticBench(level, maker, o.settings, [](const std::string& line) {
-      std::printf("%s\n", line.c_str());
-      std::fflush(stdout);
-    });
+    auto row = bench::runHapticBench(level, maker, o.settings, printLine);
     if (!row) return fail(row.message());
     rows.push_back(std::move(row).value());
   }
-  info.load_after = loadAverage();
+  info.load_after = bench::loadAverage();
   if (Status w = bench::writeHapticReport(o.out, info, rows); !w) return fail(w.message());
   std::printf("\n%s\nload average before %s, after %s\n", bench::hapticRowsTable(rows, o.settings).c_str(),
               info.load_before.c_str(), info.load_after.c_str());
@@ -429,13 +227,13 @@ int runHapticBenchCommand(HapticBenchOptions o) {
 void addBenchCommand(CLI::App& root, Action& action) {
   CLI::App* bench = root.add_subcommand("bench", "Benchmarks recorded in docs/PERFORMANCE.md (JSON, Markdown, SVG)");
   bench->require_subcommand(1);
-  auto opts = std::make_shared<BenchOptions>();
-  opts->data_dir = defaultDataDir();
+  auto opts = std::make_shared<MemoryBenchOptions>();
+  opts->settings.data_dir = defaultDataDir();
   CLI::App* memory = bench->add_subcommand("memory", "Brick-volume bytes and octree nodes of the CT teeth at levels 8-10, "
                                                      "beside the paper's Table 3 and an OpenVDB label tree");
-  memory->add_option("--data", opts->data_dir, "Folder with ct/tooth_N.nii.gz")->capture_default_str();
-  memory->add_option("--teeth", opts->teeth, "CT teeth to measure")->delimiter(',')->capture_default_str();
-  memory->add_option("--levels", opts->levels, "Octree levels")->delimiter(',')->check(CLI::Range(3, 12))->capture_default_str();
+  memory->add_option("--data", opts->settings.data_dir, "Folder with ct/tooth_N.nii.gz")->capture_default_str();
+  memory->add_option("--teeth", opts->settings.teeth, "CT teeth to measure")->delimiter(',')->capture_default_str();
+  memory->add_option("--levels", opts->settings.levels, "Octree levels")->delimiter(',')->check(CLI::Range(3, 12))->capture_default_str();
   memory->add_option("--out", opts->out, "Output folder")->capture_default_str();
   memory->callback([opts, &action] { action = [opts] { return runMemoryBench(*opts); }; });
 

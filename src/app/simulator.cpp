@@ -13,6 +13,7 @@
 
 #include "app/score_screen.h"
 #include "app/simulator_state.h"
+#include "core/percentile.h"
 #include "eval/cut_score.h"
 #include "io/session_file.h"
 #include "sim/tool_library.h"
@@ -329,8 +330,8 @@ Result<SimulatorOutcome> Simulator::run() {
     double sum = 0;
     for (double v : sorted) sum += v;
     out_.frame_ms_mean = sum / double(sorted.size());
-    out_.frame_ms_p50 = sorted[sorted.size() / 2];
-    out_.frame_ms_p95 = sorted[std::min(sorted.size() - 1, size_t(0.95 * double(sorted.size())))];
+    out_.frame_ms_p50 = percentileSorted(sorted, 50.0);
+    out_.frame_ms_p95 = percentileSorted(sorted, 95.0);
   }
   out_.remesh_ms_mean = remesh_count_ ? remesh_sum_ms_ / double(remesh_count_) : 0.0;
   out_.triangles = ui_.stats.triangles;

@@ -4,18 +4,20 @@
 #include <vector>
 
 #include "model/builtin_assets.h"
-#include "volume/mesh_voxelizer.h"
 
 namespace dentsim {
+
+std::vector<MeshLayer> builtinMolarLayers(const MolarLayers& molar) {
+  return {{Material::Enamel, &molar.enamel, "enamel"},
+          {Material::Dentin, &molar.dentin, "dentin"},
+          {Material::Pulp, &molar.pulp, "pulp"},
+          {Material::Caries, &molar.caries, "caries"}};
+}
 
 Result<ToothVolume> builtinMolarTooth(int level) {
   auto molar = loadBuiltinMolar();
   if (!molar) return molar.error();
-  const std::vector<MeshLayer> layers = {{Material::Enamel, &molar->enamel, "enamel"},
-                                         {Material::Dentin, &molar->dentin, "dentin"},
-                                         {Material::Pulp, &molar->pulp, "pulp"},
-                                         {Material::Caries, &molar->caries, "caries"}};
-  return voxelizeLayersCpu(layers, level);
+  return voxelizeLayersCpu(builtinMolarLayers(*molar), level);
 }
 
 }  // namespace dentsim

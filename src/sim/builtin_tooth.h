@@ -1,10 +1,18 @@
 // The built-in molar as a voxel tooth, voxelized by the CPU reference: the same bytes on every machine, so sessions on it replay anywhere.
 #pragma once
 
+#include <vector>
+
 #include "core/result.h"
+#include "model/molar_generator.h"
 #include "volume/brick_volume.h"
+#include "volume/mesh_voxelizer.h"
 
 namespace dentsim {
+
+// The molar's four layers as the voxelizer takes them (enamel, dentin, pulp, caries), each with its
+// material and name. The views point into `molar`, which must outlive them.
+std::vector<MeshLayer> builtinMolarLayers(const MolarLayers& molar);
 
 // The four embedded layers (assets/teeth/molar_*.stl) in a 2^level grid fitted to them, voxelized
 // on the CPU with the default options and compacted. Errors: a level out of range, missing assets.

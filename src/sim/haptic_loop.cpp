@@ -9,6 +9,7 @@
 #include <cmath>
 #include <system_error>
 
+#include "core/percentile.h"
 #include "sim/idle_latency.h"
 
 namespace dentsim {
@@ -37,13 +38,9 @@ void StepTimes::add(int64_t ns) {
 
 double StepTimes::percentileUs(double p) const {
   if (count_ == 0) return 0.0;
-  const auto rank = uint64_t(std::ceil(std::clamp(p, 0.0, 100.0) / 100.0 * double(count_)));
-  uint64_t seen = 0;
-  for (int i = 0; i < kBins; ++i) {
-    seen += bins_[size_t(i)];
-    if (seen >= std::max<uint64_t>(rank, 1)) return std::min(0.5 * (i + 1), maxUs());  // bin's upper edge
-  }
-  return maxUs();
+  const size_t bin = percentileBin<uint32_t>(bins_, std::clamp(p, 0.0, 100.0));
+  // The bin's upper edge bounds every step in it; the slowest step bounds the last, open-ended bin.
+  return std::min(0.5 * double(bin + 1), maxUs());
 }
 
 // ---- set-up -------------------------------------------------------------------------------------------

@@ -79,7 +79,7 @@ class StepTimes {
   static constexpr int kBins = 20000;  // 0.5 us bins up to 10 ms; longer steps land in the last bin
   void add(int64_t ns);
   uint64_t count() const { return count_; }
-  double percentileUs(double p) const;  // p in [0,100]
+  double percentileUs(double p) const;  // p in [0,100]: nearest rank (core/percentile.h), the bin's upper edge [us]
   double maxUs() const { return double(max_ns_) / 1000.0; }
   double meanUs() const { return count_ ? double(sum_ns_) / double(count_) / 1000.0 : 0.0; }
 

@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "model/builtin_assets.h"
+#include "sim/builtin_tooth.h"
 #include "test_support.h"
 #include "volume/mesh_voxelizer.h"
 
@@ -21,10 +22,7 @@ namespace {
 struct Molar {
   MolarLayers layers = std::move(loadBuiltinMolar()).value();
   VolumeMaker maker() const {
-    return cpuVolumeMaker({{Material::Enamel, &layers.enamel, "enamel"},
-                           {Material::Dentin, &layers.dentin, "dentin"},
-                           {Material::Pulp, &layers.pulp, "pulp"},
-                           {Material::Caries, &layers.caries, "caries"}});
+    return cpuVolumeMaker(builtinMolarLayers(layers));
   }
 };
 

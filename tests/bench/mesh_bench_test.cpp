@@ -89,16 +89,6 @@ uint64_t ambiguousCells(const BrickVolume& v) {
   return count;
 }
 
-TEST(MeshBenchTest, PercentileIsNearestRank) {
-  EXPECT_EQ(percentile({5.0, 1.0, 4.0, 2.0, 3.0}, 50.0), 3.0);
-  EXPECT_EQ(percentile({5.0, 1.0, 4.0, 2.0, 3.0}, 100.0), 5.0);
-  EXPECT_EQ(percentile({5.0, 1.0, 4.0, 2.0, 3.0}, 0.0), 1.0);
-  // 95% of 20 values is rank 19.
-  std::vector<double> v;
-  for (int i = 1; i <= 20; ++i) v.push_back(i);
-  EXPECT_EQ(percentile(v, 95.0), 19.0);
-}
-
 TEST(MeshBenchTest, SurfacePartSitsOnTopOfTheSolid) {
   // Level 6: the ball's centre column tops out at z = centre + r = 32.31 + 25.6 = 57.9 voxels, so the
   // topmost solid voxel (centre over the 0.5 level) is voxel 57, in brick 7 on z.

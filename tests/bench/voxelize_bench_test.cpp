@@ -3,7 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+
 #include "test_meshes.h"
+#include "test_support.h"
 
 namespace dentsim::bench {
 namespace {
@@ -123,6 +126,37 @@ TEST(VoxelizeBenchTest, ReportHasEveryRowAndBothSystems) {
   EXPECT_NE(svg.find("OpenVDB filled L8"), std::string::npos);
   EXPECT_NE(svg.find("OpenVDB band L8"), std::string::npos);
   EXPECT_NE(svg.find("stroke-dasharray"), std::string::npos);
+}
+
+TEST(VoxelizeBenchTest, RunIsEveryLevelTimesEveryShareAndWritesThreeFiles) {
+  const TriangleMesh outer = box(0.0f, 1.0f);
+  const std::vector<MeshLayer> layers{{Material::Enamel, &outer, "enamel"}};
+  Bounds3 bounds;
+  bounds.add(outer.bounds());
+  VoxelizeBenchSettings settings;
+  settings.peers = false;
+  int calls = 0;
+  std::vector<std::string> lines;
+  // Two levels x two shares: four rows, one progress line each, level-major.
+  auto rows = runVoxelizeBench(layers, bounds, {4, 5}, {50.0, 100.0}, settings, fakeVoxelizer(&calls),
+                               [&](const std::string& line) { lines.push_back(line); });
+  ASSERT_TRUE(rows.ok()) << rows.message();
+  ASSERT_EQ(rows->size(), 4u);
+  EXPECT_EQ((*rows)[0].level, 4);
+  EXPECT_EQ((*rows)[3].level, 5);
+  EXPECT_EQ((*rows)[1].fraction, 1.0);
+  EXPECT_EQ(calls, 16);  // each row: one warm-up, three timed
+  ASSERT_EQ(lines.size(), 4u);
+  EXPECT_EQ(lines[1].rfind("level 4, 100% (12 triangles): dentsim ", 0), 0u) << lines[1];
+
+  test::TempDir dir;
+  VoxelizeReportInfo info;
+  info.settings = settings;
+  ASSERT_TRUE(writeVoxelizeReport(dir.path().string(), info, *rows).ok());
+  for (const char* name : {"voxelize.json", "voxelize.md", "voxelize.svg"})
+    EXPECT_GT(std::filesystem::file_size(dir.file(name)), 0u) << name;
+  // Only the three reports: the atomic writer leaves no temporary beside them.
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(dir.path()), std::filesystem::directory_iterator{}), 3);
 }
 
 }  // namespace
