@@ -8,6 +8,7 @@
 #include "devices/software_pen.h"
 #include "devices/virtual_pen.h"
 #include "io/parse_guard.h"
+#include "io/pen_playback.h"
 #include "io/session_file.h"
 
 namespace dentsim::devices {

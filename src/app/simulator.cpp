@@ -47,7 +47,7 @@
 #include "sim/builtin_tooth.h"
 #include "sim/edit_channel.h"
 #include "sim/haptic_loop.h"
-#include "sim/pen.h"
+#include "io/pen_playback.h"
 #include "sim/novice_paths.h"
 #include "sim/scripted_paths.h"
 #include "sim/session_recorder.h"
