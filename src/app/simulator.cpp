@@ -439,7 +439,7 @@ Status Simulator::setUpPens() {
       pc.start_grip = start;
       pc.max_force_n = params_.device.max_force_n;
       pc.max_torque_n_mm = params_.device.max_torque_n_mm;
-      pc.falcon.firmware_path = o_.falcon_firmware;
+      pc.options = o_.devices;
       auto made = devices::makePen(*name, pc);
       if (!made) return makeError(where, made.message());
       devices_[r] = std::move(*made);
@@ -451,7 +451,7 @@ Status Simulator::setUpPens() {
       note(where + " " + device.name() + ": " + devices::stateName(device.state()) + " (" + device.reason() + ")");
     physical = physical || device.spec().physical;
     if (auto* sw = dynamic_cast<devices::SoftwarePen*>(&device)) virtual_[r] = dynamic_cast<devices::VirtualPen*>(&sw->source());
-    pens_[r] = std::make_unique<devices::DevicePen>(device, devices::mapWorkspace(device.spec(), start, o_.reach_mm, screen),
+    pens_[r] = std::make_unique<devices::DevicePen>(device, devices::mapWorkspace(device.spec(), start, o_.devices.reach_mm, screen),
                                                     role == PenRole::Drill ? pedal_.get() : nullptr);
   }
   if (physical) {

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/result.h"
+#include "devices/device_options.h"
 
 namespace dentsim::app {
 
@@ -33,8 +34,7 @@ struct SimulatorOptions {
   std::string drill_pen;
   std::string mirror_pen;
   std::string pedal;                    // "none", "hid[:...]"; empty: none (the script, the wheel or keys set the speed)
-  std::string falcon_firmware;          // the Falcon's firmware file; empty: where devices/falcon_device.h looks
-  double reach_mm = 40.0;               // a hardware pen's workspace spans this much of the scene [mm]
+  devices::DeviceOptions devices;       // the backends' options (the Falcon's firmware) and the pens' reach
   // Sound (docs/SOUND.md): played live in a window; `audio_out` renders it offline to a WAV file
   // (headless too) through OpenAL's loopback device instead.
   bool sound = true;                    // false: no sound at all
