@@ -26,11 +26,12 @@
 #include <thread>
 
 #include "bench/svg_plot.h"
+#include "core/steady_clock.h"
 #include "io/atomic_file.h"
+#include "io/pen_playback.h"
 #include "sim/edit_channel.h"
 #include "sim/haptic_loop.h"
 #include "sim/idle_latency.h"
-#include "sim/pen.h"
 #include "sim/sim_params.h"
 #include "sim/tool_library.h"
 #include "sim/voxel_field.h"

@@ -4,7 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sim/haptic_loop.h"
+#include "core/steady_clock.h"
 
 namespace dentsim::devices {
 

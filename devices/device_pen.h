@@ -14,10 +14,10 @@
 #include <atomic>
 #include <cstdint>
 
+#include "core/pen_source.h"
 #include "core/rigid.h"
 #include "devices/foot_pedal.h"
 #include "devices/haptic_device.h"
-#include "sim/pen.h"
 
 namespace dentsim::devices {
 

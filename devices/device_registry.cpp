@@ -8,6 +8,7 @@
 #include "devices/software_pen.h"
 #include "devices/virtual_pen.h"
 #include "io/parse_guard.h"
+#include "io/pen_playback.h"
 #include "io/session_file.h"
 
 namespace dentsim::devices {
@@ -67,8 +68,8 @@ Result<std::unique_ptr<HapticDevice>> makePen(const PenName& name, const PenCont
     auto kept = std::make_shared<const SessionRecording>(std::move(*rec));
     return software(std::make_unique<ReplayPen>(kept->steps, context.role), "session replay", kept);
   }
-  if (name.backend == "falcon") return makeFalcon(std::stoi(name.arg), context.falcon);
-  if (name.backend == "openhaptics") return makeOpenHapticsPen(name.arg, context.openhaptics);
+  if (name.backend == "falcon") return makeFalcon(std::stoi(name.arg), context.options.falcon);
+  if (name.backend == "openhaptics") return makeOpenHapticsPen(name.arg, context.options.openhaptics);
   return makeError("pen '" + escapeControl(name.text) + "'", std::string("unknown pen; choose one of ") + kPenChoices);
 }
 
@@ -93,7 +94,7 @@ std::vector<DeviceEntry> listDevices(const PenContext& context) {
   v.state = DeviceState::Ready;
   all.push_back(v);
   for (auto& e : enumerateFalcons()) all.push_back(std::move(e));
-  for (auto& e : enumerateOpenHaptics(context.openhaptics)) all.push_back(std::move(e));
+  for (auto& e : enumerateOpenHaptics(context.options.openhaptics)) all.push_back(std::move(e));
   for (auto& e : enumerateHidPedals()) all.push_back(std::move(e));
   return all;
 }

@@ -13,10 +13,9 @@
 #include "core/result.h"
 #include "core/rigid.h"
 #include "devices/device_entry.h"
-#include "devices/falcon_device.h"
+#include "devices/device_options.h"
 #include "devices/foot_pedal.h"
 #include "devices/haptic_device.h"
-#include "devices/openhaptics_pen.h"
 #include "io/pen_path_file.h"
 
 namespace dentsim::devices {
@@ -36,8 +35,7 @@ struct PenContext {
   Pose start_grip;               // where the virtual pen starts [mm], world
   double max_force_n = 8.0;      // the parameter set's limits, which software pens take as their spec
   double max_torque_n_mm = 0.0;
-  FalconOptions falcon;
-  OpenHapticsOptions openhaptics;
+  DeviceOptions options;         // the backends' options (the Falcon's firmware, ...)
 };
 
 // The pen `name` names, made but not opened (the caller opens it and reports its state).

@@ -1,7 +1,7 @@
 // The Falcon backend: libusb transport (enumeration, firmware load, asynchronous 1 kHz exchange) behind HapticDevice.
 //
 // Contents
-//   1. Helpers: clock, firmware path, libusb names
+//   1. Helpers: firmware path, libusb names
 //   2. Transport: finding the index-th Falcon, synchronous control and bulk calls with timeouts
 //   3. Bring-up: firmware mode, probe, firmware load
 //   4. FalconDevice: open/close/service/read and the event thread's exchange
@@ -20,15 +20,17 @@
 #include <array>
 #include <atomic>
 #include <cerrno>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <thread>
 
+#include "core/steady_clock.h"
+#include "core/triple_buffer.h"
 #include "devices/falcon_kinematics.h"
 #include "devices/falcon_protocol.h"
 
@@ -48,11 +50,6 @@ constexpr int64_t kProbeNs = 100'000'000;      // how long a running firmware ha
 constexpr int64_t kReconnectNs = 200'000'000;  // service() retries a lost Falcon this often
 constexpr int kInBufferSize = 64;              // one full-speed USB packet: a status packet plus modem bytes
 constexpr double kVelocityCutoffHz = 50.0;     // low-pass on the differenced velocity
-
-int64_t steadyNowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
 
 // Where the user's firmware image is: the option, else $DENTSIM_FALCON_FIRMWARE, else the config dir.
 std::string firmwarePath(const FalconOptions& options) {
@@ -239,38 +236,6 @@ Status loadFirmware(libusb_device_handle* h, const std::string& path, const std:
 }
 
 // ---- 4. FalconDevice ------------------------------------------------------------------------------
-// One writer, one reader, neither waits: the writer fills its slot and swaps it into the middle;
-// the reader swaps the middle out when it is newer.
-class ReadingBuffer {
- public:
-  void publish(const DeviceReading& r) {
-    slots_[back_] = r;
-    back_ = middle_.exchange(static_cast<uint8_t>(back_ | kFresh), std::memory_order_acq_rel) & kIndex;
-  }
-  bool latest(DeviceReading* out) {
-    if (middle_.load(std::memory_order_acquire) & kFresh) {
-      front_ = middle_.exchange(front_, std::memory_order_acq_rel) & kIndex;
-      has_ = true;
-    }
-    if (has_) *out = slots_[front_];
-    return has_;
-  }
-  void clear() {  // control thread, I/O stopped
-    middle_.store(1, std::memory_order_release);
-    back_ = 0;
-    front_ = 2;
-    has_ = false;
-  }
-
- private:
-  static constexpr uint8_t kFresh = 0x4, kIndex = 0x3;
-  std::array<DeviceReading, 3> slots_{};
-  std::atomic<uint8_t> middle_{1};
-  uint8_t back_ = 0;   // writer's
-  uint8_t front_ = 2;  // reader's
-  bool has_ = false;
-};
-
 enum class Fault : uint8_t { None, Stall, Timeout, Gone, UsbError };
 
 class FalconDevice final : public HapticDevice {
@@ -343,7 +308,10 @@ class FalconDevice final : public HapticDevice {
 
   bool read(double /*t_s*/, DeviceReading* out) override {
     if (!tracking(state()) || fault_.load(std::memory_order_acquire) != Fault::None) return false;
-    return readings_.latest(out);
+    const std::optional<DeviceReading>& r = readings_.read();
+    if (!r) return false;
+    *out = *r;
+    return true;
   }
 
   // ---- event thread ----
@@ -428,7 +396,7 @@ class FalconDevice final : public HapticDevice {
   void startIo() {
     fault_.store(Fault::None, std::memory_order_release);
     homed_.store(false, std::memory_order_release);
-    readings_.clear();
+    readings_.publish(std::nullopt);  // I/O is stopped: the event thread publishes nothing now
     assembler_.reset();
     have_pose_ = false;
     last_packet_ns_ = steadyNowNs();
@@ -609,7 +577,7 @@ class FalconDevice final : public HapticDevice {
   std::atomic<Fault> fault_{Fault::None};
   std::atomic<int> usb_error_{0};
   std::atomic<bool> homed_{false};
-  ReadingBuffer readings_;
+  TripleBuffer<std::optional<DeviceReading>> readings_;  // event thread -> read(); empty until a status packet came
 
   // Event thread's (and the control thread's only while the event thread is stopped).
   libusb_transfer* out_ = nullptr;

@@ -1,27 +1,22 @@
-// USB HID foot pedals: spec parsing, report decoding, the known-pedal table, the hidapi transport and the reader thread.
+// USB HID foot pedals: spec parsing, the known-pedal table, and the reader thread behind FootPedal.
+//
+// The report layouts and descriptor parser are in hid_pedal_descriptor.cpp (pure), the hidapi
+// transport in hid_pedal_transport.cpp; this file joins them into a pedal.
 //
 // Sections:
-//   1. Report layouts: decode one report, describe a layout
-//   2. Report descriptors: find the pedal's field
-//   3. Spec parsing
-//   4. Known pedals and which HID interfaces count as pedals
-//   5. The hidapi transport
-//   6. HidPedal: the reader thread, unplug and replug
-//   7. Entry points
+//   1. Spec parsing
+//   2. Known pedals and which HID interfaces count as pedals
+//   3. HidPedal: the reader thread, unplug and replug
+//   4. Entry points
 #include "devices/hid_pedal.h"
-
-#include <hidapi.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <array>
 #include <atomic>
 #include <cctype>
-#include <cerrno>
 #include <charconv>
 #include <chrono>
 #include <cstring>
-#include <fstream>
 #include <thread>
 
 #include "io/parse_guard.h"
@@ -31,8 +26,6 @@ namespace {
 
 // The largest input report read in one go; full-speed interrupt reports are at most 64 bytes [bytes].
 constexpr size_t kMaxReportBytes = 256;
-// A field may start anywhere within this many bytes of the report.
-constexpr int kMaxReportOffset = 255;
 
 std::string hex4(uint16_t v) {
   char text[8];
@@ -49,200 +42,7 @@ bool containsNoCase(const std::string& text, const char* word) {
 }  // namespace
 
 // ============================================================================================
-// 1. Report layouts
-// ============================================================================================
-
-std::string describeLayout(const PedalLayout& l) {
-  std::string text;
-  switch (l.input) {
-    case PedalInput::Button: {
-      char mask[8];
-      std::snprintf(mask, sizeof mask, "%02x", l.button_mask);
-      text = "switch: byte " + std::to_string(l.byte) + " mask 0x" + mask;
-      break;
-    }
-    case PedalInput::Axis:
-      text = "axis: byte " + std::to_string(l.byte) + " bit " + std::to_string(l.bit) + ", " + std::to_string(l.bits) +
-             " bits, raw " + std::to_string(l.raw_min) + ".." + std::to_string(l.raw_max);
-      break;
-    case PedalInput::Key:
-      text = l.key_code == 0 ? "keyboard switch: any key" : "keyboard switch: key " + std::to_string(l.key_code);
-      break;
-  }
-  if (l.report_id >= 0) text += ", report " + std::to_string(l.report_id);
-  if (l.invert) text += ", inverted";
-  return text;
-}
-
-std::optional<double> decodePedalReport(const PedalLayout& l, std::span<const uint8_t> report) {
-  if (l.report_id >= 0 && (report.empty() || report[0] != l.report_id)) return std::nullopt;
-  double position = 0.0;
-  switch (l.input) {
-    case PedalInput::Button: {
-      if (static_cast<size_t>(l.byte) >= report.size()) return std::nullopt;
-      position = (report[l.byte] & l.button_mask) != 0 ? 1.0 : 0.0;
-      break;
-    }
-    case PedalInput::Axis: {
-      const size_t first_bit = static_cast<size_t>(l.byte) * 8 + static_cast<size_t>(l.bit);
-      if (first_bit + static_cast<size_t>(l.bits) > report.size() * 8) return std::nullopt;
-      // HID fields are little-endian bit strings: bit i of the field is bit (first_bit + i) of the report.
-      uint64_t raw = 0;
-      for (int i = 0; i < l.bits; ++i) {
-        const size_t at = first_bit + static_cast<size_t>(i);
-        raw |= static_cast<uint64_t>((report[at / 8] >> (at % 8)) & 1u) << i;
-      }
-      int64_t value = static_cast<int64_t>(raw);
-      const bool is_signed = l.raw_min < 0 || l.raw_max < 0;
-      if (is_signed && (raw >> (l.bits - 1)) & 1u) value -= int64_t{1} << l.bits;
-      const double t = static_cast<double>(value - l.raw_min) / static_cast<double>(l.raw_max - l.raw_min);
-      position = std::clamp(t, 0.0, 1.0);
-      break;
-    }
-    case PedalInput::Key: {
-      // Boot keyboard report: modifiers, a reserved byte, six key usages (after the report id, if any).
-      const size_t base = l.report_id >= 0 ? 1 : 0;
-      if (report.size() < base + 8) return std::nullopt;
-      bool down = false;
-      if (l.key_code == 0) down = report[base] != 0;
-      for (size_t i = base + 2; i < base + 8; ++i) {
-        // Usages 1..3 are the keyboard's error codes (rollover, POST fail, undefined), not keys.
-        if (l.key_code == 0 ? report[i] >= 4 : report[i] == l.key_code) down = true;
-      }
-      position = down ? 1.0 : 0.0;
-      break;
-    }
-  }
-  if (l.invert) position = 1.0 - position;
-  if (position < l.dead_band) position = 0.0;
-  return position;
-}
-
-// ============================================================================================
-// 2. Report descriptors (HID 1.11, section 6.2.2): walk the items, tracking each report's bit offset
-// ============================================================================================
-
-std::optional<PedalLayout> layoutFromReportDescriptor(std::span<const uint8_t> d) {
-  struct Globals {
-    uint32_t usage_page = 0;
-    int64_t logical_min = 0;
-    int64_t logical_max = 0;
-    uint32_t report_size = 0;   // [bits]
-    uint32_t report_count = 0;
-    uint32_t report_id = 0;
-  };
-  Globals g;
-  std::vector<Globals> stack;
-  std::vector<uint32_t> usages;  // local: full usages (page << 16 | id)
-  uint32_t usage_min = 0, usage_max = 0;
-  bool have_range = false;
-  bool numbered = false;
-  std::array<uint32_t, 256> bit_offset{};  // per report id [bits]
-
-  struct Found {
-    int rank = 0;  // 3 accelerator/brake, 2 a Generic Desktop axis, 1 a button
-    PedalLayout layout;
-    uint32_t report_id = 0;
-  };
-  Found best;
-
-  size_t i = 0;
-  while (i < d.size()) {
-    const uint8_t prefix = d[i];
-    if (prefix == 0xFE) {  // long item: size, tag, data; no pedal uses them
-      // Its size byte, its tag and its data must all be there, as for a short item.
-      if (i + 2 >= d.size() || i + 3 + d[i + 1] > d.size()) return std::nullopt;
-      i += 3 + d[i + 1];
-      continue;
-    }
-    const size_t size = (prefix & 3u) == 3u ? 4 : (prefix & 3u);
-    if (i + 1 + size > d.size()) return std::nullopt;
-    uint32_t udata = 0;
-    for (size_t k = 0; k < size; ++k) udata |= static_cast<uint32_t>(d[i + 1 + k]) << (8 * k);
-    int64_t sdata = udata;
-    if (size > 0 && (udata >> (8 * size - 1)) & 1u) sdata -= int64_t{1} << (8 * size);
-    const uint8_t type = (prefix >> 2) & 3u;
-    const uint8_t tag = prefix >> 4;
-    i += 1 + size;
-
-    if (type == 1) {  // global
-      switch (tag) {
-        case 0: g.usage_page = udata; break;
-        case 1: g.logical_min = sdata; break;
-        case 2: g.logical_max = sdata; break;
-        case 7: g.report_size = udata; break;
-        case 8: g.report_id = udata & 0xFFu; numbered = true; break;
-        case 9: g.report_count = udata; break;
-        case 10: stack.push_back(g); break;
-        case 11:
-          if (stack.empty()) return std::nullopt;
-          g = stack.back();
-          stack.pop_back();
-          break;
-        default: break;
-      }
-    } else if (type == 2) {  // local
-      const uint32_t full = size == 4 ? udata : (g.usage_page << 16) | udata;
-      if (tag == 0) usages.push_back(full);
-      if (tag == 1) usage_min = full, have_range = true;
-      if (tag == 2) usage_max = full, have_range = true;
-    } else if (type == 0) {  // main
-      if (tag == 8) {  // Input
-        const bool constant = udata & 1u, variable = udata & 2u, relative = udata & 4u;
-        uint32_t& offset = bit_offset[g.report_id];
-        if (g.report_size > 32 || g.report_count > 4096) return std::nullopt;
-        for (uint32_t f = 0; f < g.report_count; ++f) {
-          uint32_t usage = 0;
-          if (f < usages.size()) usage = usages[f];
-          else if (have_range && usage_min + f <= usage_max) usage = usage_min + f;
-          else if (!usages.empty()) usage = usages.back();
-          const uint32_t page = usage >> 16, id = usage & 0xFFFFu;
-          int rank = 0;
-          if (!constant && variable && !relative) {
-            if (page == 0x02 && (id == 0xC4 || id == 0xC5)) rank = 3;  // accelerator, brake
-            else if (page == 0x01 && id >= 0x30 && id <= 0x36) rank = 2;  // X, Y, Z, Rx, Ry, Rz, Slider
-            else if (page == 0x09 && g.report_size == 1) rank = 1;
-          }
-          const uint32_t at = offset + f * g.report_size;
-          if (rank > best.rank) {
-            // hidapi hands numbered reports over with the id as byte 0.
-            const uint32_t at_in_buffer = at + (numbered ? 8u : 0u);
-            if (at_in_buffer / 8 > static_cast<uint32_t>(kMaxReportOffset)) continue;
-            PedalLayout l;
-            l.report_id = numbered ? static_cast<int>(g.report_id) : -1;
-            l.byte = static_cast<int>(at_in_buffer / 8);
-            l.bit = static_cast<int>(at_in_buffer % 8);
-            if (rank == 1) {
-              l.input = PedalInput::Button;
-              l.button_mask = static_cast<uint8_t>(1u << l.bit);
-              l.bit = 0;
-            } else {
-              if (g.report_size == 0) continue;
-              l.input = PedalInput::Axis;
-              l.bits = static_cast<int>(g.report_size);
-              l.raw_min = g.logical_min;
-              l.raw_max = g.logical_max;
-              // A short item read as signed turns an intended 255 into -1; with a non-negative
-              // minimum the maximum was meant unsigned.
-              if (l.raw_min >= 0 && l.raw_max < l.raw_min) l.raw_max += int64_t{1} << l.bits;
-              if (l.raw_max == l.raw_min) continue;
-            }
-            best = Found{rank, l, g.report_id};
-          }
-        }
-        offset += g.report_size * g.report_count;
-      }
-      usages.clear();
-      have_range = false;
-      usage_min = usage_max = 0;
-    }
-  }
-  if (best.rank == 0) return std::nullopt;
-  return best.layout;
-}
-
-// ============================================================================================
-// 3. Spec parsing
+// 1. Spec parsing
 // ============================================================================================
 namespace {
 
@@ -318,7 +118,7 @@ Result<HidPedalSpec> parseHidPedalSpec(const std::string& spec_in) {
       const std::vector<std::string> f = splitOn(value, ':');
       PedalLayout l;
       int bit = 0;
-      if (f.size() != 2 || !parseInt(f[0], &l.byte) || !parseInt(f[1], &bit) || l.byte < 0 || l.byte > kMaxReportOffset ||
+      if (f.size() != 2 || !parseInt(f[0], &l.byte) || !parseInt(f[1], &bit) || l.byte < 0 || l.byte > kMaxPedalReportOffset ||
           bit < 0 || bit > 7) {
         return fail("bad button '" + value + "' (want BYTE:BIT, byte [0, 255], bit [0, 7], e.g. button=0:0)");
       }
@@ -337,7 +137,7 @@ Result<HidPedalSpec> parseHidPedalSpec(const std::string& spec_in) {
                parseInt(f[1], &l.bits) && parseInt(f[2], &l.raw_min, 0) && parseInt(f[3], &l.raw_max, 0);
       }
       if (!good) return fail("bad axis '" + value + "' (want BYTE[.BIT]:BITS:MIN:MAX, e.g. axis=1:8:0:255)");
-      if (l.byte < 0 || l.byte > kMaxReportOffset || l.bit < 0 || l.bit > 7) {
+      if (l.byte < 0 || l.byte > kMaxPedalReportOffset || l.bit < 0 || l.bit > 7) {
         return fail("axis '" + value + "': byte must be in [0, 255] and bit in [0, 7]");
       }
       if (l.bits < 1 || l.bits > 32) return fail("axis '" + value + "': bits must be in [1, 32]");
@@ -384,7 +184,7 @@ Result<HidPedalSpec> parseHidPedalSpec(const std::string& spec_in) {
 }
 
 // ============================================================================================
-// 4. Known pedals, and which HID interfaces count as pedals
+// 2. Known pedals, and which HID interfaces count as pedals
 // ============================================================================================
 
 namespace {
@@ -481,127 +281,7 @@ std::string permissionAdvice(const std::string& path) {
 std::span<const KnownPedal> knownPedals() { return kKnownPedals; }
 
 // ============================================================================================
-// 5. The hidapi transport
-// ============================================================================================
-namespace {
-
-// hidapi speaks wchar_t (UTF-32 on Linux); the rest of dentsim speaks UTF-8.
-std::string toUtf8(const wchar_t* text) {
-  std::string out;
-  if (text == nullptr) return out;
-  for (; *text != 0; ++text) {
-    const auto c = static_cast<uint32_t>(*text);
-    if (c < 0x80) {
-      out += static_cast<char>(c);
-    } else if (c < 0x800) {
-      out += static_cast<char>(0xC0 | (c >> 6));
-      out += static_cast<char>(0x80 | (c & 0x3F));
-    } else if (c < 0x10000) {
-      out += static_cast<char>(0xE0 | (c >> 12));
-      out += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
-      out += static_cast<char>(0x80 | (c & 0x3F));
-    } else if (c < 0x110000) {
-      out += static_cast<char>(0xF0 | (c >> 18));
-      out += static_cast<char>(0x80 | ((c >> 12) & 0x3F));
-      out += static_cast<char>(0x80 | ((c >> 6) & 0x3F));
-      out += static_cast<char>(0x80 | (c & 0x3F));
-    }
-  }
-  return out;
-}
-
-class HidapiConnection final : public HidConnection {
- public:
-  explicit HidapiConnection(hid_device* device) : device_(device) {}
-  ~HidapiConnection() override { hid_close(device_); }
-  HidapiConnection(const HidapiConnection&) = delete;
-  HidapiConnection& operator=(const HidapiConnection&) = delete;
-
-  int read(uint8_t* buffer, size_t capacity, int timeout_ms) override {
-    return hid_read_timeout(device_, buffer, capacity, timeout_ms);
-  }
-  std::string error() const override {
-    const std::string text = toUtf8(hid_error(device_));
-    return text.empty() ? "read failed" : text;
-  }
-
- private:
-  hid_device* device_;
-};
-
-class HidapiTransport final : public HidTransport {
- public:
-  HidapiTransport() { hid_init(); }
-
-  std::vector<HidDeviceInfo> enumerate() override {
-    std::vector<HidDeviceInfo> list;
-    hid_device_info* all = hid_enumerate(0, 0);
-    for (const hid_device_info* d = all; d != nullptr; d = d->next) {
-      HidDeviceInfo info;
-      info.path = d->path != nullptr ? d->path : "";
-      info.vendor_id = d->vendor_id;
-      info.product_id = d->product_id;
-      info.serial = toUtf8(d->serial_number);
-      info.manufacturer = toUtf8(d->manufacturer_string);
-      info.product = toUtf8(d->product_string);
-      info.usage_page = d->usage_page;
-      info.usage = d->usage;
-      info.interface_number = d->interface_number;
-      info.permitted = ::access(info.path.c_str(), R_OK | W_OK) == 0;
-      list.push_back(std::move(info));
-    }
-    hid_free_enumeration(all);
-    return list;
-  }
-
-  HidOpenResult open(const std::string& path) override {
-    HidOpenResult result;
-    // Ask the file system first: hidapi's own message does not say which way the open failed.
-    if (::access(path.c_str(), F_OK) != 0) {
-      result.error = HidOpenError::NotFound;
-      result.message = path + ": " + std::strerror(errno);
-      return result;
-    }
-    if (::access(path.c_str(), R_OK | W_OK) != 0 && errno == EACCES) {
-      result.error = HidOpenError::PermissionDenied;
-      result.message = path + ": " + std::strerror(EACCES);
-      return result;
-    }
-    hid_device* device = hid_open_path(path.c_str());
-    if (device == nullptr) {
-      const int saved = errno;
-      result.error = saved == EACCES ? HidOpenError::PermissionDenied
-                     : saved == ENOENT || saved == ENODEV ? HidOpenError::NotFound
-                                                          : HidOpenError::Failed;
-      result.message = toUtf8(hid_error(nullptr));
-      if (result.message.empty()) result.message = path + ": " + std::strerror(saved);
-      return result;
-    }
-    result.connection = std::make_unique<HidapiConnection>(device);
-    return result;
-  }
-
-  std::vector<uint8_t> reportDescriptor(const std::string& path) override {
-    // hidapi 0.13 has no call for it; the kernel exposes it beside the hidraw node.
-    const size_t slash = path.rfind('/');
-    const std::string node = slash == std::string::npos ? path : path.substr(slash + 1);
-    if (node.rfind("hidraw", 0) != 0) return {};
-    std::ifstream file("/sys/class/hidraw/" + node + "/device/report_descriptor", std::ios::binary);
-    if (!file) return {};
-    constexpr size_t kMaxDescriptorBytes = 4096;  // the kernel's HID_MAX_DESCRIPTOR_SIZE
-    std::vector<uint8_t> bytes(kMaxDescriptorBytes);
-    file.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
-    bytes.resize(static_cast<size_t>(file.gcount()));
-    return bytes;
-  }
-};
-
-}  // namespace
-
-std::shared_ptr<HidTransport> makeHidapiTransport() { return std::make_shared<HidapiTransport>(); }
-
-// ============================================================================================
-// 6. HidPedal
+// 3. HidPedal
 // ============================================================================================
 namespace {
 
@@ -826,7 +506,7 @@ class HidPedal final : public FootPedal {
 }  // namespace
 
 // ============================================================================================
-// 7. Entry points
+// 4. Entry points
 // ============================================================================================
 
 std::vector<DeviceEntry> enumerateHidPedals(HidTransport& transport) {

@@ -21,6 +21,8 @@
 #include <cstring>
 #include <thread>
 
+#include "core/seqlock.h"
+#include "core/steady_clock.h"
 #include "devices/hdapi_abi.h"
 
 namespace dentsim::devices {
@@ -182,64 +184,7 @@ Quat rotationOfColumnMajor(const double* m) {
   return q.normalized();
 }
 
-int64_t steadyNowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
 // ---- 3. the pen ----
-
-// The servo loop's latest sample for read(): a sequence lock, written only by the servo callback.
-class ReadingChannel {
- public:
-  void publish(const DeviceReading& r) {
-    const uint64_t s = seq_.load(std::memory_order_relaxed);
-    seq_.store(s + 1, std::memory_order_relaxed);
-    std::atomic_thread_fence(std::memory_order_release);
-    const std::array<double, 13> v = {r.pose.position.x, r.pose.position.y, r.pose.position.z,
-                                      r.pose.rotation.w, r.pose.rotation.x, r.pose.rotation.y, r.pose.rotation.z,
-                                      r.velocity.x, r.velocity.y, r.velocity.z,
-                                      r.angular_velocity.x, r.angular_velocity.y, r.angular_velocity.z};
-    for (size_t i = 0; i < v.size(); ++i) values_[i].store(v[i], std::memory_order_relaxed);
-    buttons_.store(r.buttons, std::memory_order_relaxed);
-    stamp_ns_.store(r.stamp_ns, std::memory_order_relaxed);
-    seq_.store(s + 2, std::memory_order_release);
-  }
-
-  // False when nothing was published yet or a writer kept it busy (it publishes once per ms, so
-  // a few tries always suffice in practice); never waits.
-  bool latest(DeviceReading* out) const {
-    for (int attempt = 0; attempt < 64; ++attempt) {
-      const uint64_t s1 = seq_.load(std::memory_order_acquire);
-      if (s1 == 0 || (s1 & 1)) {
-        if (s1 == 0) return false;
-        continue;
-      }
-      std::array<double, 13> v;
-      for (size_t i = 0; i < v.size(); ++i) v[i] = values_[i].load(std::memory_order_relaxed);
-      const uint32_t buttons = buttons_.load(std::memory_order_relaxed);
-      const int64_t stamp = stamp_ns_.load(std::memory_order_relaxed);
-      std::atomic_thread_fence(std::memory_order_acquire);
-      if (seq_.load(std::memory_order_relaxed) != s1) continue;
-      out->pose.position = {v[0], v[1], v[2]};
-      out->pose.rotation = {v[3], v[4], v[5], v[6]};
-      out->velocity = {v[7], v[8], v[9]};
-      out->angular_velocity = {v[10], v[11], v[12]};
-      out->buttons = buttons;
-      out->has_pedal = false;
-      out->pedal = 0.0;
-      out->stamp_ns = stamp;
-      return true;
-    }
-    return false;
-  }
-
- private:
-  std::atomic<uint64_t> seq_{0};
-  std::atomic<double> values_[13]{};
-  std::atomic<uint32_t> buttons_{0};
-  std::atomic<int64_t> stamp_ns_{0};
-};
 
 class OpenHapticsPen final : public HapticDevice {
  public:
@@ -279,7 +224,7 @@ class OpenHapticsPen final : public HapticDevice {
   int calibration_styles_ = 0;
 
   // servo thread -> others
-  ReadingChannel reading_;
+  SeqLock<DeviceReading> reading_;  // the servo callback's latest sample, for read()
   std::atomic<long> frames_{0};               // servo frames completed
   std::atomic<bool> calibrated_{false};
   std::atomic<bool> servo_running_{false};    // the callback is scheduled and has not returned DONE
@@ -439,7 +384,7 @@ hd::HDCallbackCode OpenHapticsPen::servo() {
   r.angular_velocity = {angular_velocity[0], angular_velocity[1], angular_velocity[2]};
   r.buttons = static_cast<uint32_t>(buttons);
   r.stamp_ns = now_ns;
-  reading_.publish(r);
+  reading_.store(r);
 
   const bool stopping = stop_requested_.load(std::memory_order_acquire);
   // The only force source: the safety layer's answer (zero unless enabled, armed and fresh).
@@ -486,7 +431,7 @@ hd::HDCallbackCode OpenHapticsPen::servoFault(const hd::ErrorInfo& error, bool i
 
 bool OpenHapticsPen::read(double /*t_s*/, DeviceReading* out) {
   if (!tracking(state())) return false;
-  return reading_.latest(out);
+  return reading_.load(out);
 }
 
 void OpenHapticsPen::service() {

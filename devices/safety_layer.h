@@ -20,7 +20,7 @@
 #include <cstdint>
 
 #include "core/rigid.h"
-#include "sim/force_output.h"
+#include "core/force_output.h"
 
 namespace dentsim::devices {
 

@@ -8,8 +8,8 @@
 #include <memory>
 #include <string>
 
+#include "core/pen_source.h"
 #include "devices/haptic_device.h"
-#include "sim/pen.h"
 
 namespace dentsim::devices {
 

@@ -18,10 +18,9 @@
 
 #include <cstdint>
 
+#include "core/pen_source.h"
 #include "core/rigid.h"
 #include "core/triple_buffer.h"
-#include "sim/pen.h"
-#include "sim/tool_proxy.h"
 
 namespace dentsim::devices {
 

@@ -18,7 +18,7 @@ void addDevicesCommand(CLI::App& root, Action& action) {
   cmd->callback([json, firmware, &action] {
     action = [json, firmware] {
       devices::PenContext context;
-      context.falcon.firmware_path = *firmware;
+      context.options.falcon.firmware_path = *firmware;
       const std::vector<devices::DeviceEntry> all = devices::listDevices(context);
       if (*json) {
         nlohmann::json j = nlohmann::json::array();

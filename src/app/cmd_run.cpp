@@ -39,8 +39,8 @@ void addRunCommand(CLI::App& root, Action& action) {
   cmd->add_option("--mirror", o->devices.mirror_pen, "The mirror's pen (as --drill), or 'none' for no mirror");
   cmd->add_option("--pedal", o->devices.pedal, "The foot pedal: none, hid[:N], hid:VVVV:PPPP[,layout] or hid:/dev/hidrawN")
       ->capture_default_str();
-  cmd->add_option("--falcon-firmware", o->devices.falcon_firmware, "The Novint Falcon's firmware file (you supply it)");
-  cmd->add_option("--reach", o->devices.reach_mm, "How much of the scene a hardware pen's workspace spans [mm]")
+  cmd->add_option("--falcon-firmware", o->devices.backends.falcon.firmware_path, "The Novint Falcon's firmware file (you supply it)");
+  cmd->add_option("--reach", o->devices.backends.reach_mm, "How much of the scene a hardware pen's workspace spans [mm]")
       ->check(CLI::Range(1.0, 1000.0))->capture_default_str();
   cmd->add_option("--audio-out", o->audio_out, "Render the sound offline to this WAV file (headless too) instead of playing it");
   cmd->add_flag("!--no-sound", o->sound, "No sound at all");

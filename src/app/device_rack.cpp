@@ -3,6 +3,7 @@
 
 #include "devices/device_registry.h"
 #include "devices/software_pen.h"
+#include "io/pen_playback.h"
 
 namespace dentsim::app {
 
@@ -45,7 +46,7 @@ Status DeviceRack::open(const PenPath* script, bool with_mirror, const RackPlace
       pc.start_grip = start;
       pc.max_force_n = device_params.max_force_n;
       pc.max_torque_n_mm = device_params.max_torque_n_mm;
-      pc.falcon.firmware_path = o_.falcon_firmware;
+      pc.options = o_.backends;
       auto made = devices::makePen(*name, pc);
       if (!made) return makeError(where, made.message());
       devices_[r] = std::move(*made);
@@ -57,7 +58,7 @@ Status DeviceRack::open(const PenPath* script, bool with_mirror, const RackPlace
       note_(where + " " + device.name() + ": " + devices::stateName(device.state()) + " (" + device.reason() + ")");
     physical = physical || device.spec().physical;
     if (auto* sw = dynamic_cast<devices::SoftwarePen*>(&device)) virtual_[r] = dynamic_cast<devices::VirtualPen*>(&sw->source());
-    pens_[r] = std::make_unique<devices::DevicePen>(device, devices::mapWorkspace(device.spec(), start, o_.reach_mm, at.screen),
+    pens_[r] = std::make_unique<devices::DevicePen>(device, devices::mapWorkspace(device.spec(), start, o_.backends.reach_mm, at.screen),
                                                     role == PenRole::Drill ? pedal_.get() : nullptr);
   }
   if (physical) {

@@ -8,12 +8,13 @@
 
 #include "core/result.h"
 #include "core/rigid.h"
+#include "core/pen_source.h"
+#include "devices/device_options.h"
 #include "devices/device_pen.h"
 #include "devices/foot_pedal.h"
 #include "devices/haptic_device.h"
 #include "devices/virtual_pen.h"
 #include "io/pen_path_file.h"
-#include "sim/pen.h"
 #include "sim/sim_params.h"
 
 namespace dentsim::app {
@@ -26,8 +27,7 @@ struct DeviceRackOptions {
   std::string drill_pen;
   std::string mirror_pen;
   std::string pedal;              // "none", "hid[:...]"; empty: none (the script, the wheel or keys set the speed)
-  std::string falcon_firmware;    // the Falcon's firmware file; empty: where devices/falcon_device.h looks
-  double reach_mm = 40.0;         // a hardware pen's workspace spans this much of the scene [mm]
+  devices::DeviceOptions backends;  // the backends' own options (the Falcon's firmware, ...) and the pens' reach
 };
 
 // Where the pens start, and how the screen is turned: a hardware pen's workspace is mapped around

@@ -10,10 +10,10 @@
 #include <string>
 #include <vector>
 
+#include "core/pen_source.h"
 #include "core/result.h"
 #include "sim/edit_channel.h"
 #include "sim/haptic_loop.h"
-#include "sim/pen.h"
 #include "sim/session_recorder.h"
 #include "sim/sim_params.h"
 #include "sim/tool_proxy.h"

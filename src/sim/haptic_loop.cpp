@@ -5,11 +5,11 @@
 #include <time.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <system_error>
 
 #include "core/percentile.h"
+#include "core/steady_clock.h"
 #include "sim/idle_latency.h"
 
 namespace dentsim {
@@ -20,11 +20,6 @@ namespace {
 constexpr size_t kSpareBricks = 16384;  // 8 MiB of bricks
 constexpr size_t kSpareBlocks = 4096;   // 8 MiB of index blocks
 }  // namespace
-
-int64_t steadyNowNs() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
 
 // ---- step times ---------------------------------------------------------------------------------------
 

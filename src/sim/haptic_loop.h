@@ -21,16 +21,17 @@
 #include <thread>
 #include <vector>
 
+#include "core/force_output.h"
+#include "core/pen_source.h"
 #include "core/result.h"
 #include "core/rigid.h"
 #include "core/spsc_ring.h"
 #include "core/triple_buffer.h"
 #include "core/volume_frame.h"
+#include "io/pen_path_file.h"
 #include "io/session_file.h"
 #include "sim/cutter.h"
 #include "sim/edit_channel.h"
-#include "sim/force_output.h"
-#include "sim/pen.h"
 #include "sim/sim_params.h"
 #include "sim/tool_proxy.h"
 #include "sim/voxel_field.h"
@@ -198,8 +199,5 @@ class HapticLoop {
   void (*hook_)(uint64_t, void*) = nullptr;
   void* hook_user_ = nullptr;
 };
-
-// The steady clock the loop stamps forces with [ns].
-int64_t steadyNowNs();
 
 }  // namespace dentsim

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <system_error>
 
+#include "core/steady_clock.h"
+
 namespace dentsim {
 
 namespace {

@@ -5,8 +5,8 @@
 #include <chrono>
 #include <thread>
 
+#include "io/pen_playback.h"
 #include "sim/haptic_loop.h"
-#include "sim/pen.h"
 #include "sim/session_recorder.h"
 #include "sim/tool_library.h"
 #include "volume/volume_hash.h"

@@ -12,6 +12,7 @@
 #include <span>
 #include <string>
 
+#include "core/pen_source.h"
 #include "core/rigid.h"
 #include "sim/contact.h"
 #include "sim/point_shell.h"
@@ -26,15 +27,6 @@ struct ToolModel {
   PointShell shell;        // the points, tool frame [mm]
   Vec3 grip_local;         // the grip point in the tool frame [mm]: the pen holds it; moments are about it
   bool cuts = false;       // a bur cuts with its head; the mirror never cuts
-};
-
-// What a pen reports each step.
-struct PenReading {
-  Pose grip;               // the grip frame: position of the grip point [mm], the tool's rotation
-  Vec3 velocity;           // of the grip point [mm/s]
-  Vec3 angular_velocity;   // [rad/s]
-  uint32_t buttons = 0;    // button bits
-  double pedal = 0.0;      // foot pedal [0..1]
 };
 
 struct ProxyStep {

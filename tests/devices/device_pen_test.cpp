@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/steady_clock.h"
 #include "devices/fake_devices.h"
 #include "io/session_file.h"
 #include "sim/haptic_loop.h"

@@ -8,6 +8,7 @@
 #include "devices/software_pen.h"
 #include "devices/virtual_pen.h"
 #include "io/pen_path_file.h"
+#include "io/pen_playback.h"
 #include "test_support.h"
 
 namespace dentsim::devices {

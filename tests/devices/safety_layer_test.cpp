@@ -9,8 +9,8 @@
 #include <csignal>
 #include <thread>
 
+#include "core/steady_clock.h"
 #include "devices/fake_devices.h"
-#include "sim/haptic_loop.h"
 
 namespace dentsim::devices {
 namespace {

@@ -6,6 +6,7 @@
 
 #include "gpu/gpu_surface.h"
 #include "gpu_fixture.h"
+#include "io/pen_playback.h"
 #include "sim/haptic_loop.h"
 #include "sim/sim_fixtures.h"
 

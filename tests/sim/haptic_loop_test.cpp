@@ -9,7 +9,8 @@
 #include <mutex>
 #include <thread>
 
-#include "sim/pen.h"
+#include "core/steady_clock.h"
+#include "io/pen_playback.h"
 #include "sim_fixtures.h"
 
 namespace dentsim {

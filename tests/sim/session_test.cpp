@@ -8,9 +8,9 @@
 #include <iterator>
 
 #include "io/atomic_file.h"
+#include "io/pen_playback.h"
 #include "sim/builtin_tooth.h"
 #include "sim/haptic_loop.h"
-#include "sim/pen.h"
 #include "sim/scripted_paths.h"
 #include "sim/session_recorder.h"
 #include "sim/tool_library.h"

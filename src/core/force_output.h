@@ -4,13 +4,14 @@
 // at its own time. If the loop has not published for longer than `stale_after`, the answer is zero:
 // a stalled loop (a page fault, a debugger, a starved core) can never leave the pen pushing. With
 // stale_after = 1 ms and a device polling at 1 kHz, a stall reaches the pen as zero force within
-// 2 ms. Lock-free: a sequence lock, one writer, any number of readers, nobody waits on a lock.
+// 2 ms. Lock-free: a SeqLock, one writer, any number of readers, nobody waits on a lock. It lives in
+// core because both sides use it: sim publishes, devices/ reads.
 #pragma once
 
-#include <atomic>
 #include <cstdint>
 
 #include "core/rigid.h"
+#include "core/seqlock.h"
 
 namespace dentsim {
 
@@ -23,15 +24,26 @@ class ForceOutput {
   };
 
   // Writer (the haptic loop).
-  void publish(const Wrench& w, int64_t stamp_ns);
-  // Readers (device threads, tests): the command for time now_ns.
-  Command current(int64_t now_ns, int64_t stale_after_ns) const;
+  void publish(const Wrench& w, int64_t stamp_ns) { latest_.store(Stamped{w, stamp_ns}); }
+
+  // Readers (device threads, tests): the command for time now_ns. A writer that keeps the lock busy
+  // reads as nothing published: zero force rather than a spin.
+  Command current(int64_t now_ns, int64_t stale_after_ns) const {
+    Command c;
+    Stamped s;
+    if (!latest_.load(&s)) return c;
+    c.stamp_ns = s.stamp_ns;
+    c.stale = now_ns - s.stamp_ns > stale_after_ns;
+    if (!c.stale) c.wrench = s.wrench;
+    return c;
+  }
 
  private:
-  std::atomic<uint64_t> seq_{0};
-  std::atomic<double> values_[6]{};
-  std::atomic<int64_t> stamp_ns_{0};
-  std::atomic<bool> published_{false};
+  struct Stamped {
+    Wrench wrench;           // force [N], moment [N mm]
+    int64_t stamp_ns = 0;    // steady clock [ns]
+  };
+  SeqLock<Stamped> latest_;
 };
 
 }  // namespace dentsim

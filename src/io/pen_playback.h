@@ -1,32 +1,20 @@
-// PenSource: what the haptic loop reads a pen through; ScriptedPen plays a timed pen path and ReplayPen a recorded session, with no hardware.
+// ScriptedPen and ReplayPen: a timed pen path and a recorded session played as pens (core/pen_source.h), with no hardware.
 //
-// The loop calls read() once a step with its own clock and display() with the force it wants
-// rendered; neither may block. Hardware drivers (devices/) implement the same interface behind
-// their safety layer; the scripted pen lets every test and benchmark drill without a device.
+// They live beside the files they play, so that the loop (sim) and the registry of pens
+// (devices/) both use them without one depending on the other; the scripted pen lets every test
+// and benchmark drill without a device.
 #pragma once
 
 #include <cstddef>
 #include <span>
 #include <vector>
 
+#include "core/pen_source.h"
 #include "core/rigid.h"
 #include "io/pen_path_file.h"
 #include "io/session_file.h"
-#include "sim/tool_proxy.h"
 
 namespace dentsim {
-
-class PenSource {
- public:
-  virtual ~PenSource() = default;
-  // The pen's state at loop time t_s [s]. False when it has none (the tool then stays where it is).
-  virtual bool read(double t_s, PenReading* out) = 0;
-  // The wrench the pen should render from now on (force [N], moment about the grip [N mm]).
-  virtual void display(const Wrench& wrench, double t_s) {
-    (void)wrench;
-    (void)t_s;
-  }
-};
 
 // Plays one pen's samples from a pen path: position interpolated linearly and rotation by slerp
 // between samples, velocities from the segment, buttons and pedal held from the latest sample.

@@ -1,5 +1,5 @@
 // ScriptedPen and ReplayPen: a pen path interpolated, and a recorded session played back, for the haptic loop.
-#include "sim/pen.h"
+#include "io/pen_playback.h"
 
 namespace dentsim {
 
