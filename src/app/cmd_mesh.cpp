@@ -14,6 +14,7 @@
 #include "io/ply_file.h"
 #include "io/stl_file.h"
 #include "volume/surface_mesher.h"
+#include "volume/tissue_table.h"
 #include "volume/tooth_file.h"
 
 namespace dentsim::app {
@@ -61,7 +62,7 @@ int runMesh(const MeshOptions& o) {
   else if (o.normals == "216") so.normal_neighbours = 216;
   else return fail("--normals " + o.normals + ": expected 8, 64 or 216 voxels");
   if (!o.tissue.empty() && (!parseMaterial(o.tissue, &so.tissue) || so.tissue == Material::Empty))
-    return fail("--tissue: unknown tissue '" + o.tissue + "' (expected enamel, dentin, pulp or caries)");
+    return fail("--tissue: unknown tissue '" + o.tissue + "' (expected " + tissueNameList() + ")");
   if (o.interfaces && !o.tissue.empty()) return fail("--interfaces meshes every tissue; it excludes --tissue");
   const std::string label = o.interfaces ? "each tissue" : o.tissue.empty() ? "all tissue" : materialName(so.tissue);
 
@@ -83,7 +84,7 @@ int runMesh(const MeshOptions& o) {
     // The layered view: each tissue's own closed surface. Where two tissues meet, both carry the
     // interface (e.g. the enamel-dentin junction), and each vertex names the tissue across it.
     const MaterialTotals totals = tooth->voxels.materialTotals();
-    for (Material m : {Material::Enamel, Material::Dentin, Material::Pulp, Material::Caries}) {
+    for (Material m : kTissues) {
       if (totals.voxels[size_t(m)] == 0) continue;
       SurfaceOptions one = so;
       one.tissue = m;
@@ -129,7 +130,7 @@ void addMeshCommand(CLI::App& root, Action& action) {
   // one-line error like any other.
   cmd->add_option("--normals", opts->normals, "Gradient neighbourhood for the normals: 8, 64 or 216 voxels")
       ->capture_default_str();
-  cmd->add_option("--tissue", opts->tissue, "Mesh only this tissue: enamel, dentin, pulp or caries (default: all)");
+  cmd->add_option("--tissue", opts->tissue, "Mesh only this tissue: " + tissueNameList() + " (default: all)");
   cmd->add_flag("--interfaces", opts->interfaces,
                 "Each tissue's own surface, interfaces between tissues included (a layered view)");
   cmd->add_flag("--cpu", opts->cpu, "Mesh with the CPU reference instead of the GPU");

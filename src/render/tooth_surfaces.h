@@ -9,12 +9,13 @@
 #include "gpu/context.h"
 #include "gpu/gpu_surface.h"
 #include "volume/brick_volume.h"
+#include "volume/tissue_table.h"
 
 namespace dentsim::render {
 
-// The tissues drawn, in the order their surfaces are kept.
-inline constexpr std::array<Material, 4> kDrawnTissues{Material::Enamel, Material::Dentin, Material::Pulp,
-                                                      Material::Caries};
+// The tissues drawn, in the tissue table's draw order, which is the order their surfaces are kept:
+// the renderer draws opaque surfaces first to last and translucent ones last to first.
+inline constexpr std::array<Material, kTissueCount> kDrawnTissues = tissuesInDrawOrder();
 
 class ToothSurfaces {
  public:

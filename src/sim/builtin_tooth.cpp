@@ -5,16 +5,17 @@
 
 #include "model/builtin_assets.h"
 #include "volume/mesh_voxelizer.h"
+#include "volume/tissue_table.h"
 
 namespace dentsim {
 
 Result<ToothVolume> builtinMolarTooth(int level) {
   auto molar = loadBuiltinMolar();
   if (!molar) return molar.error();
-  const std::vector<MeshLayer> layers = {{Material::Enamel, &molar->enamel, "enamel"},
-                                         {Material::Dentin, &molar->dentin, "dentin"},
-                                         {Material::Pulp, &molar->pulp, "pulp"},
-                                         {Material::Caries, &molar->caries, "caries"}};
+  // Every tissue the molar has a layer for, in table order (the voxelizer's priority is its own).
+  std::vector<MeshLayer> layers;
+  for (const TissueRow& row : kTissueTable)
+    if (const TriangleMesh* mesh = molar->layer(row.name)) layers.push_back({row.material, mesh, row.name});
   return voxelizeLayersCpu(layers, level);
 }
 

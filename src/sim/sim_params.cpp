@@ -22,6 +22,7 @@
 
 #include "io/atomic_file.h"
 #include "model/tool_generator.h"
+#include "volume/tissue_table.h"
 
 namespace dentsim {
 namespace {
@@ -32,9 +33,6 @@ using ordered_json = nlohmann::ordered_json;
 constexpr const char* kFormat = "dentsim-params";
 constexpr int kVersion = 1;
 constexpr uint64_t kMaxPresetBytes = 1u << 20;  // a preset is a few kB; anything near 1 MiB is not one
-
-// The tissues a preset names, in file order; Empty and the spare codes have no entry.
-constexpr Material kTissues[] = {Material::Enamel, Material::Dentin, Material::Pulp, Material::Caries};
 
 // ---- 1. field tables -----------------------------------------------------------------------------------
 
@@ -159,16 +157,14 @@ std::vector<std::string> tissueKeys() {
 
 SimParams defaultSimParams() {
   SimParams p;
-  // Stiffness, damping and friction are dentsim's tuning; hardness is the paper's default.
-  p.tissue(Material::Enamel) = {2000.0, 0.0005, 0.15, 0.1};
-  p.tissue(Material::Dentin) = {1200.0, 0.001, 0.25, 0.1};
-  p.tissue(Material::Pulp) = {40.0, 0.01, 0.5, 1.0};
-  p.tissue(Material::Caries) = {300.0, 0.004, 0.4, 0.5};
-  // Colours after the tissues' appearance in extracted teeth; the enamel lets the layers beneath show.
-  p.look(Material::Enamel) = {0.26, 0.26, 0.24, 0.92, 0.90, 0.84, 0.55, 0.55, 0.55, 0.75, 48.0};
-  p.look(Material::Dentin) = {0.24, 0.21, 0.14, 0.90, 0.80, 0.56, 0.20, 0.20, 0.18, 1.0, 12.0};
-  p.look(Material::Pulp) = {0.22, 0.06, 0.06, 0.82, 0.24, 0.22, 0.30, 0.25, 0.25, 1.0, 24.0};
-  p.look(Material::Caries) = {0.12, 0.08, 0.04, 0.45, 0.30, 0.14, 0.08, 0.08, 0.06, 1.0, 6.0};
+  // The tissue table's defaults; a preset names each tissue by its row's name, in table order.
+  for (const TissueRow& row : kTissueTable) {
+    const TissueTouchDefaults& t = row.touch;
+    p.tissue(row.material) = {t.stiffness_n_per_mm3, t.damping_s_per_mm, t.friction, t.hardness};
+    const TissueLookDefaults& l = row.look;
+    p.look(row.material) = {l.ambient[0],  l.ambient[1],  l.ambient[2],  l.diffuse[0], l.diffuse[1], l.diffuse[2],
+                            l.specular[0], l.specular[1], l.specular[2], l.alpha,      l.shininess};
+  }
   // Every built-in bur cuts; the handpiece and the mirror are not burs.
   for (const ToolSpec& t : toolCatalog()) {
     if (t.kind == ToolKind::RoundBur) p.burs[t.name].cutting_ability = 0.8;

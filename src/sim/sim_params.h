@@ -112,8 +112,8 @@ struct SimParams {
 
 // ---- 2. presets --------------------------------------------------------------------------------------
 
-// dentsim's defaults: the paper's hardness (enamel 0.1, dentin 0.1, pulp 1.0, caries 0.5), and an
-// ability for every built-in bur.
+// dentsim's defaults: each tissue's touch and look from the tissue table (volume/tissue_table.h; the
+// paper's hardness), and an ability for every built-in bur.
 SimParams defaultSimParams();
 
 // Parses a preset. "format" ("dentsim-params") and "version" (1) are required; other keys left out

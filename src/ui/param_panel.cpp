@@ -14,13 +14,13 @@
 #include <imgui.h>
 
 #include "model/tool_generator.h"
+#include "volume/tissue_table.h"
 
 namespace dentsim::ui {
 namespace {
 
 // ---- 1. widget helpers ---------------------------------------------------------------------------------
 
-constexpr Material kTissues[] = {Material::Enamel, Material::Dentin, Material::Pulp, Material::Caries};
 
 constexpr float kPanelWidth = 380.0f;       // [px]
 constexpr float kMargin = 10.0f;            // from the display's edges [px]
