@@ -35,7 +35,7 @@ struct MeshOptions {
 Result<SurfaceMesh> meshOnce(std::optional<gpu::Context>& ctx, const ToothVolume& tooth, const SurfaceOptions& so,
                              Interrupter& progress, std::vector<gpu::SurfaceUpdateStats>& stats) {
   if (!ctx) return meshVolumeCpu(tooth, so, progress);
-  auto surface = gpu::GpuSurface::create(*ctx, {.normal_neighbours = so.normal_neighbours, .tissue = so.tissue});
+  auto surface = gpu::GpuSurface::create(*ctx, {.normal_neighbours = normalNeighbours(so.normals), .tissue = so.tissue});
   if (!surface) return surface.error();
   if (Status built = surface->build(tooth.voxels, &stats.emplace_back()); !built) return built.error();
   auto blocks = surface->downloadBlocks();
@@ -57,10 +57,8 @@ int runMesh(const MeshOptions& o) {
   MeshFormat format{};
   if (!meshFormatOf(o.output, &format)) return fail(o.output + ": unknown mesh format (expected .stl or .ply)");
   SurfaceOptions so;
-  if (o.normals == "8") so.normal_neighbours = 8;
-  else if (o.normals == "64") so.normal_neighbours = 64;
-  else if (o.normals == "216") so.normal_neighbours = 216;
-  else return fail("--normals " + o.normals + ": expected 8, 64 or 216 voxels");
+  if (auto mode = parseNormalMode(o.normals)) so.normals = *mode;
+  else return fail("--normals " + o.normals + ": expected " + kNormalModeChoices + " voxels");
   if (!o.tissue.empty() && (!parseMaterial(o.tissue, &so.tissue) || so.tissue == Material::Empty))
     return fail("--tissue: unknown tissue '" + o.tissue + "' (expected " + tissueNameList() + ")");
   if (o.interfaces && !o.tissue.empty()) return fail("--interfaces meshes every tissue; it excludes --tissue");
@@ -107,7 +105,7 @@ int runMesh(const MeshOptions& o) {
     return fail(o.input + ": no surface to write (the volume holds no " + (o.tissue.empty() ? "tissue" : label) + ")");
   if (Status written = writeSurface(o.output, format, surface, label); !written) return fail(written.message());
   std::printf("%s: %zu triangles, %zu vertices (%s, normals from %d voxels), meshed on the %s in %.0f ms\n",
-              o.output.c_str(), surface.triangleCount(), surface.positions.size(), label.c_str(), so.normal_neighbours,
+              o.output.c_str(), surface.triangleCount(), surface.positions.size(), label.c_str(), normalNeighbours(so.normals),
               engine.c_str(), mesh_ms);
   for (const std::string& p : parts) std::printf("  %s\n", p.c_str());
   for (const gpu::SurfaceUpdateStats& st : stats) {

@@ -642,7 +642,7 @@ Status Simulator::setUp() {
   auto renderer = render::SceneRenderer::create(*ctx_, format, final_layout);
   if (!renderer) return renderer.error();
   renderer_ = std::move(*renderer);
-  auto surfaces = render::ToothSurfaces::create(*ctx_, int(params_.view.normal_neighbours));
+  auto surfaces = render::ToothSurfaces::create(*ctx_, params_.view.normals);
   if (!surfaces) return surfaces.error();
   surfaces_ = std::move(*surfaces);
   gpu::SurfaceUpdateStats stats;
@@ -986,8 +986,7 @@ Status Simulator::handleActions(ui::PanelActions& a) {
     if (segment_.recorder) segment_.recorder->setParams(params_);
     else if (segment_.loop) segment_.loop->setParams(params_);
   }
-  if (a.normal_mode_changed)
-    if (Status st = surfaces_->setNormalNeighbours(int(params_.view.normal_neighbours)); !st) return st;
+  if (a.normal_mode_changed) surfaces_->setNormalMode(params_.view.normals);
   if (a.speed_changed && input_) input_->setPedal(ui_.turbine_speed);
   if (a.task_changed) {
     auto task = builtinTask(ui_.task);

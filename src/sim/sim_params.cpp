@@ -58,7 +58,7 @@ constexpr Range kStaleMs{0.0, 100.0, false, true, "in (0, 100]"};
 constexpr Range kRateHz{100.0, 10000.0, true, true, "in [100, 10000]"};
 constexpr Range kSpacing{0.001, 1.0, true, true, "in [0.001, 1]"};
 constexpr Range kShininess{1.0, 512.0, true, true, "in [1, 512]"};
-constexpr Range kNeighbours{8.0, 216.0, true, true, "8, 64 or 216"};
+constexpr Range kAnyNumber{-kInf, kInf, false, false, "finite"};
 
 // One number in a JSON object: its key (the C++ member's name), the member, and its range.
 template <class S>
@@ -106,9 +106,8 @@ const Field<TissueLook> kLookFields[] = {
     {"specular_b", &TissueLook::specular_b, kUnit}, {"alpha", &TissueLook::alpha, kUnit},
     {"shininess", &TissueLook::shininess, kShininess},
 };
-const Field<ViewParams> kViewFields[] = {
-    {"normal_neighbours", &ViewParams::normal_neighbours, kNeighbours},
-};
+// "view" holds one key, the normal mode as its neighbour count (a number, 216.0).
+const std::vector<std::string> kViewKeys = {"normal_neighbours"};
 const Field<PointShellParams> kPointShellFields[] = {
     {"head_spacing_mm", &PointShellParams::head_spacing_mm, kSpacing},
     {"shank_spacing_mm", &PointShellParams::shank_spacing_mm, kSpacing},
@@ -124,7 +123,6 @@ static_assert(sizeof(CouplingParams) == std::size(kCouplingFields) * sizeof(doub
 static_assert(sizeof(DeviceParams) == std::size(kDeviceFields) * sizeof(double));
 static_assert(sizeof(PointShellParams) == std::size(kPointShellFields) * sizeof(double));
 static_assert(sizeof(TissueLook) == std::size(kLookFields) * sizeof(double));
-static_assert(sizeof(ViewParams) == std::size(kViewFields) * sizeof(double));
 
 // Every field of the table equal (==, so 0 equals -0 and NaN equals nothing).
 template <class S, size_t N>
@@ -204,7 +202,9 @@ std::string simParamsJson(const SimParams& params) {
   ordered_json looks = ordered_json::object();
   for (Material m : kTissues) looks[materialName(m)] = fieldsJson(params.look(m), kLookFields);
   root["looks"] = std::move(looks);
-  root["view"] = fieldsJson(params.view, kViewFields);
+  ordered_json view = ordered_json::object();
+  view["normal_neighbours"] = double(normalNeighbours(params.view.normals));
+  root["view"] = std::move(view);
   // nlohmann writes each double as short text that reads back bit-identical; non-finite values become
   // null, which parseSimParams rejects. Bad UTF-8 in a bur name is replaced rather than thrown.
   return root.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n";
@@ -226,6 +226,20 @@ class PresetReader : public JsonSchemaReader {
       if (it == j.end()) continue;
       if (!number(*it, jsonChildPath(path, f.key), f.range, &(out->*(f.member)))) return false;
     }
+    return true;
+  }
+
+  // {"normal_neighbours": 8, 64 or 216}; the key may be left out.
+  bool normalMode(const json& j, const std::string& path, NormalMode* out) {
+    if (!object(j, path, kViewKeys)) return false;
+    auto it = j.find("normal_neighbours");
+    if (it == j.end()) return true;
+    const std::string key = jsonChildPath(path, "normal_neighbours");
+    double n = 0.0;
+    if (!number(*it, key, kAnyNumber, &n)) return false;
+    const std::optional<NormalMode> mode = normalModeFromNeighbours(n);
+    if (!mode) return fail(key, json(n).dump() + " is not " + kNormalModeChoices);
+    *out = *mode;
     return true;
   }
 
@@ -320,12 +334,7 @@ void readPreset(const json& root, PresetReader& r, SimParams* p) {
   if (auto it = root.find("point_shell"); it != root.end() && !r.fields(*it, "point_shell", kPointShellFields, &p->point_shell))
     return;
   if (!readPerTissue(root, "looks", kLookFields, p->looks, r)) return;
-  if (auto it = root.find("view"); it != root.end()) {
-    if (!r.fields(*it, "view", kViewFields, &p->view)) return;
-    const double n = p->view.normal_neighbours;
-    if (n != 8.0 && n != 64.0 && n != 216.0)
-      r.fail("view.normal_neighbours", json(n).dump() + " is not 8, 64 or 216");
-  }
+  if (auto it = root.find("view"); it != root.end()) r.normalMode(*it, "view", &p->view.normals);
 }
 
 }  // namespace
@@ -371,7 +380,7 @@ bool operator==(const SimParams& a, const SimParams& b) {
     if (ia->first != ib->first || !sameFields(ia->second, ib->second, kBurFields)) return false;
   return sameFields(a.turbine, b.turbine, kTurbineFields) && sameFields(a.cutting, b.cutting, kCuttingFields) &&
          sameFields(a.coupling, b.coupling, kCouplingFields) && sameFields(a.device, b.device, kDeviceFields) &&
-         sameFields(a.point_shell, b.point_shell, kPointShellFields) && sameFields(a.view, b.view, kViewFields);
+         sameFields(a.point_shell, b.point_shell, kPointShellFields) && a.view.normals == b.view.normals;
 }
 
 }  // namespace dentsim

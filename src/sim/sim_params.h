@@ -14,6 +14,7 @@
 
 #include "core/result.h"
 #include "volume/brick_volume.h"
+#include "volume/normal_mode.h"
 
 namespace dentsim {
 
@@ -85,7 +86,7 @@ struct TissueLook {
 
 // The tooth's surface shading that is not per tissue.
 struct ViewParams {
-  double normal_neighbours = 216.0;  // normals averaged over 8, 64 or 216 voxel centres (paper Fig. 15)
+  NormalMode normals = NormalMode::Box216;  // preset key "normal_neighbours" (paper Fig. 15)
 };
 
 struct SimParams {
