@@ -48,8 +48,10 @@ MeshRunner cpuReferenceRunner() {
   MeshRunner r;
   r.name = "CPU reference (meshVolumeCpu, one thread; its update re-meshes everything)";
   auto mesh = [](const ToothVolume& tooth, int normals) -> Result<MeshTiming> {
+    const std::optional<NormalMode> mode = normalModeFromNeighbours(normals);
+    if (!mode) return makeError("bench mesh", "no normal mode of " + std::to_string(normals) + " voxels");
     SurfaceOptions options;
-    options.normal_neighbours = normals;
+    options.normals = *mode;
     const auto start = std::chrono::steady_clock::now();
     auto surface = meshVolumeCpu(tooth, options);
     if (!surface) return surface.error();
@@ -353,8 +355,10 @@ Result<BurPathResult> measureBurPath(ToothVolume tooth, const BurPathSettings& s
 // ---- 5. normal errors ------------------------------------------------------------------------------
 
 Result<NormalErrorRow> measureNormalError(const ToothVolume& tooth, const AnalyticSolid& solid, int normals) {
+  const std::optional<NormalMode> mode = normalModeFromNeighbours(normals);
+  if (!mode) return makeError("bench mesh", "no normal mode of " + std::to_string(normals) + " voxels");
   SurfaceOptions options;
-  options.normal_neighbours = normals;
+  options.normals = *mode;
   auto mesh = meshVolumeCpu(tooth, options);
   if (!mesh) return mesh.error();
   NormalErrorRow row;

@@ -19,9 +19,19 @@
 #include "bench/mesh_bench.h"
 #include "bench/voxelize_bench.h"
 #include "gpu/context.h"
+#include "volume/normal_mode.h"
 
 namespace dentsim::app {
 namespace {
+
+// A normal mode on the command line: volume/normal_mode.h's one check.
+CLI::Validator normalModeCheck() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        return parseNormalMode(text) ? std::string() : "\"" + text + "\" is not a normal mode (" + kNormalModeChoices + ")";
+      },
+      kNormalModeChoices, "normal mode");
+}
 
 struct MemoryBenchOptions {
   bench::CtMemorySettings settings;
@@ -259,8 +269,8 @@ void addBenchCommand(CLI::App& root, Action& action) {
                                                  "levels 8-10 per normal mode (paper Fig. 15), beside VTK Flying "
                                                  "Edges; a bur path; normal errors of a sphere and torus");
   mesh->add_option("--levels", ms.levels, "Octree levels")->delimiter(',')->check(CLI::Range(5, 12))->capture_default_str();
-  mesh->add_option("--normals", ms.normal_modes, "Normal modes (8, 64, 216)")->delimiter(',')
-      ->check(CLI::IsMember({8, 64, 216}))->capture_default_str();
+  mesh->add_option("--normals", ms.normal_modes, std::string("Normal modes (") + kNormalModeChoices + ")")->delimiter(',')
+      ->check(normalModeCheck())->capture_default_str();
   mesh->add_option("--repeat", ms.repeats, "Timed runs per measurement (median)")->check(CLI::Range(1, 100))
       ->capture_default_str();
   mesh->add_option("--part-divisor", ms.part_divisor, "The part is a cube of side dim / this")
@@ -270,7 +280,7 @@ void addBenchCommand(CLI::App& root, Action& action) {
   mesh->add_option("--bur-level", ms.bur_path.level, "Level of the bur path")->check(CLI::Range(5, 12))
       ->capture_default_str();
   mesh->add_option("--bur-normals", ms.bur_path.normals, "Normal mode of the bur path")
-      ->check(CLI::IsMember({8, 64, 216}))->capture_default_str();
+      ->check(normalModeCheck())->capture_default_str();
   mesh->add_option("--normals-levels", ms.normals.levels, "Levels of the normal-error solids")->delimiter(',')
       ->check(CLI::Range(4, 10))->capture_default_str();
   mesh->add_flag("--no-warmup", mopts->no_warmup, "No untimed run before each series");

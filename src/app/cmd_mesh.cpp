@@ -14,6 +14,7 @@
 #include "io/ply_file.h"
 #include "io/stl_file.h"
 #include "volume/surface_mesher.h"
+#include "volume/tissue_table.h"
 #include "volume/tooth_file.h"
 
 namespace dentsim::app {
@@ -34,7 +35,7 @@ struct MeshOptions {
 Result<SurfaceMesh> meshOnce(std::optional<gpu::Context>& ctx, const ToothVolume& tooth, const SurfaceOptions& so,
                              Interrupter& progress, std::vector<gpu::SurfaceUpdateStats>& stats) {
   if (!ctx) return meshVolumeCpu(tooth, so, progress);
-  auto surface = gpu::GpuSurface::create(*ctx, {.normal_neighbours = so.normal_neighbours, .tissue = so.tissue});
+  auto surface = gpu::GpuSurface::create(*ctx, {.normal_neighbours = normalNeighbours(so.normals), .tissue = so.tissue});
   if (!surface) return surface.error();
   if (Status built = surface->build(tooth.voxels, &stats.emplace_back()); !built) return built.error();
   auto blocks = surface->downloadBlocks();
@@ -56,12 +57,10 @@ int runMesh(const MeshOptions& o) {
   MeshFormat format{};
   if (!meshFormatOf(o.output, &format)) return fail(o.output + ": unknown mesh format (expected .stl or .ply)");
   SurfaceOptions so;
-  if (o.normals == "8") so.normal_neighbours = 8;
-  else if (o.normals == "64") so.normal_neighbours = 64;
-  else if (o.normals == "216") so.normal_neighbours = 216;
-  else return fail("--normals " + o.normals + ": expected 8, 64 or 216 voxels");
+  if (auto mode = parseNormalMode(o.normals)) so.normals = *mode;
+  else return fail("--normals " + o.normals + ": expected " + kNormalModeChoices + " voxels");
   if (!o.tissue.empty() && (!parseMaterial(o.tissue, &so.tissue) || so.tissue == Material::Empty))
-    return fail("--tissue: unknown tissue '" + o.tissue + "' (expected enamel, dentin, pulp or caries)");
+    return fail("--tissue: unknown tissue '" + o.tissue + "' (expected " + tissueNameList() + ")");
   if (o.interfaces && !o.tissue.empty()) return fail("--interfaces meshes every tissue; it excludes --tissue");
   const std::string label = o.interfaces ? "each tissue" : o.tissue.empty() ? "all tissue" : materialName(so.tissue);
 
@@ -83,7 +82,7 @@ int runMesh(const MeshOptions& o) {
     // The layered view: each tissue's own closed surface. Where two tissues meet, both carry the
     // interface (e.g. the enamel-dentin junction), and each vertex names the tissue across it.
     const MaterialTotals totals = tooth->voxels.materialTotals();
-    for (Material m : {Material::Enamel, Material::Dentin, Material::Pulp, Material::Caries}) {
+    for (Material m : kTissues) {
       if (totals.voxels[size_t(m)] == 0) continue;
       SurfaceOptions one = so;
       one.tissue = m;
@@ -106,7 +105,7 @@ int runMesh(const MeshOptions& o) {
     return fail(o.input + ": no surface to write (the volume holds no " + (o.tissue.empty() ? "tissue" : label) + ")");
   if (Status written = writeSurface(o.output, format, surface, label); !written) return fail(written.message());
   std::printf("%s: %zu triangles, %zu vertices (%s, normals from %d voxels), meshed on the %s in %.0f ms\n",
-              o.output.c_str(), surface.triangleCount(), surface.positions.size(), label.c_str(), so.normal_neighbours,
+              o.output.c_str(), surface.triangleCount(), surface.positions.size(), label.c_str(), normalNeighbours(so.normals),
               engine.c_str(), mesh_ms);
   for (const std::string& p : parts) std::printf("  %s\n", p.c_str());
   for (const gpu::SurfaceUpdateStats& st : stats) {
@@ -129,7 +128,7 @@ void addMeshCommand(CLI::App& root, Action& action) {
   // one-line error like any other.
   cmd->add_option("--normals", opts->normals, "Gradient neighbourhood for the normals: 8, 64 or 216 voxels")
       ->capture_default_str();
-  cmd->add_option("--tissue", opts->tissue, "Mesh only this tissue: enamel, dentin, pulp or caries (default: all)");
+  cmd->add_option("--tissue", opts->tissue, "Mesh only this tissue: " + tissueNameList() + " (default: all)");
   cmd->add_flag("--interfaces", opts->interfaces,
                 "Each tissue's own surface, interfaces between tissues included (a layered view)");
   cmd->add_flag("--cpu", opts->cpu, "Mesh with the CPU reference instead of the GPU");

@@ -16,6 +16,7 @@
 #include "io/stl_file.h"
 #include "volume/label_import.h"
 #include "volume/mesh_voxelizer.h"
+#include "volume/tissue_table.h"
 #include "volume/tooth_file.h"
 
 namespace dentsim::app {
@@ -229,7 +230,7 @@ int runVoxelize(const VoxelizeOptions& o) {
   if (!o.fill_enclosed.empty()) {
     Material m{};
     if (!parseMaterial(o.fill_enclosed, &m) || m == Material::Empty)
-      return fail("--fill-enclosed: unknown tissue '" + o.fill_enclosed + "' (expected enamel, dentin, pulp or caries)");
+      return fail("--fill-enclosed: unknown tissue '" + o.fill_enclosed + "' (expected " + tissueNameList() + ")");
     import.fill_enclosed = m;
     import.seal_mm = o.seal_mm;
   }

@@ -16,6 +16,7 @@
 #include "render/tooth_surfaces.h"
 #include "ui/imgui_layer.h"
 #include "ui/window.h"
+#include "volume/normal_mode.h"
 
 namespace dentsim::app {
 
@@ -25,7 +26,7 @@ struct PainterOptions {
   bool vsync = true;              // windowed: wait for the display's refresh
   std::string device;             // Vulkan device index or name part; empty: the best
   bool panel = true;              // the ImGui layer for the parameter window and the overlay
-  int normal_neighbours = 216;    // the tooth surfaces' normal mode
+  NormalMode normals = NormalMode::Box216;  // the tooth surfaces' normal mode
 };
 
 class FramePainter {

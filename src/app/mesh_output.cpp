@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "io/stl_file.h"
+#include "volume/tissue_table.h"
 
 namespace dentsim::app {
 
@@ -20,16 +21,11 @@ bool meshFormatOf(const std::string& path, MeshFormat* format) {
   return true;
 }
 
-// Vertex colours per tissue, chosen to read like the stained sections in dental atlases: enamel
-// near-white ivory, dentin yellowish, pulp red, caries brown; grey for anything else (the spare codes).
+// Vertex colours per tissue from the tissue table's mesh_rgb; grey for anything else (the spare codes).
 Rgb8 tissueColour(Material m) {
-  switch (m) {
-    case Material::Enamel: return {240, 238, 228};
-    case Material::Dentin: return {222, 196, 128};
-    case Material::Pulp: return {200, 40, 50};
-    case Material::Caries: return {110, 70, 35};
-    default: return {128, 128, 128};
-  }
+  const TissueRow* row = findTissue(m);
+  if (!row) return {128, 128, 128};
+  return {row->mesh_rgb[0], row->mesh_rgb[1], row->mesh_rgb[2]};
 }
 
 Status writeSurface(const std::string& path, MeshFormat format, const SurfaceMesh& surface, const std::string& label) {

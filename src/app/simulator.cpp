@@ -153,8 +153,7 @@ Status Simulator::handleActions(ui::PanelActions& a) {
     if (segments_.recorder()) segments_.recorder()->setParams(params_);
     else if (segments_.loop()) segments_.loop()->setParams(params_);
   }
-  if (a.normal_mode_changed)
-    if (Status st = painter_->surfaces().setNormalNeighbours(int(params_.view.normal_neighbours)); !st) return st;
+  if (a.normal_mode_changed) painter_->surfaces().setNormalMode(params_.view.normals);
   if (a.speed_changed && pens_) pens_->setPedal(ui_.turbine_speed);
   if (a.task_changed) {
     auto task = builtinTask(ui_.task);

@@ -143,7 +143,7 @@ Status Simulator::setUp() {
   po.vsync = o_.vsync;
   po.device = o_.device;
   po.panel = o_.ui;
-  po.normal_neighbours = int(params_.view.normal_neighbours);
+  po.normals = params_.view.normals;
   auto painter = FramePainter::create(po, [this](ui::Window& w) { input_.attach(w); });
   if (!painter) return painter.error();
   painter_ = std::move(*painter);

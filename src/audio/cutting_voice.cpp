@@ -23,9 +23,9 @@ constexpr double kRattleMeanSquare = 0.19;
 class CuttingVoice final : public Voice {
  public:
   CuttingVoice(const SynthParams& params, uint32_t seed) : params_(params), rotor_(params), noise_(seed) {
-    for (int t = 0; t < kTissues; ++t) {
-      const TissueTimbre& timbre = params.timbre[size_t(t)];
-      Band& band = bands_[size_t(t)];
+    for (size_t t = 0; t < kTissueCount; ++t) {
+      const TissueTimbre& timbre = params.timbre[t];
+      Band& band = bands_[t];
       // Two sections in cascade: a band with steeper skirts than one section's 6 dB/octave.
       band.first = internal::Biquad::bandPass(timbre.centre_hz, timbre.bandwidth_hz, params.sample_rate);
       band.second = band.first;
@@ -57,8 +57,8 @@ class CuttingVoice final : public Voice {
       // Every band filters the same noise each sample, cutting or not, so that the filters are
       // settled when cutting starts and the output never depends on how the blocks were cut.
       const double white = noise_.next();
-      std::array<double, kTissues> band{};
-      for (size_t t = 0; t < size_t(kTissues); ++t) band[t] = bands_[t].second.process(bands_[t].first.process(white));
+      std::array<double, kTissueCount> band{};
+      for (size_t t = 0; t < kTissueCount; ++t) band[t] = bands_[t].second.process(bands_[t].first.process(white));
       const double power = cuttingPower(g.removal_mm3_per_s, g.force_n, g.contact, params_);
       if (power == 0.0) {
         out[n] = 0.0f;
@@ -66,7 +66,7 @@ class CuttingVoice final : public Voice {
       }
       const double m = rattle(revolution_);
       double mix = 0.0;
-      for (size_t t = 0; t < size_t(kTissues); ++t) {
+      for (size_t t = 0; t < kTissueCount; ++t) {
         const double share = std::clamp(g.share(from, to, t), 0.0, 1.0);
         mix += share * bands_[t].scale * (1.0 + bands_[t].roughness * m) * band[t];
       }
@@ -86,7 +86,7 @@ class CuttingVoice final : public Voice {
   RotorSpeed rotor_;
   double revolution_ = 0.0;  // the bur's rotation [cycles], in [0, 1)
   internal::WhiteNoise noise_;
-  std::array<Band, kTissues> bands_{};
+  std::array<Band, kTissueCount> bands_{};
 };
 
 }  // namespace

@@ -16,15 +16,15 @@ SoundInput SoundFeed::next(const HapticState& state, const Vec3& handpiece_mm) {
   const bool restart = !started_ || state.t_s < last_t_s_;
   if (restart) last_removed_ = {};
   const double dt = restart ? state.t_s : state.t_s - last_t_s_;
-  std::array<double, kTissues> removed{};
+  std::array<double, kTissueCount> removed{};
   double total = 0.0;
-  for (int k = 0; k < kTissues; ++k) {
-    const size_t m = size_t(k) + DS_MAT_ENAMEL;  // Tissue k is Material k + 1
-    removed[size_t(k)] = std::max(0.0, state.removed_by_material_mm3[m] - last_removed_[m]);
-    total += removed[size_t(k)];
+  for (size_t k = 0; k < kTissueCount; ++k) {
+    const size_t m = size_t(kTissueTable[k].material);
+    removed[k] = std::max(0.0, state.removed_by_material_mm3[m] - last_removed_[m]);
+    total += removed[k];
   }
   if (total > 0) {
-    for (int k = 0; k < kTissues; ++k) share_[size_t(k)] = removed[size_t(k)] / total;
+    for (size_t k = 0; k < kTissueCount; ++k) share_[k] = removed[k] / total;
   }
   in.removal_mm3_per_s = dt > 0 ? total / dt : 0.0;
   in.removal_share = share_;

@@ -19,7 +19,7 @@ class SoundFeed {
   bool started_ = false;
   double last_t_s_ = 0.0;
   std::array<double, DS_MATERIAL_COUNT> last_removed_{};  // the loop's totals by Material at the last call
-  std::array<double, kTissues> share_{};                  // kept while nothing is cut, so colour never jumps
+  std::array<double, kTissueCount> share_{};                  // kept while nothing is cut, so colour never jumps
 };
 
 }  // namespace dentsim::audio

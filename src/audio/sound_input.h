@@ -9,18 +9,15 @@
 #include <span>
 
 #include "core/rigid.h"
+#include "volume/tissue_table.h"
 
 namespace dentsim::audio {
-
-// The tissues in the order of the volume's materials 1..4.
-enum class Tissue : int { Enamel = 0, Dentin = 1, Pulp = 2, Caries = 3 };
-inline constexpr int kTissues = 4;
 
 struct SoundInput {
   double t_s = 0.0;                 // loop time [s]
   double turbine_rpm = 0.0;         // the speed the pedal commands [1/min] (0..about 40 000)
   double removal_mm3_per_s = 0.0;   // tissue removed per second over the last block [mm^3/s]
-  std::array<double, kTissues> removal_share{};  // each tissue's share of that removal (sums to 1 while cutting)
+  std::array<double, kTissueCount> removal_share{};  // by tissue table row: its share of that removal (sums to 1 while cutting)
   double force_n = 0.0;             // the bur's contact force [N]
   bool contact = false;             // the bur touches tissue
   Vec3 handpiece_mm;                // where the sounds come from, tooth frame [mm]

@@ -10,12 +10,12 @@ namespace dentsim::audio {
 SynthParams defaultSynthParams() {
   SynthParams p;
   // Enamel: hard, brittle, the bur chatters on it: a bright high band with a strong rattle.
-  p.timbre[size_t(Tissue::Enamel)] = {8000.0, 5000.0, 1.0, 0.8};
+  p.timbre[size_t(tissueIndex(Material::Enamel))] = {8000.0, 5000.0, 1.0, 0.8};
   // Dentin: softer and wetter, the sound is duller and lower.
-  p.timbre[size_t(Tissue::Dentin)] = {3500.0, 2500.0, 0.8, 0.4};
+  p.timbre[size_t(tissueIndex(Material::Dentin))] = {3500.0, 2500.0, 0.8, 0.4};
   // Pulp and caries: soft tissue, little more than a low, quiet swish.
-  p.timbre[size_t(Tissue::Pulp)] = {1200.0, 1000.0, 0.3, 0.1};
-  p.timbre[size_t(Tissue::Caries)] = {1500.0, 1200.0, 0.35, 0.15};
+  p.timbre[size_t(tissueIndex(Material::Pulp))] = {1200.0, 1000.0, 0.3, 0.1};
+  p.timbre[size_t(tissueIndex(Material::Caries))] = {1500.0, 1200.0, 0.35, 0.15};
   return p;
 }
 

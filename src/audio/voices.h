@@ -33,7 +33,7 @@ struct SynthParams {
   double turbine_gain = 0.25;        // the whine's amplitude at full speed
   double cutting_gain = 0.5;         // the cutting noise's amplitude at full_removal
   double full_removal_mm3_per_s = 1.0;  // removal rate at which the cutting noise reaches its gain
-  std::array<TissueTimbre, kTissues> timbre{};  // by Tissue; defaults set by defaultSynthParams()
+  std::array<TissueTimbre, kTissueCount> timbre{};  // by tissue table row; defaults set by defaultSynthParams()
   double force_loudness = 0.5;       // extra cutting POWER at full load, as a fraction (0.5: +1.8 dB)
   double air_noise = 0.06;           // the turbine's air hiss, relative to the whine, at full speed
 };

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <limits>
 
+#include "volume/tissue_table.h"
 
 namespace dentsim {
 
@@ -37,14 +38,11 @@ constexpr double kUndercutTint = 0.8;   // blend toward blue of a fully under-cu
 constexpr double kRedFog = 0.6;         // opacity of one full red voxel: one voxel of error shows
 constexpr uint32_t kSurfaceFill = 16;   // a voxel at least half full is surface
 
+// The tissue table's score_rgb; grey for the spare codes.
 Rgb tissueColour(uint32_t material) {
-  switch (material) {
-    case DS_MAT_ENAMEL: return {0.93, 0.90, 0.80};  // ivory
-    case DS_MAT_DENTIN: return {0.88, 0.77, 0.48};  // yellowish
-    case DS_MAT_PULP: return {0.90, 0.55, 0.60};    // pink
-    case DS_MAT_CARIES: return {0.50, 0.32, 0.15};  // brown
-    default: return {0.7, 0.7, 0.7};
-  }
+  const TissueRow* row = findTissue(Material(material));
+  if (!row) return {0.7, 0.7, 0.7};
+  return {row->score_rgb[0], row->score_rgb[1], row->score_rgb[2]};
 }
 
 Voxel at(const BrickView& b, uint32_t offset) { return b.uniform ? b.value : b.voxels[offset]; }

@@ -55,9 +55,7 @@ double ToothDiff::mm3(uint64_t units) const { return double(units) * (voxel_mm *
 namespace {
 
 // Index into kScoredTissues of an initial material code, or -1 for empty and the spare codes.
-int tissueIndex(uint32_t material) {
-  return material >= DS_MAT_ENAMEL && material <= DS_MAT_CARIES ? int(material) - int(DS_MAT_ENAMEL) : -1;
-}
+int tissueIndex(uint32_t material) { return kTissueIndexByCode[material & (DS_MATERIAL_COUNT - 1)]; }
 
 std::string number(double v) {
   std::ostringstream s;

@@ -23,12 +23,12 @@
 #include "volume/cut_zone.h"
 #include "volume/brick_volume.h"
 #include "volume/crown_estimate.h"
+#include "volume/tissue_table.h"
 
 namespace dentsim {
 
-// The four tissues in report order.
-inline constexpr std::array<Material, 4> kScoredTissues = {Material::Enamel, Material::Dentin, Material::Pulp,
-                                                           Material::Caries};
+// The tissues in report order: the tissue table's.
+inline constexpr std::array<Material, kTissueCount> kScoredTissues = kTissues;
 
 // Sums over the voxels of one initial tissue [fill units; 31 = one voxel]. initial = target + leeway
 // + container, and removed = the sum of the three removed amounts.
@@ -61,7 +61,7 @@ struct ToothDiff {
   TargetKind target_kind = TargetKind::CariesAccess;
   Vec3 access_axis{0, 0, 1};                // CariesAccess: the insertion axis (unit, grid axes)
   double leeway_mm = 0.0;                   // the leeway around the target [mm]
-  std::array<TissueAmounts, 4> tissues{};   // by kScoredTissues' order
+  std::array<TissueAmounts, kTissueCount> tissues{};  // by kScoredTissues' order
   bool pulp_exposed = false;                // some pulp lost fill, or lies open to a cut-out neighbour
   uint64_t exposed_pulp_voxels = 0;         // pulp voxels that did either
   CrownEstimate crown;                      // the initial tooth's crown direction
@@ -70,8 +70,8 @@ struct ToothDiff {
   CutMarks healthy_outside_zone;            // per voxel: enamel, dentin or pulp removed in the container
 
   const TissueAmounts& tissue(Material m) const;  // m one of kScoredTissues
-  TissueAmounts total() const;                    // over all four tissues
-  TissueAmounts healthy() const;                  // over enamel, dentin and pulp
+  TissueAmounts total() const;                    // over every tissue
+  TissueAmounts healthy() const;                  // over every tissue but caries
   // Fill units to [mm^3]: voxel_mm^3 / 31 per unit.
   double mm3(uint64_t units) const;
 };

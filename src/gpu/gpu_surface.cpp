@@ -383,9 +383,11 @@ Result<GpuSurface> GpuSurface::create(Context& ctx, const GpuSurfaceOptions& opt
   auto state = std::make_unique<State>();
   state->ctx = &ctx;
   state->options = options;
-  state->side = normalBoxSide(options.normal_neighbours);
-  if (state->side == 0)
-    return makeError("gpu surface", "normal_neighbours must be 8, 64 or 216, not " + std::to_string(options.normal_neighbours));
+  const std::optional<NormalMode> mode = normalModeFromNeighbours(options.normal_neighbours);
+  if (!mode)
+    return makeError("gpu surface", std::string("normal_neighbours must be ") + kNormalModeChoices + ", not " +
+                                        std::to_string(options.normal_neighbours));
+  state->side = normalBoxSide(*mode);
   const DeviceLimits& lim = ctx.limits();
   // What surface_mesh.comp.glsl needs: its shared arrays and subgroup scans.
   if (!lim.subgroup_arithmetic_in_compute)

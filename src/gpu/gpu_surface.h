@@ -23,7 +23,7 @@ namespace dentsim::gpu {
 // ---- 1. options and statistics ----------------------------------------------------------------------
 
 struct GpuSurfaceOptions {
-  int normal_neighbours = 216;                  // 8, 64 or 216; see SurfaceOptions
+  int normal_neighbours = 216;                  // 8, 64 or 216 (normalModeFromNeighbours); see SurfaceOptions
   Material tissue = Material::Empty;            // Empty: all tissue; else that tissue's own surface
   uint64_t initial_pool_bytes = 4ull << 20;     // first size of the slot pool; it doubles on demand [B]
   uint32_t max_groups_per_dispatch = 0;         // 0: the device limit; tests lower it to split dispatches

@@ -20,6 +20,8 @@
 //   molarToothField() .. the implicit fields behind them (negative inside), for tests and tools
 #pragma once
 
+#include <string_view>
+
 #include "core/triangle_mesh.h"
 
 namespace dentsim {
@@ -29,6 +31,16 @@ struct MolarLayers {
   TriangleMesh dentin;  // dentin solid, pulp space included [mm]
   TriangleMesh pulp;    // pulp chamber, horns and canals [mm]
   TriangleMesh caries;  // carious lesion [mm]
+
+  // The layer of the tissue named `tissue` (the tissue table's name), or nullptr: the molar's own
+  // layers, so that a tissue the molar lacks (cementum) simply has no layer.
+  const TriangleMesh* layer(std::string_view tissue) const {
+    if (tissue == "enamel") return &enamel;
+    if (tissue == "dentin") return &dentin;
+    if (tissue == "pulp") return &pulp;
+    if (tissue == "caries") return &caries;
+    return nullptr;
+  }
 };
 
 struct MolarOptions {

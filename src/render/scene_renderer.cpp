@@ -702,7 +702,8 @@ void SceneRenderer::State::drawTooth(VkCommandBuffer cmd, const ToothSurfaces& t
                                      glm::vec3(s, s, s));
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
                     translucent ? pipes.tooth_blend[flip ? 1 : 0] : pipes.tooth_opaque[flip ? 1 : 0]);
-  // Translucent layers go inside out (caries, pulp, dentin, enamel), so outer ones blend over inner ones.
+  // Translucent layers go in falling draw order (inside out: caries, pulp, dentin, enamel), so outer
+  // ones blend over inner ones.
   for (size_t k = 0; k < kDrawnTissues.size(); ++k) {
     const size_t i = translucent ? kDrawnTissues.size() - 1 - k : k;
     const TissueLook& look = frame.looks[size_t(kDrawnTissues[i])];

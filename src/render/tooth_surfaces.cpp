@@ -31,10 +31,10 @@ void accumulate(gpu::SurfaceUpdateStats& total, const gpu::SurfaceUpdateStats& s
 
 }  // namespace
 
-Result<ToothSurfaces> ToothSurfaces::create(gpu::Context& ctx, int normal_neighbours) {
+Result<ToothSurfaces> ToothSurfaces::create(gpu::Context& ctx, NormalMode normals) {
   ToothSurfaces t;
   t.ctx_ = &ctx;
-  t.normal_neighbours_ = normal_neighbours;
+  t.normals_ = normals;
   if (auto s = t.recreate(); !s) return s.error();
   return t;
 }
@@ -42,7 +42,7 @@ Result<ToothSurfaces> ToothSurfaces::create(gpu::Context& ctx, int normal_neighb
 Status ToothSurfaces::recreate() {
   for (size_t i = 0; i < kDrawnTissues.size(); ++i) {
     gpu::GpuSurfaceOptions options;
-    options.normal_neighbours = normal_neighbours_;
+    options.normal_neighbours = normalNeighbours(normals_);
     options.tissue = kDrawnTissues[i];
     auto s = gpu::GpuSurface::create(*ctx_, options);
     if (!s) return s.error();
@@ -82,14 +82,11 @@ Status ToothSurfaces::update(const BrickVolume& volume, std::span<const BrickCoo
   return Ok{};
 }
 
-Status ToothSurfaces::setNormalNeighbours(int normal_neighbours) {
-  if (normal_neighbours != 8 && normal_neighbours != 64 && normal_neighbours != 216)
-    return makeError("tooth surfaces", "normal_neighbours must be 8, 64 or 216, not " + std::to_string(normal_neighbours));
-  if (normal_neighbours != normal_neighbours_) {
-    normal_neighbours_ = normal_neighbours;
+void ToothSurfaces::setNormalMode(NormalMode normals) {
+  if (normals != normals_) {
+    normals_ = normals;
     mode_changed_ = true;
   }
-  return Ok{};
 }
 
 }  // namespace dentsim::render

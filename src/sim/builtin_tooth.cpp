@@ -4,14 +4,16 @@
 #include <vector>
 
 #include "model/builtin_assets.h"
+#include "volume/tissue_table.h"
 
 namespace dentsim {
 
+// Every tissue the molar has a layer for, in table order (the voxelizer's priority is its own).
 std::vector<MeshLayer> builtinMolarLayers(const MolarLayers& molar) {
-  return {{Material::Enamel, &molar.enamel, "enamel"},
-          {Material::Dentin, &molar.dentin, "dentin"},
-          {Material::Pulp, &molar.pulp, "pulp"},
-          {Material::Caries, &molar.caries, "caries"}};
+  std::vector<MeshLayer> layers;
+  for (const TissueRow& row : kTissueTable)
+    if (const TriangleMesh* mesh = molar.layer(row.name)) layers.push_back({row.material, mesh, row.name});
+  return layers;
 }
 
 Result<ToothVolume> builtinMolarTooth(int level) {

@@ -22,6 +22,7 @@
 
 #include "io/atomic_file.h"
 #include "model/tool_generator.h"
+#include "volume/tissue_table.h"
 
 namespace dentsim {
 namespace {
@@ -32,9 +33,6 @@ using ordered_json = nlohmann::ordered_json;
 constexpr const char* kFormat = "dentsim-params";
 constexpr int kVersion = 1;
 constexpr uint64_t kMaxPresetBytes = 1u << 20;  // a preset is a few kB; anything near 1 MiB is not one
-
-// The tissues a preset names, in file order; Empty and the spare codes have no entry.
-constexpr Material kTissues[] = {Material::Enamel, Material::Dentin, Material::Pulp, Material::Caries};
 
 // ---- 1. field tables -----------------------------------------------------------------------------------
 
@@ -60,7 +58,7 @@ constexpr Range kStaleMs{0.0, 100.0, false, true, "in (0, 100]"};
 constexpr Range kRateHz{100.0, 10000.0, true, true, "in [100, 10000]"};
 constexpr Range kSpacing{0.001, 1.0, true, true, "in [0.001, 1]"};
 constexpr Range kShininess{1.0, 512.0, true, true, "in [1, 512]"};
-constexpr Range kNeighbours{8.0, 216.0, true, true, "8, 64 or 216"};
+constexpr Range kAnyNumber{-kInf, kInf, false, false, "finite"};
 
 // One number in a JSON object: its key (the C++ member's name), the member, and its range.
 template <class S>
@@ -108,9 +106,8 @@ const Field<TissueLook> kLookFields[] = {
     {"specular_b", &TissueLook::specular_b, kUnit}, {"alpha", &TissueLook::alpha, kUnit},
     {"shininess", &TissueLook::shininess, kShininess},
 };
-const Field<ViewParams> kViewFields[] = {
-    {"normal_neighbours", &ViewParams::normal_neighbours, kNeighbours},
-};
+// "view" holds one key, the normal mode as its neighbour count (a number, 216.0).
+const std::vector<std::string> kViewKeys = {"normal_neighbours"};
 const Field<PointShellParams> kPointShellFields[] = {
     {"head_spacing_mm", &PointShellParams::head_spacing_mm, kSpacing},
     {"shank_spacing_mm", &PointShellParams::shank_spacing_mm, kSpacing},
@@ -126,7 +123,6 @@ static_assert(sizeof(CouplingParams) == std::size(kCouplingFields) * sizeof(doub
 static_assert(sizeof(DeviceParams) == std::size(kDeviceFields) * sizeof(double));
 static_assert(sizeof(PointShellParams) == std::size(kPointShellFields) * sizeof(double));
 static_assert(sizeof(TissueLook) == std::size(kLookFields) * sizeof(double));
-static_assert(sizeof(ViewParams) == std::size(kViewFields) * sizeof(double));
 
 // Every field of the table equal (==, so 0 equals -0 and NaN equals nothing).
 template <class S, size_t N>
@@ -159,16 +155,14 @@ std::vector<std::string> tissueKeys() {
 
 SimParams defaultSimParams() {
   SimParams p;
-  // Stiffness, damping and friction are dentsim's tuning; hardness is the paper's default.
-  p.tissue(Material::Enamel) = {2000.0, 0.0005, 0.15, 0.1};
-  p.tissue(Material::Dentin) = {1200.0, 0.001, 0.25, 0.1};
-  p.tissue(Material::Pulp) = {40.0, 0.01, 0.5, 1.0};
-  p.tissue(Material::Caries) = {300.0, 0.004, 0.4, 0.5};
-  // Colours after the tissues' appearance in extracted teeth; the enamel lets the layers beneath show.
-  p.look(Material::Enamel) = {0.26, 0.26, 0.24, 0.92, 0.90, 0.84, 0.55, 0.55, 0.55, 0.75, 48.0};
-  p.look(Material::Dentin) = {0.24, 0.21, 0.14, 0.90, 0.80, 0.56, 0.20, 0.20, 0.18, 1.0, 12.0};
-  p.look(Material::Pulp) = {0.22, 0.06, 0.06, 0.82, 0.24, 0.22, 0.30, 0.25, 0.25, 1.0, 24.0};
-  p.look(Material::Caries) = {0.12, 0.08, 0.04, 0.45, 0.30, 0.14, 0.08, 0.08, 0.06, 1.0, 6.0};
+  // The tissue table's defaults; a preset names each tissue by its row's name, in table order.
+  for (const TissueRow& row : kTissueTable) {
+    const TissueTouchDefaults& t = row.touch;
+    p.tissue(row.material) = {t.stiffness_n_per_mm3, t.damping_s_per_mm, t.friction, t.hardness};
+    const TissueLookDefaults& l = row.look;
+    p.look(row.material) = {l.ambient[0],  l.ambient[1],  l.ambient[2],  l.diffuse[0], l.diffuse[1], l.diffuse[2],
+                            l.specular[0], l.specular[1], l.specular[2], l.alpha,      l.shininess};
+  }
   // Every built-in bur cuts; the handpiece and the mirror are not burs.
   for (const ToolSpec& t : toolCatalog()) {
     if (t.kind == ToolKind::RoundBur) p.burs[t.name].cutting_ability = 0.8;
@@ -208,7 +202,9 @@ std::string simParamsJson(const SimParams& params) {
   ordered_json looks = ordered_json::object();
   for (Material m : kTissues) looks[materialName(m)] = fieldsJson(params.look(m), kLookFields);
   root["looks"] = std::move(looks);
-  root["view"] = fieldsJson(params.view, kViewFields);
+  ordered_json view = ordered_json::object();
+  view["normal_neighbours"] = double(normalNeighbours(params.view.normals));
+  root["view"] = std::move(view);
   // nlohmann writes each double as short text that reads back bit-identical; non-finite values become
   // null, which parseSimParams rejects. Bad UTF-8 in a bur name is replaced rather than thrown.
   return root.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n";
@@ -230,6 +226,20 @@ class PresetReader : public JsonSchemaReader {
       if (it == j.end()) continue;
       if (!number(*it, jsonChildPath(path, f.key), f.range, &(out->*(f.member)))) return false;
     }
+    return true;
+  }
+
+  // {"normal_neighbours": 8, 64 or 216}; the key may be left out.
+  bool normalMode(const json& j, const std::string& path, NormalMode* out) {
+    if (!object(j, path, kViewKeys)) return false;
+    auto it = j.find("normal_neighbours");
+    if (it == j.end()) return true;
+    const std::string key = jsonChildPath(path, "normal_neighbours");
+    double n = 0.0;
+    if (!number(*it, key, kAnyNumber, &n)) return false;
+    const std::optional<NormalMode> mode = normalModeFromNeighbours(n);
+    if (!mode) return fail(key, json(n).dump() + " is not " + kNormalModeChoices);
+    *out = *mode;
     return true;
   }
 
@@ -324,12 +334,7 @@ void readPreset(const json& root, PresetReader& r, SimParams* p) {
   if (auto it = root.find("point_shell"); it != root.end() && !r.fields(*it, "point_shell", kPointShellFields, &p->point_shell))
     return;
   if (!readPerTissue(root, "looks", kLookFields, p->looks, r)) return;
-  if (auto it = root.find("view"); it != root.end()) {
-    if (!r.fields(*it, "view", kViewFields, &p->view)) return;
-    const double n = p->view.normal_neighbours;
-    if (n != 8.0 && n != 64.0 && n != 216.0)
-      r.fail("view.normal_neighbours", json(n).dump() + " is not 8, 64 or 216");
-  }
+  if (auto it = root.find("view"); it != root.end()) r.normalMode(*it, "view", &p->view.normals);
 }
 
 }  // namespace
@@ -375,7 +380,7 @@ bool operator==(const SimParams& a, const SimParams& b) {
     if (ia->first != ib->first || !sameFields(ia->second, ib->second, kBurFields)) return false;
   return sameFields(a.turbine, b.turbine, kTurbineFields) && sameFields(a.cutting, b.cutting, kCuttingFields) &&
          sameFields(a.coupling, b.coupling, kCouplingFields) && sameFields(a.device, b.device, kDeviceFields) &&
-         sameFields(a.point_shell, b.point_shell, kPointShellFields) && sameFields(a.view, b.view, kViewFields);
+         sameFields(a.point_shell, b.point_shell, kPointShellFields) && a.view.normals == b.view.normals;
 }
 
 }  // namespace dentsim

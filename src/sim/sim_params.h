@@ -14,6 +14,7 @@
 
 #include "core/result.h"
 #include "volume/brick_volume.h"
+#include "volume/normal_mode.h"
 
 namespace dentsim {
 
@@ -85,7 +86,7 @@ struct TissueLook {
 
 // The tooth's surface shading that is not per tissue.
 struct ViewParams {
-  double normal_neighbours = 216.0;  // normals averaged over 8, 64 or 216 voxel centres (paper Fig. 15)
+  NormalMode normals = NormalMode::Box216;  // preset key "normal_neighbours" (paper Fig. 15)
 };
 
 struct SimParams {
@@ -112,8 +113,8 @@ struct SimParams {
 
 // ---- 2. presets --------------------------------------------------------------------------------------
 
-// dentsim's defaults: the paper's hardness (enamel 0.1, dentin 0.1, pulp 1.0, caries 0.5), and an
-// ability for every built-in bur.
+// dentsim's defaults: each tissue's touch and look from the tissue table (volume/tissue_table.h; the
+// paper's hardness), and an ability for every built-in bur.
 SimParams defaultSimParams();
 
 // Parses a preset. "format" ("dentsim-params") and "version" (1) are required; other keys left out

@@ -14,13 +14,13 @@
 #include <imgui.h>
 
 #include "model/tool_generator.h"
+#include "volume/tissue_table.h"
 
 namespace dentsim::ui {
 namespace {
 
 // ---- 1. widget helpers ---------------------------------------------------------------------------------
 
-constexpr Material kTissues[] = {Material::Enamel, Material::Dentin, Material::Pulp, Material::Caries};
 
 constexpr float kPanelWidth = 380.0f;       // [px]
 constexpr float kMargin = 10.0f;            // from the display's edges [px]
@@ -256,17 +256,15 @@ void surfaceSection(const Frame& f) {
   if (!section(f, "surface", "Surface", ImGuiTreeNodeFlags_DefaultOpen)) return;
   UiState& s = f.state;
   ImGui::TextUnformatted("normals averaged over (voxels)");
-  for (int n : {8, 64, 216}) {
+  for (NormalMode mode : kNormalModes) {
     ImGui::SameLine();
-    char label[8];
-    std::snprintf(label, sizeof label, "%d", n);
-    if (ImGui::RadioButton(label, s.params.view.normal_neighbours == double(n)) &&
-        s.params.view.normal_neighbours != double(n)) {
-      s.params.view.normal_neighbours = double(n);
+    const std::string label = normalModeName(mode);
+    if (ImGui::RadioButton(label.c_str(), s.params.view.normals == mode) && s.params.view.normals != mode) {
+      s.params.view.normals = mode;
       f.actions.normal_mode_changed = true;
       f.actions.params_changed = true;
     }
-    f.record("view.normal_neighbours." + std::string(label));
+    f.record("view.normal_neighbours." + label);
   }
   // A new level rebuilds the tooth, which a running task must not see.
   ImGui::BeginDisabled(s.run_state == RunState::Running);
@@ -514,7 +512,7 @@ void applyPresetActions(PanelActions& actions, const PresetStore& store, UiState
     if (!loaded) {
       state.status = loaded.message();
     } else {
-      if (loaded->view.normal_neighbours != state.params.view.normal_neighbours) actions.normal_mode_changed = true;
+      if (loaded->view.normals != state.params.view.normals) actions.normal_mode_changed = true;
       state.params = std::move(*loaded);
       state.selected_preset = actions.load_preset;
       state.status = "preset '" + actions.load_preset + "' loaded";

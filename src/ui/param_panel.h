@@ -102,7 +102,7 @@ struct PanelActions {
   bool bur_changed = false;          // UiState::bur
   bool speed_changed = false;        // UiState::turbine_speed (no pedal only)
   bool level_changed = false;        // UiState::level: rebuild the tooth
-  bool normal_mode_changed = false;  // params.view.normal_neighbours (params_changed too): re-mesh
+  bool normal_mode_changed = false;  // params.view.normals (params_changed too): re-mesh
   bool task_changed = false;         // UiState::task
   bool sound_changed = false;        // UiState::sound volume or mute
   bool start = false, stop = false, reset = false, score = false;

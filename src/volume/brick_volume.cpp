@@ -6,6 +6,8 @@
 #include <cstring>
 #include <numeric>
 
+#include "volume/tissue_table.h"
+
 namespace dentsim {
 namespace {
 
@@ -33,20 +35,19 @@ bool allEqual(const Voxel* voxels, Voxel* value) {
 }  // namespace
 
 std::string materialName(Material m) {
-  switch (m) {
-    case Material::Empty: return "empty";
-    case Material::Enamel: return "enamel";
-    case Material::Dentin: return "dentin";
-    case Material::Pulp: return "pulp";
-    case Material::Caries: return "caries";
-  }
+  if (m == Material::Empty) return "empty";
+  if (const TissueRow* row = findTissue(m)) return row->name;
   return "material" + std::to_string(static_cast<int>(m));
 }
 
 bool parseMaterial(const std::string& name, Material* out) {
-  for (uint32_t m = 0; m < DS_TISSUE_COUNT; ++m) {
-    if (materialName(static_cast<Material>(m)) == name) {
-      *out = static_cast<Material>(m);
+  if (name == "empty") {
+    *out = Material::Empty;
+    return true;
+  }
+  for (const TissueRow& row : kTissueTable) {
+    if (name == row.name) {
+      *out = row.material;
       return true;
     }
   }

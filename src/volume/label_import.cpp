@@ -11,6 +11,8 @@
 //   8. exportLabels
 #include "volume/label_import.h"
 
+#include "volume/tissue_table.h"
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
@@ -494,7 +496,7 @@ Result<LabelMap> parseLabelMap(const std::string& text) {
       return makeError(where, "label " + label_text + " is outside -32768..32767");
     Material m{};
     if (!parseMaterial(tissue, &m))
-      return makeError(where, "unknown tissue '" + tissue + "' (expected enamel, dentin, pulp, caries or empty)");
+      return makeError(where, "unknown tissue '" + tissue + "' (expected " + tissueNameList(true) + ")");
     if (!map.emplace(int32_t(label), m).second)
       return makeError(where, "label " + std::to_string(label) + " is mapped twice");
   }
@@ -661,9 +663,15 @@ LabelImage exportLabels(const ToothVolume& tooth, ExportRegion region) {
       image.scanner_from_voxel[4 * r + 3] += frame.scanner_from_grid[4 * r + c] * double(offset[c]);
   image.labels.assign(size_t(image.voxelCount()), 0);
 
+  // Each code's label from the tissue table; a spare code (no row) keeps its code, so no voxel is lost.
+  std::array<Label, DS_MATERIAL_COUNT> code_label{};
+  for (uint32_t m = 1; m < DS_MATERIAL_COUNT; ++m) {
+    const TissueRow* row = findTissue(Material(m));
+    code_label[m] = Label(row ? row->nifti_label : int32_t(m));
+  }
   // Half-solid rule: a voxel counts as its tissue when at least 16 of 31 fill units remain.
-  auto label = [](Voxel v) -> Label {
-    return voxelFill(v) >= 16 ? Label(layout::voxelMaterial(v)) : Label(0);
+  auto label = [&code_label](Voxel v) -> Label {
+    return voxelFill(v) >= 16 ? code_label[layout::voxelMaterial(v)] : Label(0);
   };
   const int64_t end[3] = {offset[0] + dims[0], offset[1] + dims[1], offset[2] + dims[2]};
   for (int64_t bz = offset[2] / 8; bz * 8 < end[2]; ++bz)

@@ -100,7 +100,8 @@ enum class ExportRegion {
   WholeGrid,  // always the whole 2^L grid
 };
 
-// Labels are the Material codes: 0 empty, 1 enamel, 2 dentin, 3 pulp, 4 caries. A voxel with fill
+// Labels are the tissue table's nifti_label (today the material codes: 0 empty, 1 enamel, 2 dentin,
+// 3 pulp, 4 caries; a spare code without a row keeps its code). A voxel with fill
 // < 16 (less than half solid) exports as 0, so a cut surface lands where half the voxel remains,
 // and a full-fill import exports its labels unchanged. The pitch is frame.voxel_mm and the scanner
 // matrix is frame.scanner_from_grid shifted to the region's first voxel.

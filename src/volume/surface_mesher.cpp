@@ -362,15 +362,6 @@ uint32_t packOctahedral(Vec3f n) {
 }  // namespace internal
 
 // ==== 5. per-block meshing =======================================================================
-uint32_t normalBoxSide(int normal_neighbours) {
-  switch (normal_neighbours) {
-    case 8: return DS_MESH_SIDE_8;
-    case 64: return DS_MESH_SIDE_64;
-    case 216: return DS_MESH_SIDE_216;
-    default: return 0;
-  }
-}
-
 Vec3f unpackMeshNormal(uint32_t packed) {
   float u = float(packed & 4095u) / 4095.f * 2.f - 1.f;
   float v = float((packed >> 12) & 4095u) / 4095.f * 2.f - 1.f;
@@ -598,10 +589,7 @@ SurfaceMesh weldBlockMeshes(std::span<const BlockMesh> blocks, const VolumeFrame
 
 // ==== 6. meshVolumeCpu ===========================================================================
 Result<SurfaceMesh> meshVolumeCpu(const ToothVolume& tooth, const SurfaceOptions& options, Interrupter& interrupter) {
-  const uint32_t side = normalBoxSide(options.normal_neighbours);
-  if (side == 0)
-    return makeError("surface mesher", "normal_neighbours must be 8, 64 or 216, not " +
-                                            std::to_string(options.normal_neighbours));
+  const uint32_t side = normalBoxSide(options.normals);
   const internal::FieldTable field = internal::makeFieldTable(options.tissue);
   const std::vector<MeshBlock> blocks = activeMeshBlocks(tooth.voxels, options.tissue);
   auto local = std::make_unique<internal::LocalBlock>();

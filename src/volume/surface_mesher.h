@@ -16,6 +16,7 @@
 #include "core/result.h"
 #include "core/triangle_mesh.h"
 #include "volume/brick_volume.h"
+#include "volume/normal_mode.h"
 #include "volume/surface_layout.h"
 
 namespace dentsim {
@@ -35,13 +36,13 @@ struct SurfaceMesh {
 
 struct SurfaceOptions {
   // Gradient neighbourhood for the normals: 8 (2^3), 64 (4^3) or 216 (6^3) voxels, the paper's modes.
-  int normal_neighbours = 8;
+  NormalMode normals = NormalMode::Box8;
   // Empty: the outer surface of all tissue. A tissue: the surface of that tissue alone (its voxels'
   // fill counts as solid, every other voxel as empty), for per-tissue export and round trips.
   Material tissue = Material::Empty;
 };
 
-// Meshes the whole volume. Errors: an unsupported normal mode, cancellation.
+// Meshes the whole volume. Errors: cancellation.
 Result<SurfaceMesh> meshVolumeCpu(const ToothVolume& tooth, const SurfaceOptions& options,
                                   Interrupter& interrupter = nullInterrupter());
 
@@ -61,9 +62,6 @@ struct BlockMesh {
   std::vector<layout::MeshVertex> vertices;  // in local edge order
   std::vector<uint32_t> indices;             // 3 per triangle, local to `vertices`
 };
-
-// Box side of a normal mode (8 -> 2, 64 -> 4, 216 -> 6); 0 for an unsupported mode.
-uint32_t normalBoxSide(int normal_neighbours);
 
 // Blocks that can hold surface: the bricks their corners read are not all inside or all outside.
 // Ordered by packed coordinate (z, then y, then x).

@@ -89,12 +89,12 @@ class TempDir {
 };
 
 // A steady state: the turbine at `rpm`, cutting `removal` of one tissue when removal > 0.
-SoundInput steady(double rpm, double removal = 0.0, Tissue tissue = Tissue::Enamel, bool contact = false,
+SoundInput steady(double rpm, double removal = 0.0, Material tissue = Material::Enamel, bool contact = false,
                   double force_n = 0.0) {
   SoundInput in;
   in.turbine_rpm = rpm;
   in.removal_mm3_per_s = removal;
-  in.removal_share[size_t(tissue)] = 1.0;
+  in.removal_share[size_t(tissueIndex(tissue))] = 1.0;
   in.contact = contact || removal > 0;
   in.force_n = force_n;
   in.handpiece_mm = Vec3{0, 0, 0};
@@ -196,7 +196,7 @@ TEST(SoundEngine, CuttingRaisesHighBandEnergyInProportionToRemoval) {
   constexpr double kRpm = 20000.0, kForce = 1.0;
   auto highBand = [&](double removal) {
     const WavAudio wav = renderOffline(dir.file("cut.wav"), 2.5, [&](double) {
-      return steady(kRpm, removal, Tissue::Enamel, /*contact=*/true, kForce);
+      return steady(kRpm, removal, Material::Enamel, /*contact=*/true, kForce);
     });
     return test::bandEnergy(test::welch(channel(wav, -1, size_t(1.5 * kRate), size_t(2.5 * kRate)), kRate), 5000.0,
                             16000.0);
@@ -237,15 +237,15 @@ TEST(SoundEngine, EnamelAndDentinHaveDifferentCentroids) {
   REQUIRE_LOOPBACK();
   TempDir dir;
   constexpr double kRpm = 30000.0, kForce = 1.0;
-  auto spectrum = [&](double removal, Tissue tissue) {
+  auto spectrum = [&](double removal, Material tissue) {
     const WavAudio wav = renderOffline(dir.file("tissue.wav"), 2.5, [&](double) {
       return steady(kRpm, removal, tissue, /*contact=*/true, kForce);
     });
     return test::welch(channel(wav, -1, size_t(1.5 * kRate), size_t(2.5 * kRate)), kRate);
   };
-  const PowerSpectrum turbine = spectrum(0.0, Tissue::Enamel);
-  const double enamel = test::spectralCentroid(excessOver(spectrum(0.8, Tissue::Enamel), turbine, 100.0, 20000.0));
-  const double dentin = test::spectralCentroid(excessOver(spectrum(0.8, Tissue::Dentin), turbine, 100.0, 20000.0));
+  const PowerSpectrum turbine = spectrum(0.0, Material::Enamel);
+  const double enamel = test::spectralCentroid(excessOver(spectrum(0.8, Material::Enamel), turbine, 100.0, 20000.0));
+  const double dentin = test::spectralCentroid(excessOver(spectrum(0.8, Material::Dentin), turbine, 100.0, 20000.0));
   RecordProperty("centroids", "enamel " + std::to_string(enamel) + " dentin " + std::to_string(dentin));
   EXPECT_GT(enamel, 1.2 * dentin) << "enamel " << enamel << " Hz, dentin " << dentin << " Hz";
   // Each lies near its own band (a band-pass's centroid sits above its centre: the upper skirt is
@@ -339,7 +339,7 @@ TEST(SoundEngine, MuteSilencesTheFileWhileTimeAdvances) {
 TEST(SoundEngine, HalfVolumeHalvesTheAmplitude) {
   REQUIRE_LOOPBACK();
   TempDir dir;
-  auto session = [](double) { return steady(30000.0, 0.5, Tissue::Dentin, true, 1.0); };
+  auto session = [](double) { return steady(30000.0, 0.5, Material::Dentin, true, 1.0); };
   const WavAudio full = renderOffline(dir.file("full.wav"), 1.0, session);
   const WavAudio half = renderOffline(dir.file("half.wav"), 1.0, session, [](SoundEngine& e) { e.setVolume(0.5); });
   ASSERT_EQ(full.samples.size(), half.samples.size());
@@ -445,7 +445,7 @@ TEST(SoundEngine, SilentEngineAcceptsEveryCall) {
   e.setListener(Vec3{0, 0, 100}, Vec3{0, 0, -1}, Vec3{0, 1, 0});
   e.setVolume(0.5);
   e.setMute(true);
-  for (int k = 0; k < 10; ++k) e.update(steady(20000.0, 0.5, Tissue::Dentin, true, 1.0));
+  for (int k = 0; k < 10; ++k) e.update(steady(20000.0, 0.5, Material::Dentin, true, 1.0));
   EXPECT_EQ(e.framesRendered(), 0u);
   EXPECT_TRUE(e.finish().ok());
 }

@@ -21,19 +21,19 @@ TEST(SoundFeed, RatesAndSharesAreOverTheTimeSinceTheLastCall) {
   // From loop time 0: 0.02 mm^3 of enamel in 0.1 s.
   SoundInput in = feed.next(stateAt(0.1, 0.02, 0.0), {1, 2, 3});
   EXPECT_DOUBLE_EQ(in.removal_mm3_per_s, 0.2);
-  EXPECT_EQ(in.removal_share[int(Tissue::Enamel)], 1.0);
+  EXPECT_EQ(in.removal_share[tissueIndex(Material::Enamel)], 1.0);
   EXPECT_EQ(in.handpiece_mm, (Vec3{1, 2, 3}));
   EXPECT_EQ(in.turbine_rpm, 20000.0);
   // Then 0.01 more enamel and 0.03 dentin in 0.05 s: 0.8 mm^3/s, a quarter enamel.
   in = feed.next(stateAt(0.15, 0.03, 0.03), {});
   EXPECT_NEAR(in.removal_mm3_per_s, 0.8, 1e-12);
-  EXPECT_NEAR(in.removal_share[int(Tissue::Enamel)], 0.25, 1e-12);
-  EXPECT_NEAR(in.removal_share[int(Tissue::Dentin)], 0.75, 1e-12);
-  EXPECT_EQ(in.removal_share[int(Tissue::Caries)], 0.0);
+  EXPECT_NEAR(in.removal_share[tissueIndex(Material::Enamel)], 0.25, 1e-12);
+  EXPECT_NEAR(in.removal_share[tissueIndex(Material::Dentin)], 0.75, 1e-12);
+  EXPECT_EQ(in.removal_share[tissueIndex(Material::Caries)], 0.0);
   // Nothing cut: the rate is zero and the shares keep their colour.
   in = feed.next(stateAt(0.2, 0.03, 0.03), {});
   EXPECT_EQ(in.removal_mm3_per_s, 0.0);
-  EXPECT_NEAR(in.removal_share[int(Tissue::Dentin)], 0.75, 1e-12);
+  EXPECT_NEAR(in.removal_share[tissueIndex(Material::Dentin)], 0.75, 1e-12);
   // The same time again (a stopped frame): no rate, no division by zero.
   in = feed.next(stateAt(0.2, 0.03, 0.03), {});
   EXPECT_EQ(in.removal_mm3_per_s, 0.0);
@@ -45,8 +45,8 @@ TEST(SoundFeed, ANewSegmentStartsTheTotalsOver) {
   // A new segment's loop starts at 0 with its own totals: 0.01 mm^3 of dentin in its first 0.1 s.
   const SoundInput in = feed.next(stateAt(0.1, 0.0, 0.01), {});
   EXPECT_NEAR(in.removal_mm3_per_s, 0.1, 1e-12);
-  EXPECT_EQ(in.removal_share[int(Tissue::Dentin)], 1.0);
-  EXPECT_EQ(in.removal_share[int(Tissue::Enamel)], 0.0);
+  EXPECT_EQ(in.removal_share[tissueIndex(Material::Dentin)], 1.0);
+  EXPECT_EQ(in.removal_share[tissueIndex(Material::Enamel)], 0.0);
 }
 
 TEST(SoundFeed, ForceAndContactComeFromTheDrill) {

@@ -29,10 +29,10 @@ SoundInput turbineAt(double rpm, double force = 0.0, bool contact = false) {
   return in;
 }
 
-SoundInput cutting(double removal, Tissue tissue, double force = 1.5, double rpm = 30000) {
+SoundInput cutting(double removal, Material tissue, double force = 1.5, double rpm = 30000) {
   SoundInput in = turbineAt(rpm, force, true);
   in.removal_mm3_per_s = removal;
-  in.removal_share[size_t(tissue)] = 1.0;
+  in.removal_share[size_t(tissueIndex(tissue))] = 1.0;
   return in;
 }
 
@@ -199,7 +199,7 @@ TEST(CuttingVoiceTest, HighBandPowerIsProportionalToRemovalRate) {
     // A different noise seed for each rate: the proportionality must hold statistically, not
     // only because the same noise was scaled.
     auto voice = makeCuttingVoice(p, uint32_t(11 + 7 * i));
-    const std::vector<float> x = renderConstant(*voice, cutting(rates[i], Tissue::Enamel), 2.0);
+    const std::vector<float> x = renderConstant(*voice, cutting(rates[i], Material::Enamel), 2.0);
     energy.push_back(test::bandEnergy(test::welch(x, kFs), 4000.0, kFs / 2));
   }
   // Least-squares line E = a + b r and its R^2.
@@ -226,7 +226,7 @@ TEST(CuttingVoiceTest, ForceAddsTheDocumentedPowerAndRemovalSaturatesAboveFull) 
   const SynthParams p = defaultSynthParams();
   const auto power = [&](double removal, double force) {
     auto voice = makeCuttingVoice(p, 5);
-    return std::pow(test::rms(renderConstant(*voice, cutting(removal, Tissue::Dentin, force), 1.0)), 2);
+    return std::pow(test::rms(renderConstant(*voice, cutting(removal, Material::Dentin, force), 1.0)), 2);
   };
   // Same seed, so the ratios are of one noise: (1 + 0.5 * 1) at full load.
   EXPECT_NEAR(power(0.5, p.full_load_n) / power(0.5, 0.0), 1.0 + p.force_loudness, 0.02);
@@ -238,11 +238,11 @@ TEST(CuttingVoiceTest, ForceAddsTheDocumentedPowerAndRemovalSaturatesAboveFull) 
 
 TEST(CuttingVoiceTest, EnamelIsBrighterThanDentinWhichIsBrighterThanCaries) {
   const SynthParams p = defaultSynthParams();
-  const auto centroid = [&](Tissue t) {
+  const auto centroid = [&](Material t) {
     auto voice = makeCuttingVoice(p, 3);
     return test::spectralCentroid(test::welch(renderConstant(*voice, cutting(1.0, t), 1.0), kFs));
   };
-  const double enamel = centroid(Tissue::Enamel), dentin = centroid(Tissue::Dentin), caries = centroid(Tissue::Caries);
+  const double enamel = centroid(Material::Enamel), dentin = centroid(Material::Dentin), caries = centroid(Material::Caries);
   std::printf("centroids: enamel %.0f Hz, dentin %.0f Hz, caries %.0f Hz\n", enamel, dentin, caries);
   EXPECT_GT(enamel, 1.3 * dentin) << enamel << " Hz vs " << dentin << " Hz";
   EXPECT_GT(dentin, 1.3 * caries) << dentin << " Hz vs " << caries << " Hz";
@@ -253,8 +253,8 @@ TEST(CuttingVoiceTest, EnamelIsBrighterThanDentinWhichIsBrighterThanCaries) {
 
 TEST(CuttingVoiceTest, SharesMixTheTissuesLinearly) {
   const SynthParams p = defaultSynthParams();
-  const auto render = [&](std::array<double, kTissues> shares) {
-    SoundInput in = cutting(0.5, Tissue::Enamel);
+  const auto render = [&](std::array<double, kTissueCount> shares) {
+    SoundInput in = cutting(0.5, Material::Enamel);
     in.removal_share = shares;
     auto voice = makeCuttingVoice(p, 9);
     return renderConstant(*voice, in, 0.25);
@@ -271,8 +271,8 @@ TEST(CuttingVoiceTest, RattleModulatesAtTheRotationFrequency) {
   const SynthParams p = defaultSynthParams();
   auto voice = makeCuttingVoice(p, 2);
   const double rpm = 24000;  // 400 revolutions a second
-  renderConstant(*voice, cutting(1.0, Tissue::Enamel, 0.0, rpm), 3.0);
-  const std::vector<float> x = renderConstant(*voice, cutting(1.0, Tissue::Enamel, 0.0, rpm), 1.0);
+  renderConstant(*voice, cutting(1.0, Material::Enamel, 0.0, rpm), 3.0);
+  const std::vector<float> x = renderConstant(*voice, cutting(1.0, Material::Enamel, 0.0, rpm), 1.0);
   // The envelope (the squared signal) carries the rattle's lines.
   std::vector<float> envelope(x.size());
   for (size_t i = 0; i < x.size(); ++i) envelope[i] = x[i] * x[i];
@@ -282,26 +282,26 @@ TEST(CuttingVoiceTest, RattleModulatesAtTheRotationFrequency) {
 
 TEST(CuttingVoiceTest, ExactlySilentWithoutContactOrRemoval) {
   const SynthParams p = defaultSynthParams();
-  SoundInput no_contact = cutting(1.0, Tissue::Enamel, 2.0);
+  SoundInput no_contact = cutting(1.0, Material::Enamel, 2.0);
   no_contact.contact = false;
-  const SoundInput no_removal = cutting(0.0, Tissue::Enamel, 0.0);
-  const SoundInput pressing = cutting(0.0, Tissue::Enamel, 2.0);  // force alone removes nothing
+  const SoundInput no_removal = cutting(0.0, Material::Enamel, 0.0);
+  const SoundInput pressing = cutting(0.0, Material::Enamel, 2.0);  // force alone removes nothing
   for (const SoundInput& in : {no_contact, no_removal, pressing}) {
     auto voice = makeCuttingVoice(p);
     for (float s : renderConstant(*voice, in, 0.5)) ASSERT_EQ(s, 0.0f);
   }
   // And cutting, once it starts, is heard at once.
   auto voice = makeCuttingVoice(p);
-  EXPECT_GT(test::rms(renderConstant(*voice, cutting(1.0, Tissue::Enamel), 0.1)), 0.05);
+  EXPECT_GT(test::rms(renderConstant(*voice, cutting(1.0, Material::Enamel), 0.1)), 0.05);
 }
 
 TEST(CuttingVoiceTest, ContactFadesInWithinTheBlock) {
   const SynthParams p = defaultSynthParams();
   auto voice = makeCuttingVoice(p);
-  SoundInput off = cutting(1.0, Tissue::Enamel);
+  SoundInput off = cutting(1.0, Material::Enamel);
   off.contact = false;
   std::vector<float> block(800);
-  voice->render(off, cutting(1.0, Tissue::Enamel), block);
+  voice->render(off, cutting(1.0, Material::Enamel), block);
   // The level is the contact weight times the rest: the first 80 samples are at most 10% of the way.
   EXPECT_LT(test::rms(std::span(block).first(80)), 0.25 * test::rms(std::span(block).last(80)));
 }
@@ -326,7 +326,7 @@ void expectBlockInvariance(Voice& one, Voice& many, const SoundInput& in) {
 TEST(VoicesTest, BlockSizesDoNotChangeTheOutput) {
   const SynthParams p = defaultSynthParams();
   expectBlockInvariance(*makeTurbineVoice(p), *makeTurbineVoice(p), turbineAt(25000, 1.0, true));
-  expectBlockInvariance(*makeCuttingVoice(p, 4), *makeCuttingVoice(p, 4), cutting(0.7, Tissue::Dentin));
+  expectBlockInvariance(*makeCuttingVoice(p, 4), *makeCuttingVoice(p, 4), cutting(0.7, Material::Dentin));
 }
 
 TEST(VoicesTest, StayWithinBoundsAtEverythingMaximal) {
@@ -401,7 +401,7 @@ TEST_F(SampleVoiceTest, LoopSeamHasNoStepLargerThanTheRecordingsOwn) {
   Result<std::unique_ptr<Voice>> voice = makeSampleVoice(path, SampleRole::Cutting, 0.0, p);
   ASSERT_TRUE(voice.ok()) << voice.message();
   // Full removal, no force: the sample at its own level, over several loops.
-  const std::vector<float> x = renderConstant(**voice, cutting(p.full_removal_mm3_per_s, Tissue::Enamel, 0.0), 1.5);
+  const std::vector<float> x = renderConstant(**voice, cutting(p.full_removal_mm3_per_s, Material::Enamel, 0.0), 1.5);
   std::printf("loop: max step %.5f, recording's own %.5f, raw seam %.5f\n", test::maxStep(x), own_step, raw_seam);
   EXPECT_LE(test::maxStep(x), own_step * 1.01);
   EXPECT_GT(test::rms(x), 0.4);
@@ -413,7 +413,7 @@ TEST_F(SampleVoiceTest, CuttingSampleLoudnessFollowsRemoval) {
   const auto level = [&](double removal) {
     Result<std::unique_ptr<Voice>> voice = makeSampleVoice(path, SampleRole::Cutting, 0.0, p);
     EXPECT_TRUE(voice.ok());
-    return test::rms(renderConstant(**voice, cutting(removal, Tissue::Enamel, 0.0), 1.0));
+    return test::rms(renderConstant(**voice, cutting(removal, Material::Enamel, 0.0), 1.0));
   };
   EXPECT_NEAR(std::pow(level(0.25) / level(1.0), 2), 0.25, 0.01);  // power proportional to removal
   EXPECT_EQ(level(0.0), 0.0);
@@ -427,7 +427,7 @@ TEST_F(SampleVoiceTest, SilentAtRestAndBounded) {
   for (float s : renderConstant(**voice, turbineAt(0), 0.5)) ASSERT_EQ(s, 0.0f);
   Result<std::unique_ptr<Voice>> cut = makeSampleVoice(path, SampleRole::Cutting, 0.0, p);
   ASSERT_TRUE(cut.ok());
-  SoundInput max = cutting(1000.0, Tissue::Enamel, 100.0, 1e6);
+  SoundInput max = cutting(1000.0, Material::Enamel, 100.0, 1e6);
   for (float s : renderConstant(**cut, max, 0.5)) ASSERT_LE(std::abs(s), 1.5f);
 }
 

@@ -76,7 +76,7 @@ Result<std::vector<BlockMesh>> gpuBlocks(Context& ctx, const BrickVolume& vol, G
 std::vector<BlockMesh> cpuBlocks(const BrickVolume& vol, Material tissue, int normals) {
   std::vector<BlockMesh> out;
   for (const MeshBlock& b : activeMeshBlocks(vol, tissue)) {
-    BlockMesh m = meshBlockCpu(vol, b, tissue, normalBoxSide(normals));
+    BlockMesh m = meshBlockCpu(vol, b, tissue, normalBoxSide(*normalModeFromNeighbours(normals)));
     if (!m.indices.empty()) out.push_back(std::move(m));
   }
   return out;

@@ -261,7 +261,7 @@ TEST(SimParams, LooksAndViewOverrideAndValidate) {
   SimParams expected = defaultSimParams();
   expected.look(Material::Enamel).alpha = 0.4;
   expected.look(Material::Enamel).diffuse_r = 0.5;
-  expected.view.normal_neighbours = 64.0;
+  expected.view.normals = NormalMode::Box64;
   EXPECT_TRUE(*p == expected);
   EXPECT_FALSE(*p == defaultSimParams());
 

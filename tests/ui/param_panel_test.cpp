@@ -225,7 +225,7 @@ TEST_F(PanelTest, StartStopResetScoreFollowTheRunState) {
 TEST_F(PanelTest, NormalsAndLevelRaiseTheirFlags) {
   frame();
   Click c = click(centre("view.normal_neighbours.64"));
-  EXPECT_EQ(state_.params.view.normal_neighbours, 64.0);
+  EXPECT_EQ(state_.params.view.normals, NormalMode::Box64);
   expectOnly(c.press, {});
   expectOnly(c.release, {"params", "normals"});
   // Clicking the mode already chosen changes nothing.
@@ -381,7 +381,7 @@ TEST(PresetActions, LoadAndSaveUpdateStateAndStatus) {
   PresetStore store(dir.path().string());
   UiState state;
   state.params.tissue(Material::Pulp).hardness = 0.25;
-  state.params.view.normal_neighbours = 8.0;
+  state.params.view.normals = NormalMode::Box8;
 
   PanelActions save;
   save.save_preset = "pulp";

@@ -28,7 +28,7 @@ SimParams tunedParams() {
   p.tissue(Material::Enamel).hardness = 0.37;
   p.look(Material::Enamel).alpha = 0.5;
   p.burs["round_bur_010"].cutting_ability = 0.55;
-  p.view.normal_neighbours = 64.0;
+  p.view.normals = NormalMode::Box64;
   return p;
 }
 

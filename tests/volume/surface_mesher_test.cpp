@@ -278,10 +278,9 @@ TEST(SurfaceMesher, SphereAreaAndVolume) {
 std::array<double, 3> normalErrors(const ToothVolume& t,
                                    const std::function<std::array<double, 3>(std::array<double, 3>)>& truth) {
   std::array<double, 3> e{};
-  const int modes[3] = {8, 64, 216};
   for (size_t i = 0; i < 3; ++i) {
     SurfaceOptions o;
-    o.normal_neighbours = modes[i];
+    o.normals = kNormalModes[i];
     e[i] = meanNormalErrorDeg(t, meshOf(t, o), truth);
   }
   return e;
@@ -377,17 +376,6 @@ TEST(SurfaceMesher, SameVolumeSameMesh) {
   EXPECT_EQ(a.normals, b.normals);
   EXPECT_EQ(a.triangles, b.triangles);
   EXPECT_FALSE(a.triangles.empty());
-}
-
-TEST(SurfaceMesher, RejectsUnknownNormalModes) {
-  ToothVolume t = makeTooth(3);
-  for (int n : {0, 1, 27, 125, 512}) {
-    SurfaceOptions o;
-    o.normal_neighbours = n;
-    auto r = meshVolumeCpu(t, o);
-    ASSERT_FALSE(r.ok());
-    EXPECT_NE(r.message().find(std::to_string(n)), std::string::npos) << r.message();
-  }
 }
 
 TEST(SurfaceMesher, ReportsProgressAndStopsWhenCancelled) {
