@@ -26,6 +26,7 @@
 #include "core/rigid.h"
 #include "core/volume_frame.h"
 #include "io/pen_path_file.h"
+#include "model/tool_generator.h"
 #include "sim/scripted_paths.h"
 #include "volume/brick_volume.h"
 
@@ -34,7 +35,7 @@ namespace dentsim::bench {
 // ---- 1. one level ----------------------------------------------------------------------------------
 
 struct HapticBenchSettings {
-  std::string tool = "round_bur_010";   // built-in bur (loadToolModel)
+  std::string tool = kDefaultBur;       // built-in bur (loadToolModel)
   CavityPathSettings path;
   bool step_only = true;                // also step the same steps back to back on the caller's thread
   bool after_idle = true;               // and again each 1 ms after the last began (with step_only only)

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "core/pixel_rect.h"
+#include "model/tool_generator.h"
 #include "sim/sim_params.h"
 #include "ui/preset_store.h"
 
@@ -75,7 +76,7 @@ struct SoundControls {
 
 struct UiState {
   SimParams params = defaultSimParams();   // the working set the panel edits
-  std::string bur = "round_bur_010";       // the drill's tool name (toolCatalog / params.burs)
+  std::string bur = kDefaultBur;           // the drill's tool name (toolCatalog / params.burs)
   double turbine_speed = 0.0;              // [0..1] of params.turbine.max_rpm
   bool pedal_present = false;              // false: the slider, PageUp/PageDown and the wheel set the speed
   int level = 9;                           // octree level of the tooth, kMinLevel..kMaxLevel
