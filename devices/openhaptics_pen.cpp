@@ -162,28 +162,6 @@ std::string calibrationAdvice(int supported) {
   return "not calibrated: move the stylus through its whole workspace";
 }
 
-// The rotation of a column-major 4x4 transform (HDAPI's layout, OpenGL's), as a unit quaternion.
-// Shepperd's method: branch on the largest of the trace and the diagonal for a well-conditioned root.
-Quat rotationOfColumnMajor(const double* m) {
-  auto r = [m](int row, int col) { return m[col * 4 + row]; };
-  const double trace = r(0, 0) + r(1, 1) + r(2, 2);
-  Quat q;
-  if (trace > 0) {
-    const double s = 2 * std::sqrt(1 + trace);
-    q = {s / 4, (r(2, 1) - r(1, 2)) / s, (r(0, 2) - r(2, 0)) / s, (r(1, 0) - r(0, 1)) / s};
-  } else if (r(0, 0) > r(1, 1) && r(0, 0) > r(2, 2)) {
-    const double s = 2 * std::sqrt(1 + r(0, 0) - r(1, 1) - r(2, 2));
-    q = {(r(2, 1) - r(1, 2)) / s, s / 4, (r(0, 1) + r(1, 0)) / s, (r(0, 2) + r(2, 0)) / s};
-  } else if (r(1, 1) > r(2, 2)) {
-    const double s = 2 * std::sqrt(1 + r(1, 1) - r(0, 0) - r(2, 2));
-    q = {(r(0, 2) - r(2, 0)) / s, (r(0, 1) + r(1, 0)) / s, s / 4, (r(1, 2) + r(2, 1)) / s};
-  } else {
-    const double s = 2 * std::sqrt(1 + r(2, 2) - r(0, 0) - r(1, 1));
-    q = {(r(1, 0) - r(0, 1)) / s, (r(0, 2) + r(2, 0)) / s, (r(1, 2) + r(2, 1)) / s, s / 4};
-  }
-  return q.normalized();
-}
-
 // ---- 3. the pen ----
 
 class OpenHapticsPen final : public HapticDevice {
@@ -379,7 +357,9 @@ hd::HDCallbackCode OpenHapticsPen::servo() {
   const int64_t now_ns = steadyNowNs();
   DeviceReading r;
   r.pose.position = {position[0], position[1], position[2]};
-  r.pose.rotation = rotationOfColumnMajor(transform);
+  // HDAPI's transform is column-major 4x4 (OpenGL's layout): its rotation, row by row.
+  r.pose.rotation = Quat::fromMatrix({transform[0], transform[4], transform[8], transform[1], transform[5], transform[9],
+                                      transform[2], transform[6], transform[10]});
   r.velocity = {velocity[0], velocity[1], velocity[2]};
   r.angular_velocity = {angular_velocity[0], angular_velocity[1], angular_velocity[2]};
   r.buttons = static_cast<uint32_t>(buttons);
