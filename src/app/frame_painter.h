@@ -56,8 +56,9 @@ class FramePainter {
 
  private:
   FramePainter() = default;
-  std::unique_ptr<ui::Window> window_;
+  // Destroyed in reverse: the panel, surfaces, renderer and targets, then the window, then the device.
   std::optional<gpu::Context> ctx_;
+  std::unique_ptr<ui::Window> window_;
   std::unique_ptr<render::Swapchain> swapchain_;
   std::optional<render::OffscreenTarget> offscreen_;
   std::optional<render::SceneRenderer> renderer_;

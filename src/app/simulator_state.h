@@ -78,9 +78,9 @@ class Simulator {
 
   RunSound sound_;
 
-  std::unique_ptr<FramePainter> painter_;
   render::OrbitCamera camera_;
-  WindowInput input_;
+  WindowInput input_;                     // the window's callbacks point here: it outlives the window
+  std::unique_ptr<FramePainter> painter_;
   ShotSchedule shots_;
 
   // Panel.
