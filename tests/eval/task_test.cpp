@@ -16,7 +16,7 @@ const std::string kWhere = "t.json";
 
 // The source tree's assets/tasks, found from this file's path.
 std::string assetTask(const std::string& file) {
-  return (std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "assets" / "tasks" / file).string();
+  return (std::filesystem::path(DENTSIM_SOURCE_DIR) / "assets" / "tasks" / file).string();
 }
 
 // A caries task with `extra` members appended (JSON text after a comma), or `replace` instead of the body.
