@@ -4,7 +4,7 @@
 //   1. The structs (units in brackets; defaults from the tissue table)
 //   2. The preset's two sections: defaults, read, write, equality
 //
-// The visual half of a preset; sim/sim_params.h is the tactile half of the same file, and
+// The visual half of a preset; sim's SimParams is the tactile half of the same file, and
 // ui/preset.h reads and writes both as one. docs/HAPTICS.md explains every field.
 #pragma once
 
