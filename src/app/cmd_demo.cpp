@@ -14,6 +14,7 @@
 #include "sim/builtin_tooth.h"
 #include "sim/novice_paths.h"
 #include "sim/session_run.h"
+#include "ui/preset.h"
 #include "ui/window.h"
 #include "volume/surface_mesher.h"
 #include "volume/tooth_file.h"
@@ -95,12 +96,13 @@ int runCpuDemo(const DemoOptions& o) {
 
   auto task = builtinTask("caries");
   if (!task) return fail(task.message());
-  SimParams params = defaultSimParams();
+  ui::Preset preset = ui::defaultPreset();
   if (!o.params.empty()) {
-    auto loaded = loadSimParams(o.params);
+    auto loaded = ui::loadPreset(o.params);
     if (!loaded) return fail(loaded.message());
-    params = std::move(*loaded);
+    preset = std::move(*loaded);
   }
+  const SimParams& params = preset.sim;
 
   // The tooth, saved first: the session names it, and replay starts from it.
   auto tooth = builtinMolarTooth(o.level);
@@ -127,6 +129,7 @@ int runCpuDemo(const DemoOptions& o) {
   so.drill_tool = task->drill_tool;
   so.mirror_tool = "";
   so.realtime = o.realtime;
+  so.params_json = ui::presetJson(preset);
   const std::string session_path = (fs::path(o.out) / "session.dses").string();
   auto run = recordScriptedSession(*tooth, params, *path, session_path, info, so);
   if (!run) return fail(run.message());

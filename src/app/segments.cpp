@@ -54,6 +54,7 @@ Status Segments::start(ToothVolume& tooth, const SegmentSetup& setup, std::vecto
     info.tooth_file = tooth_name;
     info.tooth_source = setup.tooth_source;
     info = sessionHeader(std::move(info), tooth, *setup.params, setup.drill_name, setup.mirror ? setup.mirror_name : "");
+    if (!setup.params_json.empty()) info.params_json = setup.params_json;
     session_path_ = out_path("session" + suffix + ".dses");
     recorder_ = std::make_unique<SessionRecorder>();
     if (Status st = recorder_->start(*loop_, session_path_, info); !st) return st;

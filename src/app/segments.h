@@ -33,6 +33,8 @@ struct SegmentSetup {
   int idle_latency_us = 0;              // HapticLoop::setIdleLatencyUs
   bool lockstep = false;                // the caller steps the loop (stepTo); else its real-time thread runs
   std::string out;                      // folder for the tooth and session files; empty: nothing recorded
+  std::string params_json;              // the whole preset the session records (ui::presetJson of *params
+                                        // and the looks); empty: simParamsJson(*params)
 };
 
 class Segments {

@@ -33,6 +33,7 @@ double msSince(Clock::time_point t0) { return std::chrono::duration<double, std:
 Status Simulator::startSegment() {
   SegmentSetup s;
   s.params = &params_;
+  s.params_json = ui::presetJson({params_, looks_});
   s.drill = &*drill_tool_;
   s.mirror = mirror_tool_ ? &*mirror_tool_ : nullptr;
   s.pens = {rack_.pen(PenRole::Drill), rack_.pen(PenRole::Mirror)};
@@ -82,7 +83,7 @@ render::FrameState Simulator::frameState(const HapticState& state, VkExtent2D ex
   const render::CameraBasis b = camera_.basis();
   fs.light_dir = glm::normalize(-b.forward + 0.6f * b.up + 0.25f * b.right);
   fs.tooth_frame = view_.frame;
-  fs.looks = ui_.params.looks;
+  fs.looks = ui_.looks.looks;
   const ToolState& drill = state.tools[size_t(PenRole::Drill)];
   const ToolState& mirror = state.tools[size_t(PenRole::Mirror)];
   fs.drill_shown = drill.present;
@@ -150,10 +151,11 @@ Status Simulator::handleActions(ui::PanelActions& a) {
   ui::applyPresetActions(a, *presets_, ui_);
   if (a.params_changed) {
     params_ = ui_.params;
-    if (segments_.recorder()) segments_.recorder()->setParams(params_);
+    looks_ = ui_.looks;
+    if (segments_.recorder()) segments_.recorder()->setParams(params_, ui::presetJson({params_, looks_}));
     else if (segments_.loop()) segments_.loop()->setParams(params_);
   }
-  if (a.normal_mode_changed) painter_->surfaces().setNormalMode(params_.view.normals);
+  if (a.normal_mode_changed) painter_->surfaces().setNormalMode(looks_.view.normals);
   if (a.speed_changed && pens_) pens_->setPedal(ui_.turbine_speed);
   if (a.task_changed) {
     auto task = builtinTask(ui_.task);

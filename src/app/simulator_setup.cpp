@@ -78,10 +78,12 @@ Status Simulator::setUp() {
   if (Status st = rack_.checkNames(); !st) return st;
 
   params_ = defaultSimParams();
+  looks_ = defaultLookParams();
   if (!o_.params.empty()) {
-    auto p = loadSimParams(o_.params);
+    auto p = ui::loadPreset(o_.params);
     if (!p) return p.error();
-    params_ = std::move(*p);
+    params_ = std::move(p->sim);
+    looks_ = std::move(p->looks);
   }
   auto task = builtinTask(o_.task);
   if (!task) return task.error();
@@ -143,7 +145,7 @@ Status Simulator::setUp() {
   po.vsync = o_.vsync;
   po.device = o_.device;
   po.panel = o_.ui;
-  po.normals = params_.view.normals;
+  po.normals = looks_.view.normals;
   auto painter = FramePainter::create(po, [this](ui::Window& w) { input_.attach(w); });
   if (!painter) return painter.error();
   painter_ = std::move(*painter);
@@ -160,6 +162,7 @@ Status Simulator::setUp() {
   // The panel's state.
   presets_ = std::make_unique<ui::PresetStore>(ui::defaultPresetDirectory());
   ui_.params = params_;
+  ui_.looks = looks_;
   ui_.bur = drill_name_;
   ui_.level = initial_.frame.level;
   ui_.task = o_.task;

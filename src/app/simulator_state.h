@@ -65,6 +65,7 @@ class Simulator {
   TissueBox box_;
   std::optional<Task> task_;
   SimParams params_;
+  LookParams looks_;  // the preset's visual half (one preset with params_)
   std::optional<ToolModel> drill_tool_, mirror_tool_;
   std::string drill_name_, mirror_name_;
 

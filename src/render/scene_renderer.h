@@ -36,7 +36,7 @@
 #include "io/png_file.h"
 #include "model/tool_generator.h"
 #include "render/tooth_surfaces.h"
-#include "sim/sim_params.h"
+#include "render/look_params.h"
 
 namespace dentsim::render {
 
@@ -65,7 +65,7 @@ struct FrameState {
 
   bool tooth_shown = true;
   VolumeFrame tooth_frame;                           // voxel units to mm
-  std::array<TissueLook, DS_MATERIAL_COUNT> looks{}; // by Material (SimParams::looks)
+  std::array<TissueLook, DS_MATERIAL_COUNT> looks{}; // by Material (LookParams::looks)
 
   bool drill_shown = true;
   Pose drill;                                        // the bur's tool frame (ToolState::tool) [mm]

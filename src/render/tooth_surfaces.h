@@ -20,7 +20,7 @@ inline constexpr std::array<Material, kTissueCount> kDrawnTissues = tissuesInDra
 
 class ToothSurfaces {
  public:
-  // Empty surfaces for every drawn tissue, with normals of `normals` (SimParams::view).
+  // Empty surfaces for every drawn tissue, with normals of `normals` (LookParams::view).
   // Errors: a Vulkan failure.
   static Result<ToothSurfaces> create(gpu::Context& ctx, NormalMode normals = NormalMode::Box216);
 

@@ -42,8 +42,9 @@ Status SessionRecorder::start(HapticLoop& loop, const std::string& path, const S
   return Ok{};
 }
 
-void SessionRecorder::setParams(const SimParams& params) {
-  std::string json = simParamsJson(params);
+void SessionRecorder::setParams(const SimParams& params) { setParams(params, simParamsJson(params)); }
+
+void SessionRecorder::setParams(const SimParams& params, std::string json) {
   std::lock_guard<std::mutex> lock(params_mutex_);
   const uint32_t serial = loop_->setParams(params);
   pending_params_[serial] = std::move(json);

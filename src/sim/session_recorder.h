@@ -34,8 +34,11 @@ class SessionRecorder {
   // Creates the file (PATH.part until finish) with `info` as its header, starts the writing thread
   // and has `loop` record every later step. The loop's thread must be stopped.
   Status start(HapticLoop& loop, const std::string& path, const SessionInfo& info);
-  // A new parameter set for the loop, recorded from the step that first uses it.
+  // A new parameter set for the loop, recorded from the step that first uses it as simParamsJson.
   void setParams(const SimParams& params);
+  // The same, recorded as `params_json`: the whole preset's text (ui::presetJson), whose tactile
+  // sections are `params`.
+  void setParams(const SimParams& params, std::string params_json);
   // After the loop has stopped: writes what is left and the end record, and renames the file.
   // Returns the first write error of the session, if any.
   Status finish(const SessionEnd& end);

@@ -58,6 +58,7 @@ Result<SessionOutcome> recordScriptedSession(ToothVolume& tooth, const SimParams
   auto tools = loadTools(options.drill_tool, options.mirror_tool, params);
   if (!tools) return tools.error();
   info = sessionHeader(std::move(info), tooth, params, options.drill_tool, options.mirror_tool);
+  if (!options.params_json.empty()) info.params_json = options.params_json;
 
   const auto t0 = std::chrono::steady_clock::now();
   HapticLoop loop(tooth.voxels, tooth.frame, params, tools->drill, tools->mirror ? &*tools->mirror : nullptr, nullptr);

@@ -27,6 +27,8 @@ struct ScriptedSessionOptions {
   std::string mirror_tool;        // empty: no mirror
   bool realtime = false;          // run the loop on its real-time thread at the set's rate; else back to back
   double extra_s = 0.05;          // keep stepping this long after the path's last sample [s]
+  std::string params_json;        // the preset text the header records, the same tactile set as `params`
+                                  // with the stages above's sections (ui::presetJson); empty: simParamsJson
 };
 
 struct SessionOutcome {
@@ -39,7 +41,8 @@ struct SessionOutcome {
 };
 
 // `info` with what the session's header takes from its start: the loop's rate, the tools, the
-// tooth's hash, level and voxel size, and the parameter set.
+// tooth's hash, level and voxel size, and the parameter set (simParamsJson; a caller that owns the
+// preset's other sections may replace info.params_json with the whole preset's text).
 SessionInfo sessionHeader(SessionInfo info, const ToothVolume& tooth, const SimParams& params,
                           const std::string& drill_tool, const std::string& mirror_tool);
 

@@ -5,16 +5,20 @@
 //   2. Presets: parse, load, save, the built-in default
 //
 // The one set the haptic loop, the UI and the session file share. A preset is a readable JSON
-// file (assets/presets/default.json is the default); docs/HAPTICS.md explains every field.
+// file (assets/presets/default.json is the default); docs/HAPTICS.md explains every field. The
+// preset's "looks" and "view" sections are render's (render/look_params.h): these functions accept
+// and skip them, and write only the tactile sections.
 #pragma once
 
 #include <array>
 #include <map>
 #include <string>
 
+#include <nlohmann/json.hpp>
+
 #include "core/result.h"
+#include "io/param_fields.h"
 #include "volume/brick_volume.h"
-#include "volume/normal_mode.h"
 
 namespace dentsim {
 
@@ -73,37 +77,17 @@ struct PointShellParams {
   double mirror_spacing_mm = 0.3;  // point spacing on the mirror, which only collides [mm]
 };
 
-// How one tissue looks: Phong colours and opacity. The renderer draws opaque tissues first and the
-// translucent ones (alpha < 1) over them, so a translucent enamel lets the dentin, pulp and caries
-// beneath show through.
-struct TissueLook {
-  double ambient_r = 0.0, ambient_g = 0.0, ambient_b = 0.0;     // ambient colour [0..1]
-  double diffuse_r = 0.0, diffuse_g = 0.0, diffuse_b = 0.0;     // diffuse colour [0..1]
-  double specular_r = 0.0, specular_g = 0.0, specular_b = 0.0;  // specular colour [0..1]
-  double alpha = 1.0;                                           // opacity [0..1]
-  double shininess = 1.0;                                       // Phong exponent [1..512]
-};
-
-// The tooth's surface shading that is not per tissue.
-struct ViewParams {
-  NormalMode normals = NormalMode::Box216;  // preset key "normal_neighbours" (paper Fig. 15)
-};
-
 struct SimParams {
   std::array<TissueParams, DS_MATERIAL_COUNT> tissues{};  // indexed by Material; Empty and spare codes unused
-  std::array<TissueLook, DS_MATERIAL_COUNT> looks{};      // indexed by Material, as tissues
   std::map<std::string, BurParams> burs;                  // by tool name ("round_bur_010")
   TurbineParams turbine;
   CuttingParams cutting;
   CouplingParams coupling;
   DeviceParams device;
   PointShellParams point_shell;
-  ViewParams view;
 
   TissueParams& tissue(Material m) { return tissues[size_t(m)]; }
   const TissueParams& tissue(Material m) const { return tissues[size_t(m)]; }
-  TissueLook& look(Material m) { return looks[size_t(m)]; }
-  const TissueLook& look(Material m) const { return looks[size_t(m)]; }
   // The bur's cutting ability; 0 for an unknown bur (it collides but does not cut).
   double cuttingAbility(const std::string& bur) const {
     auto it = burs.find(bur);
@@ -113,12 +97,13 @@ struct SimParams {
 
 // ---- 2. presets --------------------------------------------------------------------------------------
 
-// dentsim's defaults: each tissue's touch and look from the tissue table (volume/tissue_table.h; the
-// paper's hardness), and an ability for every built-in bur.
+// dentsim's defaults: each tissue's touch from the tissue table (volume/tissue_table.h; the paper's
+// hardness), and an ability for every built-in bur.
 SimParams defaultSimParams();
 
 // Parses a preset. "format" ("dentsim-params") and "version" (1) are required; other keys left out
 // keep their defaults, and "burs" entries merge into the default map (a new bur name is allowed).
+// "looks" and "view" are accepted and not read (render/look_params.h reads them).
 // Invalid JSON, an unknown or repeated key, a wrong type, a non-finite number or a value out of range
 // is a one-line error naming `where` and the key ("default.json: tissues.enamel.hardness: 1.5 is not
 // in [0, 1]"). Never throws.
@@ -127,15 +112,20 @@ Result<SimParams> parseSimParams(const std::string& json_text, const std::string
 Result<SimParams> loadSimParams(const std::string& path);
 // The preset as JSON: 2-space indent, every field written, keys in a fixed order (burs by name),
 // numbers as text that reads back bit-identical, a trailing newline. parseSimParams
-// reads it back equal. Empty and the spare material codes are not written.
+// reads it back equal. Empty and the spare material codes are not written; neither are "looks" and
+// "view" (a whole preset is ui/preset.h's presetJson).
 std::string simParamsJson(const SimParams& params);
+// The tactile sections, in file order, appended to `root` (a preset's header, io/param_fields.h).
+void appendSimParamsJson(const SimParams& params, nlohmann::ordered_json* root);
+// Reads the tactile sections of a preset whose header `r` has checked, over *params; the first
+// problem stays in `r`.
+void readSimParamsJson(const nlohmann::json& root, FieldReader& r, SimParams* params);
 // Writes the preset atomically; refuses (writing nothing) one that parseSimParams would reject.
 Status saveSimParams(const std::string& path, const SimParams& params);
 
 // Field by field with == (so 0 equals -0, and a NaN equals nothing); SimParams compares all eight
 // tissue slots.
 bool operator==(const TissueParams& a, const TissueParams& b);
-bool operator==(const TissueLook& a, const TissueLook& b);
 bool operator==(const SimParams& a, const SimParams& b);
 
 }  // namespace dentsim

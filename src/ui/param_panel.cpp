@@ -134,7 +134,7 @@ void tissueTab(const Frame& f, Material m) {
   const std::string name = materialName(m);
   const std::string t = "tissues." + name + ".", l = "looks." + name + ".";
   TissueParams& tp = f.state.params.tissue(m);
-  TissueLook& lk = f.state.params.look(m);
+  TissueLook& lk = f.state.looks.look(m);
   bool changed = false;
 
   ImGui::TextDisabled("touch");
@@ -259,8 +259,8 @@ void surfaceSection(const Frame& f) {
   for (NormalMode mode : kNormalModes) {
     ImGui::SameLine();
     const std::string label = normalModeName(mode);
-    if (ImGui::RadioButton(label.c_str(), s.params.view.normals == mode) && s.params.view.normals != mode) {
-      s.params.view.normals = mode;
+    if (ImGui::RadioButton(label.c_str(), s.looks.view.normals == mode) && s.looks.view.normals != mode) {
+      s.looks.view.normals = mode;
       f.actions.normal_mode_changed = true;
       f.actions.params_changed = true;
     }
@@ -508,19 +508,20 @@ void drawOverlay(const UiState& state) {
 
 void applyPresetActions(PanelActions& actions, const PresetStore& store, UiState& state) {
   if (!actions.load_preset.empty()) {
-    Result<SimParams> loaded = store.load(actions.load_preset);
+    Result<Preset> loaded = store.load(actions.load_preset);
     if (!loaded) {
       state.status = loaded.message();
     } else {
-      if (loaded->view.normals != state.params.view.normals) actions.normal_mode_changed = true;
-      state.params = std::move(*loaded);
+      if (loaded->looks.view.normals != state.looks.view.normals) actions.normal_mode_changed = true;
+      state.params = std::move(loaded->sim);
+      state.looks = std::move(loaded->looks);
       state.selected_preset = actions.load_preset;
       state.status = "preset '" + actions.load_preset + "' loaded";
       actions.params_changed = true;
     }
   }
   if (!actions.save_preset.empty()) {
-    Status saved = store.save(actions.save_preset, state.params);
+    Status saved = store.save(actions.save_preset, Preset{state.params, state.looks});
     if (!saved) {
       state.status = saved.message();
     } else {

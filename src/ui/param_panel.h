@@ -9,7 +9,7 @@
 // ImGuiLayer::render (or between ImGui::NewFrame and ImGui::Render with any ImGui context). The panel
 // edits UiState in place and never touches the simulation itself; the app reads PanelActions and
 // pushes the changed set to the haptic loop and the renderer in the same frame, so a change applies
-// at once, to force and to colour. Every widget clamps to a sub-range of what parseSimParams
+// at once, to force and to colour. Every widget clamps to a sub-range of what parsePreset
 // accepts, so the panel can never produce a set that would not save.
 //
 // Windows and where they sit (fixed first positions, no .ini file, so frames are reproducible):
@@ -28,6 +28,7 @@
 
 #include "core/pixel_rect.h"
 #include "model/tool_generator.h"
+#include "render/look_params.h"
 #include "sim/sim_params.h"
 #include "ui/preset_store.h"
 
@@ -75,7 +76,8 @@ struct SoundControls {
 };
 
 struct UiState {
-  SimParams params = defaultSimParams();   // the working set the panel edits
+  SimParams params = defaultSimParams();   // the working set the panel edits, tactile half
+  LookParams looks = defaultLookParams();  // and visual half (one preset with params)
   std::string bur = kDefaultBur;           // the drill's tool name (toolCatalog / params.burs)
   double turbine_speed = 0.0;              // [0..1] of params.turbine.max_rpm
   bool pedal_present = false;              // false: the slider, PageUp/PageDown and the wheel set the speed
@@ -99,11 +101,11 @@ inline constexpr int kMaxLevel = 10;  // the paper's finest
 
 
 struct PanelActions {
-  bool params_changed = false;       // any field of UiState::params, tactile or visual
+  bool params_changed = false;       // any field of UiState::params or UiState::looks
   bool bur_changed = false;          // UiState::bur
   bool speed_changed = false;        // UiState::turbine_speed (no pedal only)
   bool level_changed = false;        // UiState::level: rebuild the tooth
-  bool normal_mode_changed = false;  // params.view.normals (params_changed too): re-mesh
+  bool normal_mode_changed = false;  // looks.view.normals (params_changed too): re-mesh
   bool task_changed = false;         // UiState::task
   bool sound_changed = false;        // UiState::sound volume or mute
   bool start = false, stop = false, reset = false, score = false;
@@ -134,9 +136,9 @@ PanelActions drawParamPanel(UiState& state, WidgetRects* rects = nullptr);
 // Draws the overlay in the top-left corner; it takes no mouse input.
 void drawOverlay(const UiState& state);
 
-// Carries out the preset requests of `actions` with `store`: a load replaces state.params (and sets
-// actions.params_changed, and normal_mode_changed when the normals differ), a save writes and
-// refreshes state.presets. Either way state.status tells the user what happened, error or notice.
+// Carries out the preset requests of `actions` with `store`: a load replaces state.params and
+// state.looks (and sets actions.params_changed, and normal_mode_changed when the normals differ), a
+// save writes both as one file and refreshes state.presets. Either way state.status tells the user what happened, error or notice.
 void applyPresetActions(PanelActions& actions, const PresetStore& store, UiState& state);
 
 }  // namespace dentsim::ui

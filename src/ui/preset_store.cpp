@@ -64,14 +64,14 @@ std::vector<std::string> PresetStore::list() const {
   return names;
 }
 
-Result<SimParams> PresetStore::load(const std::string& name) const {
-  if (name == kDefaultPresetName) return defaultSimParams();
+Result<Preset> PresetStore::load(const std::string& name) const {
+  if (name == kDefaultPresetName) return defaultPreset();
   if (!isValidPresetName(name)) return badName(name);
   if (directory_.empty()) return Error{"preset '" + name + "': no preset folder (set HOME or XDG_CONFIG_HOME)"};
-  return loadSimParams(pathOf(name));
+  return loadPreset(pathOf(name));
 }
 
-Status PresetStore::save(const std::string& name, const SimParams& params) const {
+Status PresetStore::save(const std::string& name, const Preset& preset) const {
   if (name == kDefaultPresetName)
     return Error{"preset 'default' is built in and read-only: save under another name"};
   if (!isValidPresetName(name)) return badName(name);
@@ -79,7 +79,7 @@ Status PresetStore::save(const std::string& name, const SimParams& params) const
   std::error_code ec;
   fs::create_directories(directory_, ec);
   if (ec) return Error{"cannot create preset folder " + directory_ + ": " + ec.message()};
-  return saveSimParams(pathOf(name), params);
+  return savePreset(pathOf(name), preset);
 }
 
 }  // namespace dentsim::ui

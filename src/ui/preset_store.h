@@ -1,8 +1,8 @@
 // PresetStore: the named parameter presets the panel offers: the built-in "default" plus the JSON files in a folder.
 //
-// A preset named N is the file <folder>/N.json, read and written by loadSimParams / saveSimParams,
-// so a preset saved here is the same file `dentsim run --params` reads. "default" is
-// defaultSimParams() (the content of assets/presets/default.json) and is read-only: a file named
+// A preset named N is the file <folder>/N.json, read and written by loadPreset / savePreset
+// (ui/preset.h), so a preset saved here is the same file `dentsim run --params` reads. "default" is
+// defaultPreset() (the content of assets/presets/default.json) and is read-only: a file named
 // default.json in the folder is neither listed nor loaded, so the built-in set cannot be shadowed.
 #pragma once
 
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "core/result.h"
-#include "sim/sim_params.h"
+#include "ui/preset.h"
 
 namespace dentsim::ui {
 
@@ -37,12 +37,12 @@ class PresetStore {
   // "default" first, then every valid <name>.json in the folder, sorted by name (byte order). A
   // missing or unreadable folder lists "default" alone.
   std::vector<std::string> list() const;
-  // The preset's parameters. Errors are one line: an invalid name, or loadSimParams' error (which
+  // The preset's parameters. Errors are one line: an invalid name, or loadPreset's error (which
   // names the file: missing, unreadable, malformed, a value out of range).
-  Result<SimParams> load(const std::string& name) const;
+  Result<Preset> load(const std::string& name) const;
   // Writes the preset atomically, creating the folder first when needed. Refuses an invalid name,
-  // "default", and a set saveSimParams would reject; errors are one line naming the name or file.
-  Status save(const std::string& name, const SimParams& params) const;
+  // "default", and a set savePreset would reject; errors are one line naming the name or file.
+  Status save(const std::string& name, const Preset& preset) const;
 
  private:
   std::string directory_;

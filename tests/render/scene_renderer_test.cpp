@@ -20,7 +20,7 @@
 #include "render/tool_mesh.h"
 #include "render/tooth_surfaces.h"
 #include "sim/builtin_tooth.h"
-#include "sim/sim_params.h"
+#include "render/look_params.h"
 
 namespace dentsim::render::test {
 namespace {
@@ -246,7 +246,7 @@ ToothScene toothScene(int level, ViewPreset preset) {
   s.frame.eye = s.camera.eye();
   s.frame.light_dir = glm::normalize(s.camera.eye() - s.centre);
   s.frame.tooth_frame = f;
-  s.frame.looks = defaultSimParams().looks;
+  s.frame.looks = defaultLookParams().looks;
   s.frame.drill_shown = false;
   return s;
 }

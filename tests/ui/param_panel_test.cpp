@@ -12,6 +12,7 @@
 #include <imgui_internal.h>
 
 #include "test_support.h"
+#include "ui/preset.h"
 
 namespace dentsim::ui {
 namespace {
@@ -160,32 +161,36 @@ TEST_F(PanelTest, DraggingPastTheEndsClampsToTheRange) {
 
 TEST_F(PanelTest, AlphaSliderChangesOnlyEnamelAlpha) {
   frame();
-  SimParams expected = state_.params;
+  const SimParams touch = state_.params;
+  LookParams expected = state_.looks;
   const WidgetRect r = rect("looks.enamel.alpha");
   // The last pixel column of the frame lies beyond the track's end: t clamps to 1.
   Click c = click(ImVec2(r.max_x - 1.0f, (r.min_y + r.max_y) * 0.5f));
   expected.look(Material::Enamel).alpha = 1.0;
-  EXPECT_TRUE(state_.params == expected);
+  EXPECT_TRUE(state_.looks == expected);
+  EXPECT_TRUE(state_.params == touch);
   expectOnly(c.press, {"params"});
 }
 
 TEST_F(PanelTest, ColourDragWritesBackOnlyTheDraggedComponent) {
   frame();
-  const SimParams before = state_.params;
+  const SimParams touch = state_.params;
+  const LookParams before = state_.looks;
   const WidgetRect r = rect("looks.enamel.diffuse");
   // The red field is the first of the three inline fields, at least 30 px wide here.
   const ImVec2 from(r.min_x + 10.0f, (r.min_y + r.max_y) * 0.5f);
   PanelActions a = drag(from, ImVec2(from.x - 60.0f, from.y));
   EXPECT_TRUE(a.params_changed);
-  const TissueLook& now = state_.params.look(Material::Enamel);
+  const TissueLook& now = state_.looks.look(Material::Enamel);
   const TissueLook& was = before.look(Material::Enamel);
   EXPECT_LT(now.diffuse_r, was.diffuse_r);
   // Untouched components keep their exact doubles, not a float round trip of them.
   EXPECT_EQ(now.diffuse_g, was.diffuse_g);
   EXPECT_EQ(now.diffuse_b, was.diffuse_b);
-  SimParams expected = before;
+  LookParams expected = before;
   expected.look(Material::Enamel).diffuse_r = now.diffuse_r;
-  EXPECT_TRUE(state_.params == expected);
+  EXPECT_TRUE(state_.looks == expected);
+  EXPECT_TRUE(state_.params == touch);
 }
 
 TEST_F(PanelTest, TabsSwitchTheEditedTissue) {
@@ -225,7 +230,7 @@ TEST_F(PanelTest, StartStopResetScoreFollowTheRunState) {
 TEST_F(PanelTest, NormalsAndLevelRaiseTheirFlags) {
   frame();
   Click c = click(centre("view.normal_neighbours.64"));
-  EXPECT_EQ(state_.params.view.normals, NormalMode::Box64);
+  EXPECT_EQ(state_.looks.view.normals, NormalMode::Box64);
   expectOnly(c.press, {});
   expectOnly(c.release, {"params", "normals"});
   // Clicking the mode already chosen changes nothing.
@@ -279,6 +284,7 @@ TEST_F(PanelTest, TurbineSpeedFromSliderWheelAndKeysWithoutAPedal) {
 TEST_F(PanelTest, VolumeSliderAndMuteBoxSetTheSoundAndNothingElse) {
   frame();
   const SimParams before = state_.params;
+  const LookParams looks_before = state_.looks;
   // The slider's centre is half volume; past its right end, full.
   Click c = click(centre("sound.volume"));
   EXPECT_EQ(state_.sound.volume, 0.5);
@@ -293,6 +299,7 @@ TEST_F(PanelTest, VolumeSliderAndMuteBoxSetTheSoundAndNothingElse) {
   click(centre("sound.mute"));
   EXPECT_FALSE(state_.sound.mute);
   EXPECT_TRUE(state_.params == before) << "sound is not a tactile or visual parameter";
+  EXPECT_TRUE(state_.looks == looks_before) << "sound is not a tactile or visual parameter";
 }
 
 TEST_F(PanelTest, LoadAndSaveButtonsNameThePreset) {
@@ -329,7 +336,7 @@ TEST_F(PanelTest, ScorePictureRectangleIsLaidOutFromTheImageAspect) {
 }
 
 // Every slider of every section, dragged far past both ends, leaves a set that saves: the panel's
-// ranges lie inside parseSimParams'.
+// ranges lie inside parsePreset's.
 TEST_F(PanelTest, NoSliderCanProduceASetThatWouldNotSave) {
   frame();
   click(centre("section.advanced"));  // unfold it
@@ -353,7 +360,7 @@ TEST_F(PanelTest, NoSliderCanProduceASetThatWouldNotSave) {
         const WidgetRect r = rect(key);
         const ImVec2 c = centre(key);
         drag(c, ImVec2(dx > 0 ? r.max_x + dx : r.min_x + dx, c.y));
-        Result<SimParams> back = parseSimParams(simParamsJson(state_.params), "panel");
+        Result<Preset> back = parsePreset(presetJson({state_.params, state_.looks}), "panel");
         ASSERT_TRUE(back.ok()) << key << ": " << back.message();
         ++dragged;
       }
@@ -381,7 +388,7 @@ TEST(PresetActions, LoadAndSaveUpdateStateAndStatus) {
   PresetStore store(dir.path().string());
   UiState state;
   state.params.tissue(Material::Pulp).hardness = 0.25;
-  state.params.view.normals = NormalMode::Box8;
+  state.looks.view.normals = NormalMode::Box8;
 
   PanelActions save;
   save.save_preset = "pulp";
@@ -395,6 +402,7 @@ TEST(PresetActions, LoadAndSaveUpdateStateAndStatus) {
   load.load_preset = "default";
   applyPresetActions(load, store, state);
   EXPECT_TRUE(state.params == defaultSimParams());
+  EXPECT_TRUE(state.looks == defaultLookParams());
   EXPECT_TRUE(load.params_changed);
   EXPECT_TRUE(load.normal_mode_changed);  // 8 -> 216
   EXPECT_EQ(state.status, "preset 'default' loaded");

@@ -23,12 +23,12 @@ void writeText(const fs::path& path, const std::string& text) {
 }
 
 // A set that differs from the default in a tactile, a visual and a bur field.
-SimParams tunedParams() {
-  SimParams p = defaultSimParams();
-  p.tissue(Material::Enamel).hardness = 0.37;
-  p.look(Material::Enamel).alpha = 0.5;
-  p.burs["round_bur_010"].cutting_ability = 0.55;
-  p.view.normals = NormalMode::Box64;
+Preset tunedParams() {
+  Preset p = defaultPreset();
+  p.sim.tissue(Material::Enamel).hardness = 0.37;
+  p.looks.look(Material::Enamel).alpha = 0.5;
+  p.sim.burs["round_bur_010"].cutting_ability = 0.55;
+  p.looks.view.normals = NormalMode::Box64;
   return p;
 }
 
@@ -60,20 +60,20 @@ TEST(PresetStore, SaveThenLoadGivesAnEqualSetAndCreatesTheFolder) {
   test::TempDir dir;
   // Two levels that do not exist yet: the first save makes both.
   PresetStore store((dir.path() / "config" / "presets").string());
-  const SimParams tuned = tunedParams();
+  const Preset tuned = tunedParams();
   Status saved = store.save("soft", tuned);
   ASSERT_TRUE(saved.ok()) << saved.message();
   EXPECT_TRUE(fs::is_regular_file(dir.path() / "config" / "presets" / "soft.json"));
   EXPECT_EQ(store.pathOf("soft"), (dir.path() / "config" / "presets" / "soft.json").string());
 
-  Result<SimParams> loaded = store.load("soft");
+  Result<Preset> loaded = store.load("soft");
   ASSERT_TRUE(loaded.ok()) << loaded.message();
   EXPECT_TRUE(*loaded == tuned);
-  EXPECT_FALSE(*loaded == defaultSimParams());
+  EXPECT_FALSE(*loaded == defaultPreset());
 
   // Saving again overwrites a user preset.
-  SimParams harder = tuned;
-  harder.tissue(Material::Enamel).hardness = 0.9;
+  Preset harder = tuned;
+  harder.sim.tissue(Material::Enamel).hardness = 0.9;
   ASSERT_TRUE(store.save("soft", harder).ok());
   EXPECT_TRUE(*store.load("soft") == harder);
 }
@@ -82,7 +82,7 @@ TEST(PresetStore, ListsDefaultFirstThenValidNamesInByteOrder) {
   test::TempDir dir;
   PresetStore store(dir.path().string());
   EXPECT_EQ(store.list(), std::vector<std::string>{"default"});
-  for (const char* name : {"b", "a", "Z", "a.2"}) ASSERT_TRUE(store.save(name, defaultSimParams()).ok()) << name;
+  for (const char* name : {"b", "a", "Z", "a.2"}) ASSERT_TRUE(store.save(name, defaultPreset()).ok()) << name;
   // Not presets: another extension, a hidden file, a folder, and a default.json that must not shadow
   // the built-in one.
   writeText(dir.path() / "notes.txt", "x");
@@ -102,14 +102,14 @@ TEST(PresetStore, RefusesBadNamesWithOneLineNamingThem) {
   const std::string too_long(65, 'x');
   for (const std::string& bad : {std::string(""), std::string(".hidden"), std::string("a/b"), std::string("x y"),
                                  std::string("caf\xc3\xa9"), std::string("..")}) {
-    Status s = store.save(bad, defaultSimParams());
+    Status s = store.save(bad, defaultPreset());
     ASSERT_FALSE(s.ok()) << "'" << bad << "'";
     EXPECT_NE(s.message().find("preset name '" + bad + "' is not valid"), std::string::npos) << s.message();
     EXPECT_EQ(s.message().find('\n'), std::string::npos);
     EXPECT_FALSE(store.load(bad).ok());
   }
-  EXPECT_FALSE(store.save(too_long, defaultSimParams()).ok());
-  EXPECT_TRUE(store.save(std::string(64, 'x'), defaultSimParams()).ok());
+  EXPECT_FALSE(store.save(too_long, defaultPreset()).ok());
+  EXPECT_TRUE(store.save(std::string(64, 'x'), defaultPreset()).ok());
   // Only the 64-character preset was written.
   EXPECT_EQ(std::distance(fs::directory_iterator(dir.path()), fs::directory_iterator()), 1);
 }
@@ -124,9 +124,9 @@ TEST(PresetStore, DefaultIsBuiltInAndReadOnly) {
 
   // A default.json in the folder is ignored: "default" is always the built-in set.
   writeText(dir.path() / "default.json", "not json");
-  Result<SimParams> d = store.load("default");
+  Result<Preset> d = store.load("default");
   ASSERT_TRUE(d.ok()) << d.message();
-  EXPECT_TRUE(*d == defaultSimParams());
+  EXPECT_TRUE(*d == defaultPreset());
 }
 
 TEST(PresetStore, MalformedAndMissingFilesGiveErrorsNamingTheFile) {
@@ -134,9 +134,9 @@ TEST(PresetStore, MalformedAndMissingFilesGiveErrorsNamingTheFile) {
   PresetStore store(dir.path().string());
   const std::string path = (dir.path() / "broken.json").string();
 
-  // Out of range: parseSimParams' own message, prefixed with the path.
+  // Out of range: parsePreset's own message, prefixed with the path.
   writeText(path, R"({"format": "dentsim-params", "version": 1, "tissues": {"enamel": {"hardness": 1.5}}})");
-  Result<SimParams> r = store.load("broken");
+  Result<Preset> r = store.load("broken");
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.message(), path + ": tissues.enamel.hardness: 1.5 is not in [0, 1]");
 
@@ -156,8 +156,8 @@ TEST(PresetStore, MalformedAndMissingFilesGiveErrorsNamingTheFile) {
 TEST(PresetStore, RefusesASetThatWouldNotLoadAndWritesNothing) {
   test::TempDir dir;
   PresetStore store(dir.path().string());
-  SimParams bad = defaultSimParams();
-  bad.tissue(Material::Enamel).hardness = 2.0;
+  Preset bad = defaultPreset();
+  bad.sim.tissue(Material::Enamel).hardness = 2.0;
   Status s = store.save("bad", bad);
   ASSERT_FALSE(s.ok());
   EXPECT_NE(s.message().find("hardness"), std::string::npos) << s.message();
@@ -168,7 +168,7 @@ TEST(PresetStore, WithoutAFolderOnlyTheDefaultExists) {
   PresetStore store("");
   EXPECT_EQ(store.list(), std::vector<std::string>{"default"});
   EXPECT_TRUE(store.load("default").ok());
-  Status s = store.save("mine", defaultSimParams());
+  Status s = store.save("mine", defaultPreset());
   ASSERT_FALSE(s.ok());
   EXPECT_EQ(s.message(), "preset 'mine': no preset folder (set HOME or XDG_CONFIG_HOME)");
 }

@@ -1,0 +1,102 @@
+// LookParams: the defaults from the tissue table, and the "looks" and "view" sections' field table, reader and writer.
+#include "render/look_params.h"
+
+#include <exception>
+#include <iterator>
+#include <optional>
+#include <vector>
+
+#include "io/strict_json.h"
+#include "volume/tissue_table.h"
+
+namespace dentsim {
+namespace {
+
+using json = nlohmann::json;
+using ordered_json = nlohmann::ordered_json;
+
+constexpr Range kShininess{1.0, 512.0, true, true, "in [1, 512]"};
+
+const Field<TissueLook> kLookFields[] = {
+    {"ambient_r", &TissueLook::ambient_r, kUnit},   {"ambient_g", &TissueLook::ambient_g, kUnit},
+    {"ambient_b", &TissueLook::ambient_b, kUnit},   {"diffuse_r", &TissueLook::diffuse_r, kUnit},
+    {"diffuse_g", &TissueLook::diffuse_g, kUnit},   {"diffuse_b", &TissueLook::diffuse_b, kUnit},
+    {"specular_r", &TissueLook::specular_r, kUnit}, {"specular_g", &TissueLook::specular_g, kUnit},
+    {"specular_b", &TissueLook::specular_b, kUnit}, {"alpha", &TissueLook::alpha, kUnit},
+    {"shininess", &TissueLook::shininess, kShininess},
+};
+// A field added to TissueLook must be added to the table, or presets would silently drop it.
+static_assert(sizeof(TissueLook) == std::size(kLookFields) * sizeof(double));
+
+// "view" holds one key, the normal mode as its neighbour count (a number, 216.0).
+const std::vector<std::string> kViewKeys = {"normal_neighbours"};
+
+std::vector<std::string> tissueKeys() {
+  std::vector<std::string> keys;
+  for (Material m : kTissues) keys.push_back(materialName(m));
+  return keys;
+}
+
+// {"normal_neighbours": 8, 64 or 216}; the key may be left out.
+bool readNormalMode(const json& j, FieldReader& r, NormalMode* out) {
+  if (!r.object(j, "view", kViewKeys)) return false;
+  auto it = j.find("normal_neighbours");
+  if (it == j.end()) return true;
+  const std::string key = jsonChildPath("view", "normal_neighbours");
+  double n = 0.0;
+  if (!r.number(*it, key, kAnyNumber, &n)) return false;
+  const std::optional<NormalMode> mode = normalModeFromNeighbours(n);
+  if (!mode) return r.fail(key, json(n).dump() + " is not " + kNormalModeChoices);
+  *out = *mode;
+  return true;
+}
+
+}  // namespace
+
+LookParams defaultLookParams() {
+  LookParams p;
+  for (const TissueRow& row : kTissueTable) {
+    const TissueLookDefaults& l = row.look;
+    p.look(row.material) = {l.ambient[0],  l.ambient[1],  l.ambient[2],  l.diffuse[0], l.diffuse[1], l.diffuse[2],
+                            l.specular[0], l.specular[1], l.specular[2], l.alpha,      l.shininess};
+  }
+  return p;
+}
+
+void appendLookParamsJson(const LookParams& params, ordered_json* root) {
+  ordered_json looks = ordered_json::object();
+  for (Material m : kTissues) looks[materialName(m)] = fieldsJson(params.look(m), kLookFields);
+  (*root)["looks"] = std::move(looks);
+  ordered_json view = ordered_json::object();
+  view["normal_neighbours"] = double(normalNeighbours(params.view.normals));
+  (*root)["view"] = std::move(view);
+}
+
+void readLookParamsJson(const json& root, FieldReader& r, LookParams* p) {
+  if (!r.namedFields(root, "looks", tissueKeys(), kLookFields, [&](size_t i) { return &p->look(kTissues[i]); }))
+    return;
+  if (auto it = root.find("view"); it != root.end()) readNormalMode(*it, r, &p->view.normals);
+}
+
+Result<LookParams> parseLookParams(const std::string& json_text, const std::string& where) {
+  try {
+    json root;
+    std::string error;
+    if (!parseStrictJson(json_text, &root, &error)) return makeError(where, error);
+    LookParams params = defaultLookParams();
+    FieldReader reader;
+    if (reader.presetHeader(root)) readLookParamsJson(root, reader, &params);
+    if (reader.failed()) return makeError(where, reader.error());
+    return params;
+  } catch (const std::exception& e) {
+    return makeError(where, "cannot read preset: " + jsonExceptionText(e));
+  }
+}
+
+bool operator==(const TissueLook& a, const TissueLook& b) { return sameFields(a, b, kLookFields); }
+
+bool operator==(const LookParams& a, const LookParams& b) {
+  return a.looks == b.looks && a.view.normals == b.view.normals;
+}
+
+}  // namespace dentsim
