@@ -94,7 +94,7 @@ Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, cons
   inputs.no_session_reason = files.no_session_reason;
   if (ideal) {
     inputs.ideal = files.ideal_spec ? *files.ideal_spec
-                                    : IdealSpec{IdealKind::Volume, files.ideal.empty() ? "(given by the caller)" : files.ideal};
+                                    : IdealSpec{IdealKind::Volume, files.ideal.empty() ? "(given by the caller)" : files.ideal, {}, {}, {}};
     inputs.ideal_from = files.ideal_from.empty() ? "command line" : files.ideal_from;
   } else if (task.ideal) {
     auto made = idealForTask(task, initial, &out.warnings);

@@ -108,11 +108,34 @@ const std::string kNonNegative = ">= 0 and <= 1e9";
 
 // The ideal: {"kind": ..., "path": ...} at `path`.
 bool readIdeal(const json& ideal, const std::string& path, TaskReader& r, IdealSpec* out) {
-  if (!r.object(ideal, path, {"kind", "path"})) return false;
+  if (!r.object(ideal, path, {"kind", "path", "initial_hash", "final_hash", "session_hash"})) return false;
   size_t kind = 0;
   if (!r.choice(ideal, path, "kind", {"builtin_path", "volume", "session"}, &kind)) return false;
   out->kind = static_cast<IdealKind>(kind);
-  return r.string(ideal, path, "path", true, false, &out->path);
+  if (!r.string(ideal, path, "path", true, false, &out->path)) return false;
+  for (auto [key, hash] : {std::pair{"initial_hash", &out->initial_hash}, {"final_hash", &out->final_hash},
+                           {"session_hash", &out->session_hash}}) {
+    if (!r.string(ideal, path, key, false, false, hash)) return false;
+    if (!hash->empty() && (hash->size() != 16 || hash->find_first_not_of("0123456789abcdef") != std::string::npos))
+      return r.fail(jsonChildPath(path, key), quotedForMessage(*hash) + " is not a hash (16 lower-case hex digits)");
+  }
+  return true;
+}
+
+// The first view: {"camera": preset, "elevation_deg": number, "fixed": bool}.
+bool readView(const json& view, TaskReader& r, TaskView* out) {
+  const std::string path = "view";
+  if (!r.object(view, path, {"camera", "elevation_deg", "fixed"})) return false;
+  size_t camera = 0;
+  const std::vector<std::string> cameras = {"occlusal", "buccal", "lingual", "mesial", "distal"};
+  if (!r.choice(view, path, "camera", cameras, &camera)) return false;
+  out->camera = cameras[camera];
+  if (!r.number(view, path, "elevation_deg", false, -89, true, 89, "in [-89, 89]", &out->elevation_deg)) return false;
+  if (const json* fixed = r.member(view, path, "fixed", false)) {
+    if (!fixed->is_boolean()) return r.fail(jsonChildPath(path, "fixed"), std::string("expected true or false, got ") + fixed->type_name());
+    out->fixed = fixed->get<bool>();
+  }
+  return true;
 }
 
 // The zone's keys (insertion_axis, leeway_mm, ideal) in object j at `path`: the root in version 2,
@@ -179,7 +202,7 @@ void readTask(const json& root, TaskReader& r, Task* t) {
   std::vector<std::string> keys = {"format",    "version",   "name",          "kind",  "title", "tooth", "level",
                                    "tools",     "target_s",  "failure_s",     "force_error_n", "cavity"};
   if (version >= 2)
-    keys.insert(keys.end(), {"insertion_axis", "leeway_mm", "ideal", "pulp_exposure_cap", "caries"});
+    keys.insert(keys.end(), {"insertion_axis", "leeway_mm", "ideal", "pulp_exposure_cap", "caries", "instructions", "view"});
   if (!r.object(root, "", keys)) return;
   if (!r.string(root, "", "name", true, true, &t->name)) return;
   size_t kind = 0;
@@ -187,6 +210,11 @@ void readTask(const json& root, TaskReader& r, Task* t) {
   t->kind = kind == 0 ? TaskKind::Caries : TaskKind::Cavity;
   t->title = t->name;
   if (!r.string(root, "", "title", false, false, &t->title)) return;
+  if (!r.string(root, "", "instructions", false, false, &t->instructions)) return;
+  if (const json* view = r.member(root, "", "view", false)) {
+    t->view.emplace();
+    if (!readView(*view, r, &*t->view)) return;
+  }
   if (!r.string(root, "", "tooth", true, false, &t->tooth)) return;
   if (!r.integer(root, "", "level", false, int(DS_MIN_LEVEL), int(DS_MAX_LEVEL), &t->level)) return;
 

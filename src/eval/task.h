@@ -27,6 +27,20 @@ enum class IdealKind {
 struct IdealSpec {
   IdealKind kind = IdealKind::Volume;
   std::string path;  // name (BuiltinPath) or file; a relative file is relative to the task file's folder
+  // The ideal's identity (volumeHashHex / the session file's hash), written by `dentsim task set-ideal`
+  // and checked when the ideal is made, so that a changed tooth or ideal file is named, not scored
+  // against. Empty: not recorded (hand-written tasks, built-in paths).
+  std::string initial_hash;  // the tooth the professional started from
+  std::string final_hash;    // the professional's final tooth
+  std::string session_hash;  // XXH3 of the session file's bytes (kind Session)
+};
+
+// How the simulator first shows the tooth for this task. A fixed view cannot be turned: the
+// indirect-vision exercises, where the cavity can be seen only in the mirror.
+struct TaskView {
+  std::string camera = "buccal";   // a view preset: occlusal, buccal, lingual, mesial, distal
+  double elevation_deg = 30.0;     // the eye raised this far above the preset's direction [deg], [-89, 89]
+  bool fixed = false;              // the student cannot orbit, pan or zoom
 };
 
 // The caries-removal terms beyond the paper's Table 4; defaults are docs/SCORING.md's.
@@ -48,6 +62,7 @@ struct Task {
   std::string name;                   // file stem ("caries_removal"); letters, digits, '_', '-', '.'
   TaskKind kind = TaskKind::Caries;
   std::string title;                  // one line for the UI; the name when the file has none
+  std::string instructions;           // what the student is to do, a few sentences for the task picker; may be empty
   // What the simulator starts when the command line does not say otherwise (taskTooth, `run`).
   std::string tooth;                  // "builtin:molar" or a volume file (relative to the task's folder)
   int level = 9;                      // octree level of the built-in molar, DS_MIN_LEVEL..DS_MAX_LEVEL
@@ -60,6 +75,7 @@ struct Task {
   Vec3 insertion_axis{0, 0, 1};       // the bur's ideal +z axis (tip along -z), unit length, tooth grid axes
   double leeway_mm = 0.2;             // shell around the target that a cut may reach unpunished [mm], [0, 1]
   std::optional<IdealSpec> ideal;     // the professional's final tooth; required for kind Cavity
+  std::optional<TaskView> view;       // the simulator's first view; none: the simulator's default
   double pulp_exposure_cap = 50.0;    // an exposed pulp caps the total at this [points of 100], [0, 100]
   CariesTask caries;                  // kind Caries only (defaults otherwise)
   CavityTask cavity;                  // kind Cavity only (defaults otherwise)

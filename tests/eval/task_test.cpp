@@ -191,4 +191,37 @@ TEST(Task, MissingFileNamesThePath) {
 }
 
 }  // namespace
+TEST(Task, InstructionsViewAndIdealIdentityAreRead) {
+  const std::string text =
+      R"({"format": "dentsim-task", "version": 2, "name": "iv", "kind": "cavity", "tooth": "builtin:molar",)"
+      R"( "title": "T", "instructions": "Cut it as seen in the mirror.",)"
+      R"( "view": {"camera": "lingual", "elevation_deg": -10, "fixed": true},)"
+      R"( "tools": {"drill": "fissure_bur_010"}, "target_s": 600, "force_error_n": 3,)"
+      R"( "ideal": {"kind": "session", "path": "p.dses", "initial_hash": "0123456789abcdef", "final_hash": "fedcba9876543210",)"
+      R"( "session_hash": "00000000000000ff"}})";
+  auto task = parseTask(text, kWhere);
+  ASSERT_TRUE(task.ok()) << task.message();
+  EXPECT_EQ(task->instructions, "Cut it as seen in the mirror.");
+  ASSERT_TRUE(task->view.has_value());
+  EXPECT_EQ(task->view->camera, "lingual");
+  EXPECT_EQ(task->view->elevation_deg, -10.0);
+  EXPECT_TRUE(task->view->fixed);
+  ASSERT_TRUE(task->ideal.has_value());
+  EXPECT_EQ(task->ideal->initial_hash, "0123456789abcdef");
+  EXPECT_EQ(task->ideal->final_hash, "fedcba9876543210");
+  EXPECT_EQ(task->ideal->session_hash, "00000000000000ff");
+
+  auto with = [&](const std::string& from, const std::string& to) {
+    std::string s = text;
+    s.replace(s.find(from), from.size(), to);
+    return errorOf(s);
+  };
+  EXPECT_EQ(with(R"("camera": "lingual")", R"("camera": "left")"),
+            "t.json: view.camera: \"left\" is not one of \"occlusal\", \"buccal\", \"lingual\", \"mesial\", \"distal\"");
+  EXPECT_EQ(with(R"("elevation_deg": -10)", R"("elevation_deg": 95)"), "t.json: view.elevation_deg: 95 is not in [-89, 89]");
+  EXPECT_EQ(with(R"("fixed": true)", R"("fixed": 1)"), "t.json: view.fixed: expected true or false, got number");
+  EXPECT_EQ(with(R"("initial_hash": "0123456789abcdef")", R"("initial_hash": "0123")"),
+            "t.json: ideal.initial_hash: \"0123\" is not a hash (16 lower-case hex digits)");
+}
+
 }  // namespace dentsim
