@@ -9,6 +9,7 @@
 #include "eval/score_image.h"
 #include "eval/scores.h"
 #include "eval/session_stats.h"
+#include "eval/task_ideal.h"
 #include "eval/task_tooth.h"
 #include "io/atomic_file.h"
 #include "model/builtin_assets.h"
@@ -16,6 +17,7 @@
 #include "sim/session_run.h"
 #include "volume/crown_estimate.h"
 #include "volume/tooth_file.h"
+#include "volume/volume_hash.h"
 
 namespace dentsim {
 
@@ -34,6 +36,8 @@ Result<Task> builtinTask(const std::string& name) {
       task->tooth = (folder / task->tooth).string();
     if (task->ideal && task->ideal->kind != IdealKind::BuiltinPath && std::filesystem::path(task->ideal->path).is_relative())
       task->ideal->path = (folder / task->ideal->path).string();
+    if (task->ideal && !task->ideal->final_path.empty() && std::filesystem::path(task->ideal->final_path).is_relative())
+      task->ideal->final_path = (folder / task->ideal->final_path).string();
     return task;
   }
   const std::span<const uint8_t> bytes = builtinAssetBytes(file);
@@ -45,16 +49,34 @@ Result<ToothVolume> idealForTask(const Task& task, const ToothVolume& initial, s
   const std::string where = "task " + task.name + ": ideal";
   if (!task.ideal) return makeError(where, "the task names no ideal");
   const IdealSpec& ideal = *task.ideal;
+  if (Status st = checkIdealIdentity(ideal, initial, where); !st) return st.error();
+  // A final tooth read from a file must be the one recorded, when a hash was recorded.
+  const auto recorded = [&](ToothVolume tooth, const std::string& file) -> Result<ToothVolume> {
+    const std::string hash = volumeHashHex(tooth.voxels, tooth.frame);
+    if (!ideal.final_hash.empty() && hash != ideal.final_hash)
+      return makeError(file, "the professional's final tooth changed since it was recorded as the ideal (hash " + hash +
+                                 ", recorded " + ideal.final_hash + ")");
+    return tooth;
+  };
   switch (ideal.kind) {
-    case IdealKind::Volume:
-      return loadTooth(ideal.path);
+    case IdealKind::Volume: {
+      auto tooth = loadTooth(ideal.path);
+      if (!tooth) return tooth.error();
+      return recorded(std::move(*tooth), ideal.path);
+    }
     case IdealKind::Session: {
+      // The saved final tooth stands for the replay when it is the one recorded: scoring stays fast.
+      if (!ideal.final_path.empty() && std::filesystem::exists(ideal.final_path)) {
+        auto tooth = loadTooth(ideal.final_path);
+        if (!tooth) return tooth.error();
+        return recorded(std::move(*tooth), ideal.final_path);
+      }
       auto session = readSessionFile(ideal.path);
       if (!session) return session.error();
       ToothVolume tooth = initial;
       auto replayed = replaySession(*session, tooth, ReplayOptions{});
       if (!replayed) return makeError(where, replayed.message());
-      return tooth;
+      return recorded(std::move(tooth), ideal.path);
     }
     case IdealKind::BuiltinPath: {
       if (ideal.path != "class1_cavity") return makeError(where, "no built-in path \"" + ideal.path + "\" (there is class1_cavity)");
@@ -94,7 +116,7 @@ Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, cons
   inputs.no_session_reason = files.no_session_reason;
   if (ideal) {
     inputs.ideal = files.ideal_spec ? *files.ideal_spec
-                                    : IdealSpec{IdealKind::Volume, files.ideal.empty() ? "(given by the caller)" : files.ideal, {}, {}, {}};
+                                    : idealVolumeFile(files.ideal.empty() ? "(given by the caller)" : files.ideal);
     inputs.ideal_from = files.ideal_from.empty() ? "command line" : files.ideal_from;
   } else if (task.ideal) {
     auto made = idealForTask(task, initial, &out.warnings);

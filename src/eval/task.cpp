@@ -108,11 +108,14 @@ const std::string kNonNegative = ">= 0 and <= 1e9";
 
 // The ideal: {"kind": ..., "path": ...} at `path`.
 bool readIdeal(const json& ideal, const std::string& path, TaskReader& r, IdealSpec* out) {
-  if (!r.object(ideal, path, {"kind", "path", "initial_hash", "final_hash", "session_hash"})) return false;
+  if (!r.object(ideal, path, {"kind", "path", "final", "initial_hash", "final_hash", "session_hash"})) return false;
   size_t kind = 0;
   if (!r.choice(ideal, path, "kind", {"builtin_path", "volume", "session"}, &kind)) return false;
   out->kind = static_cast<IdealKind>(kind);
   if (!r.string(ideal, path, "path", true, false, &out->path)) return false;
+  if (!r.string(ideal, path, "final", false, false, &out->final_path)) return false;
+  if (!out->final_path.empty() && out->kind != IdealKind::Session)
+    return r.fail(jsonChildPath(path, "final"), "only for kind \"session\"");
   for (auto [key, hash] : {std::pair{"initial_hash", &out->initial_hash}, {"final_hash", &out->final_hash},
                            {"session_hash", &out->session_hash}}) {
     if (!r.string(ideal, path, key, false, false, hash)) return false;

@@ -27,6 +27,9 @@ enum class IdealKind {
 struct IdealSpec {
   IdealKind kind = IdealKind::Volume;
   std::string path;  // name (BuiltinPath) or file; a relative file is relative to the task file's folder
+  // Kind Session: the professional's final tooth saved beside the session (`task set-ideal` writes
+  // it), used in place of replaying the session when its hash is final_hash. Empty: replay.
+  std::string final_path;
   // The ideal's identity (volumeHashHex / the session file's hash), written by `dentsim task set-ideal`
   // and checked when the ideal is made, so that a changed tooth or ideal file is named, not scored
   // against. Empty: not recorded (hand-written tasks, built-in paths).
@@ -34,6 +37,13 @@ struct IdealSpec {
   std::string final_hash;    // the professional's final tooth
   std::string session_hash;  // XXH3 of the session file's bytes (kind Session)
 };
+
+// An ideal that is a volume file, with no identity recorded.
+inline IdealSpec idealVolumeFile(std::string path) {
+  IdealSpec spec;
+  spec.path = std::move(path);
+  return spec;
+}
 
 // How the simulator first shows the tooth for this task. A fixed view cannot be turned: the
 // indirect-vision exercises, where the cavity can be seen only in the mirror.

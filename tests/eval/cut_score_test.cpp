@@ -30,7 +30,7 @@ TEST(CutScore, TheReportNamesTheIdealWhateverItsSource) {
   setBox(ideal, {4, 4, 6}, {8, 6, 8}, kEmpty);
   ASSERT_TRUE(saveTooth(dir.file("prof.dvol"), ideal).ok());
   Task task = test::cariesTask();
-  task.ideal = IdealSpec{IdealKind::Volume, dir.file("prof.dvol"), {}, {}, {}};
+  task.ideal = idealVolumeFile(dir.file("prof.dvol"));
   // From the task: made here, and named with its kind and path.
   auto from_task = scoreCut(task, initial, ideal, nullptr, nullptr, scoreFiles("a.dvol", "b.dvol", ""));
   ASSERT_TRUE(from_task.ok()) << from_task.message();
@@ -72,7 +72,7 @@ TEST(CutScore, WarningsReachTheReportAndTheCaller) {
   setBox(ideal, {4, 4, 6}, {8, 6, 8}, kEmpty);
   setBox(student, {12, 12, 7}, {14, 14, 8}, kEmpty);
   Task task = test::cavityTask();
-  task.ideal = IdealSpec{IdealKind::Volume, "unused", {}, {}, {}};
+  task.ideal = idealVolumeFile("unused");
   auto s = scoreCut(task, initial, student, &ideal, nullptr, scoreFiles("start.dvol", "b.dvol", ""));
   ASSERT_TRUE(s.ok()) << s.message();
   ASSERT_EQ(s->warnings.size(), 1u);

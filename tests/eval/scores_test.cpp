@@ -402,7 +402,7 @@ TEST(ScoreReport, CavityReportShowsComponentsAndInputs) {
   in.task = "t.json";
   in.initial = "a.dvol";
   in.final_ = "b.dvol";
-  in.ideal = IdealSpec{IdealKind::Volume, "c.dvol", {}, {}, {}};
+  in.ideal = idealVolumeFile("c.dvol");
   in.ideal_from = "command line";
   const nlohmann::ordered_json j = scoreReportJson(task, in, d, &st, *s);
   EXPECT_EQ(j["format"], "dentsim-score");
