@@ -42,7 +42,7 @@ int writeFinalMesh(const std::string& out, const ToothVolume& tooth) {
   auto surface = meshVolumeCpu(tooth, mo);
   if (!surface) return fail(surface.message());
   const std::string mesh_path = (std::filesystem::path(out) / "final.ply").string();
-  if (Status st = writeSurface(mesh_path, MeshFormat::Ply, *surface, "demo final tooth"); !st) return fail(st.message());
+  if (Status st = writeSurface(mesh_path, MeshFormat::Ply, *surface, tooth.frame, "demo final tooth"); !st) return fail(st.message());
   return 0;
 }
 

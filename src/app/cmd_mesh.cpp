@@ -103,7 +103,7 @@ int runMesh(const MeshOptions& o) {
   const double mesh_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   if (surface.triangles.empty())
     return fail(o.input + ": no surface to write (the volume holds no " + (o.tissue.empty() ? "tissue" : label) + ")");
-  if (Status written = writeSurface(o.output, format, surface, label); !written) return fail(written.message());
+  if (Status written = writeSurface(o.output, format, surface, tooth->frame, label); !written) return fail(written.message());
   std::printf("%s: %zu triangles, %zu vertices (%s, normals from %d voxels), meshed on the %s in %.0f ms\n",
               o.output.c_str(), surface.triangleCount(), surface.positions.size(), label.c_str(), normalNeighbours(so.normals),
               engine.c_str(), mesh_ms);

@@ -6,6 +6,7 @@
 
 #include "io/stl_file.h"
 #include "volume/tissue_table.h"
+#include "volume/tooth_frame.h"
 
 namespace dentsim::app {
 
@@ -28,7 +29,21 @@ Rgb8 tissueColour(Material m) {
   return {row->mesh_rgb[0], row->mesh_rgb[1], row->mesh_rgb[2]};
 }
 
-Status writeSurface(const std::string& path, MeshFormat format, const SurfaceMesh& surface, const std::string& label) {
+Status writeSurface(const std::string& path, MeshFormat format, const SurfaceMesh& in_simulation, const VolumeFrame& frame,
+                    const std::string& label) {
+  SurfaceMesh turned_back;
+  if (frame.tooth.turned()) {
+    turned_back = in_simulation;
+    for (Vec3f& p : turned_back.positions) {
+      const Vec3 q = sourcePointMm(frame, Vec3{p[0], p[1], p[2]});
+      p = {float(q.x), float(q.y), float(q.z)};
+    }
+    for (Vec3f& n : turned_back.normals) {
+      const Vec3 q = sourceDirection(frame, Vec3{n[0], n[1], n[2]});
+      n = {float(q.x), float(q.y), float(q.z)};
+    }
+  }
+  const SurfaceMesh& surface = frame.tooth.turned() ? turned_back : in_simulation;
   if (format == MeshFormat::Stl) return writeStl(path, surface.geometry(), "dentsim mesh " + label);
   std::vector<Rgb8> colours(surface.tissue.size());
   std::transform(surface.tissue.begin(), surface.tissue.end(), colours.begin(), tissueColour);

@@ -16,7 +16,10 @@ enum class MeshFormat { Stl, Ply };
 bool meshFormatOf(const std::string& path, MeshFormat* format);
 // Vertex colour of a tissue.
 Rgb8 tissueColour(Material m);
-// Writes `surface` atomically; `label` goes into the file's header or comment.
-Status writeSurface(const std::string& path, MeshFormat format, const SurfaceMesh& surface, const std::string& label);
+// Writes `surface`, meshed from a volume with `frame`, atomically, in the source's own frame (undoing
+// the quarter turn voxelize stood the tooth up with, so the mesh overlays the source in other
+// tools); `label` goes into the file's header or comment.
+Status writeSurface(const std::string& path, MeshFormat format, const SurfaceMesh& surface, const VolumeFrame& frame,
+                    const std::string& label);
 
 }  // namespace dentsim::app

@@ -22,7 +22,10 @@ constexpr int kZstdLevel = 3;  // fast; the brick pool is mostly repeated bytes
 constexpr size_t kVersionAt = 8, kHeaderBytesAt = 12, kLevelAt = 16, kVoxelAt = 24, kOriginAt = 32,
                  kSourceOffsetAt = 56, kSourceDimsAt = 68, kScannerAt = 80, kChunkWordsAt = 176,
                  kBlockWordsAt = 184, kBrickWordsAt = 192, kCompressedAt = 200, kPayloadHashAt = 208,
-                 kHeaderHashAt = 216, kHeaderBytes = 224;
+                 kHeaderHashAt = 216, kHeaderBytesV1 = 224;
+// Version 2 appends the tooth's frame, with its own checksum so that version 1's stays where it was.
+constexpr size_t kCrownAt = 224, kMesialAt = 248, kBuccalAt = 272, kCentreAt = 296, kSourcesAt = 320, kTurnAt = 324,
+                 kToothHashAt = 344, kHeaderBytes = 352;
 
 template <class T>
 void put(std::vector<uint8_t>& out, size_t at, T v) {
@@ -41,6 +44,59 @@ uint64_t chunkEntriesFor(int level) {
   return side * side * side;
 }
 
+// A unit vector (norm within 1e-6 of 1), made exactly unit.
+Result<std::array<double, 3>> unitAt(std::span<const uint8_t> in, size_t at, const char* what) {
+  std::array<double, 3> v;
+  for (int i = 0; i < 3; ++i) v[i] = get<double>(in, at + 8 * i);
+  const double n = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+  if (!std::isfinite(n) || std::abs(n - 1.0) > 1e-6) return makeError(what, "not a unit vector");
+  for (double& c : v) c /= n;
+  return v;
+}
+
+// The tooth block of a version 2 header, checked: unit axes at right angles, known sources, a
+// finite centre, a proper quarter turn.
+Result<ToothAxes> readToothAxes(std::span<const uint8_t> in) {
+  ToothAxes t;
+  auto crown = unitAt(in, kCrownAt, "crown axis");
+  if (!crown) return crown.error();
+  auto mesial = unitAt(in, kMesialAt, "mesial axis");
+  if (!mesial) return mesial.error();
+  auto buccal = unitAt(in, kBuccalAt, "buccal axis");
+  if (!buccal) return buccal.error();
+  t.crown = *crown;
+  t.mesial = *mesial;
+  t.buccal = *buccal;
+  const auto dot3 = [](const std::array<double, 3>& a, const std::array<double, 3>& b) {
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2];
+  };
+  if (std::abs(dot3(t.crown, t.mesial)) > 1e-6 || std::abs(dot3(t.crown, t.buccal)) > 1e-6 ||
+      std::abs(dot3(t.mesial, t.buccal)) > 1e-6)
+    return makeError("axes", "crown, mesial and buccal are not at right angles");
+  for (int i = 0; i < 3; ++i) {
+    t.occlusal_centre_mm[i] = get<double>(in, kCentreAt + 8 * i);
+    if (!std::isfinite(t.occlusal_centre_mm[i])) return makeError("occlusal centre", "not finite");
+  }
+  for (int i = 0; i < 3; ++i)
+    if (in[kSourcesAt + i] > uint8_t(AxisSource::Given)) return makeError("axis source", "unknown value " + std::to_string(in[kSourcesAt + i]));
+  t.crown_source = AxisSource(in[kSourcesAt + 0]);
+  t.mesial_source = AxisSource(in[kSourcesAt + 1]);
+  t.buccal_source = AxisSource(in[kSourcesAt + 2]);
+  if (in[kSourcesAt + 3] > 1) return makeError("occlusal centre", "flag is not 0 or 1");
+  t.has_occlusal_centre = in[kSourcesAt + 3] == 1;
+  int det = 0;
+  for (int i = 0; i < 9; ++i) {
+    t.turn[i] = int8_t(in[kTurnAt + i]);
+    if (t.turn[i] < -1 || t.turn[i] > 1) return makeError("quarter turn", "entries must be -1, 0 or 1");
+  }
+  const auto& m = t.turn;
+  det = m[0] * (m[4] * m[8] - m[5] * m[7]) - m[1] * (m[3] * m[8] - m[5] * m[6]) + m[2] * (m[3] * m[7] - m[4] * m[6]);
+  int nonzero = 0;
+  for (int8_t e : m) nonzero += e != 0;
+  if (det != 1 || nonzero != 3) return makeError("quarter turn", "not a rotation by quarter turns");
+  return t;
+}
+
 }  // namespace
 
 std::vector<uint8_t> encodeVolumeFile(const VolumeFileData& d) {
@@ -52,7 +108,7 @@ std::vector<uint8_t> encodeVolumeFile(const VolumeFileData& d) {
     if (!words->empty()) std::memcpy(raw.data() + at, words->data(), words->size() * sizeof(uint32_t));
     at += words->size() * sizeof(uint32_t);
   }
-  std::vector<uint8_t> out(kHeaderBytes + ZSTD_compressBound(raw.size()));
+  std::vector<uint8_t> out(kHeaderBytes + ZSTD_compressBound(raw.size()), 0);
   const size_t packed = ZSTD_compress(out.data() + kHeaderBytes, out.size() - kHeaderBytes, raw.data(), raw.size(), kZstdLevel);
   out.resize(kHeaderBytes + packed);  // ZSTD_compress cannot fail with a bound-sized buffer
 
@@ -73,6 +129,19 @@ std::vector<uint8_t> encodeVolumeFile(const VolumeFileData& d) {
   put<uint64_t>(out, kCompressedAt, packed);
   put<uint64_t>(out, kPayloadHashAt, XXH64(raw.data(), raw.size(), 0));
   put<uint64_t>(out, kHeaderHashAt, XXH64(out.data(), kHeaderHashAt, 0));
+  const ToothAxes& t = f.tooth;
+  for (int i = 0; i < 3; ++i) {
+    put<double>(out, kCrownAt + 8 * i, t.crown[i]);
+    put<double>(out, kMesialAt + 8 * i, t.mesial[i]);
+    put<double>(out, kBuccalAt + 8 * i, t.buccal[i]);
+    put<double>(out, kCentreAt + 8 * i, t.occlusal_centre_mm[i]);
+  }
+  out[kSourcesAt + 0] = uint8_t(t.crown_source);
+  out[kSourcesAt + 1] = uint8_t(t.mesial_source);
+  out[kSourcesAt + 2] = uint8_t(t.buccal_source);
+  out[kSourcesAt + 3] = t.has_occlusal_centre ? 1 : 0;
+  for (int i = 0; i < 9; ++i) out[kTurnAt + i] = uint8_t(t.turn[i]);
+  put<uint64_t>(out, kToothHashAt, XXH64(out.data() + kCrownAt, kToothHashAt - kCrownAt, 0));
   return out;
 }
 
@@ -82,7 +151,7 @@ Status writeVolumeFile(const std::string& path, const VolumeFileData& data) {
 }
 
 Result<VolumeFileData> parseVolumeFile(std::span<const uint8_t> in, const std::string& where, uint64_t max_raw_bytes) {
-  if (in.size() < kHeaderBytes)
+  if (in.size() < kHeaderBytesV1)
     return makeError(where, in.size() >= sizeof(kMagic) && std::memcmp(in.data(), kMagic, sizeof(kMagic)) == 0
                                 ? "truncated header (" + std::to_string(in.size()) + " bytes)"
                                 : "not a dentsim volume file (too short)");
@@ -90,13 +159,22 @@ Result<VolumeFileData> parseVolumeFile(std::span<const uint8_t> in, const std::s
   if (get<uint64_t>(in, kHeaderHashAt) != XXH64(in.data(), kHeaderHashAt, 0))
     return makeError(where, "header checksum mismatch: the file is corrupt");
   const uint32_t version = get<uint32_t>(in, kVersionAt);
-  if (version != kVolumeFileVersion)
-    return makeError(where, "unsupported volume file version " + std::to_string(version) + " (this dentsim reads " +
+  if (version < 1 || version > kVolumeFileVersion)
+    return makeError(where, "unsupported volume file version " + std::to_string(version) + " (this dentsim reads 1 to " +
                                 std::to_string(kVolumeFileVersion) + ")");
-  if (get<uint32_t>(in, kHeaderBytesAt) != kHeaderBytes) return makeError(where, "unexpected header size");
+  const size_t header_bytes = version == 1 ? kHeaderBytesV1 : kHeaderBytes;
+  if (get<uint32_t>(in, kHeaderBytesAt) != header_bytes) return makeError(where, "unexpected header size");
+  if (in.size() < header_bytes) return makeError(where, "truncated header (" + std::to_string(in.size()) + " bytes)");
 
   VolumeFileData d;
   VolumeFrame& f = d.frame;
+  if (version >= 2) {
+    if (get<uint64_t>(in, kToothHashAt) != XXH64(in.data() + kCrownAt, kToothHashAt - kCrownAt, 0))
+      return makeError(where, "tooth frame checksum mismatch: the file is corrupt");
+    auto tooth = readToothAxes(in);
+    if (!tooth) return makeError(where, "tooth frame: " + tooth.message());
+    f.tooth = *tooth;
+  }
   f.level = get<int32_t>(in, kLevelAt);
   if (f.level < minLevel || f.level > maxLevel)
     return makeError(where, "grid level " + std::to_string(f.level) + " outside 3..13");
@@ -133,16 +211,16 @@ Result<VolumeFileData> parseVolumeFile(std::span<const uint8_t> in, const std::s
   if (block_words > limit_words || brick_words > limit_words || chunk_words + block_words + brick_words > limit_words)
     return makeError(where, "payload exceeds the limit of " + std::to_string(max_raw_bytes) + " bytes");
   const uint64_t raw_bytes = (chunk_words + block_words + brick_words) * 4;
-  if (packed != in.size() - kHeaderBytes)
-    return makeError(where, in.size() - kHeaderBytes < packed
-                                ? "truncated: payload has " + std::to_string(in.size() - kHeaderBytes) + " of " +
+  if (packed != in.size() - header_bytes)
+    return makeError(where, in.size() - header_bytes < packed
+                                ? "truncated: payload has " + std::to_string(in.size() - header_bytes) + " of " +
                                       std::to_string(packed) + " bytes"
                                 : "unexpected bytes after the payload");
-  const unsigned long long declared = ZSTD_getFrameContentSize(in.data() + kHeaderBytes, packed);
+  const unsigned long long declared = ZSTD_getFrameContentSize(in.data() + header_bytes, packed);
   if (declared != raw_bytes) return makeError(where, "compressed payload is corrupt (size mismatch)");
 
   std::vector<uint8_t> raw(raw_bytes);
-  const size_t got = ZSTD_decompress(raw.data(), raw.size(), in.data() + kHeaderBytes, packed);
+  const size_t got = ZSTD_decompress(raw.data(), raw.size(), in.data() + header_bytes, packed);
   if (ZSTD_isError(got) || got != raw_bytes)
     return makeError(where, std::string("compressed payload is corrupt (") +
                                 (ZSTD_isError(got) ? ZSTD_getErrorName(got) : "short") + ")");

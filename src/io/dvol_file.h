@@ -1,7 +1,8 @@
 // The .dvol volume file: versioned, zstd-compressed, checksummed, written atomically.
 //
-// Layout (little-endian): a 160-byte header (magic "DENTSIMV", version, frame, array counts, sizes,
-// XXH64 of the raw payload and of the header), then one zstd frame holding the raw payload: the
+// Layout (little-endian): a 352-byte header (magic "DENTSIMV", version, grid frame, array counts,
+// sizes, XXH64 of the raw payload and of the first 216 bytes; then the tooth's frame with its own
+// XXH64; version 1 ends its 224-byte header before the tooth), then one zstd frame holding the raw payload: the
 // chunk, block and brick words of the brick volume, in that order. io reads and writes the words;
 // dentsim_volume checks what they mean (BrickVolume::fromWords).
 #pragma once
@@ -16,7 +17,7 @@
 
 namespace dentsim {
 
-inline constexpr uint32_t kVolumeFileVersion = 1;
+inline constexpr uint32_t kVolumeFileVersion = 2;  // 2 adds the tooth frame; version 1 files load with the default frame
 inline constexpr uint64_t kVolumeFileDefaultMaxBytes = uint64_t{8} << 30;  // raw payload limit [B]
 
 struct VolumeFileData {

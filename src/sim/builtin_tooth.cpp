@@ -5,6 +5,7 @@
 
 #include "model/builtin_assets.h"
 #include "volume/tissue_table.h"
+#include "volume/tooth_frame.h"
 
 namespace dentsim {
 
@@ -19,7 +20,11 @@ std::vector<MeshLayer> builtinMolarLayers(const MolarLayers& molar) {
 Result<ToothVolume> builtinMolarTooth(int level) {
   auto molar = loadBuiltinMolar();
   if (!molar) return molar.error();
-  return voxelizeLayersCpu(builtinMolarLayers(*molar), level);
+  auto tooth = voxelizeLayersCpu(builtinMolarLayers(*molar), level);
+  if (!tooth) return tooth;
+  // The generator builds the molar in the convention's frame (assets/README.md): its axes are given, not found.
+  setConventionalAxes(*tooth);
+  return tooth;
 }
 
 }  // namespace dentsim

@@ -12,6 +12,7 @@
 #include "volume/label_import.h"
 
 #include "volume/tissue_table.h"
+#include "volume/tooth_frame.h"
 
 #include <algorithm>
 #include <cassert>
@@ -643,6 +644,12 @@ Result<ToothVolume> importLabels(const LabelImage& image, const LabelImportOptio
 // ---- 8. exportLabels ------------------------------------------------------------------------
 
 LabelImage exportLabels(const ToothVolume& tooth, ExportRegion region) {
+  if (tooth.frame.tooth.turned()) {
+    // Labels go out in the source's own grid, voxel for voxel, as they came in.
+    ToothVolume source = tooth;
+    turnTooth(source, inverseTurn(tooth.frame.tooth.turn));
+    return exportLabels(source, region);
+  }
   const VolumeFrame& frame = tooth.frame;
   const BrickVolume& volume = tooth.voxels;
   std::array<int64_t, 3> offset{0, 0, 0};

@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 #include <zstd.h>
 
+#include "io/dvol_file.h"
 #include "io/png_file.h"
 #include "test_support.h"
 
@@ -87,14 +88,28 @@ TempDir* GoldenSession::dir_ = nullptr;
 ::testing::AssertionResult GoldenSession::unpacked_ = ::testing::AssertionFailure();
 test::CommandResult* GoldenSession::replay_ = nullptr;
 
-TEST_F(GoldenSession, ReplaysToTheRecordedFinalVolumeByteForByte) {
-  // The replay itself checks the recording's final hash; the file comparison also covers the format.
+TEST_F(GoldenSession, ReplaysToTheRecordedFinalVolumeWordForWord) {
+  // The replay itself checks the recording's final hash. The fixture was written as a version 1
+  // .dvol, before the tooth frame (issue 24) joined the header: the grid and every word of the
+  // payload must still be the same, and the replay's file carries the molar's given frame.
   EXPECT_NE(replay_->output.find("(the recording's)"), std::string::npos) << replay_->output;
-  const std::vector<uint8_t> expected = readBytes(kFixture / "final.dvol");
-  const std::vector<uint8_t> got = readBytes(dir_->file("final.dvol"));
-  ASSERT_FALSE(expected.empty());
-  EXPECT_EQ(got.size(), expected.size());
-  EXPECT_TRUE(got == expected) << "the replayed final.dvol differs from tests/golden/level7_demo/final.dvol";
+  auto expected = readVolumeFile((kFixture / "final.dvol").string());
+  auto got = readVolumeFile(dir_->file("final.dvol"));
+  ASSERT_TRUE(expected.ok()) << expected.message();
+  ASSERT_TRUE(got.ok()) << got.message();
+  EXPECT_EQ(got->frame.level, expected->frame.level);
+  EXPECT_EQ(got->frame.voxel_mm, expected->frame.voxel_mm);
+  EXPECT_EQ(got->frame.origin_mm, expected->frame.origin_mm);
+  EXPECT_EQ(got->frame.scanner_from_grid, expected->frame.scanner_from_grid);
+  EXPECT_EQ(got->frame.source_offset, expected->frame.source_offset);
+  EXPECT_EQ(got->frame.source_dims, expected->frame.source_dims);
+  EXPECT_TRUE(got->chunks == expected->chunks) << "chunk words differ from tests/golden/level7_demo/final.dvol";
+  EXPECT_TRUE(got->blocks == expected->blocks) << "index block words differ from tests/golden/level7_demo/final.dvol";
+  EXPECT_TRUE(got->bricks == expected->bricks) << "brick words differ from tests/golden/level7_demo/final.dvol";
+  EXPECT_EQ(got->frame.tooth.crown_source, AxisSource::Given);
+  EXPECT_EQ(got->frame.tooth.crown, (std::array<double, 3>{0, 0, 1}));
+  EXPECT_EQ(got->frame.tooth.mesial, (std::array<double, 3>{-1, 0, 0}));
+  EXPECT_FALSE(got->frame.tooth.turned());
 }
 
 TEST_F(GoldenSession, ScoresTheSameToTheLastBit) {

@@ -5,6 +5,7 @@
 
 #include <xxhash.h>
 
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -84,10 +85,10 @@ TEST(DvolFile, CorruptionIsCaughtByTheChecksums) {
 TEST(DvolFile, VersionAndLimitsAreChecked) {
   std::vector<uint8_t> bytes = encodeVolumeFile(sample());
   auto future = bytes;
-  const uint32_t v2 = 2;
-  std::memcpy(future.data() + 8, &v2, 4);
+  const uint32_t v3 = 3;
+  std::memcpy(future.data() + 8, &v3, 4);
   rehashHeader(future);
-  EXPECT_NE(parseVolumeFile(future, "x").message().find("unsupported volume file version 2"), std::string::npos);
+  EXPECT_NE(parseVolumeFile(future, "x").message().find("unsupported volume file version 3"), std::string::npos);
 
   auto huge = bytes;
   const uint64_t words = uint64_t{1} << 40;  // 4 TiB of bricks
@@ -102,6 +103,84 @@ TEST(DvolFile, VersionAndLimitsAreChecked) {
   EXPECT_NE(parseVolumeFile(level, "x").message().find("grid level 40"), std::string::npos);
 
   EXPECT_NE(parseVolumeFile(bytes, "x", 100).message().find("exceeds the limit"), std::string::npos);
+}
+
+// A version 1 file: the 224-byte header of before the tooth frame, then the same payload.
+std::vector<uint8_t> asVersion1(const std::vector<uint8_t>& v2) {
+  std::vector<uint8_t> v1(v2.begin(), v2.begin() + 224);
+  v1.insert(v1.end(), v2.begin() + 352, v2.end());
+  const uint32_t version = 1, header = 224;
+  std::memcpy(v1.data() + 8, &version, 4);
+  std::memcpy(v1.data() + 12, &header, 4);
+  rehashHeader(v1);
+  return v1;
+}
+
+void rehashTooth(std::vector<uint8_t>& bytes) {
+  const uint64_t h = XXH64(bytes.data() + 224, 120, 0);
+  std::memcpy(bytes.data() + 344, &h, 8);
+}
+
+TEST(DvolFile, TheToothFrameRoundTripsAndOldFilesLoadWithTheDefault) {
+  VolumeFileData d = sample();
+  ToothAxes& t = d.frame.tooth;
+  t.crown = {0, -1, 0};
+  t.mesial = {0, 0, 1};
+  t.buccal = {-1, 0, 0};
+  t.crown_source = AxisSource::Found;
+  t.mesial_source = AxisSource::Given;
+  t.has_occlusal_centre = true;
+  t.occlusal_centre_mm = {1.5, -2.25, 7.0};
+  t.turn = {1, 0, 0, 0, 0, -1, 0, 1, 0};
+  const std::vector<uint8_t> bytes = encodeVolumeFile(d);
+  auto r = parseVolumeFile(bytes, "t.dvol");
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(r->frame.tooth.crown, t.crown);
+  EXPECT_EQ(r->frame.tooth.mesial, t.mesial);
+  EXPECT_EQ(r->frame.tooth.buccal, t.buccal);
+  EXPECT_EQ(r->frame.tooth.crown_source, AxisSource::Found);
+  EXPECT_EQ(r->frame.tooth.mesial_source, AxisSource::Given);
+  EXPECT_EQ(r->frame.tooth.buccal_source, AxisSource::Assumed);
+  EXPECT_TRUE(r->frame.tooth.has_occlusal_centre);
+  EXPECT_EQ(r->frame.tooth.occlusal_centre_mm, t.occlusal_centre_mm);
+  EXPECT_EQ(r->frame.tooth.turn, t.turn);
+
+  auto old = parseVolumeFile(asVersion1(bytes), "old.dvol");
+  ASSERT_TRUE(old.ok()) << old.message();
+  EXPECT_EQ(old->frame.tooth.crown, (std::array<double, 3>{0, 0, 1}));
+  EXPECT_EQ(old->frame.tooth.crown_source, AxisSource::Assumed);
+  EXPECT_FALSE(old->frame.tooth.has_occlusal_centre);
+  EXPECT_FALSE(old->frame.tooth.turned());
+  EXPECT_EQ(old->bricks, d.bricks);
+}
+
+TEST(DvolFile, ABadToothFrameIsOneLineNamingIt) {
+  const std::vector<uint8_t> bytes = encodeVolumeFile(sample());
+  const auto withDouble = [&](size_t at, double v) {
+    auto b = bytes;
+    std::memcpy(b.data() + at, &v, 8);
+    rehashTooth(b);
+    return parseVolumeFile(b, "t.dvol").message();
+  };
+  EXPECT_EQ(withDouble(224, 2.0), "t.dvol: tooth frame: crown axis: not a unit vector");
+  EXPECT_EQ(withDouble(248 + 16, 0.5), "t.dvol: tooth frame: mesial axis: not a unit vector");
+  EXPECT_EQ(withDouble(296, std::nan("")), "t.dvol: tooth frame: occlusal centre: not finite");
+  auto skew = bytes;  // mesial along the crown
+  const double up[3] = {0, 0, 1};
+  std::memcpy(skew.data() + 248, up, 24);
+  rehashTooth(skew);
+  EXPECT_EQ(parseVolumeFile(skew, "t.dvol").message(), "t.dvol: tooth frame: axes: crown, mesial and buccal are not at right angles");
+  auto mirror = bytes;  // a reflection is not a turn
+  mirror[324] = uint8_t(-1);
+  rehashTooth(mirror);
+  EXPECT_EQ(parseVolumeFile(mirror, "t.dvol").message(), "t.dvol: tooth frame: quarter turn: not a rotation by quarter turns");
+  auto source = bytes;
+  source[320] = 7;
+  rehashTooth(source);
+  EXPECT_EQ(parseVolumeFile(source, "t.dvol").message(), "t.dvol: tooth frame: axis source: unknown value 7");
+  auto flipped = bytes;  // without the rehash
+  flipped[230] ^= 0x40;
+  EXPECT_EQ(parseVolumeFile(flipped, "t.dvol").message(), "t.dvol: tooth frame checksum mismatch: the file is corrupt");
 }
 
 TEST(DvolFile, MissingFileAndDirectoryAreErrors) {
