@@ -8,6 +8,7 @@
 #include "app/commands.h"
 #include "volume/octree_stats.h"
 #include "volume/tooth_file.h"
+#include "volume/tooth_frame.h"
 
 namespace dentsim::app {
 namespace {
@@ -44,7 +45,39 @@ nlohmann::json describe(const std::string& path, const ToothVolume& t) {
     tissues[materialName(Material(m))] = {{"voxels", totals.voxels[m]},
                                           {"volume_mm3", totals.volumeMm3(Material(m), f.voxel_mm)}};
   j["tissues"] = tissues;
+  const ToothAxes& a = f.tooth;
+  const auto source = [](AxisSource from) { return from == AxisSource::Found ? "found" : from == AxisSource::Given ? "given" : "assumed"; };
+  const Vec3 centre = toothOcclusalCentreMm(t);
+  j["tooth_frame"] = {{"crown", a.crown},
+                      {"crown_from", source(a.crown_source)},
+                      {"mesial", a.mesial},
+                      {"mesial_from", source(a.mesial_source)},
+                      {"buccal", a.buccal},
+                      {"buccal_from", source(a.buccal_source)},
+                      {"occlusal_centre_mm", {centre.x, centre.y, centre.z}},
+                      {"occlusal_centre_from", a.has_occlusal_centre ? "file" : "measured"},
+                      {"turn", a.turn}};
+  // Bounds in mm of each tissue's voxels (their outer faces), in the simulation frame.
+  const auto boxes = tissueVoxelBoxes(t.voxels);
+  nlohmann::json bounds;
+  for (uint32_t m = 0; m < DS_TISSUE_COUNT; ++m) {
+    const VoxelBox& b = boxes[m];
+    if (b.empty()) continue;
+    nlohmann::json lo = nlohmann::json::array(), hi = nlohmann::json::array();
+    for (int i = 0; i < 3; ++i) {
+      lo.push_back(f.origin_mm[i] + double(b.lo[i]) * f.voxel_mm);
+      hi.push_back(f.origin_mm[i] + double(b.hi[i] + 1) * f.voxel_mm);
+    }
+    bounds[m == 0 ? std::string("tooth") : materialName(Material(m))] = {{"lo_mm", lo}, {"hi_mm", hi}};
+  }
+  j["bounds"] = bounds;
   return j;
+}
+
+std::string triple(const nlohmann::json& v, const char* format = "%.3f") {
+  char one[3][40];
+  for (int i = 0; i < 3; ++i) std::snprintf(one[i], sizeof one[i], format, v[size_t(i)].get<double>());
+  return std::string("(") + one[0] + ", " + one[1] + ", " + one[2] + ")";
 }
 
 void printText(const nlohmann::json& j) {
@@ -69,9 +102,38 @@ void printText(const nlohmann::json& j) {
     if (b + w + m == 0) continue;
     std::printf("  level %2d  %12llu %12llu %12llu\n", l["level"].get<int>(), b, w, m);
   }
-  std::printf("tissues     volume [mm^3]     voxels\n");
-  for (const auto& [name, t] : j["tissues"].items())
-    std::printf("  %-8s  %14.4f %12llu\n", name.c_str(), t["volume_mm3"].get<double>(), t["voxels"].get<unsigned long long>());
+  std::printf("tissues     volume [mm^3]     voxels   bounds [mm]\n");
+  for (const auto& [name, t] : j["tissues"].items()) {
+    std::printf("  %-8s  %14.4f %12llu", name.c_str(), t["volume_mm3"].get<double>(), t["voxels"].get<unsigned long long>());
+    if (j["bounds"].contains(name))
+      std::printf("   %s to %s", triple(j["bounds"][name]["lo_mm"], "%.2f").c_str(), triple(j["bounds"][name]["hi_mm"], "%.2f").c_str());
+    std::printf("\n");
+  }
+  if (j["bounds"].contains("tooth"))
+    std::printf("  %-8s  %27s   %s to %s\n", "tooth", "", triple(j["bounds"]["tooth"]["lo_mm"], "%.2f").c_str(),
+                triple(j["bounds"]["tooth"]["hi_mm"], "%.2f").c_str());
+  const auto& a = j["tooth_frame"];
+  std::printf("tooth frame (simulation frame, mm)\n");
+  std::printf("  crown     %s  %s\n", triple(a["crown"]).c_str(), a["crown_from"].get<std::string>().c_str());
+  std::printf("  mesial    %s  %s (distal the opposite)\n", triple(a["mesial"]).c_str(), a["mesial_from"].get<std::string>().c_str());
+  std::printf("  buccal    %s  %s (lingual the opposite)\n", triple(a["buccal"]).c_str(), a["buccal_from"].get<std::string>().c_str());
+  std::printf("  occlusal centre %s  %s\n", triple(a["occlusal_centre_mm"], "%.2f").c_str(),
+              a["occlusal_centre_from"].get<std::string>() == "file" ? "" : "(measured: the file has no frame)");
+  const auto& turn = a["turn"];
+  bool turned = false;
+  for (int i = 0; i < 9; ++i) turned = turned || turn[size_t(i)].get<int>() != (i % 4 == 0 ? 1 : 0);
+  if (turned) {
+    std::string rows;
+    for (int r = 0; r < 3; ++r) {
+      std::string row;
+      for (int c = 0; c < 3; ++c) {
+        const int e = turn[size_t(3 * r + c)].get<int>();
+        if (e != 0) row = std::string(e < 0 ? "-" : "+") + "xyz"[c];
+      }
+      rows += std::string(r ? ", " : "") + "xyz"[r] + " = source " + row;
+    }
+    std::printf("  turned    %s\n", rows.c_str());
+  }
 }
 
 int runInfo(const InfoOptions& o) {
@@ -87,7 +149,7 @@ int runInfo(const InfoOptions& o) {
 
 void addInfoCommand(CLI::App& root, Action& action) {
   auto opts = std::make_shared<InfoOptions>();
-  CLI::App* cmd = root.add_subcommand("info", "Grid, bytes, brick and octree node counts, tissue volumes of a .dvol");
+  CLI::App* cmd = root.add_subcommand("info", "Grid, bytes, brick and octree node counts, tissue volumes and bounds, the tooth frame of a .dvol");
   cmd->add_option("file", opts->path, "Volume file (.dvol)")->required();
   cmd->add_flag("--json", opts->json, "Print JSON");
   cmd->callback([opts, &action] { action = [opts] { return runInfo(*opts); }; });

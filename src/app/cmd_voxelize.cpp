@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "app/commands.h"
@@ -18,6 +19,7 @@
 #include "volume/mesh_voxelizer.h"
 #include "volume/tissue_table.h"
 #include "volume/tooth_file.h"
+#include "volume/tooth_frame.h"
 
 namespace dentsim::app {
 namespace {
@@ -42,7 +44,37 @@ struct VoxelizeOptions {
   double seal_mm = 0.2;       // closing radius for --fill-enclosed [mm]; about the apical foramen radius
   long long min_piece = 0;    // labels: relabel pieces of one tissue smaller than this [voxels]; 0: off
   std::string output;        // .dvol path
+  // The tooth's frame, in the input's coordinates; empty: found (crown) or not known (mesial, buccal)
+  std::vector<double> crown_axis, mesial_axis, buccal_axis;
+  bool keep_orientation = false;  // record the frame but do not turn the grid
 };
+
+Result<ToothAxesHint> axesHint(const VoxelizeOptions& o) {
+  ToothAxesHint hint;
+  hint.turn = !o.keep_orientation;
+  for (auto [values, axis, flag] : {std::tuple{&o.crown_axis, &hint.crown, "--crown-axis"},
+                                    {&o.mesial_axis, &hint.mesial, "--mesial-axis"},
+                                    {&o.buccal_axis, &hint.buccal, "--buccal-axis"}}) {
+    if (values->empty()) continue;
+    if (values->size() != 3) return makeError(flag, "expected three numbers x,y,z");
+    *axis = Vec3{(*values)[0], (*values)[1], (*values)[2]};
+  }
+  return hint;
+}
+
+const char* axisSourceText(AxisSource s) {
+  return s == AxisSource::Found ? "found from the enamel" : s == AxisSource::Given ? "given" : "not known";
+}
+
+// One line on the tooth's frame: how the crown axis was known and whether the grid was turned.
+void printFrame(const ToothVolume& tooth) {
+  const ToothAxes& t = tooth.frame.tooth;
+  std::printf("  crown axis %s, now (%.3f, %.3f, %.3f)%s; mesial %s\n", axisSourceText(t.crown_source), t.crown[0],
+              t.crown[1], t.crown[2], t.turned() ? " after quarter turns that stand the crown up" : "",
+              axisSourceText(t.mesial_source));
+  if (t.crown_source == AxisSource::Assumed)
+    std::fprintf(stderr, "dentsim: warning: no enamel to find the crown by: +z is taken as the crown axis (give --crown-axis)\n");
+}
 
 void printSummary(const ToothVolume& tooth, const std::string& output) {
   const VolumeFrame& f = tooth.frame;
@@ -131,6 +163,8 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
   if (!o.frame_of.empty()) {
     if (o.level > 0 || o.voxel_size > 0.0)
       return fail("--frame-of takes the grid of " + o.frame_of + "; leave out --level and --voxel-size");
+    if (!o.crown_axis.empty() || !o.mesial_axis.empty() || !o.buccal_axis.empty() || o.keep_orientation)
+      return fail("--frame-of takes the tooth frame of " + o.frame_of + "; leave out the axes and --keep-orientation");
     Result<VolumeFrame> f = referenceFrame(o.frame_of);
     if (!f) return fail(f.message());
     reference = *f;
@@ -158,6 +192,21 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
     if (!layer) return fail(layer.message());
     bounds.add(layer->mesh.bounds());
     loaded.push_back(std::move(layer).value());
+  }
+  auto hint = axesHint(o);
+  if (!hint) return fail(hint.message());
+  if (reference && reference->tooth.turned()) {
+    // The reference grid was turned to stand its tooth up: the meshes turn the same way about its centre.
+    const double half = 0.5 * double(reference->dim()) * reference->voxel_mm;
+    const Vec3 centre{reference->origin_mm[0] + half, reference->origin_mm[1] + half, reference->origin_mm[2] + half};
+    bounds = Bounds3{};
+    for (LoadedLayer& l : loaded) {
+      for (Vec3f& p : l.mesh.positions) {
+        const Vec3 q = turned(reference->tooth.turn, Vec3{p[0], p[1], p[2]} - centre) + centre;
+        p = Vec3f{float(q.x), float(q.y), float(q.z)};
+      }
+      bounds.add(l.mesh.bounds());
+    }
   }
   std::vector<MeshLayer> layers;
   for (const LoadedLayer& l : loaded) layers.push_back({l.material, &l.mesh, l.path});
@@ -192,9 +241,12 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
   if (!*voxels) return fail(voxels->message());
   const double voxelize_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   ToothVolume tooth{*frame, std::move(*voxels).value()};
+  if (!reference)
+    if (Status st = standToothUp(tooth, *hint); !st) return fail(st.message());
   if (Status saved = saveTooth(o.output, tooth); !saved) return fail(saved.message());
   printSummary(tooth, o.output);
-  if (reference) std::printf("  grid of %s\n", o.frame_of.c_str());
+  if (reference) std::printf("  grid and tooth frame of %s\n", o.frame_of.c_str());
+  else printFrame(tooth);
   std::printf("  voxelized on the %s, %d x %d rays per voxel, in %.0f ms", engine.c_str(), o.subsamples, o.subsamples,
               voxelize_ms);
   if (timing.bands > 0)
@@ -220,6 +272,8 @@ int runVoxelize(const VoxelizeOptions& o) {
   if (!o.frame_of.empty()) return fail("--frame-of applies to STL layers; --labels keeps the label volume's grid");
   if (o.label_map.empty()) return fail("--labels needs --label-map");
   if (o.min_piece < 0) return fail("--min-piece must be 0 or more voxels, not " + std::to_string(o.min_piece));
+  auto hint = axesHint(o);
+  if (!hint) return fail(hint.message());
   Result<LabelMap> map = parseLabelMap(o.label_map);
   if (!map) return fail("--label-map: " + map.message());
   LabelImportOptions import;
@@ -243,8 +297,17 @@ int runVoxelize(const VoxelizeOptions& o) {
   Result<ToothVolume> tooth = importLabels(*image, import, progress, &report);
   if (!tooth) return fail(tooth.message());
   image = Error{};  // frees the labels before the save compacts and encodes the bricks
+  const VoxelBox box = tissueVoxelBoxes(tooth->voxels)[0];
+  if (!box.empty()) {
+    int64_t extent = 0;
+    for (int a = 0; a < 3; ++a) extent = std::max(extent, box.hi[a] - box.lo[a] + 1);
+    if (std::string w = labelPitchWarning(double(extent) * tooth->frame.voxel_mm, tooth->frame.voxel_mm, o.labels); !w.empty())
+      std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
+  }
+  if (Status st = standToothUp(*tooth, *hint); !st) return fail(st.message());
   if (Status saved = saveTooth(o.output, *tooth); !saved) return fail(saved.message());
   printSummary(*tooth, o.output);
+  printFrame(*tooth);
   printCleanup(report.cleanup, o.min_piece);
   return 0;
 }
@@ -294,6 +357,19 @@ void addVoxelizeCommand(CLI::App& root, Action& action) {
                   "Labels: before filling, relabel each 6-connected piece of one tissue (empty included) smaller "
                   "than N source voxels to the tissue most of its faces touch; 0 keeps every piece [voxels]")
       ->capture_default_str();
+  cmd->add_option("--crown-axis", opts->crown_axis,
+                  "The tooth's crown direction x,y,z in the input's coordinates (default: found from where the enamel "
+                  "sits against the roots)")
+      ->delimiter(',')
+      ->expected(3);
+  cmd->add_option("--mesial-axis", opts->mesial_axis, "The tooth's mesial direction x,y,z in the input's coordinates")
+      ->delimiter(',')
+      ->expected(3);
+  cmd->add_option("--buccal-axis", opts->buccal_axis, "The tooth's buccal direction x,y,z in the input's coordinates")
+      ->delimiter(',')
+      ->expected(3);
+  cmd->add_flag("--keep-orientation", opts->keep_orientation,
+                "Record the tooth's frame but do not turn the grid to stand the crown up");
   cmd->add_option("-o,--output", opts->output, "Output volume (.dvol)")->required();
   cmd->callback([opts, &action] { action = [opts] { return runVoxelize(*opts); }; });
 }

@@ -80,4 +80,12 @@ std::string toothExtentWarning(const Bounds3& bounds_mm, std::string_view where)
   return msg;
 }
 
+std::string labelPitchWarning(double extent_mm, double pitch_mm, std::string_view where) {
+  if (plausibleExtent(extent_mm)) return "";
+  std::string msg = where.empty() ? std::string() : std::string(where) + ": ";
+  return msg + "the tissue spans " + shortNumber(extent_mm) + " mm at " + shortNumber(pitch_mm) +
+         " mm voxels, which does not look like a tooth (" + shortNumber(kPlausibleMinExtentMm) + " to " +
+         shortNumber(kPlausibleMaxExtentMm) + " mm); if the file's voxel size is wrong, give the true one with --voxel-size";
+}
+
 }  // namespace dentsim

@@ -31,4 +31,9 @@ inline constexpr double kPlausibleMaxExtentMm = 150.0;
 // plausible, the unit that factor suggests ("... as metres it would be 11 mm: --units m").
 std::string toothExtentWarning(const Bounds3& bounds_mm, std::string_view where);
 
+// "" when `extent_mm`, a label volume's tissue extent at `pitch_mm` voxels, lies in [2, 150] mm;
+// otherwise a one-line warning starting "<where>: " that names the pitch and --voxel-size (a
+// label file's header often carries a placeholder pitch such as 1.0).
+std::string labelPitchWarning(double extent_mm, double pitch_mm, std::string_view where);
+
 }  // namespace dentsim
