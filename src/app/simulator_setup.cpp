@@ -6,6 +6,7 @@
 #include "app/tool_placement.h"
 #include "eval/cut_score.h"
 #include "sim/novice_paths.h"
+#include "sim/pen_script.h"
 #include "sim/scripted_paths.h"
 #include "sim/tool_library.h"
 #include "ui/window.h"
@@ -55,7 +56,10 @@ Status Simulator::setUpScript(const Pose& mirror_start) {
   } else {
     auto path = loadPenPath(o_.pen_script);
     if (!path) return path.error();
-    script_ = std::move(*path);
+    script_ = penPathInSimulationFrame(*path, initial_);
+    // A first script often starts inside the tooth; say so before anything moves.
+    for (const std::string& w : penPathStartWarnings(*script_, initial_, o_.pen_script))
+      std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
   }
   if (mirror_tool_ && !hasPen(*script_, PenRole::Mirror)) addStillMirror(*script_, mirror_start);
   script_end_s_ = pathEnd(*script_);

@@ -209,6 +209,17 @@ class CsvReader {
       if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
 
       const std::string_view trimmed = trimBlanks(line);
+      if (!trimmed.empty() && trimmed.front() == '#' && !have_header) {
+        // "# frame: NAME" before the header says which frame the poses are in.
+        std::string_view rest = trimBlanks(trimmed.substr(1));
+        if (rest.substr(0, 6) == "frame:") {
+          rest = trimBlanks(rest.substr(6));
+          if (rest == "tooth") path.frame = PenFrame::Tooth;
+          else if (rest == "simulation") path.frame = PenFrame::Simulation;
+          else return fail("unknown frame " + quote(rest, 40) + " (tooth or simulation)");
+        }
+        continue;
+      }
       if (trimmed.empty() || trimmed.front() == '#') continue;
       if (!have_header) {
         if (line != kPenPathCsvHeader)
@@ -334,8 +345,9 @@ struct JsonValue {
 // The fields of one sample, in the order messages report them missing.
 enum SampleKey : uint8_t { kTime, kPen, kPosition, kRotation, kButtons, kPedal, kSampleKeyCount };
 constexpr const char* kSampleKeys[kSampleKeyCount] = {"t_s", "pen", "position_mm", "rotation_wxyz", "buttons", "pedal"};
-enum RootKey : uint8_t { kFormat, kVersion, kSamples, kRootKeyCount };
-constexpr const char* kRootKeys[kRootKeyCount] = {"format", "version", "samples"};
+enum RootKey : uint8_t { kFormat, kVersion, kSamples, kFrame, kRootKeyCount };
+constexpr const char* kRootKeys[kRootKeyCount] = {"format", "version", "samples", "frame"};
+constexpr bool kRootKeyRequired[kRootKeyCount] = {true, true, true, false};
 
 // Receives nlohmann's SAX events. The grammar is fixed, so the reader is a small state machine that
 // refuses anything unexpected at once: memory stays bounded by the samples themselves, and nesting
@@ -462,6 +474,12 @@ bool JsonReader::rootValue(const JsonValue& v) {
                               std::to_string(kPenPathJsonVersion) + ")");
       state_ = State::RootKey;
       return true;
+    case kFrame:
+      if (v.kind != Kind::String || (v.text != "tooth" && v.text != "simulation"))
+        return fail(name, "expected \"tooth\" or \"simulation\", found " + v.describe());
+      path_.frame = v.text == "tooth" ? PenFrame::Tooth : PenFrame::Simulation;
+      state_ = State::RootKey;
+      return true;
     default:
       if (v.kind != Kind::Array) return fail(name, "expected an array of samples, found " + v.describe());
       state_ = State::SampleList;
@@ -542,7 +560,7 @@ bool JsonReader::end_object() {
   if (state_ == State::SampleKey) return finishSample();
   assert(state_ == State::RootKey);
   for (uint8_t k = 0; k < kRootKeyCount; ++k)
-    if (!root_seen_[k]) return fail("", "missing key " + quote(kRootKeys[k]));
+    if (kRootKeyRequired[k] && !root_seen_[k]) return fail("", "missing key " + quote(kRootKeys[k]));
   if (path_.samples.empty()) return fail("", "no samples");
   state_ = State::End;
   return true;
@@ -676,6 +694,10 @@ constexpr size_t kJsonBytesPerSample = 260;  // a sample object, generous [B]
 std::string penPathCsv(const PenPath& path) {
   std::string out;
   out.reserve(kPenPathCsvHeader.size() + 1 + path.samples.size() * kCsvBytesPerSample);
+  if (path.frame == PenFrame::Tooth) {
+    out += kPenPathCsvToothFrame;
+    out += '\n';
+  }
   out += kPenPathCsvHeader;
   out += '\n';
   for (const PenSample& s : path.samples) {
@@ -702,7 +724,9 @@ std::string penPathJson(const PenPath& path) {
   out.reserve(128 + path.samples.size() * kJsonBytesPerSample);
   out += "{\"format\":\"";
   out += kPenPathJsonFormat;
-  out += "\",\"version\":" + std::to_string(kPenPathJsonVersion) + ",\"samples\":[";
+  out += "\",\"version\":" + std::to_string(kPenPathJsonVersion) + ",";
+  if (path.frame == PenFrame::Tooth) out += "\"frame\":\"tooth\",";
+  out += "\"samples\":[";
   for (size_t i = 0; i < path.samples.size(); ++i) {
     const PenSample& s = path.samples[i];
     const Vec3& p = s.pose.position;

@@ -28,8 +28,15 @@ struct PenSample {            // one device reading
   bool operator==(const PenSample&) const = default;  // by value: -0.0 == 0.0
 };
 
+// Which frame a path's poses are in. The simulation frame is the grid's; the tooth frame has its
+// origin at the occlusal centre, x distal, z the crown axis and y = z x x (docs/PEN_PATHS.md), so a
+// script written once fits any tooth whose frame is known. The simulation turns a tooth-frame path
+// into the simulation frame before it plays it.
+enum class PenFrame : uint8_t { Simulation = 0, Tooth = 1 };
+
 struct PenPath {
   std::vector<PenSample> samples;  // sorted by t_s; samples of one pen keep their file order
+  PenFrame frame = PenFrame::Simulation;
   bool operator==(const PenPath&) const = default;
 };
 
@@ -84,6 +91,10 @@ Status checkPenPath(const PenPath& path, const std::string& where);
 // its norm unless it is already unit to rounding (within 8 ulp of 1), so that reading what was
 // written gives back the same bits.
 constexpr double kPenRotationNormTolerance = 1e-3;
+
+// The CSV line that declares a path in the tooth frame (before the header; "# frame: simulation" is
+// the default and may be written too).
+constexpr std::string_view kPenPathCsvToothFrame = "# frame: tooth";
 
 // The CSV header line, without its newline.
 constexpr std::string_view kPenPathCsvHeader = "t_s,pen,x_mm,y_mm,z_mm,qw,qx,qy,qz,buttons,pedal";
