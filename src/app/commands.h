@@ -22,6 +22,7 @@ void addMeshCommand(CLI::App& root, Action& action);
 void addDemoCommand(CLI::App& root, Action& action);
 void addReplayCommand(CLI::App& root, Action& action);
 void addScoreCommand(CLI::App& root, Action& action);
+void addTaskCommand(CLI::App& root, Action& action);
 void addRunCommand(CLI::App& root, Action& action);
 void addDevicesCommand(CLI::App& root, Action& action);
 // `dentsim bench scores`, added under `bench` by addBenchCommand.

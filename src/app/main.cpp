@@ -33,6 +33,7 @@ int main(int argc, char** argv) {
   addDemoCommand(root, action);
   addReplayCommand(root, action);
   addScoreCommand(root, action);
+  addTaskCommand(root, action);
   try {
     root.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,266 @@
+// `dentsim task new|check|set-ideal`: a teacher's exercise on any tooth, written, checked and given its professional's ideal without editing JSON by hand.
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/commands.h"
+#include "eval/cut_score.h"
+#include "eval/task_ideal.h"
+#include "eval/task_tooth.h"
+#include "io/atomic_file.h"
+#include "model/tool_generator.h"
+#include "sim/builtin_tooth.h"
+#include "volume/tooth_file.h"
+#include "volume/tooth_frame.h"
+#include "volume/volume_hash.h"
+
+namespace dentsim::app {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct TaskNewOptions {
+  std::string tooth;              // a .dvol, or builtin:molar
+  std::string kind = "caries";    // caries, cavity, access
+  std::string output;             // the task file
+  std::string name, title, instructions;
+  std::string bur, mirror = kDefaultMirror;
+  int level = 0;                  // the built-in molar's level; 0: 9
+  double target_s = 0, failure_s = 0, force_error_n = 3.0, leeway_mm = 0.2;
+  std::vector<double> insertion_axis;  // empty: the tooth's crown axis
+  std::string ideal_path, ideal_volume, ideal_session, ideal_final;
+  std::string view;               // a view preset; empty: the simulator's default
+  double view_elevation_deg = 30.0;
+  bool fixed_view = false;
+  bool force = false;             // replace an existing task file
+};
+
+struct KindDefaults {
+  const char* bur;
+  double target_s, failure_s;
+  const char* builtin_ideal;      // the built-in path a new task starts with; null: none
+  const char* title;
+  const char* instructions;
+};
+
+const KindDefaults* defaultsFor(const std::string& kind) {
+  static const KindDefaults caries{"round_bur_010", 300, 900, nullptr, "Remove the caries",
+                                   "Open the lesion from the occlusal surface and remove all the carious tissue, "
+                                   "keeping the healthy enamel and dentin around it and the pulp closed."};
+  static const KindDefaults cavity{"fissure_bur_010", 600, 0, "class1_cavity", "Prepare the cavity",
+                                   "Prepare the cavity as the professional did: the same outline, depth and walls "
+                                   "parallel to the insertion axis, without touching the pulp."};
+  static const KindDefaults access{"round_bur_014", 600, 0, "access_cavity", "Open the pulp chamber",
+                                   "Prepare the endodontic access: go through the occlusal surface into the pulp "
+                                   "chamber and remove its roof, keeping the walls of the crown."};
+  if (kind == "caries") return &caries;
+  if (kind == "cavity") return &cavity;
+  if (kind == "access") return &access;
+  return nullptr;
+}
+
+bool sameFile(const std::string& a, const std::string& b) {
+  std::error_code ec;
+  return fs::exists(a, ec) && fs::exists(b, ec) && fs::equivalent(a, b, ec);
+}
+
+// A path as the task file names it: relative to the task's folder when it can be.
+std::string relativeToTask(const std::string& path, const std::string& task_path) {
+  std::error_code ec;
+  const fs::path folder = fs::absolute(fs::path(task_path), ec).parent_path();
+  const fs::path rel = fs::relative(fs::absolute(path, ec), folder, ec);
+  return ec || rel.empty() ? fs::absolute(path, ec).string() : rel.generic_string();
+}
+
+int runTaskNew(const TaskNewOptions& o) {
+  const KindDefaults* kind = defaultsFor(o.kind);
+  if (!kind) return fail("--kind: \"" + o.kind + "\" is not one of caries, cavity, access");
+  if (sameFile(o.output, o.tooth)) return fail(o.output + ": the task would be written over its own tooth");
+  if (fs::exists(o.output) && !o.force) return fail(o.output + ": exists; give --force to replace it");
+  const int ideals = !o.ideal_path.empty() + !o.ideal_volume.empty() + !o.ideal_session.empty();
+  if (ideals > 1) return fail("give at most one of --ideal-path, --ideal-volume and --ideal-session");
+  if (!o.ideal_final.empty() && o.ideal_session.empty()) return fail("--ideal-final goes with --ideal-session");
+  const bool builtin = o.tooth == kBuiltinMolarTooth;
+  if (o.level != 0 && !builtin) return fail("--level applies to the built-in molar; a .dvol keeps its own grid");
+
+  // The tooth decides the defaults: its crown axis is the insertion axis, its tissues what the kind needs.
+  auto tooth = builtin ? builtinMolarTooth(o.level > 0 ? o.level : 9) : loadTooth(o.tooth);
+  if (!tooth) return fail(tooth.message());
+  const MaterialTotals totals = tooth->voxels.materialTotals();
+  if (o.kind == "caries" && totals.voxels[size_t(Material::Caries)] == 0)
+    return fail(o.tooth + ": no caries in this tooth, so a caries task has nothing to remove (voxelize it with --caries "
+                          "or a caries label)");
+  if (o.kind == "access" && totals.voxels[size_t(Material::Pulp)] == 0)
+    return fail(o.tooth + ": no pulp in this tooth, so an access cavity has no chamber to open (voxelize it with "
+                          "--pulp or --fill-enclosed pulp)");
+  const ToothAxes& axes = tooth->frame.tooth;
+  if (axes.crown_source == AxisSource::Assumed)
+    std::fprintf(stderr, "dentsim: warning: %s has no tooth frame: the crown is taken as +z (voxelize it again to find it)\n",
+                 o.tooth.c_str());
+
+  nlohmann::ordered_json j;
+  j["format"] = "dentsim-task";
+  j["version"] = 2;
+  j["name"] = o.name.empty() ? fs::path(o.output).stem().string() : o.name;
+  j["kind"] = o.kind;
+  const std::string tooth_name = builtin ? "the built-in molar" : fs::path(o.tooth).stem().string();
+  j["title"] = o.title.empty() ? std::string(kind->title) + " (" + tooth_name + ")" : o.title;
+  j["instructions"] = o.instructions.empty() ? kind->instructions : o.instructions;
+  j["tooth"] = builtin ? o.tooth : relativeToTask(o.tooth, o.output);
+  if (builtin) j["level"] = o.level > 0 ? o.level : 9;
+  j["tools"] = {{"drill", o.bur.empty() ? kind->bur : o.bur}};
+  if (o.mirror != "none") j["tools"]["mirror"] = o.mirror;
+  j["target_s"] = o.target_s > 0 ? o.target_s : kind->target_s;
+  if (o.kind == "caries") j["failure_s"] = o.failure_s > 0 ? o.failure_s : kind->failure_s;
+  j["force_error_n"] = o.force_error_n;
+  if (!o.insertion_axis.empty()) {
+    if (o.insertion_axis.size() != 3) return fail("--insertion-axis: expected three numbers x,y,z");
+    j["insertion_axis"] = o.insertion_axis;
+  } else {
+    // The grid axis nearest the crown: +z for every tooth voxelize stood up. The bur of the scripted
+    // paths and of the simulator's first pose stands along it, and the leftover tilt of an estimated
+    // crown axis (a centroid's, not a clinician's) is not worth a slanted access.
+    std::array<int, 3> up{0, 0, 0};
+    int a = 0;
+    for (int i = 1; i < 3; ++i)
+      if (std::abs(axes.crown[size_t(i)]) > std::abs(axes.crown[size_t(a)])) a = i;
+    up[size_t(a)] = axes.crown[size_t(a)] < 0 ? -1 : 1;
+    j["insertion_axis"] = up;
+  }
+  j["leeway_mm"] = o.leeway_mm;
+  if (!o.ideal_path.empty()) j["ideal"] = {{"kind", "builtin_path"}, {"path", o.ideal_path}};
+  else if (!o.ideal_volume.empty()) j["ideal"] = {{"kind", "volume"}, {"path", relativeToTask(o.ideal_volume, o.output)}};
+  else if (kind->builtin_ideal) j["ideal"] = {{"kind", "builtin_path"}, {"path", kind->builtin_ideal}};
+  if (!o.view.empty()) j["view"] = {{"camera", o.view}, {"elevation_deg", o.view_elevation_deg}, {"fixed", o.fixed_view}};
+  const std::string text = j.dump(2) + "\n";
+  if (auto check = parseTask(text, o.output); !check) return fail(check.message());
+  if (Status st = writeFileAtomic(o.output, text); !st) return fail(st.message());
+  std::printf("wrote %s: %s task \"%s\" on %s, insertion axis (%.3f, %.3f, %.3f)\n", o.output.c_str(), o.kind.c_str(),
+              j["title"].get<std::string>().c_str(), o.tooth.c_str(), j["insertion_axis"][0].get<double>(),
+              j["insertion_axis"][1].get<double>(), j["insertion_axis"][2].get<double>());
+  if (!o.ideal_session.empty()) {
+    auto record = setTaskIdeal(o.output, o.ideal_session, o.ideal_final);
+    if (!record) return fail(record.message());
+    std::printf("the ideal is %s (final tooth %s)\n", record->session_file.c_str(), record->final_file.c_str());
+  } else if (j.contains("ideal") && j["ideal"]["kind"] == "builtin_path") {
+    std::printf("the ideal is the built-in path %s until you record one: dentsim task set-ideal %s --session PROF.dses\n",
+                j["ideal"]["path"].get<std::string>().c_str(), o.output.c_str());
+  }
+  return 0;
+}
+
+// Every problem of a task file, each on its own line; errors make the exit status 1.
+int runTaskCheck(const std::string& path) {
+  auto task = builtinTask(path);
+  if (!task) return fail(task.message());
+  std::vector<std::string> errors, warnings;
+  const auto drill = std::find_if(toolCatalog().begin(), toolCatalog().end(),
+                                  [&](const ToolSpec& s) { return task->drill_tool == s.name; });
+  if (drill == toolCatalog().end() || (drill->kind != ToolKind::RoundBur && drill->kind != ToolKind::FissureBur))
+    errors.push_back("tools.drill: \"" + task->drill_tool + "\" is not a bur in the tool catalog (assets/tools/tools.json)");
+  if (!task->mirror_tool.empty()) {
+    const auto mirror = std::find_if(toolCatalog().begin(), toolCatalog().end(),
+                                     [&](const ToolSpec& s) { return task->mirror_tool == s.name; });
+    if (mirror == toolCatalog().end() || mirror->kind != ToolKind::Mirror)
+      errors.push_back("tools.mirror: \"" + task->mirror_tool + "\" is not a mirror in the tool catalog");
+  }
+  auto tooth = taskTooth(*task, 0);
+  if (!tooth) {
+    errors.push_back("tooth: " + tooth.message());
+  } else {
+    const MaterialTotals totals = tooth->voxels.materialTotals();
+    const ToothAxes& axes = tooth->frame.tooth;
+    if (task->kind == TaskKind::Caries && totals.voxels[size_t(Material::Caries)] == 0)
+      errors.push_back("tooth: no caries in " + task->tooth + ", so the caries task has nothing to remove");
+    if (std::string(taskKindName(task->kind)) == "access" && totals.voxels[size_t(Material::Pulp)] == 0)
+      errors.push_back("tooth: no pulp in " + task->tooth + ", so the access cavity has no chamber to open");
+    if (axes.crown_source == AxisSource::Assumed)
+      warnings.push_back("tooth: " + task->tooth + " has no tooth frame; the crown is taken as +z");
+    const Vec3 crown{axes.crown[0], axes.crown[1], axes.crown[2]};
+    const double angle = std::acos(std::clamp(dot(crown, task->insertion_axis), -1.0, 1.0)) * 180.0 / 3.14159265358979;
+    if (angle > 90.0)
+      errors.push_back("insertion_axis: points " + std::to_string(int(std::lround(angle))) +
+                       " degrees from the tooth's crown axis, into the roots");
+    if (task->ideal) {
+      std::vector<std::string> ideal_warnings;
+      auto ideal = idealForTask(*task, *tooth, &ideal_warnings);
+      if (!ideal) errors.push_back("ideal: " + ideal.message());
+      else if (volumeHashHex(ideal->voxels, ideal->frame) == volumeHashHex(tooth->voxels, tooth->frame))
+        errors.push_back("ideal: the professional's tooth is the task's tooth uncut");
+      for (std::string& w : ideal_warnings) warnings.push_back(std::move(w));
+    }
+  }
+  for (const std::string& w : warnings) std::printf("%s: warning: %s\n", path.c_str(), w.c_str());
+  for (const std::string& e : errors) std::printf("%s: error: %s\n", path.c_str(), e.c_str());
+  if (!errors.empty()) return 1;
+  std::printf("%s: ok: %s task \"%s\" on %s, drill %s%s\n", path.c_str(), taskKindName(task->kind), task->title.c_str(),
+              task->tooth.c_str(), task->drill_tool.c_str(),
+              task->ideal ? (", ideal " + task->ideal->path).c_str() : ", no ideal");
+  return 0;
+}
+
+int runTaskSetIdeal(const std::string& task, const std::string& session, const std::string& final_tooth) {
+  auto record = setTaskIdeal(task, session, final_tooth);
+  if (!record) return fail(record.message());
+  std::printf("%s: the ideal is now %s (final tooth %s; tooth %s, final %s, session %s)\n", task.c_str(),
+              record->session_file.c_str(), record->final_file.c_str(), record->spec.initial_hash.c_str(),
+              record->spec.final_hash.c_str(), record->spec.session_hash.c_str());
+  return 0;
+}
+
+}  // namespace
+
+void addTaskCommand(CLI::App& root, Action& action) {
+  CLI::App* cmd = root.add_subcommand("task", "Write, check and set the ideal of an exercise (a task file)");
+  cmd->require_subcommand(1);
+
+  auto n = std::make_shared<TaskNewOptions>();
+  CLI::App* make = cmd->add_subcommand("new", "Write a valid task on a tooth");
+  make->add_option("--tooth", n->tooth, "The tooth: a .dvol, or builtin:molar")->required();
+  make->add_option("--kind", n->kind, "caries, cavity or access")->capture_default_str();
+  make->add_option("-o,--output", n->output, "The task file to write (.json)")->required();
+  make->add_option("--name", n->name, "The task's name (default: the file's stem)");
+  make->add_option("--title", n->title, "One line for the task picker");
+  make->add_option("--instructions", n->instructions, "What the student is to do");
+  make->add_option("--bur", n->bur, "The drill's bur (default by kind: round_bur_010, fissure_bur_010, round_bur_014)");
+  make->add_option("--mirror", n->mirror, "The mirror, or none")->capture_default_str();
+  make->add_option("--level", n->level, "The built-in molar's level (default 9)")->check(CLI::Range(DS_MIN_LEVEL, DS_MAX_LEVEL));
+  make->add_option("--target-s", n->target_s, "The time a good student needs [s] (default by kind: 300, 600, 600)");
+  make->add_option("--failure-s", n->failure_s, "Caries: the time that earns no time points [s] (default 900)");
+  make->add_option("--force-error-n", n->force_error_n, "A contact sample above this force is an error [N]")->capture_default_str();
+  make->add_option("--leeway-mm", n->leeway_mm, "Leeway around the target [mm]")->capture_default_str();
+  make->add_option("--insertion-axis", n->insertion_axis,
+                   "The bur's axis x,y,z (default: the grid axis nearest the tooth's crown axis, +z once voxelize stood it up)")
+      ->delimiter(',')
+      ->expected(3);
+  make->add_option("--ideal-path", n->ideal_path, "The ideal is this built-in path");
+  make->add_option("--ideal-volume", n->ideal_volume, "The ideal is this professional's final tooth (.dvol)");
+  make->add_option("--ideal-session", n->ideal_session, "The ideal is this professional's session (.dses), as set-ideal");
+  make->add_option("--ideal-final", n->ideal_final, "With --ideal-session: its final tooth (.dvol), saving the replay");
+  make->add_option("--view", n->view, "The first view: occlusal, buccal, lingual, mesial or distal");
+  make->add_option("--view-elevation", n->view_elevation_deg, "The first view's elevation [deg]")->capture_default_str();
+  make->add_flag("--fixed-view", n->fixed_view, "The student cannot turn the view (indirect vision: work in the mirror)");
+  make->add_flag("--force", n->force, "Replace an existing task file");
+  make->callback([n, &action] { action = [n] { return runTaskNew(*n); }; });
+
+  auto check_path = std::make_shared<std::string>();
+  CLI::App* check = cmd->add_subcommand("check", "Validate a task file and name each problem");
+  check->add_option("task", *check_path, "The task file")->required();
+  check->callback([check_path, &action] { action = [check_path] { return runTaskCheck(*check_path); }; });
+
+  auto set = std::make_shared<std::array<std::string, 3>>();
+  CLI::App* ideal = cmd->add_subcommand("set-ideal", "Make a professional's recorded session the task's ideal");
+  ideal->add_option("task", (*set)[0], "The task file")->required();
+  ideal->add_option("--session", (*set)[1], "The professional's session (.dses), recorded on the task's tooth")->required();
+  ideal->add_option("--final", (*set)[2], "Its final tooth (.dvol; default: replay the session)");
+  ideal->callback([set, &action] { action = [set] { return runTaskSetIdeal((*set)[0], (*set)[1], (*set)[2]); }; });
+}
+
+}  // namespace dentsim::app
