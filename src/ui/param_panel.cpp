@@ -1,9 +1,11 @@
 // The parameter window and the overlay: one function per section, each editing UiState and raising PanelActions.
 //
 // Contents
-//   1. Widget helpers: clamped double sliders, colour pickers on float copies, rectangle recording
-//   2. Sections: tissues, bur and turbine, surface, task, presets, advanced, score, status
-//   3. drawParamPanel, the score picture window, drawOverlay
+//   1. Widget helpers: clamped sliders with their values beside them, colour pickers on float copies,
+//      rectangle recording
+//   2. Pages and their sections: task (pickers, teacher mode), tissues, tools (bur, turbine, sound),
+//      view (surface), presets (and advanced), score; the run's buttons above them
+//   3. drawParamPanel, the score picture window beside the tooth, drawOverlay
 //   4. applyPresetActions
 #include "ui/param_panel.h"
 
@@ -12,6 +14,7 @@
 #include <cstdio>
 
 #include <imgui.h>
+#include <imgui_internal.h>  // TempInputIsActive: a slider being typed into shows its own text
 
 #include "model/tool_generator.h"
 #include "volume/tissue_table.h"
@@ -24,8 +27,10 @@ namespace {
 
 constexpr float kPanelWidth = 380.0f;       // [px]
 constexpr float kMargin = 10.0f;            // from the display's edges [px]
-constexpr float kLabelWidth = 150.0f;       // room left for a widget's label [px]
+constexpr float kLabelWidth = 170.0f;       // room left for a widget's label [px]
+constexpr float kValueWidth = 64.0f;        // a slider's value, beside its track: "100000.0" in the 7 px font [px]
 constexpr float kPictureBox = 320.0f;       // the score picture fits in this square [px]
+constexpr float kMinPictureBox = 120.0f;    // ... and shrinks no further to stay off the tooth [px]
 constexpr float kGaugeWidth = 220.0f;       // the overlay's force gauge [px]
 constexpr double kWheelSpeedStep = 0.05;    // turbine speed per wheel notch [-]
 constexpr double kKeySpeedStep = 0.1;       // turbine speed per PageUp/PageDown [-]
@@ -58,15 +63,54 @@ struct Probe {
   }
 };
 
+// A slider row: the track, its value right-aligned in a column of its own, then the label where
+// ImGui puts a label. ImGui writes the value in the middle of the track, where the grab covers it
+// whenever the value sits mid-range; here the track's own text is drawn transparent (except while
+// Ctrl+click typing, which needs it) and the value stands beside the track instead. `slider(id)`
+// draws the track under the hidden label it is given and returns whether the value changed;
+// `text()` then formats the value as the track would have written it.
+template <class Slider, class Text>
+bool sliderRow(const Frame& f, const std::string& key, const char* label, Slider slider, Text text,
+               bool* hovered = nullptr) {
+  const ImGuiStyle& style = ImGui::GetStyle();
+  const std::string hidden = std::string("##") + label;
+  const float track = std::max(40.0f, ImGui::CalcItemWidth() - kValueWidth - style.ItemInnerSpacing.x);
+  const bool typing = ImGui::TempInputIsActive(ImGui::GetID(hidden.c_str()));
+  Probe probe{f};
+  probe.width = track;
+  ImGui::SetNextItemWidth(track);
+  if (!typing) ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0, 0, 0, 0));
+  const bool changed = slider(hidden.c_str());
+  if (!typing) ImGui::PopStyleColor();
+  probe.record(key);
+  if (hovered) *hovered = ImGui::IsItemHovered();
+  // The value, right-aligned in its column, then the label.
+  const std::string value = text();
+  ImGui::SameLine(0.0f, style.ItemInnerSpacing.x);
+  const float column_x = ImGui::GetCursorPosX();
+  const float text_w = ImGui::CalcTextSize(value.c_str()).x;
+  ImGui::SetCursorPosX(column_x + std::max(0.0f, kValueWidth - text_w));
+  ImGui::TextUnformatted(value.c_str());
+  f.record("value." + key);
+  ImGui::SameLine(0.0f, 0.0f);
+  ImGui::SetCursorPosX(column_x + kValueWidth + style.ItemInnerSpacing.x);
+  ImGui::TextUnformatted(label);
+  return changed;
+}
+
 // A slider on a double, clamped to [lo, hi] for drags and for Ctrl+click typing alike. The bounds
 // are sub-ranges of sim_params.cpp's table, so an edited set always saves.
 bool sliderDouble(const Frame& f, const std::string& key, const char* label, double& v, double lo, double hi,
-                  const char* format, bool logarithmic = false) {
-  ImGuiSliderFlags flags = ImGuiSliderFlags_AlwaysClamp | (logarithmic ? ImGuiSliderFlags_Logarithmic : 0);
-  const Probe probe{f};
-  bool changed = ImGui::SliderScalar(label, ImGuiDataType_Double, &v, &lo, &hi, format, flags);
-  probe.record(key);
-  return changed;
+                  const char* format, bool logarithmic = false, bool* hovered = nullptr) {
+  const ImGuiSliderFlags flags = ImGuiSliderFlags_AlwaysClamp | (logarithmic ? ImGuiSliderFlags_Logarithmic : 0);
+  return sliderRow(
+      f, key, label, [&](const char* id) { return ImGui::SliderScalar(id, ImGuiDataType_Double, &v, &lo, &hi, format, flags); },
+      [&] {
+        char buf[48];
+        std::snprintf(buf, sizeof buf, format, v);
+        return std::string(buf);
+      },
+      hovered);
 }
 
 // A colour picker over three doubles. ImGui edits floats; a component is written back only when
@@ -153,8 +197,7 @@ void tissueTab(const Frame& f, Material m) {
   f.actions.params_changed |= changed;
 }
 
-void tissuesSection(const Frame& f) {
-  if (!section(f, "tissues", "Tissues", ImGuiTreeNodeFlags_DefaultOpen)) return;
+void tissuesPage(const Frame& f) {
   if (!ImGui::BeginTabBar("tissues")) return;
   for (Material m : kTissues) {
     const std::string name = materialName(m);
@@ -202,17 +245,20 @@ void turbineSpeed(const Frame& f) {
     std::snprintf(text, sizeof text, "pedal %.0f%%", s.turbine_speed * 100.0);
     ImGui::ProgressBar(float(std::clamp(s.turbine_speed, 0.0, 1.0)), ImVec2(-kLabelWidth, 0.0f), text);
     f.record("turbine.speed");
+    ImGui::SameLine(0.0f, ImGui::GetStyle().ItemInnerSpacing.x);
+    ImGui::TextUnformatted("speed (pedal)");
     return;
   }
   double speed = s.turbine_speed;
-  sliderDouble(f, "turbine.speed", "speed (no pedal)", speed, 0.0, 1.0, "%.2f");
+  bool hovered = false;
+  sliderDouble(f, "turbine.speed", "speed (no pedal)", speed, 0.0, 1.0, "%.2f", false, &hovered);
   const float wheel = ImGui::GetIO().MouseWheel;
-  if (ImGui::IsItemHovered() && wheel != 0.0f) speed += kWheelSpeedStep * double(wheel);
+  if (hovered && wheel != 0.0f) speed += kWheelSpeedStep * double(wheel);
   setSpeed(f, speed);
 }
 
 void burSection(const Frame& f) {
-  if (!section(f, "bur", "Bur and turbine", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  ImGui::TextDisabled("bur and turbine");
   UiState& s = f.state;
 
   const std::vector<std::string> names = burNames(s.params);
@@ -244,7 +290,8 @@ void burSection(const Frame& f) {
 
 // Volume and mute; the output line says where the sound goes (or why there is none).
 void soundSection(const Frame& f) {
-  if (!section(f, "sound", "Sound", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  ImGui::Spacing();
+  ImGui::TextDisabled("sound");
   SoundControls& snd = f.state.sound;
   f.actions.sound_changed |= sliderDouble(f, "sound.volume", "volume", snd.volume, 0.0, 1.0, "%.2f");
   f.actions.sound_changed |= ImGui::Checkbox("mute", &snd.mute);
@@ -252,8 +299,7 @@ void soundSection(const Frame& f) {
   if (!snd.output.empty()) ImGui::TextDisabled("%s", snd.output.c_str());
 }
 
-void surfaceSection(const Frame& f) {
-  if (!section(f, "surface", "Surface", ImGuiTreeNodeFlags_DefaultOpen)) return;
+void viewPage(const Frame& f) {
   UiState& s = f.state;
   ImGui::TextUnformatted("normals averaged over (voxels)");
   for (NormalMode mode : kNormalModes) {
@@ -269,37 +315,148 @@ void surfaceSection(const Frame& f) {
   // A new level rebuilds the tooth, which a running task must not see.
   ImGui::BeginDisabled(s.run_state == RunState::Running);
   int level = s.level;
-  const Probe probe{f};
-  if (ImGui::SliderInt("voxel level", &level, kMinLevel, kMaxLevel, "%d", ImGuiSliderFlags_AlwaysClamp) &&
-      level != s.level) {
+  const bool moved = sliderRow(
+      f, "level", "voxel level",
+      [&](const char* id) { return ImGui::SliderInt(id, &level, kMinLevel, kMaxLevel, "%d", ImGuiSliderFlags_AlwaysClamp); },
+      [&] { return std::to_string(level); });
+  if (moved && level != s.level) {
     s.level = level;
     f.actions.level_changed = true;
   }
-  probe.record("level");
   ImGui::EndDisabled();
   ImGui::Text("%d voxels per side", 1 << std::clamp(s.level, kMinLevel, kMaxLevel));
 }
 
-void taskSection(const Frame& f) {
-  if (!section(f, "task", "Task", ImGuiTreeNodeFlags_DefaultOpen)) return;
-  UiState& s = f.state;
-  const bool running = s.run_state == RunState::Running;
+// The line a picker shows for the tooth in use: its entry's label, else the file's name.
+std::string toothLabel(const UiState& s) {
+  for (const ToothChoice& t : s.course.teeth)
+    if (t.path == s.tooth && (!t.path.empty() || t.level == s.level)) return t.label;
+  if (s.tooth.empty()) return "built-in molar, level " + std::to_string(s.level);
+  const size_t slash = s.tooth.find_last_of('/');
+  return slash == std::string::npos ? s.tooth : s.tooth.substr(slash + 1);
+}
 
-  ImGui::BeginDisabled(running);
+std::string taskLabel(const UiState& s) {
+  for (const TaskChoice& t : s.course.tasks)
+    if (t.source == s.task) return t.label;
+  return s.task;
+}
+
+// An error line: red, wrapped, after the widget it belongs to.
+void errorLine(const std::string& text) {
+  if (text.empty()) return;
+  ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.40f, 0.35f, 1.0f));
+  ImGui::TextWrapped("%s", text.c_str());
+  ImGui::PopStyleColor();
+}
+
+// A tooltip for the last item, disabled or not.
+void tooltip(const char* text) {
+  if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("%s", text);
+}
+
+// The tooth: the built-in molar at its levels, the course folder's teeth, or any .dvol by its path.
+void toothPicker(const Frame& f) {
+  UiState& s = f.state;
+  ImGui::TextDisabled("tooth");
   const Probe probe{f};
-  bool opened = ImGui::BeginCombo("task", s.task.c_str());
-  probe.record("task");
+  const bool opened = ImGui::BeginCombo("tooth", toothLabel(s).c_str());
+  probe.record("tooth");
   if (opened) {
-    for (const char* t : {"caries", "cavity"}) {
-      if (ImGui::Selectable(t, s.task == t) && s.task != t) {
-        s.task = t;
-        f.actions.task_changed = true;
+    for (size_t i = 0; i < s.course.teeth.size(); ++i) {
+      const ToothChoice& t = s.course.teeth[i];
+      const bool current = t.path == s.tooth && (!t.path.empty() || t.level == s.level);
+      if (ImGui::Selectable(t.label.c_str(), current) && !current) {
+        s.tooth = t.path;
+        if (t.path.empty()) s.level = t.level;
+        f.actions.tooth_changed = true;
       }
+      f.record("tooth.item." + std::to_string(i));
+      if (!t.path.empty()) tooltip(t.path.c_str());
     }
     ImGui::EndCombo();
   }
+  // A fixed buffer: Debian's libimgui has no std::string InputText.
+  char buf[512] = {};
+  s.tooth_path.copy(buf, sizeof buf - 1);
+  const Probe path_probe{f};
+  if (ImGui::InputTextWithHint("##tooth_path", "any .dvol by its path", buf, sizeof buf)) s.tooth_path = buf;
+  path_probe.record("tooth_path");
+  ImGui::SameLine();
+  ImGui::BeginDisabled(s.tooth_path.empty());
+  if (ImGui::Button("Open")) {
+    s.tooth = s.tooth_path;
+    f.actions.tooth_changed = true;
+  }
+  f.record("open_tooth");
   ImGui::EndDisabled();
+  errorLine(s.tooth_error);
+}
 
+// The task: the built-in ones and the course folder's files; a file that does not load is listed
+// with its error and starts nothing.
+void taskPicker(const Frame& f) {
+  UiState& s = f.state;
+  ImGui::Spacing();
+  ImGui::TextDisabled("task");
+  const Probe probe{f};
+  const bool opened = ImGui::BeginCombo("task", taskLabel(s).c_str());
+  probe.record("task");
+  if (opened) {
+    for (size_t i = 0; i < s.course.tasks.size(); ++i) {
+      const TaskChoice& t = s.course.tasks[i];
+      const std::string line = t.error.empty() ? t.label : t.label + " (does not load)";
+      if (ImGui::Selectable(line.c_str(), t.source == s.task)) {
+        if (!t.error.empty()) {
+          s.task_error = t.error;
+        } else if (t.source != s.task) {
+          s.task = t.source;
+          f.actions.task_changed = true;
+        }
+      }
+      f.record("task.item." + std::to_string(i));
+      tooltip(t.error.empty() ? t.title.c_str() : t.error.c_str());
+    }
+    ImGui::EndCombo();
+  }
+  if (!s.task_title.empty()) ImGui::TextWrapped("%s", s.task_title.c_str());
+  if (!s.task_instructions.empty()) {
+    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
+    ImGui::TextWrapped("%s", s.task_instructions.c_str());
+    ImGui::PopStyleColor();
+  }
+  errorLine(s.task_error);
+}
+
+// Teacher mode: the current segment becomes the task file's ideal.
+void teacherSection(const Frame& f) {
+  UiState& s = f.state;
+  ImGui::Spacing();
+  ImGui::Separator();
+  ImGui::Checkbox("teacher mode", &s.teacher);
+  f.record("teacher");
+  if (!s.teacher) return;
+  const char* why_not = !s.task_is_file        ? "A built-in task cannot take an ideal: pick a task file from the course folder."
+                        : !s.segment_recorded ? "This segment is not being recorded: press Reset to start a recorded one."
+                                              : nullptr;
+  ImGui::BeginDisabled(why_not != nullptr);
+  f.actions.record_ideal |= ImGui::Button("Record as ideal");
+  f.record("record_ideal");
+  ImGui::EndDisabled();
+  tooltip(why_not ? why_not : "Ends this segment and makes it the task's ideal: every student is scored against it.");
+  if (!s.ideal_status.empty()) ImGui::TextWrapped("%s", s.ideal_status.c_str());
+}
+
+void taskPage(const Frame& f) {
+  toothPicker(f);
+  taskPicker(f);
+  teacherSection(f);
+}
+
+// Start, Stop, Reset and Score with the run's state: above the pages, so that every page has them.
+void runButtons(const Frame& f) {
+  UiState& s = f.state;
+  const bool running = s.run_state == RunState::Running;
   ImGui::BeginDisabled(running);
   f.actions.start |= ImGui::Button("Start");
   f.record("start");
@@ -324,7 +481,6 @@ void taskSection(const Frame& f) {
 }
 
 void presetSection(const Frame& f) {
-  if (!section(f, "presets", "Presets", ImGuiTreeNodeFlags_DefaultOpen)) return;
   UiState& s = f.state;
   const Probe preset_probe{f};
   bool opened = ImGui::BeginCombo("preset", s.selected_preset.c_str());
@@ -368,7 +524,7 @@ void advancedSection(const Frame& f) {
                     "%.4f", true);
   c |= sliderDouble(f, "coupling.rot_stiffness_n_mm_per_rad", "rot. spring [N mm/rad]",
                     p.coupling.rot_stiffness_n_mm_per_rad, 1.0, 10000.0, "%.1f", true);
-  c |= sliderDouble(f, "coupling.rot_damping_n_mm_s_per_rad", "rot. damper [N mm s/rad]",
+  c |= sliderDouble(f, "coupling.rot_damping_n_mm_s_per_rad", "rot. damp [N mm s/rad]",
                     p.coupling.rot_damping_n_mm_s_per_rad, 0.0, 100.0, "%.3f", true);
   c |= sliderDouble(f, "coupling.proxy_damping_n_s_per_mm", "proxy drag [N s/mm]", p.coupling.proxy_damping_n_s_per_mm,
                     0.0, 1.0, "%.4f", true);
@@ -390,10 +546,8 @@ void advancedSection(const Frame& f) {
   f.actions.params_changed |= c;
 }
 
-void scoreSection(const Frame& f) {
+void scorePage(const Frame& f) {
   const ScoreSummary& sc = f.state.score;
-  if (!sc.valid) return;
-  if (!section(f, "score", "Score", ImGuiTreeNodeFlags_DefaultOpen)) return;
   ImGui::Text("total %.1f / %.0f", sc.total, sc.total_max);
   if (!sc.rows.empty() && ImGui::BeginTable("score rows", 2, ImGuiTableFlags_RowBg)) {
     for (const ScoreRow& r : sc.rows) {
@@ -412,22 +566,53 @@ void scoreSection(const Frame& f) {
 
 // ---- 3. windows ----------------------------------------------------------------------------------------
 
-// The picture's size on screen: its own aspect, fitted into kPictureBox.
-ImVec2 pictureSize(const ScoreSummary& sc) {
-  if (sc.image_width <= 0 || sc.image_height <= 0) return ImVec2(kPictureBox * 0.8f, kPictureBox * 0.8f);
-  float scale = std::min(kPictureBox / float(sc.image_width), kPictureBox / float(sc.image_height));
+// The picture's size on screen: its own aspect, fitted into a square of `box` pixels.
+ImVec2 pictureSize(const ScoreSummary& sc, float box) {
+  if (sc.image_width <= 0 || sc.image_height <= 0) return ImVec2(box * 0.8f, box * 0.8f);
+  float scale = std::min(box / float(sc.image_width), box / float(sc.image_height));
   return ImVec2(std::floor(float(sc.image_width) * scale), std::floor(float(sc.image_height) * scale));
+}
+
+// Where the score picture's window goes, and how big its picture is: beside the tooth's rectangle
+// `keep` in the room the panel leaves (x below `free_right`), right of the tooth if it fits there,
+// else left of it, else on the roomier side, shrunk to fit (to no less than kMinPictureBox). With
+// no tooth given, at the right of that room.
+struct PicturePlace {
+  ImVec2 pos;
+  float box = kPictureBox;
+};
+PicturePlace placePicture(const ScoreSummary& sc, const PixelRect& keep, float free_right, float display_h) {
+  const ImGuiStyle& style = ImGui::GetStyle();
+  const float chrome_w = 2.0f * style.WindowPadding.x;
+  const float chrome_h = 2.0f * style.WindowPadding.y + ImGui::GetFrameHeight();
+  auto window_w = [&](float box) { return pictureSize(sc, box).x + chrome_w; };
+  const float top = std::clamp(keep.empty() ? 180.0f : float(keep.y), kMargin,
+                               std::max(kMargin, display_h - pictureSize(sc, kPictureBox).y - chrome_h - kMargin));
+  if (keep.empty()) return {ImVec2(std::max(kMargin, free_right - window_w(kPictureBox)), top), kPictureBox};
+  const float right_room = free_right - float(keep.x + keep.width) - kMargin;  // beside the tooth's right edge
+  const float left_room = float(keep.x) - 2.0f * kMargin;                       // between the display's left edge and the tooth
+  if (window_w(kPictureBox) <= right_room) return {ImVec2(float(keep.x + keep.width) + kMargin, top), kPictureBox};
+  if (window_w(kPictureBox) <= left_room) return {ImVec2(float(keep.x) - kMargin - window_w(kPictureBox), top), kPictureBox};
+  // Shrunk: the box that fits the roomier side.
+  const bool right = right_room >= left_room;
+  const float room = std::max(right_room, left_room);
+  float box = kPictureBox;
+  while (box > kMinPictureBox && window_w(box) > room) box -= 4.0f;
+  const float w = window_w(box);
+  return {ImVec2(right ? float(keep.x + keep.width) + kMargin : std::max(kMargin, float(keep.x) - kMargin - w), top), box};
 }
 
 // A window with no background around an empty item: the renderer draws the picture into the
 // item's visible rectangle before ImGui draws its frame, so the title bar and border sit over it.
-PixelRect scorePictureWindow(const ScoreSummary& sc) {
+// It is placed beside the tooth each time it appears; the user may move it afterwards.
+PixelRect scorePictureWindow(const ScoreSummary& sc, const PixelRect& keep, float free_right) {
   const ImGuiStyle& style = ImGui::GetStyle();
-  const ImVec2 pic = pictureSize(sc);
+  const PicturePlace place = placePicture(sc, keep, free_right, ImGui::GetIO().DisplaySize.y);
+  const ImVec2 pic = pictureSize(sc, place.box);
   // The exact size up front: an auto-resizing window would hide its first frame while measuring.
   const ImVec2 size(pic.x + 2.0f * style.WindowPadding.x,
                     pic.y + 2.0f * style.WindowPadding.y + ImGui::GetFrameHeight());
-  ImGui::SetNextWindowPos(ImVec2(kMargin, 180.0f), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowPos(place.pos, ImGuiCond_Appearing);
   ImGui::SetNextWindowSize(size, ImGuiCond_Always);
   PixelRect out;
   const ImGuiWindowFlags flags = ImGuiWindowFlags_NoBackground | ImGuiWindowFlags_NoResize |
@@ -450,6 +635,16 @@ PixelRect scorePictureWindow(const ScoreSummary& sc) {
   return out;
 }
 
+// One page of the panel as a tab, recorded as "page.<key>".
+template <class Draw>
+void page(const Frame& f, const char* key, const char* label, Draw draw, ImGuiTabItemFlags flags = 0) {
+  const bool open = ImGui::BeginTabItem(label, nullptr, flags);
+  f.record(std::string("page.") + key);
+  if (!open) return;
+  draw();
+  ImGui::EndTabItem();
+}
+
 }  // namespace
 
 PanelActions drawParamPanel(UiState& state, WidgetRects* rects) {
@@ -463,14 +658,28 @@ PanelActions drawParamPanel(UiState& state, WidgetRects* rects) {
   ImGui::SetNextWindowSize(ImVec2(kPanelWidth, std::max(200.0f, display.y - 2.0f * kMargin)), ImGuiCond_FirstUseEver);
   if (ImGui::Begin("Parameters", nullptr, ImGuiWindowFlags_NoSavedSettings)) {
     ImGui::PushItemWidth(-kLabelWidth);
-    tissuesSection(f);
-    burSection(f);
-    soundSection(f);
-    surfaceSection(f);
-    taskSection(f);
-    presetSection(f);
-    advancedSection(f);
-    scoreSection(f);
+    runButtons(f);
+    // The score page comes forward once, the frame a score first shows.
+    ImGuiStorage* storage = ImGui::GetStateStorage();
+    const ImGuiID score_seen = ImGui::GetID("score seen");
+    const bool new_score = state.score.valid && !storage->GetBool(score_seen);
+    storage->SetBool(score_seen, state.score.valid);
+    if (ImGui::BeginTabBar("pages")) {
+      page(f, "task", "Task", [&] { taskPage(f); });
+      page(f, "tissues", "Tissues", [&] { tissuesPage(f); });
+      page(f, "tools", "Tools", [&] {
+        burSection(f);
+        soundSection(f);
+      });
+      page(f, "view", "View", [&] { viewPage(f); });
+      page(f, "presets", "Presets", [&] {
+        presetSection(f);
+        advancedSection(f);
+      });
+      if (state.score.valid)
+        page(f, "score", "Score", [&] { scorePage(f); }, new_score ? ImGuiTabItemFlags_SetSelected : 0);
+      ImGui::EndTabBar();
+    }
     ImGui::PopItemWidth();
     ImGui::Separator();
     ImGui::TextWrapped("%s", state.status.c_str());
@@ -480,7 +689,8 @@ PanelActions drawParamPanel(UiState& state, WidgetRects* rects) {
   actions.panel_rect = {int(panel_pos.x), int(panel_pos.y), int(panel_size.x), int(panel_size.y)};
   ImGui::End();
 
-  if (state.score.valid) actions.score_image_rect = scorePictureWindow(state.score);
+  if (state.score.valid)
+    actions.score_image_rect = scorePictureWindow(state.score, state.keep_clear, std::min(display.x, panel_pos.x) - kMargin);
   return actions;
 }
 
