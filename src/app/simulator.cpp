@@ -6,15 +6,19 @@
 #include "app/simulator.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "app/score_screen.h"
 #include "app/simulator_state.h"
+#include "app/tool_placement.h"
 #include "core/percentile.h"
 #include "eval/cut_score.h"
+#include "eval/task_ideal.h"
 #include "io/session_file.h"
 #include "sim/tool_library.h"
 #include "volume/tooth_file.h"
@@ -25,6 +29,26 @@ namespace {
 using Clock = Simulator::Clock;
 
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+// Ctrl-C ends the run the way closing the window does, so that the session is finished and the
+// files are listed. A signal handler can only reach a global; nothing else is shared through it.
+std::atomic<bool> g_interrupted{false};
+extern "C" void onInterrupt(int) { g_interrupted.store(true); }
+
+// Installs the handler for one run and puts the previous one back.
+class InterruptGuard {
+ public:
+  InterruptGuard() {
+    g_interrupted.store(false);
+    previous_ = std::signal(SIGINT, onInterrupt);
+  }
+  ~InterruptGuard() { std::signal(SIGINT, previous_); }
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
+
+ private:
+  void (*previous_)(int) = SIG_DFL;
+};
 
 }  // namespace
 
@@ -45,6 +69,8 @@ Status Simulator::startSegment() {
   s.lockstep = lockstep_;
   s.out = o_.out;
   if (Status st = segments_.start(cut_, s, &out_.written); !st) return st;
+  final_saved_ = false;
+  ui_.segment_recorded = segments_.recording();
   // Forces may go out only now that the loop commands them every step (the watchdog counts from here).
   rack_.enable();
   rate_steps_ = segments_.stepsDone();
@@ -65,7 +91,110 @@ Status Simulator::endSegment(const std::string& reason) {
     if (Status st = painter_->remesh(view_.voxels, &pending_dirty_); !st && result) result = st;
   out_.removed_mm3 = segments_.removedDoneMm3();
   ui_.run_state = ui::RunState::Stopped;
+  ui_.segment_recorded = false;
   return result;
+}
+
+// ---- a new tooth or task ---------------------------------------------------------------------------------
+
+Status Simulator::restartOnNewTooth(const std::string& reason) {
+  if (Status st = painter_->surfaces().build(view_.voxels); !st) return st;
+  pending_dirty_.clear();
+  score_shown_ = false;
+  ui_.score = {};
+  tooth_first_segment_ = segments_.count() + 1;
+  if (pens_) {
+    pens_->reset(PenRole::Drill, drillStartGrip(box_, 3.0));
+    if (mirror_tool_) pens_->reset(PenRole::Mirror, mirrorGrip(box_, render::fromGlm(camera_.eye())));
+  }
+  note(reason + ": " + toothName() + ", level " + std::to_string(initial_.frame.level));
+  return startSegment();
+}
+
+// The picker's tooth: a file that does not load leaves the tooth in use as it was, with the error
+// in the panel.
+Status Simulator::pickTooth() {
+  const std::string file_before = tooth_file_;
+  const int level_before = o_.level;
+  tooth_file_ = ui_.tooth;
+  if (tooth_file_.empty()) o_.level = ui_.level;
+  if (segments_.running())
+    if (Status st = endSegment("new tooth"); !st) return st;
+  if (Status st = loadTooth(); !st) {
+    ui_.tooth_error = st.message();
+    note(st.message());
+    tooth_file_ = file_before;
+    o_.level = level_before;
+    ui_.tooth = tooth_file_;
+    ui_.level = initial_.frame.level;
+    return startSegment();  // the tooth in use goes on where it was
+  }
+  ui_.tooth_error.clear();
+  ui_.level = initial_.frame.level;
+  return restartOnNewTooth("new tooth");
+}
+
+// The picker's task: its tooth, level, tools and first view, as `run --task` would start it.
+Status Simulator::pickTask() {
+  auto task = builtinTask(ui_.task);
+  if (!task) {
+    ui_.task_error = task.message();
+    note(task.message());
+    ui_.task = task_source_;
+    return Ok{};
+  }
+  if (segments_.running())
+    if (Status st = endSegment("new task"); !st) return st;
+  const std::string file_before = tooth_file_;
+  const int level_before = o_.level;
+  tooth_file_ = task->tooth == kBuiltinMolarTooth ? "" : task->tooth;
+  o_.level = task->level;
+  if (Status st = loadTooth(); !st) {
+    ui_.task_error = st.message();
+    note(st.message());
+    tooth_file_ = file_before;
+    o_.level = level_before;
+    ui_.task = task_source_;
+    return startSegment();
+  }
+  ui_.task_error.clear();
+  task_ = std::move(*task);
+  task_source_ = ui_.task;
+  // The task's tools and view; what the command line fixed (--bur, --mirror-tool, --view) stays.
+  drill_name_ = o_.bur.empty() ? task_->drill_tool : o_.bur;
+  ui_.bur = drill_name_;
+  if (Status st = loadDrill(); !st) return st;
+  mirror_name_ = o_.mirror_tool ? *o_.mirror_tool : task_->mirror_tool;
+  if (Status st = loadMirror(); !st) return st;
+  if (Status st = placeCamera(); !st) return st;
+  showTask();
+  return restartOnNewTooth("task " + task_->name);
+}
+
+// Teacher mode: the segment ends, its session is finished and its final tooth saved beside it, and
+// both become the task file's ideal. The result, or why not, shows in the panel.
+Status Simulator::recordIdeal() {
+  auto fail = [&](const std::string& why) {
+    ui_.ideal_status = "not recorded: " + why;
+    note(ui_.ideal_status);
+    return Status(Ok{});
+  };
+  if (!ui_.task_is_file) return fail("the task is built in, not a file");
+  if (!segments_.recording()) return fail("this segment is not being recorded");
+  if (Status st = endSegment("recorded as ideal"); !st) return st;
+  const std::string session = segments_.sessionPath();
+  const std::string final_path =
+      outPath(std::filesystem::path(session).stem().string() + "-final.dvol");  // session-3-final.dvol
+  ToothVolume final_tooth = cut_;  // saving compacts: a copy, so the tooth in use keeps its spare bricks
+  if (Status st = saveTooth(final_path, final_tooth); !st) return fail(st.message());
+  out_.written.push_back(final_path);
+  auto record = setTaskIdeal(task_source_, session, final_path);
+  if (!record) return fail(record.message());
+  // The task file now names its new ideal: read it again, so that Score uses it.
+  if (auto task = builtinTask(task_source_); task) task_ = std::move(*task);
+  ui_.ideal_status = "ideal recorded in " + record->task_file + ": " + record->session_file + ", " + record->final_file;
+  note(ui_.ideal_status);
+  return Ok{};
 }
 
 // ---- one frame -------------------------------------------------------------------------------------------
@@ -100,6 +229,27 @@ render::FrameState Simulator::frameState(const HapticState& state, VkExtent2D ex
   return fs;
 }
 
+PixelRect Simulator::toothRect(VkExtent2D extent) const {
+  // The tissue box's corners projected as drawn (shifted beside the panel).
+  const int w = int(std::max(1u, extent.width)), h = int(std::max(1u, extent.height));
+  float lo_x = 1e9f, lo_y = 1e9f, hi_x = -1e9f, hi_y = -1e9f;
+  for (int i = 0; i < 8; ++i) {
+    const Vec3 p{(i & 1) ? box_.hi.x : box_.lo.x, (i & 2) ? box_.hi.y : box_.lo.y, (i & 4) ? box_.hi.z : box_.lo.z};
+    if (camera_.depthOf(render::toGlm(p)) <= camera_.nearMm()) return {};
+    const glm::vec3 px = camera_.project(render::toGlm(p), w, h);
+    lo_x = std::min(lo_x, px.x - float(sceneShiftPx()));
+    hi_x = std::max(hi_x, px.x - float(sceneShiftPx()));
+    lo_y = std::min(lo_y, px.y);
+    hi_y = std::max(hi_y, px.y);
+  }
+  PixelRect r;
+  r.x = int(std::floor(lo_x));
+  r.y = int(std::floor(lo_y));
+  r.width = int(std::ceil(hi_x)) - r.x;
+  r.height = int(std::ceil(hi_y)) - r.y;
+  return r;
+}
+
 Status Simulator::drawFrame(const ShotSchedule::Due& due) {
   const HapticState state = segments_.state();
   render::FrameState drawn;
@@ -122,6 +272,10 @@ Status Simulator::drawFrame(const ShotSchedule::Due& due) {
     if (painter_->panel()) facts.score_image_rect = last_actions_.score_image_rect;
     facts.panel_shown = painter_->panel() != nullptr;
     facts.panel_rect = panel_rect_;
+    facts.task = task_ ? task_->name : "";
+    facts.view_fixed = input_.viewFixed();
+    facts.tooth_top_mm = box_.hi.z;
+    facts.tooth_rect = toothRect(painter_->extent());
     if (Status st = writeShot(outPath(due.shot_stem), **picture, camera_, drawn, facts); !st) return st;
     out_.written.push_back(outPath(due.shot_stem + ".png"));
   }
@@ -135,8 +289,20 @@ Status Simulator::drawFrame(const ShotSchedule::Due& due) {
 
 Status Simulator::scoreNow() {
   if (!task_) return Ok{};
-  auto score = scoreForScreen(*task_, initial_, view_, segments_.count(), o_.out);
+  // The session holds the whole cut when this tooth has had one segment only.
+  ScoredCut cut;
+  const int on_tooth = segments_.count() - tooth_first_segment_ + 1;
+  if (o_.out.empty())
+    cut.no_session_reason = "no session was recorded (no --out folder)";
+  else if (on_tooth > 1)
+    cut.no_session_reason = "the cut spans " + std::to_string(on_tooth) + " segments, and no one session holds it";
+  else {
+    cut.initial_file = segments_.initialPath();
+    cut.session_file = segments_.sessionPath();
+  }
+  auto score = scoreForScreen(*task_, initial_, view_, cut, o_.out);
   if (!score) return score.error();
+  final_saved_ = !o_.out.empty();
   ui_.score = score->panel;
   if (Status st = painter_->renderer().setOverlayImage(score->picture); !st) return st;
   score_shown_ = true;
@@ -157,11 +323,12 @@ Status Simulator::handleActions(ui::PanelActions& a) {
   }
   if (a.normal_mode_changed) painter_->surfaces().setNormalMode(looks_.view.normals);
   if (a.speed_changed && pens_) pens_->setPedal(ui_.turbine_speed);
-  if (a.task_changed) {
-    auto task = builtinTask(ui_.task);
-    if (!task) note(task.message());
-    else task_ = std::move(*task);
-  }
+  if (a.task_changed)
+    if (Status st = pickTask(); !st) return st;
+  if (a.tooth_changed && !a.task_changed)
+    if (Status st = pickTooth(); !st) return st;
+  if (a.record_ideal)
+    if (Status st = recordIdeal(); !st) return st;
   const bool running = segments_.running();
   if (a.stop && running)
     if (Status st = endSegment("stopped"); !st) return st;
@@ -193,6 +360,7 @@ Status Simulator::handleActions(ui::PanelActions& a) {
     if (Status st = painter_->surfaces().build(view_.voxels); !st) return st;
     score_shown_ = false;
     ui_.score = {};
+    tooth_first_segment_ = segments_.count() + 1;  // the restored or rebuilt tooth starts uncut
     if (Status st = startSegment(); !st) return st;
   }
   if (a.score) {
@@ -207,7 +375,14 @@ Status Simulator::frame() {
   const auto t0 = Clock::now();
   if (ui::Window* window = painter_->window()) {
     ui::Window::pollEvents();
-    if (window->closeRequested()) quit_ = true;
+    if (window->closeRequested()) {
+      quit_ = true;
+      quit_reason_ = "the window was closed";
+    }
+  }
+  if (g_interrupted.load()) {
+    quit_ = true;
+    quit_reason_ = "interrupted (Ctrl-C)";
   }
   // Lockstep: the haptic loop catches up with this frame's loop time.
   if (lockstep_) segments_.stepTo(double(out_.frames) / o_.fps);
@@ -254,6 +429,7 @@ Status Simulator::frame() {
   } else if (ui::ImGuiLayer* panel = painter_->panel()) {
     const VkExtent2D e = painter_->extent();
     panel->newFrame(int(e.width), int(e.height), lockstep_ ? 1.0 / o_.fps : msSince(last_frame_) / 1000.0);
+    ui_.keep_clear = toothRect(e);
     actions = ui::drawParamPanel(ui_);
     ui::drawOverlay(ui_);
     panel_rect_ = actions.panel_rect;
@@ -275,17 +451,27 @@ Status Simulator::frame() {
   ++out_.frames;
 
   // The end: the script played out (and scored when asked), or the time given.
-  if (o_.exit_after_s > 0 && t >= o_.exit_after_s - 1e-9) quit_ = true;
+  if (o_.exit_after_s > 0 && t >= o_.exit_after_s - 1e-9) {
+    quit_ = true;
+    quit_reason_ = "--exit-after ended the run";
+  }
   if (o_.bench_frames > 0 && out_.drawn >= uint64_t(o_.bench_frames)) quit_ = true;
   if (script_ && segments_.running() && t >= script_end_s_ + 0.2) {
+    if (o_.record_ideal_at_end)
+      if (Status st = recordIdeal(); !st) return st;
     if (Status st = endSegment("completed"); !st) return st;
     if (o_.score_at_end)
       if (Status st = scoreNow(); !st) return st;
     // One more frame shows the end (and the score); headless then stops.
     if (!o_.out.empty()) shots_.finalShot();
     if ((headless_ && o_.exit_after_s <= 0) || o_.exit_at_end) quit_after_final_ = true;
+    ended_at_ = Clock::now();
   }
   if (quit_after_final_ && !shots_.finalShotPending() && !segments_.running()) quit_ = true;
+  // Windowed, the score screen stays up this long, then the window closes by itself.
+  if (ended_at_ && o_.linger_s >= 0 && !segments_.running() &&
+      std::chrono::duration<double>(Clock::now() - *ended_at_).count() >= o_.linger_s)
+    quit_ = true;
   // Stopped, loop time stands still; headless it follows the frames, so that --exit-after ends it.
   if (headless_ && !segments_.running()) segments_.holdTimeAtLeast(double(out_.frames) / o_.fps);
   return Ok{};
@@ -298,6 +484,7 @@ Result<SimulatorOutcome> Simulator::run() {
     rack_.close();  // whatever opened gets zero force and is let go
     return st.error();
   }
+  const InterruptGuard interrupt;
   Status result = Ok{};
   while (result && !quit_) result = frame();
   // Whatever happened, the loop stops and the recording is closed, so that no drilling is lost.
@@ -314,10 +501,17 @@ Result<SimulatorOutcome> Simulator::run() {
   if (ctx.validationEnabled() && ctx.validationErrorCount() > 0)
     return makeError("gpu", std::to_string(ctx.validationErrorCount()) + " Vulkan validation errors; the last: " +
                                 ctx.lastValidationMessage());
-  if (!o_.out.empty() && out_.score < 0) {
+  if (!o_.out.empty() && !final_saved_) {
     if (Status st = saveTooth(outPath("final.dvol"), view_); !st) return st.error();
     out_.written.push_back(outPath("final.dvol"));
+    // A score of an earlier state no longer describes the tooth as the run leaves it.
+    out_.score.reset();
   }
+  if (!out_.score)
+    out_.not_scored = !task_                         ? "no task"
+                      : !quit_reason_.empty()        ? quit_reason_ + " before the cut was scored"
+                      : script_ && !o_.score_at_end ? "scoring was not asked for (--score-at-end)"
+                                                    : "the cut was not scored (the panel's Score button scores it)";
   out_.wall_s = std::chrono::duration<double>(Clock::now() - run_t0_).count();
   out_.haptic_steps = segments_.stepsDone();
   // Over the drilling only: set-up (voxelizing, point shells, pipelines) is not the loop's.

@@ -54,7 +54,7 @@ CourseList listCourse(const std::string& folder) {
     const fs::path p(asset);
     if (p.parent_path() != "tasks" || p.extension() != ".json") continue;
     const std::string name = p.stem().string();
-    list.tasks.push_back(taskChoice(name, name + " (built in)", true));
+    list.tasks.push_back(taskChoice(name, name, true));  // a file shows as "name.json"
   }
   if (folder.empty()) return list;
   for (const fs::path& f : filesWithExtension(folder, ".dvol", &list.error))

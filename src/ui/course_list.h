@@ -23,7 +23,7 @@ struct ToothChoice {
 // One task the simulator can start.
 struct TaskChoice {
   std::string source;        // what eval's builtinTask takes: a built-in task's name or a task file's path
-  std::string label;         // the picker's line: the task's name, "(built in)" for the embedded ones
+  std::string label;         // the picker's line: a built-in task's name ("class1_cavity"), a file's name ("class1_cavity.json")
   std::string title;         // the task's one-line title; empty when it does not load
   std::string instructions;  // what the student is to do; empty when the task has none or does not load
   bool builtin = false;      // embedded in dentsim, not a file: it cannot take a recorded ideal
