@@ -118,7 +118,8 @@ Status Simulator::pickTooth() {
   const int level_before = o_.level;
   tooth_file_ = ui_.tooth;
   if (tooth_file_.empty()) o_.level = ui_.level;
-  if (segments_.running())
+  const bool was_running = segments_.running();
+  if (was_running)
     if (Status st = endSegment("new tooth"); !st) return st;
   if (Status st = loadTooth(); !st) {
     ui_.tooth_error = st.message();
@@ -127,7 +128,8 @@ Status Simulator::pickTooth() {
     o_.level = level_before;
     ui_.tooth = tooth_file_;
     ui_.level = initial_.frame.level;
-    return startSegment();  // the tooth in use goes on where it was
+    // The tooth in use goes on where it was, in a new segment if one was running.
+    return was_running ? startSegment() : Status(Ok{});
   }
   ui_.tooth_error.clear();
   ui_.level = initial_.frame.level;
@@ -143,7 +145,8 @@ Status Simulator::pickTask() {
     ui_.task = task_source_;
     return Ok{};
   }
-  if (segments_.running())
+  const bool was_running = segments_.running();
+  if (was_running)
     if (Status st = endSegment("new task"); !st) return st;
   const std::string file_before = tooth_file_;
   const int level_before = o_.level;
@@ -155,7 +158,7 @@ Status Simulator::pickTask() {
     tooth_file_ = file_before;
     o_.level = level_before;
     ui_.task = task_source_;
-    return startSegment();
+    return was_running ? startSegment() : Status(Ok{});
   }
   ui_.task_error.clear();
   task_ = std::move(*task);
@@ -304,6 +307,7 @@ Status Simulator::scoreNow() {
   if (!score) return score.error();
   final_saved_ = !o_.out.empty();
   ui_.score = score->panel;
+  panel_relayout_ = true;  // the Score page appears and comes forward
   if (Status st = painter_->renderer().setOverlayImage(score->picture); !st) return st;
   score_shown_ = true;
   out_.score = score->total;
@@ -323,6 +327,10 @@ Status Simulator::handleActions(ui::PanelActions& a) {
   }
   if (a.normal_mode_changed) painter_->surfaces().setNormalMode(looks_.view.normals);
   if (a.speed_changed && pens_) pens_->setPedal(ui_.turbine_speed);
+  // Teacher mode needs its segments recorded: without --out they go to a temporary folder from the
+  // next segment on (Reset starts one).
+  if (ui_.teacher && o_.out.empty())
+    if (Status st = recordingFolder(); !st) return st;
   if (a.task_changed)
     if (Status st = pickTask(); !st) return st;
   if (a.tooth_changed && !a.task_changed)
@@ -428,8 +436,20 @@ Status Simulator::frame() {
     // nothing shown: no panel either
   } else if (ui::ImGuiLayer* panel = painter_->panel()) {
     const VkExtent2D e = painter_->extent();
-    panel->newFrame(int(e.width), int(e.height), lockstep_ ? 1.0 / o_.fps : msSince(last_frame_) / 1000.0);
+    const double dt_s = lockstep_ ? 1.0 / o_.fps : msSince(last_frame_) / 1000.0;
+    if (panel_relayout_) {
+      // ImGui shows a new tab (all of them on the first frame, the Score page with a score) and
+      // brings a page forward only from the next frame on: such a frame is laid out once unseen,
+      // so that the one shot a headless run takes of it shows it whole. Its actions are dropped.
+      panel->newFrame(int(e.width), int(e.height), dt_s);
+      panel_rect_ = ui::drawParamPanel(ui_).panel_rect;  // where the scene's shift comes from
+      ui::drawOverlay(ui_);
+      panel->discardFrame();
+      panel_relayout_ = false;
+    }
+    // The tooth as this frame draws it, beside the panel (which stays where it was last frame).
     ui_.keep_clear = toothRect(e);
+    panel->newFrame(int(e.width), int(e.height), dt_s);
     actions = ui::drawParamPanel(ui_);
     ui::drawOverlay(ui_);
     panel_rect_ = actions.panel_rect;

@@ -72,6 +72,9 @@ Status Simulator::placeCamera() {
 }
 
 void Simulator::showTask() {
+  // A built-in task started by its short name ("caries") shows as its entry in the list.
+  for (const ui::TaskChoice& t : ui_.course.tasks)
+    if (t.builtin && t.source == task_->name && !task_source_.ends_with(".json")) task_source_ = t.source;
   ui_.task = task_source_;
   ui_.task_title = task_->title;
   ui_.task_instructions = task_->instructions;

@@ -106,6 +106,7 @@ class Simulator {
   std::unique_ptr<ui::PresetStore> presets_;
   ui::PanelActions last_actions_;
   bool score_shown_ = false;
+  bool panel_relayout_ = true;   // the panel's next frame is laid out once unseen first (new tabs)
   PixelRect panel_rect_;  // the parameter window
 
   bool quit_ = false;

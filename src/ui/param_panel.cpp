@@ -604,7 +604,7 @@ PicturePlace placePicture(const ScoreSummary& sc, const PixelRect& keep, float f
 
 // A window with no background around an empty item: the renderer draws the picture into the
 // item's visible rectangle before ImGui draws its frame, so the title bar and border sit over it.
-// It is placed beside the tooth each time it appears; the user may move it afterwards.
+// It follows the tooth, so it stays beside it when the view turns or zooms.
 PixelRect scorePictureWindow(const ScoreSummary& sc, const PixelRect& keep, float free_right) {
   const ImGuiStyle& style = ImGui::GetStyle();
   const PicturePlace place = placePicture(sc, keep, free_right, ImGui::GetIO().DisplaySize.y);
@@ -612,10 +612,10 @@ PixelRect scorePictureWindow(const ScoreSummary& sc, const PixelRect& keep, floa
   // The exact size up front: an auto-resizing window would hide its first frame while measuring.
   const ImVec2 size(pic.x + 2.0f * style.WindowPadding.x,
                     pic.y + 2.0f * style.WindowPadding.y + ImGui::GetFrameHeight());
-  ImGui::SetNextWindowPos(place.pos, ImGuiCond_Appearing);
+  ImGui::SetNextWindowPos(place.pos, ImGuiCond_Always);
   ImGui::SetNextWindowSize(size, ImGuiCond_Always);
   PixelRect out;
-  const ImGuiWindowFlags flags = ImGuiWindowFlags_NoBackground | ImGuiWindowFlags_NoResize |
+  const ImGuiWindowFlags flags = ImGuiWindowFlags_NoBackground | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
                                  ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoSavedSettings;
   if (ImGui::Begin("Score picture", nullptr, flags)) {
     ImGui::Dummy(pic);

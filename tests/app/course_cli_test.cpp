@@ -152,6 +152,26 @@ TEST_F(CourseWindow, ARunInterruptedByCtrlCNamesOnlyItsFilesAndFinishesItsSessio
   }
 }
 
+// The score picture stands beside the tooth, not over it (headless: the panel is drawn there too).
+TEST(CourseCli, TheScorePictureDoesNotCoverTheTooth) {
+  TempDir dir;
+  const std::string out = dir.file("scored");
+  const test::NoLeakCheckForGpuChild no_leak_check;
+  const auto r = test::runDentsim("run --headless --no-sound --level 7 --params " + writeFastPreset(dir) +
+                                  " --demo-script --score-at-end --width 1280 --height 800 --out " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const nlohmann::json shot = readJson(out + "/shot-final.json");
+  ASSERT_FALSE(shot.is_discarded()) << r.output;
+  ASSERT_TRUE(shot.contains("score_image_rect")) << shot.dump(1);
+  ASSERT_TRUE(shot.contains("tooth_rect")) << shot.dump(1);
+  const auto& p = shot["score_image_rect"];
+  const auto& t = shot["tooth_rect"];
+  const int px = p[0], py = p[1], pw = p[2], ph = p[3], tx = t[0], ty = t[1], tw = t[2], th = t[3];
+  const bool overlap = px < tx + tw && tx < px + pw && py < ty + th && ty < py + ph;
+  EXPECT_FALSE(overlap) << "picture " << p.dump() << ", tooth " << t.dump();
+  EXPECT_LE(px + pw, shot["panel_rect"][0].get<int>()) << "and not over the panel";
+}
+
 // Teacher mode end to end, headless: the scripted class I cut of a course's task file is recorded
 // as the file's ideal (session and final tooth beside it, the task rewritten with their hashes),
 // and the same cut then scores no under-cut and no over-cut against it.
