@@ -1,10 +1,9 @@
 // The parameter window and the overlay: one function per section, each editing UiState and raising PanelActions.
 //
 // Contents
-//   1. Widget helpers: clamped sliders with their values beside them, colour pickers on float copies,
-//      rectangle recording
-//   2. Pages and their sections: task (pickers, teacher mode), tissues, tools (bur, turbine, sound),
-//      view (surface), presets (and advanced), score; the run's buttons above them
+//   1. Sizes and the force gauge (the shared widgets are in panel_widgets.h)
+//   2. Pages and their sections: tissues, tools (bur, turbine, sound), view (surface), presets (and
+//      advanced), score; the run's buttons above them (the Task page is task_page.cpp)
 //   3. drawParamPanel, the score picture window beside the tooth, drawOverlay
 //   4. applyPresetActions
 #include "ui/param_panel.h"
@@ -14,132 +13,26 @@
 #include <cstdio>
 
 #include <imgui.h>
-#include <imgui_internal.h>  // TempInputIsActive: a slider being typed into shows its own text
 
 #include "model/tool_generator.h"
+#include "ui/panel_widgets.h"
+#include "ui/task_page.h"
 #include "volume/tissue_table.h"
 
 namespace dentsim::ui {
 namespace {
 
-// ---- 1. widget helpers ---------------------------------------------------------------------------------
+using namespace panel;  // the shared widgets and the pages kept in files of their own
 
+// ---- 1. sizes and the gauge -------------------------------------------------------------------------
 
 constexpr float kPanelWidth = 380.0f;       // [px]
 constexpr float kMargin = 10.0f;            // from the display's edges [px]
-constexpr float kLabelWidth = 170.0f;       // room left for a widget's label [px]
-constexpr float kValueWidth = 64.0f;        // a slider's value, beside its track: "100000.0" in the 7 px font [px]
 constexpr float kPictureBox = 320.0f;       // the score picture fits in this square [px]
 constexpr float kMinPictureBox = 120.0f;    // ... and shrinks no further to stay off the tooth [px]
 constexpr float kGaugeWidth = 220.0f;       // the overlay's force gauge [px]
 constexpr double kWheelSpeedStep = 0.05;    // turbine speed per wheel notch [-]
 constexpr double kKeySpeedStep = 0.1;       // turbine speed per PageUp/PageDown [-]
-
-// Drawing context shared by the sections of one frame.
-struct Frame {
-  UiState& state;
-  PanelActions& actions;
-  WidgetRects* rects;
-
-  // Remembers the last item's rectangle under `key`, for tests and tutorials.
-  void record(const std::string& key) const {
-    if (!rects) return;
-    ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
-    (*rects)[key] = WidgetRect{lo.x, lo.y, hi.x, hi.y};
-  }
-};
-
-// Where the next labelled widget's frame will be. ImGui's item rectangle of a labelled widget
-// takes in the label too, which is not where the slider's track is.
-struct Probe {
-  const Frame& f;
-  ImVec2 pos = ImGui::GetCursorScreenPos();
-  float width = ImGui::CalcItemWidth();
-
-  // Records the frame (the input part, without the label) under `key`.
-  void record(const std::string& key) const {
-    if (!f.rects) return;
-    (*f.rects)[key] = WidgetRect{pos.x, pos.y, pos.x + width, pos.y + ImGui::GetFrameHeight()};
-  }
-};
-
-// A slider row: the track, its value right-aligned in a column of its own, then the label where
-// ImGui puts a label. ImGui writes the value in the middle of the track, where the grab covers it
-// whenever the value sits mid-range; here the track's own text is drawn transparent (except while
-// Ctrl+click typing, which needs it) and the value stands beside the track instead. `slider(id)`
-// draws the track under the hidden label it is given and returns whether the value changed;
-// `text()` then formats the value as the track would have written it.
-template <class Slider, class Text>
-bool sliderRow(const Frame& f, const std::string& key, const char* label, Slider slider, Text text,
-               bool* hovered = nullptr) {
-  const ImGuiStyle& style = ImGui::GetStyle();
-  const std::string hidden = std::string("##") + label;
-  const float track = std::max(40.0f, ImGui::CalcItemWidth() - kValueWidth - style.ItemInnerSpacing.x);
-  const bool typing = ImGui::TempInputIsActive(ImGui::GetID(hidden.c_str()));
-  Probe probe{f};
-  probe.width = track;
-  ImGui::SetNextItemWidth(track);
-  if (!typing) ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(0, 0, 0, 0));
-  const bool changed = slider(hidden.c_str());
-  if (!typing) ImGui::PopStyleColor();
-  probe.record(key);
-  if (hovered) *hovered = ImGui::IsItemHovered();
-  // The value, right-aligned in its column, then the label.
-  const std::string value = text();
-  ImGui::SameLine(0.0f, style.ItemInnerSpacing.x);
-  const float column_x = ImGui::GetCursorPosX();
-  const float text_w = ImGui::CalcTextSize(value.c_str()).x;
-  ImGui::SetCursorPosX(column_x + std::max(0.0f, kValueWidth - text_w));
-  ImGui::TextUnformatted(value.c_str());
-  f.record("value." + key);
-  ImGui::SameLine(0.0f, 0.0f);
-  ImGui::SetCursorPosX(column_x + kValueWidth + style.ItemInnerSpacing.x);
-  ImGui::TextUnformatted(label);
-  return changed;
-}
-
-// A slider on a double, clamped to [lo, hi] for drags and for Ctrl+click typing alike. The bounds
-// are sub-ranges of sim_params.cpp's table, so an edited set always saves.
-bool sliderDouble(const Frame& f, const std::string& key, const char* label, double& v, double lo, double hi,
-                  const char* format, bool logarithmic = false, bool* hovered = nullptr) {
-  const ImGuiSliderFlags flags = ImGuiSliderFlags_AlwaysClamp | (logarithmic ? ImGuiSliderFlags_Logarithmic : 0);
-  return sliderRow(
-      f, key, label, [&](const char* id) { return ImGui::SliderScalar(id, ImGuiDataType_Double, &v, &lo, &hi, format, flags); },
-      [&] {
-        char buf[48];
-        std::snprintf(buf, sizeof buf, format, v);
-        return std::string(buf);
-      },
-      hovered);
-}
-
-// A colour picker over three doubles. ImGui edits floats; a component is written back only when
-// its float differs from the float of the stored double, so the untouched components keep their
-// exact values (0.26 does not come back as 0.25999999).
-bool colourEdit(const Frame& f, const std::string& key, const char* label, double& r, double& g, double& b) {
-  float c[3] = {float(r), float(g), float(b)};
-  const Probe probe{f};
-  bool edited = ImGui::ColorEdit3(label, c, ImGuiColorEditFlags_Float);
-  probe.record(key);
-  if (!edited) return false;
-  bool changed = false;
-  double* dst[3] = {&r, &g, &b};
-  for (int i = 0; i < 3; ++i) {
-    float v = std::clamp(c[i], 0.0f, 1.0f);
-    if (v != float(*dst[i])) {
-      *dst[i] = double(v);
-      changed = true;
-    }
-  }
-  return changed;
-}
-
-// A collapsing header, recorded as "section.<key>"; true when open.
-bool section(const Frame& f, const char* key, const char* label, ImGuiTreeNodeFlags flags = 0) {
-  bool open = ImGui::CollapsingHeader(label, flags);
-  f.record(std::string("section.") + key);
-  return open;
-}
 
 // Green while light, amber when firm, red near the device's clamp.
 ImVec4 gaugeColour(double fraction) {
@@ -325,132 +218,6 @@ void viewPage(const Frame& f) {
   }
   ImGui::EndDisabled();
   ImGui::Text("%d voxels per side", 1 << std::clamp(s.level, kMinLevel, kMaxLevel));
-}
-
-// The line a picker shows for the tooth in use: its entry's label, else the file's name.
-std::string toothLabel(const UiState& s) {
-  for (const ToothChoice& t : s.course.teeth)
-    if (t.path == s.tooth && (!t.path.empty() || t.level == s.level)) return t.label;
-  if (s.tooth.empty()) return "built-in molar, level " + std::to_string(s.level);
-  const size_t slash = s.tooth.find_last_of('/');
-  return slash == std::string::npos ? s.tooth : s.tooth.substr(slash + 1);
-}
-
-std::string taskLabel(const UiState& s) {
-  for (const TaskChoice& t : s.course.tasks)
-    if (t.source == s.task) return t.label;
-  return s.task;
-}
-
-// An error line: red, wrapped, after the widget it belongs to.
-void errorLine(const std::string& text) {
-  if (text.empty()) return;
-  ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.40f, 0.35f, 1.0f));
-  ImGui::TextWrapped("%s", text.c_str());
-  ImGui::PopStyleColor();
-}
-
-// A tooltip for the last item, disabled or not.
-void tooltip(const char* text) {
-  if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("%s", text);
-}
-
-// The tooth: the built-in molar at its levels, the course folder's teeth, or any .dvol by its path.
-void toothPicker(const Frame& f) {
-  UiState& s = f.state;
-  ImGui::TextDisabled("tooth");
-  const Probe probe{f};
-  const bool opened = ImGui::BeginCombo("tooth", toothLabel(s).c_str());
-  probe.record("tooth");
-  if (opened) {
-    for (size_t i = 0; i < s.course.teeth.size(); ++i) {
-      const ToothChoice& t = s.course.teeth[i];
-      const bool current = t.path == s.tooth && (!t.path.empty() || t.level == s.level);
-      if (ImGui::Selectable(t.label.c_str(), current) && !current) {
-        s.tooth = t.path;
-        if (t.path.empty()) s.level = t.level;
-        f.actions.tooth_changed = true;
-      }
-      f.record("tooth.item." + std::to_string(i));
-      if (!t.path.empty()) tooltip(t.path.c_str());
-    }
-    ImGui::EndCombo();
-  }
-  // A fixed buffer: Debian's libimgui has no std::string InputText.
-  char buf[512] = {};
-  s.tooth_path.copy(buf, sizeof buf - 1);
-  const Probe path_probe{f};
-  if (ImGui::InputTextWithHint("##tooth_path", "any .dvol by its path", buf, sizeof buf)) s.tooth_path = buf;
-  path_probe.record("tooth_path");
-  ImGui::SameLine();
-  ImGui::BeginDisabled(s.tooth_path.empty());
-  if (ImGui::Button("Open")) {
-    s.tooth = s.tooth_path;
-    f.actions.tooth_changed = true;
-  }
-  f.record("open_tooth");
-  ImGui::EndDisabled();
-  errorLine(s.tooth_error);
-}
-
-// The task: the built-in ones and the course folder's files; a file that does not load is listed
-// with its error and starts nothing.
-void taskPicker(const Frame& f) {
-  UiState& s = f.state;
-  ImGui::Spacing();
-  ImGui::TextDisabled("task");
-  const Probe probe{f};
-  const bool opened = ImGui::BeginCombo("task", taskLabel(s).c_str());
-  probe.record("task");
-  if (opened) {
-    for (size_t i = 0; i < s.course.tasks.size(); ++i) {
-      const TaskChoice& t = s.course.tasks[i];
-      const std::string line = t.error.empty() ? t.label : t.label + " (does not load)";
-      if (ImGui::Selectable(line.c_str(), t.source == s.task)) {
-        if (!t.error.empty()) {
-          s.task_error = t.error;
-        } else if (t.source != s.task) {
-          s.task = t.source;
-          f.actions.task_changed = true;
-        }
-      }
-      f.record("task.item." + std::to_string(i));
-      tooltip(t.error.empty() ? t.title.c_str() : t.error.c_str());
-    }
-    ImGui::EndCombo();
-  }
-  if (!s.task_title.empty()) ImGui::TextWrapped("%s", s.task_title.c_str());
-  if (!s.task_instructions.empty()) {
-    ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));
-    ImGui::TextWrapped("%s", s.task_instructions.c_str());
-    ImGui::PopStyleColor();
-  }
-  errorLine(s.task_error);
-}
-
-// Teacher mode: the current segment becomes the task file's ideal.
-void teacherSection(const Frame& f) {
-  UiState& s = f.state;
-  ImGui::Spacing();
-  ImGui::Separator();
-  ImGui::Checkbox("teacher mode", &s.teacher);
-  f.record("teacher");
-  if (!s.teacher) return;
-  const char* why_not = !s.task_is_file        ? "A built-in task cannot take an ideal: pick a task file from the course folder."
-                        : !s.segment_recorded ? "This segment is not being recorded: press Reset to start a recorded one."
-                                              : nullptr;
-  ImGui::BeginDisabled(why_not != nullptr);
-  f.actions.record_ideal |= ImGui::Button("Record as ideal");
-  f.record("record_ideal");
-  ImGui::EndDisabled();
-  tooltip(why_not ? why_not : "Ends this segment and makes it the task's ideal: every student is scored against it.");
-  if (!s.ideal_status.empty()) ImGui::TextWrapped("%s", s.ideal_status.c_str());
-}
-
-void taskPage(const Frame& f) {
-  toothPicker(f);
-  taskPicker(f);
-  teacherSection(f);
 }
 
 // Start, Stop, Reset and Score with the run's state: above the pages, so that every page has them.

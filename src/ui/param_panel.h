@@ -144,8 +144,9 @@ struct PanelActions {
 // "bur.cutting_ability", "turbine.speed", "turbine.max_rpm", "view.normal_neighbours.<8|64|216>",
 // "level", "tooth", "tooth_path", "open_tooth", "task", "teacher", "record_ideal", "start", "stop",
 // "reset", "score", "preset", "load", "save_name", "save", the pages' tabs "page.<task|tissues|tools|
-// view|presets|score>", the section headers "section.<tissues|bur|sound|surface|presets|advanced>",
-// and beside each slider its value, "value.<the slider's key>".
+// view|presets|score>", the advanced section's header "section.advanced", the pickers' open lists'
+// entries "tooth.item.<i>" and "task.item.<i>", and beside each slider its value, "value.<the
+// slider's key>".
 struct WidgetRect {
   float min_x = 0, min_y = 0, max_x = 0, max_y = 0;  // ImGui screen coordinates [px]
 };
