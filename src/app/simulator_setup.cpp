@@ -1,5 +1,4 @@
 // The simulator's set-up: options checked, the task, tooth and tools loaded, the camera placed, the pens, the sound, the frames' device and the panel's state; the first segment started.
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
