@@ -8,6 +8,7 @@
 #include "app/tool_placement.h"
 #include "eval/cut_score.h"
 #include "eval/task_ideal.h"
+#include "ui/course_list.h"
 #include "volume/tooth_file.h"
 
 namespace dentsim::app {
@@ -112,6 +113,7 @@ Status Simulator::recordIdeal() {
   if (!record) return fail(record.message());
   // The task file now names its new ideal: read it again, so that Score uses it.
   if (auto task = builtinTask(task_source_); task) task_ = std::move(*task);
+  ui_.course = ui::listCourse(o_.course);  // the folder's files may have changed with it
   ui_.ideal_status = "ideal recorded in " + record->task_file + ": " + record->session_file + ", " + record->final_file;
   note(ui_.ideal_status);
   return Ok{};
