@@ -1,7 +1,9 @@
 // `dentsim demo [--headless] --out DIR`: the scripted pen removes the built-in molar's caries while the session is recorded, then the cut is scored; shown in the window where there is a display.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "app/commands.h"
 #include "app/mesh_output.h"
@@ -23,13 +25,16 @@
 namespace dentsim::app {
 namespace {
 
+constexpr double kScoreScreenS = 4.0;  // how long the windowed demo shows its score before it closes [s]
+
 struct DemoOptions {
   std::string out = "dentsim-demo";  // output folder
   int level = 9;                     // octree level of the molar
   bool headless = false;             // no window: frames offscreen (also when no display answers)
   bool realtime = false;             // headless without a Vulkan device: pace the loop at its rate
   std::string params;                // a preset (.json); default: dentsim's defaults
-  double exit_after_s = 0.0;         // windowed: close at this loop time (0: when the user closes it)
+  double exit_after_s = 0.0;         // windowed: close at this loop time (0: after the score screen, or with --stay when the user closes it)
+  bool stay = false;                 // windowed: keep the window open after the score screen until the user closes it
   int width = 1280, height = 800;    // window or frame size [px]
   std::string mirror = kDefaultMirror;  // the mirror the script holds beside the tooth; "none": none
   bool sound = true;                 // the window plays it; headless, it goes to sound.wav
@@ -75,19 +80,30 @@ int runDemo(const DemoOptions& o) {
   // Headless (asked for, or no display), the sound goes to a file beside the frames.
   if (o.sound && (o.headless || !ui::whyNoDisplay().empty())) so.audio_out = (fs::path(o.out) / "sound.wav").string();
   so.frame_every_s = 20.0;
+  // The score screen stays up a few seconds, then the window closes by itself (unless --stay).
+  so.linger_s = o.stay ? -1.0 : kScoreScreenS;
   auto run = runSimulator(so);
   if (!run && gpu::isNoDeviceError(run.error())) {
     std::printf("dentsim: %s: the demo runs on the CPU, without frames\n", run.message().c_str());
     return runCpuDemo(o);
   }
   if (!run) return fail(run.message());
-  std::printf("%s on %s: %llu frames drawn, removed %.4f mm^3, score %.2f\n", run->windowed ? "window" : "headless",
-              run->device.c_str(), static_cast<unsigned long long>(run->drawn), run->removed_mm3, run->score);
-  auto final_tooth = loadTooth((fs::path(o.out) / "final.dvol").string());
-  if (!final_tooth) return fail(final_tooth.message());
-  if (int rc = writeFinalMesh(o.out, *final_tooth); rc != 0) return rc;
-  std::printf("wrote %s: initial.dvol session.dses final.dvol final.ply score.json score.png%s and frames\n", o.out.c_str(),
-              so.audio_out.empty() ? "" : " sound.wav");
+  std::printf("%s on %s: %llu frames drawn, removed %.4f mm^3, ", run->windowed ? "window" : "headless",
+              run->device.c_str(), static_cast<unsigned long long>(run->drawn), run->removed_mm3);
+  if (run->score) std::printf("score %.2f\n", *run->score);
+  else std::printf("not scored: %s\n", run->not_scored.c_str());
+  // Only what the run wrote is named: a run cut short may have no score files.
+  std::vector<std::string> written = run->written;
+  const std::string final_path = (fs::path(o.out) / "final.dvol").string();
+  if (std::find(written.begin(), written.end(), final_path) != written.end()) {
+    auto final_tooth = loadTooth(final_path);
+    if (!final_tooth) return fail(final_tooth.message());
+    if (int rc = writeFinalMesh(o.out, *final_tooth); rc != 0) return rc;
+    written.push_back((fs::path(o.out) / "final.ply").string());
+  }
+  std::printf("wrote %s:", o.out.c_str());
+  for (const std::string& f : written) std::printf(" %s", fs::path(f).filename().c_str());
+  std::printf("\n");
   return 0;
 }
 
@@ -165,7 +181,8 @@ void addDemoCommand(CLI::App& root, Action& action) {
   cmd->add_flag("--headless", o->headless, "No window: frames go offscreen to PNG (also when no display answers)");
   cmd->add_flag("--realtime", o->realtime, "Without a Vulkan device: run the haptic loop at its rate on its real-time thread");
   cmd->add_option("--mirror", o->mirror, "The mirror held beside the tooth, or 'none'")->capture_default_str();
-  cmd->add_option("--exit-after", o->exit_after_s, "Windowed: close at this loop time [s] (default: when you close it)");
+  cmd->add_option("--exit-after", o->exit_after_s, "Windowed: close at this loop time [s] (default: a few seconds after the score)");
+  cmd->add_flag("--stay", o->stay, "Windowed: keep the window open after the score until you close it");
   cmd->add_option("--width", o->width, "Window or frame width [px]")->check(CLI::Range(64, 8192))->capture_default_str();
   cmd->add_option("--height", o->height, "Window or frame height [px]")->check(CLI::Range(64, 8192))->capture_default_str();
   cmd->add_option("--params", o->params, "Parameter preset (.json); default: dentsim's defaults");

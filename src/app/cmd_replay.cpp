@@ -27,7 +27,7 @@ struct ReplayCliOptions {
   std::string report;      // score report to write (.json), when the session names a task
   std::string png;         // score picture to write (.png), when the session names a task
   std::string task;        // score against this task instead of the session's
-  bool headless = false;   // no window (the only mode until the simulator window lands)
+  bool headless = false;   // accepted for scripts; a replay draws nothing, so it never opens a window
   bool allow_other_tooth = false;
   bool json = false;       // one JSON object on stdout
   std::string audio_out;   // the session's sound, rendered offline to this WAV file
@@ -139,7 +139,7 @@ void addReplayCommand(CLI::App& root, Action& action) {
   auto o = std::make_shared<ReplayCliOptions>();
   CLI::App* cmd = root.add_subcommand("replay", "Replay a recorded session step for step and write the final volume");
   cmd->add_option("session", o->session, "Session file (.dses)")->required();
-  cmd->add_flag("--headless", o->headless, "No window (the simulator window is not built yet: always headless)");
+  cmd->add_flag("--headless", o->headless, "No window (a replay never opens one; kept for scripts)");
   cmd->add_option("--tooth", o->tooth, "Starting volume (.dvol); default: the tooth the session names");
   cmd->add_flag("--allow-other-tooth", o->allow_other_tooth, "Replay on a tooth whose hash differs from the session's");
   cmd->add_option("-o,--output", o->output, "Write the final volume (.dvol)");

@@ -1,10 +1,13 @@
 // `dentsim run`: the interactive simulator, in a window with haptic pens or the mouse as the pens, or headless with a pen script.
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <system_error>
 
 #include "app/commands.h"
 #include "app/simulator.h"
 #include "sim/novice_paths.h"
+#include "ui/course_list.h"
 
 namespace dentsim::app {
 namespace {
@@ -17,6 +20,8 @@ void printOutcome(const SimulatorOutcome& r) {
               static_cast<unsigned long long>(r.drawn), r.wall_s, r.frame_ms_mean, r.frame_ms_p95,
               r.frame_ms_mean > 0 ? 1000.0 / r.frame_ms_mean : 0.0, r.haptic_rate_hz,
               static_cast<unsigned long long>(r.haptic_steps), r.remesh_ms_mean, r.removed_mm3);
+  if (r.score) std::printf("score %.2f\n", *r.score);
+  else std::printf("not scored: %s\n", r.not_scored.c_str());
   for (const std::string& f : r.written) std::printf("wrote %s\n", f.c_str());
 }
 
@@ -29,7 +34,16 @@ void addRunCommand(CLI::App& root, Action& action) {
   cmd->add_option("--level", o->level, "Octree level of the built-in molar; default: the task's (9 for the built-in tasks)")
       ->check(CLI::Range(6, 11));
   cmd->add_option("--params", o->params, "Parameter preset (.json); default: dentsim's defaults");
-  cmd->add_option("--task", o->task, "Task scored: caries, cavity or a task file")->capture_default_str();
+  cmd->add_option("--task", o->task, "Task scored: caries, cavity, another built-in task's name (class1_indirect) or a task file")
+      ->capture_default_str();
+  cmd->add_option("--course", o->course,
+                  "Course folder: its .dvol teeth and .json tasks join the built-in ones in the panel's pickers "
+                  "(default: assets/tasks under the current folder, when it exists)");
+  cmd->add_flag("--teacher", o->teacher,
+                "Teacher mode: the panel's Record as ideal makes a segment the task file's ideal "
+                "(sessions go to a temporary folder without --out)");
+  cmd->add_flag("--record-ideal-at-end", o->record_ideal_at_end,
+                "With --teacher and a pen script: when the script ends, record the segment as the task file's ideal");
   cmd->add_option("--bur", o->bur, "The bur on the drill pen; default: the task's");
   cmd->add_option_function<std::string>("--mirror-tool", [o](const std::string& name) { o->mirror_tool = name; },
                                         "The mirror tool; default: the task's (mirror_size4 for the built-in tasks)");
@@ -69,12 +83,17 @@ void addRunCommand(CLI::App& root, Action& action) {
       ->check(CLI::Range(-1, 1000000))
       ->capture_default_str();
   cmd->add_flag("!--no-ui", o->ui, "Hide the parameter window and the overlay");
-  cmd->add_option("--view", o->view, "First camera view: occlusal, buccal, lingual, mesial or distal")->capture_default_str();
+  cmd->add_option("--view", o->view, "First camera view: occlusal, buccal, lingual, mesial or distal (default: the task's, else buccal)");
   cmd->add_flag("!--no-vsync", o->vsync, "Present as fast as frames come (frame-rate measurements)");
   cmd->add_flag("--score-at-end", o->score_at_end, "Score the cut when the pen script ends");
   cmd->add_flag("--exit-at-end", o->exit_at_end, "Quit one frame after the pen script ends, windowed too");
   cmd->add_option("--device", o->device, "Vulkan device index or name part");
-  cmd->callback([o, &action] {
+  cmd->callback([o, cmd, &action] {
+    if (cmd->count("--course") == 0) {
+      std::error_code ec;
+      o->course = ui::defaultCourseFolder(std::filesystem::current_path(ec).string());
+    }
+    if (o->record_ideal_at_end && !o->teacher) throw CLI::ValidationError("--record-ideal-at-end", "needs --teacher");
     action = [o] {
       auto r = runSimulator(*o);
       if (!r) return fail(r.message());

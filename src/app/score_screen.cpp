@@ -10,19 +10,18 @@
 
 namespace dentsim::app {
 
-Result<ScreenScore> scoreForScreen(const Task& task, const ToothVolume& initial, ToothVolume& final_, int segments,
+Result<ScreenScore> scoreForScreen(const Task& task, const ToothVolume& initial, ToothVolume& final_, const ScoredCut& cut,
                                    const std::string& out) {
   auto path = [&](const char* name) { return (std::filesystem::path(out) / name).string(); };
   final_.voxels.compact();
   std::optional<SessionRecording> session;
-  ScoreFiles files = scoreFiles("initial.dvol", "final.dvol", "");
-  files.no_session_reason = segments > 1 ? "the cut spans " + std::to_string(segments) + " segments, and no one session holds it"
-                                         : "no session was recorded (no --out folder)";
-  if (segments == 1 && !out.empty()) {
-    auto read = readSessionFile(path("session.dses"));
+  ScoreFiles files = scoreFiles(cut.initial_file.empty() ? "initial.dvol" : cut.initial_file, "final.dvol", "");
+  files.no_session_reason = cut.no_session_reason;
+  if (!cut.session_file.empty()) {
+    auto read = readSessionFile(cut.session_file);
     if (read) {
       session = std::move(*read);
-      files = scoreFiles(path("initial.dvol"), path("final.dvol"), path("session.dses"));
+      files = scoreFiles(cut.initial_file, path("final.dvol"), cut.session_file);
     } else {
       files.no_session_reason = read.message();
     }

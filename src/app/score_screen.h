@@ -20,11 +20,18 @@ struct ScreenScore {
   std::vector<std::string> written;   // final.dvol, score.json and score.png in `out`
 };
 
+// The recorded files a score may use: the session that holds the whole cut, when one does.
+struct ScoredCut {
+  std::string initial_file;       // the saved tooth the cut started from; empty: none saved
+  std::string session_file;       // the one session holding the whole cut; empty: none
+  std::string no_session_reason;  // why there is none ("the cut spans 3 segments, ...")
+};
+
 // Scores `final_` against `initial`. It is compacted first, the layout a saved and reloaded tooth
 // has, so that the picture equals the one `replay` and `score` draw from the files, pixel for
-// pixel. The session's statistics are used when one segment holds the whole cut (`segments` == 1
-// and `out` holds session.dses); with an output folder the files are written there.
-Result<ScreenScore> scoreForScreen(const Task& task, const ToothVolume& initial, ToothVolume& final_, int segments,
+// pixel. The session's statistics are used when `cut` names one; with an output folder the files
+// (final.dvol, score.json, score.png) are written there.
+Result<ScreenScore> scoreForScreen(const Task& task, const ToothVolume& initial, ToothVolume& final_, const ScoredCut& cut,
                                    const std::string& out);
 
 }  // namespace dentsim::app

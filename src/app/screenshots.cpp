@@ -74,6 +74,18 @@ Status writeShot(const std::string& stem_path, const RgbImage& image, const rend
     const PixelRect& r = facts.score_image_rect;
     j["score_image_rect"] = {r.x, r.y, r.width, r.height};
   }
+  if (!facts.tooth_rect.empty()) {
+    const PixelRect& r = facts.tooth_rect;
+    j["tooth_rect"] = {r.x, r.y, r.width, r.height};
+  }
+  // Where the eye is: a view from below the occlusal surface cannot see it but in the mirror.
+  const glm::vec3 eye = camera.eye();
+  j["camera"] = {{"yaw_deg", camera.yaw() * 180.0 / std::numbers::pi},
+                 {"pitch_deg", camera.pitch() * 180.0 / std::numbers::pi},
+                 {"eye_mm", {eye.x, eye.y, eye.z}},
+                 {"fixed", facts.view_fixed}};
+  j["tooth_top_mm"] = facts.tooth_top_mm;
+  if (!facts.task.empty()) j["task"] = facts.task;
   j["panel_shown"] = facts.panel_shown;
   if (facts.panel_rect.width > 0) {
     const PixelRect& r = facts.panel_rect;

@@ -46,10 +46,14 @@ struct ShotFacts {
   PixelRect score_image_rect;        // empty: no score picture shown
   bool panel_shown = false;
   PixelRect panel_rect;              // empty: none
+  std::string task;                  // the task's name
+  bool view_fixed = false;           // the task's view: the mouse and keys cannot move the camera
+  double tooth_top_mm = 0.0;         // the tissue box's top (the occlusal surface's height) [mm]
+  PixelRect tooth_rect;              // the tissue box's projection on screen; empty: not computed
 };
 
 // Writes STEM.png and STEM.json (the projected bur tip and shank, the mirror's centre, radius and
-// facing, the tooth's centre, the panel), atomically.
+// facing, the tooth's centre and rectangle, the camera, the panel), atomically.
 Status writeShot(const std::string& stem_path, const RgbImage& image, const render::OrbitCamera& camera,
                  const render::FrameState& frame, const ShotFacts& facts);
 

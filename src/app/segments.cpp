@@ -28,9 +28,12 @@ Status Segments::start(ToothVolume& tooth, const SegmentSetup& setup, std::vecto
   const std::string suffix = index == 1 ? "" : "-" + std::to_string(index);
   const std::string tooth_name = "initial" + suffix + ".dvol";
   auto out_path = [&](const std::string& name) { return (fs::path(setup.out) / name).string(); };
+  initial_path_.clear();
+  last_session_path_.clear();
   if (!setup.out.empty()) {
     if (Status st = saveTooth(out_path(tooth_name), tooth); !st) return st;
     written->push_back(out_path(tooth_name));
+    initial_path_ = out_path(tooth_name);
   }
   rate_hz_ = setup.params->device.rate_hz;
   lockstep_ = setup.lockstep;
@@ -56,6 +59,7 @@ Status Segments::start(ToothVolume& tooth, const SegmentSetup& setup, std::vecto
     info = sessionHeader(std::move(info), tooth, *setup.params, setup.drill_name, setup.mirror ? setup.mirror_name : "");
     if (!setup.params_json.empty()) info.params_json = setup.params_json;
     session_path_ = out_path("session" + suffix + ".dses");
+    last_session_path_ = session_path_;
     recorder_ = std::make_unique<SessionRecorder>();
     if (Status st = recorder_->start(*loop_, session_path_, info); !st) return st;
   }

@@ -54,6 +54,10 @@ class Segments {
   // changed are added to *dirty.
   void drainEdits(BrickVolume& view, std::vector<BrickCoord>* dirty);
   int count() const { return count_; }
+  // The current segment's files, or the last one's while stopped; empty when not recorded (no --out).
+  const std::string& initialPath() const { return initial_path_; }
+  const std::string& sessionPath() const { return last_session_path_; }
+  bool recording() const { return recorder_ != nullptr; }
   // What the loop shows now, or what the last segment ended on while stopped.
   HapticState state() const { return loop_ ? loop_->latest() : last_state_; }
   // Steps of the current segment; while its thread runs, only the thread's atomic counter is read.
@@ -72,7 +76,9 @@ class Segments {
  private:
   std::unique_ptr<HapticLoop> loop_;
   std::unique_ptr<SessionRecorder> recorder_;
-  std::string session_path_;
+  std::string session_path_;       // the session being recorded; empty when none
+  std::string last_session_path_;  // the current or last segment's session file
+  std::string initial_path_;       // the current or last segment's starting tooth file
   EditChannel edits_;
   std::vector<uint64_t> batch_;
   HapticState last_state_;

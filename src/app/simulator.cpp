@@ -2,11 +2,15 @@
 //
 // The parts it drives, one job each: the device rack (pens and pedal), the segments (loops and
 // their sessions), the frame painter (window, device, renderer), the window's input, the pictures
-// on disk (screenshots.h), the score screen and the sound; simulator_setup.cpp sets them up.
+// on disk (screenshots.h), the score screen and the sound; simulator_setup.cpp sets them up, and
+// simulator_picks.cpp carries out the panel's tooth and task picks and Record as ideal.
 #include "app/simulator.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <cmath>
+#include <csignal>
 #include <cstdio>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -25,6 +29,26 @@ namespace {
 using Clock = Simulator::Clock;
 
 double msSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+// Ctrl-C ends the run the way closing the window does, so that the session is finished and the
+// files are listed. A signal handler can only reach a global; nothing else is shared through it.
+std::atomic<bool> g_interrupted{false};
+extern "C" void onInterrupt(int) { g_interrupted.store(true); }
+
+// Installs the handler for one run and puts the previous one back.
+class InterruptGuard {
+ public:
+  InterruptGuard() {
+    g_interrupted.store(false);
+    previous_ = std::signal(SIGINT, onInterrupt);
+  }
+  ~InterruptGuard() { std::signal(SIGINT, previous_); }
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
+
+ private:
+  void (*previous_)(int) = SIG_DFL;
+};
 
 }  // namespace
 
@@ -45,6 +69,8 @@ Status Simulator::startSegment() {
   s.lockstep = lockstep_;
   s.out = o_.out;
   if (Status st = segments_.start(cut_, s, &out_.written); !st) return st;
+  final_saved_ = false;
+  ui_.segment_recorded = segments_.recording();
   // Forces may go out only now that the loop commands them every step (the watchdog counts from here).
   rack_.enable();
   rate_steps_ = segments_.stepsDone();
@@ -65,6 +91,7 @@ Status Simulator::endSegment(const std::string& reason) {
     if (Status st = painter_->remesh(view_.voxels, &pending_dirty_); !st && result) result = st;
   out_.removed_mm3 = segments_.removedDoneMm3();
   ui_.run_state = ui::RunState::Stopped;
+  ui_.segment_recorded = false;
   return result;
 }
 
@@ -100,6 +127,27 @@ render::FrameState Simulator::frameState(const HapticState& state, VkExtent2D ex
   return fs;
 }
 
+PixelRect Simulator::toothRect(VkExtent2D extent) const {
+  // The tissue box's corners projected as drawn (shifted beside the panel).
+  const int w = int(std::max(1u, extent.width)), h = int(std::max(1u, extent.height));
+  float lo_x = 1e9f, lo_y = 1e9f, hi_x = -1e9f, hi_y = -1e9f;
+  for (int i = 0; i < 8; ++i) {
+    const Vec3 p{(i & 1) ? box_.hi.x : box_.lo.x, (i & 2) ? box_.hi.y : box_.lo.y, (i & 4) ? box_.hi.z : box_.lo.z};
+    if (camera_.depthOf(render::toGlm(p)) <= camera_.nearMm()) return {};
+    const glm::vec3 px = camera_.project(render::toGlm(p), w, h);
+    lo_x = std::min(lo_x, px.x - float(sceneShiftPx()));
+    hi_x = std::max(hi_x, px.x - float(sceneShiftPx()));
+    lo_y = std::min(lo_y, px.y);
+    hi_y = std::max(hi_y, px.y);
+  }
+  PixelRect r;
+  r.x = int(std::floor(lo_x));
+  r.y = int(std::floor(lo_y));
+  r.width = int(std::ceil(hi_x)) - r.x;
+  r.height = int(std::ceil(hi_y)) - r.y;
+  return r;
+}
+
 Status Simulator::drawFrame(const ShotSchedule::Due& due) {
   const HapticState state = segments_.state();
   render::FrameState drawn;
@@ -122,6 +170,10 @@ Status Simulator::drawFrame(const ShotSchedule::Due& due) {
     if (painter_->panel()) facts.score_image_rect = last_actions_.score_image_rect;
     facts.panel_shown = painter_->panel() != nullptr;
     facts.panel_rect = panel_rect_;
+    facts.task = task_ ? task_->name : "";
+    facts.view_fixed = input_.viewFixed();
+    facts.tooth_top_mm = box_.hi.z;
+    facts.tooth_rect = toothRect(painter_->extent());
     if (Status st = writeShot(outPath(due.shot_stem), **picture, camera_, drawn, facts); !st) return st;
     out_.written.push_back(outPath(due.shot_stem + ".png"));
   }
@@ -135,9 +187,22 @@ Status Simulator::drawFrame(const ShotSchedule::Due& due) {
 
 Status Simulator::scoreNow() {
   if (!task_) return Ok{};
-  auto score = scoreForScreen(*task_, initial_, view_, segments_.count(), o_.out);
+  // The session holds the whole cut when this tooth has had one segment only.
+  ScoredCut cut;
+  const int on_tooth = segments_.count() - tooth_first_segment_ + 1;
+  if (o_.out.empty())
+    cut.no_session_reason = "no session was recorded (no --out folder)";
+  else if (on_tooth > 1)
+    cut.no_session_reason = "the cut spans " + std::to_string(on_tooth) + " segments, and no one session holds it";
+  else {
+    cut.initial_file = segments_.initialPath();
+    cut.session_file = segments_.sessionPath();
+  }
+  auto score = scoreForScreen(*task_, initial_, view_, cut, o_.out);
   if (!score) return score.error();
+  final_saved_ = !o_.out.empty();
   ui_.score = score->panel;
+  panel_relayout_ = true;  // the Score page appears and comes forward
   if (Status st = painter_->renderer().setOverlayImage(score->picture); !st) return st;
   score_shown_ = true;
   out_.score = score->total;
@@ -157,11 +222,16 @@ Status Simulator::handleActions(ui::PanelActions& a) {
   }
   if (a.normal_mode_changed) painter_->surfaces().setNormalMode(looks_.view.normals);
   if (a.speed_changed && pens_) pens_->setPedal(ui_.turbine_speed);
-  if (a.task_changed) {
-    auto task = builtinTask(ui_.task);
-    if (!task) note(task.message());
-    else task_ = std::move(*task);
-  }
+  // Teacher mode needs its segments recorded: without --out they go to a temporary folder from the
+  // next segment on (Reset starts one).
+  if (ui_.teacher && o_.out.empty())
+    if (Status st = recordingFolder(); !st) return st;
+  if (a.task_changed)
+    if (Status st = pickTask(); !st) return st;
+  if (a.tooth_changed && !a.task_changed)
+    if (Status st = pickTooth(); !st) return st;
+  if (a.record_ideal)
+    if (Status st = recordIdeal(); !st) return st;
   const bool running = segments_.running();
   if (a.stop && running)
     if (Status st = endSegment("stopped"); !st) return st;
@@ -193,6 +263,7 @@ Status Simulator::handleActions(ui::PanelActions& a) {
     if (Status st = painter_->surfaces().build(view_.voxels); !st) return st;
     score_shown_ = false;
     ui_.score = {};
+    tooth_first_segment_ = segments_.count() + 1;  // the restored or rebuilt tooth starts uncut
     if (Status st = startSegment(); !st) return st;
   }
   if (a.score) {
@@ -207,7 +278,14 @@ Status Simulator::frame() {
   const auto t0 = Clock::now();
   if (ui::Window* window = painter_->window()) {
     ui::Window::pollEvents();
-    if (window->closeRequested()) quit_ = true;
+    if (window->closeRequested()) {
+      quit_ = true;
+      quit_reason_ = "the window was closed";
+    }
+  }
+  if (g_interrupted.load()) {
+    quit_ = true;
+    quit_reason_ = "interrupted (Ctrl-C)";
   }
   // Lockstep: the haptic loop catches up with this frame's loop time.
   if (lockstep_) segments_.stepTo(double(out_.frames) / o_.fps);
@@ -253,7 +331,20 @@ Status Simulator::frame() {
     // nothing shown: no panel either
   } else if (ui::ImGuiLayer* panel = painter_->panel()) {
     const VkExtent2D e = painter_->extent();
-    panel->newFrame(int(e.width), int(e.height), lockstep_ ? 1.0 / o_.fps : msSince(last_frame_) / 1000.0);
+    const double dt_s = lockstep_ ? 1.0 / o_.fps : msSince(last_frame_) / 1000.0;
+    if (panel_relayout_) {
+      // ImGui shows a new tab (all of them on the first frame, the Score page with a score) and
+      // brings a page forward only from the next frame on: such a frame is laid out once unseen,
+      // so that the one shot a headless run takes of it shows it whole. Its actions are dropped.
+      panel->newFrame(int(e.width), int(e.height), dt_s);
+      panel_rect_ = ui::drawParamPanel(ui_).panel_rect;  // where the scene's shift comes from
+      ui::drawOverlay(ui_);
+      panel->discardFrame();
+      panel_relayout_ = false;
+    }
+    // The tooth as this frame draws it, beside the panel (which stays where it was last frame).
+    ui_.keep_clear = toothRect(e);
+    panel->newFrame(int(e.width), int(e.height), dt_s);
     actions = ui::drawParamPanel(ui_);
     ui::drawOverlay(ui_);
     panel_rect_ = actions.panel_rect;
@@ -275,17 +366,27 @@ Status Simulator::frame() {
   ++out_.frames;
 
   // The end: the script played out (and scored when asked), or the time given.
-  if (o_.exit_after_s > 0 && t >= o_.exit_after_s - 1e-9) quit_ = true;
+  if (o_.exit_after_s > 0 && t >= o_.exit_after_s - 1e-9) {
+    quit_ = true;
+    quit_reason_ = "--exit-after ended the run";
+  }
   if (o_.bench_frames > 0 && out_.drawn >= uint64_t(o_.bench_frames)) quit_ = true;
   if (script_ && segments_.running() && t >= script_end_s_ + 0.2) {
+    if (o_.record_ideal_at_end)
+      if (Status st = recordIdeal(); !st) return st;
     if (Status st = endSegment("completed"); !st) return st;
     if (o_.score_at_end)
       if (Status st = scoreNow(); !st) return st;
     // One more frame shows the end (and the score); headless then stops.
     if (!o_.out.empty()) shots_.finalShot();
     if ((headless_ && o_.exit_after_s <= 0) || o_.exit_at_end) quit_after_final_ = true;
+    ended_at_ = Clock::now();
   }
   if (quit_after_final_ && !shots_.finalShotPending() && !segments_.running()) quit_ = true;
+  // Windowed, the score screen stays up this long, then the window closes by itself.
+  if (ended_at_ && o_.linger_s >= 0 && !segments_.running() &&
+      std::chrono::duration<double>(Clock::now() - *ended_at_).count() >= o_.linger_s)
+    quit_ = true;
   // Stopped, loop time stands still; headless it follows the frames, so that --exit-after ends it.
   if (headless_ && !segments_.running()) segments_.holdTimeAtLeast(double(out_.frames) / o_.fps);
   return Ok{};
@@ -298,6 +399,7 @@ Result<SimulatorOutcome> Simulator::run() {
     rack_.close();  // whatever opened gets zero force and is let go
     return st.error();
   }
+  const InterruptGuard interrupt;
   Status result = Ok{};
   while (result && !quit_) result = frame();
   // Whatever happened, the loop stops and the recording is closed, so that no drilling is lost.
@@ -314,10 +416,17 @@ Result<SimulatorOutcome> Simulator::run() {
   if (ctx.validationEnabled() && ctx.validationErrorCount() > 0)
     return makeError("gpu", std::to_string(ctx.validationErrorCount()) + " Vulkan validation errors; the last: " +
                                 ctx.lastValidationMessage());
-  if (!o_.out.empty() && out_.score < 0) {
+  if (!o_.out.empty() && !final_saved_) {
     if (Status st = saveTooth(outPath("final.dvol"), view_); !st) return st.error();
     out_.written.push_back(outPath("final.dvol"));
+    // A score of an earlier state no longer describes the tooth as the run leaves it.
+    out_.score.reset();
   }
+  if (!out_.score)
+    out_.not_scored = !task_                         ? "no task"
+                      : !quit_reason_.empty()        ? quit_reason_ + " before the cut was scored"
+                      : script_ && !o_.score_at_end ? "scoring was not asked for (--score-at-end)"
+                                                    : "the cut was not scored (the panel's Score button scores it)";
   out_.wall_s = std::chrono::duration<double>(Clock::now() - run_t0_).count();
   out_.haptic_steps = segments_.stepsDone();
   // Over the drilling only: set-up (voxelizing, point shells, pipelines) is not the loop's.

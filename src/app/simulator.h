@@ -23,7 +23,10 @@ struct SimulatorOptions {
   std::string tooth;                    // a tooth file (.dvol); empty: the task's tooth
   int level = 0;                        // octree level of the built-in molar; 0: the task's
   std::string params;                   // a preset file; empty: dentsim's defaults
-  std::string task = "caries";          // the task scored ("caries", "cavity" or a task file)
+  std::string task = "caries";          // the task scored ("caries", "cavity", another built-in task's name or a task file)
+  std::string course;                   // the folder whose teeth (.dvol) and tasks (.json) the panel's pickers list; empty: the built-in ones
+  bool teacher = false;                 // teacher mode from the start: "Record as ideal" (sessions go to a temporary folder without --out)
+  bool record_ideal_at_end = false;     // teacher mode: when the pen script ends, Record as ideal (as the panel's button does)
   std::string bur;                      // the bur on the drill pen; empty: the task's
   std::optional<std::string> mirror_tool;    // the mirror tool; none: the task's; empty: no mirror
   std::string pen_script;               // a pen path (CSV or JSON) both pens play; empty: mouse and keys
@@ -47,10 +50,11 @@ struct SimulatorOptions {
   int idle_latency_us = 0;              // while the loop's thread runs, idle CPUs wake within this [us]; < 0: not asked
   double fps = 30.0;                    // loop time per frame in lockstep [frames/s]
   bool ui = true;                       // the parameter window and the overlay
-  std::string view = "buccal";          // the first camera view (occlusal, buccal, lingual, mesial, distal)
+  std::string view;                     // the first camera view (occlusal, buccal, lingual, mesial, distal); empty: the task's, else buccal
   bool vsync = true;                    // windowed: wait for the display's refresh
   bool score_at_end = false;            // score the cut when the script ends, write score files, show it
   bool exit_at_end = false;             // quit one frame after the script ends (windowed too)
+  double linger_s = -1.0;               // windowed: quit this long after the script's end (and its score) [wall s]; < 0: stay
   std::string device;                   // Vulkan device index or name part; empty: the best
   int bench_frames = 0;                 // > 0: draw every frame (headless too), stop after this many
   double bench_from_s = 0.0;            // ... from this loop time on (the script's steps before run undrawn) [s]
@@ -72,8 +76,9 @@ struct SimulatorOutcome {
   double remesh_ms_mean = 0.0;          // incremental re-mesh per frame that had edits [ms]
   uint64_t triangles = 0;               // the tooth's surface at the end
   double removed_mm3 = 0.0;
-  std::vector<std::string> written;     // files written, in order
-  double score = -1.0;                  // the end score, when one was made
+  std::vector<std::string> written;     // files written, in order, each one on disk when the run returns
+  std::optional<double> score;          // the last score made, of the tooth as the run left it
+  std::string not_scored;               // with no score: why ("the window was closed before the script ended")
 };
 
 // Runs until the window closes, exit_after_s, or the script's end (see the options). Errors are

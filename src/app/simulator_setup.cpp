@@ -1,6 +1,8 @@
 // The simulator's set-up: options checked, the task, tooth and tools loaded, the camera placed, the pens, the sound, the frames' device and the panel's state; the first segment started.
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <numbers>
 
 #include "app/simulator_state.h"
 #include "app/tool_placement.h"
@@ -8,7 +10,9 @@
 #include "sim/novice_paths.h"
 #include "sim/pen_script.h"
 #include "sim/scripted_paths.h"
+#include "sim/builtin_tooth.h"
 #include "sim/tool_library.h"
+#include "ui/course_list.h"
 #include "ui/window.h"
 #include "volume/tooth_file.h"
 
@@ -16,19 +20,77 @@ namespace dentsim::app {
 
 void Simulator::note(const std::string& text) {
   std::printf("%s\n", text.c_str());
+  // At once, also into a pipe: a score or an error is read while the window is still open.
+  std::fflush(stdout);
   ui_.status = text;
 }
 
 // ---- set-up ----------------------------------------------------------------------------------------------
 
+// Loads the tooth that tooth_file_ and o_.level name; on an error the tooth in use stays.
 Status Simulator::loadTooth() {
-  auto t = o_.tooth.empty() ? taskTooth(*task_, o_.level) : dentsim::loadTooth(o_.tooth);
+  auto t = builtinTooth() ? builtinMolarTooth(o_.level) : dentsim::loadTooth(tooth_file_);
   if (!t) return t.error();
+  const TissueBox box = tissueBox(t->voxels, t->frame);
+  if (box.empty()) return makeError(toothName(), "the tooth holds no tissue");
   initial_ = std::move(*t);
-  box_ = tissueBox(initial_.voxels, initial_.frame);
-  if (box_.empty()) return makeError(toothName(), "the tooth holds no tissue");
+  box_ = box;
   cut_ = initial_;
   view_ = initial_;
+  return Ok{};
+}
+
+Status Simulator::loadMirror() {
+  mirror_tool_.reset();
+  if (mirror_name_.empty() || o_.devices.mirror_pen == "none") return Ok{};
+  auto m = loadToolModel(mirror_name_, params_.point_shell);
+  if (!m) return m.error();
+  mirror_tool_ = std::move(*m);
+  return Ok{};
+}
+
+Status Simulator::placeCamera() {
+  // --view, else the task's view, else buccal; a side view is raised 30 degrees (0.52 rad: a view
+  // from the chair looks down on a lower crown) unless the task gives its own elevation.
+  const std::optional<TaskView>& tv = task_->view;
+  const std::string name = !o_.view.empty() ? o_.view : tv ? tv->camera : "buccal";
+  auto preset = render::parseViewPreset(name);
+  if (!preset) return preset.error();
+  const float elevation = o_.view.empty() && tv ? float(tv->elevation_deg * std::numbers::pi / 180.0) : 0.52f;
+  const Vec3 c = box_.centre();
+  const double radius = 0.5 * norm(box_.hi - box_.lo);
+  camera_.setView(*preset, render::toGlm(c), float(radius));
+  if (*preset != render::ViewPreset::Occlusal) camera_.orbit(0.0f, elevation);
+  // Widened to take in the mirror where it starts.
+  if (mirror_tool_) {
+    const Vec3 face = mirrorGrip(box_, render::fromGlm(camera_.eye())).apply(-kMirrorGripLocal);
+    camera_.setTarget(render::toGlm((c + face) * 0.5));
+    camera_.setDistance(camera_.distance() * float((radius + 0.5 * norm(face - c)) / radius) * 0.8f);
+  }
+  input_.setViewFixed(o_.view.empty() && tv && tv->fixed);
+  return Ok{};
+}
+
+void Simulator::showTask() {
+  // A built-in task started by its short name ("caries") shows as its entry in the list.
+  for (const ui::TaskChoice& t : ui_.course.tasks)
+    if (t.builtin && t.source == task_->name && !task_source_.ends_with(".json")) task_source_ = t.source;
+  ui_.task = task_source_;
+  ui_.task_title = task_->title;
+  ui_.task_instructions = task_->instructions;
+  // builtinTask takes a built-in name before a file of that name; no built-in name ends in ".json".
+  std::error_code ec;
+  ui_.task_is_file = task_source_.ends_with(".json") && std::filesystem::is_regular_file(task_source_, ec);
+  ui_.tooth = tooth_file_;
+  ui_.level = initial_.frame.level;
+}
+
+Status Simulator::recordingFolder() {
+  if (!o_.out.empty()) return Ok{};
+  std::string pattern = (std::filesystem::temp_directory_path() / "dentsim-teacher-XXXXXX").string();
+  if (!::mkdtemp(pattern.data())) return makeError(pattern, "cannot make a folder for the teacher's sessions");
+  o_.out = pattern;
+  note("teacher mode: sessions are recorded in " + o_.out);
   return Ok{};
 }
 
@@ -92,30 +154,15 @@ Status Simulator::setUp() {
   auto task = builtinTask(o_.task);
   if (!task) return task.error();
   task_ = std::move(*task);
+  task_source_ = o_.task;
   drill_name_ = o_.bur.empty() ? task_->drill_tool : o_.bur;
+  tooth_file_ = !o_.tooth.empty() ? o_.tooth : task_->tooth == kBuiltinMolarTooth ? "" : task_->tooth;
+  if (o_.level == 0) o_.level = task_->level;  // the task's level, when none was asked for
   if (Status st = loadTooth(); !st) return st;
-  if (builtinTooth()) o_.level = initial_.frame.level;  // the task's level, when none was asked for
   if (Status st = loadDrill(); !st) return st;
   mirror_name_ = o_.mirror_tool ? *o_.mirror_tool : task_->mirror_tool;
-  if (!mirror_name_.empty() && o_.devices.mirror_pen != "none") {
-    auto m = loadToolModel(mirror_name_, params_.point_shell);
-    if (!m) return m.error();
-    mirror_tool_ = std::move(*m);
-  }
-
-  // Camera: the chosen side, raised 30 degrees (a side view from the chair looks down on the crown),
-  // then widened to take in the mirror where the demo holds it.
-  auto preset = render::parseViewPreset(o_.view);
-  if (!preset) return preset.error();
-  const Vec3 c = box_.centre();
-  const double radius = 0.5 * norm(box_.hi - box_.lo);
-  camera_.setView(*preset, render::toGlm(c), float(radius));
-  if (*preset != render::ViewPreset::Occlusal) camera_.orbit(0.0f, 0.52f);
-  if (mirror_tool_) {
-    const Vec3 face = mirrorGrip(box_, render::fromGlm(camera_.eye())).apply(-kMirrorGripLocal);
-    camera_.setTarget(render::toGlm((c + face) * 0.5));
-    camera_.setDistance(camera_.distance() * float((radius + 0.5 * norm(face - c)) / radius) * 0.8f);
-  }
+  if (Status st = loadMirror(); !st) return st;
+  if (Status st = placeCamera(); !st) return st;
 
   // The pens: hardware ones map their workspace around the tool's start, turned with the camera.
   RackPlacement at;
@@ -168,12 +215,16 @@ Status Simulator::setUp() {
   ui_.params = params_;
   ui_.looks = looks_;
   ui_.bur = drill_name_;
-  ui_.level = initial_.frame.level;
-  ui_.task = o_.task;
+  ui_.course = ui::listCourse(o_.course);
+  if (!ui_.course.error.empty()) note(ui_.course.error);
+  showTask();
+  ui_.teacher = o_.teacher;
   ui_.pedal_present = script_.has_value() || rack_.hasPedal();
   ui_.presets = presets_->list();
   ui_.force.max_force_n = params_.device.max_force_n;
 
+  if (o_.teacher)
+    if (Status st = recordingFolder(); !st) return st;
   if (!o_.out.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(o_.out, ec);

@@ -39,6 +39,18 @@ class Simulator {
   Status setUp();
   Status loadTooth();
   Status loadDrill();
+  Status loadMirror();
+  // The task's first view (or --view, or buccal raised 30 degrees), widened to take in the mirror where
+  // it starts; a fixed task view locks the mouse and keys out.
+  Status placeCamera();
+  // After a new tooth or task: the surfaces rebuilt, the score cleared, the pens back at their
+  // starts, and a new segment on the new tooth.
+  Status restartOnNewTooth(const std::string& reason);
+  Status pickTooth();   // the panel's tooth picker (ui_.tooth, ui_.level)
+  Status pickTask();    // the panel's task picker (ui_.task)
+  Status recordIdeal(); // teacher mode's "Record as ideal"
+  void showTask();      // the task's title, instructions and kind in the panel
+  Status recordingFolder();  // teacher mode without --out: a temporary folder for the sessions
   Status setUpScript(const Pose& mirror_start);
   Status startSegment();
   Status endSegment(const std::string& reason);
@@ -51,9 +63,11 @@ class Simulator {
   int sceneShiftPx() const { return painter_->panel() ? panel_rect_.width / 2 : 0; }
   std::string outPath(const std::string& name) const { return (std::filesystem::path(o_.out) / name).string(); }
   void note(const std::string& text);
-  // The tooth is the built-in molar (at o_.level) unless --tooth or the task names a volume file.
-  bool builtinTooth() const { return o_.tooth.empty() && task_->tooth == kBuiltinMolarTooth; }
-  std::string toothName() const { return !o_.tooth.empty() ? o_.tooth : builtinTooth() ? "built-in molar" : task_->tooth; }
+  // The tooth is the built-in molar (at o_.level) unless --tooth, the task or the picker named a volume file.
+  bool builtinTooth() const { return tooth_file_.empty(); }
+  std::string toothName() const { return builtinTooth() ? "built-in molar" : tooth_file_; }
+  // Where the tooth is on screen, for the score picture to stay off it; empty when it is behind the eye.
+  PixelRect toothRect(VkExtent2D extent) const;
 
   SimulatorOptions o_;
   SimulatorOutcome out_;
@@ -63,7 +77,10 @@ class Simulator {
   // Tooth: the haptic loop's copy (cut), the frame loop's copy (view, fed by the edits), the start.
   ToothVolume initial_, cut_, view_;
   TissueBox box_;
+  std::string tooth_file_;          // the tooth's volume file; empty: the built-in molar at o_.level
+  int tooth_first_segment_ = 1;     // the first segment on this tooth (a score uses its session when it is the only one)
   std::optional<Task> task_;
+  std::string task_source_;         // what the task was started from: a built-in name or a task file
   SimParams params_;
   LookParams looks_;  // the preset's visual half (one preset with params_)
   std::optional<ToolModel> drill_tool_, mirror_tool_;
@@ -89,10 +106,14 @@ class Simulator {
   std::unique_ptr<ui::PresetStore> presets_;
   ui::PanelActions last_actions_;
   bool score_shown_ = false;
+  bool panel_relayout_ = true;   // the panel's next frame is laid out once unseen first (new tabs)
   PixelRect panel_rect_;  // the parameter window
 
   bool quit_ = false;
   bool quit_after_final_ = false;
+  bool final_saved_ = false;             // final.dvol and the score's files hold the tooth as it is now
+  std::optional<Clock::time_point> ended_at_;  // when the script ended (linger_s counts from here)
+  std::string quit_reason_;              // why the run stopped early, for "not scored"
 
   // Timing.
   Clock::time_point run_t0_, last_frame_;

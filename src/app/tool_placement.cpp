@@ -16,8 +16,12 @@ Pose drillStartGrip(const TissueBox& box, double above_mm) {
 
 Pose mirrorGrip(const TissueBox& box, const Vec3& eye) {
   const Vec3 c = box.centre();
-  const Vec3 crown{c.x, c.y, box.hi.z - 2.5};
-  const Vec3 face{box.hi.x + 7.0, c.y + 4.0, box.hi.z - 1.0};
+  // An eye below the occlusal surface (an upper tooth, or the indirect-vision task) cannot see it:
+  // the mirror goes above the crown, distally, clear of the bur over the crown's centre, and shows
+  // the occlusal surface. Otherwise it stands beside the distal side.
+  const bool from_below = eye.z < box.hi.z;
+  const Vec3 crown = from_below ? Vec3{c.x, c.y, box.hi.z - 1.0} : Vec3{c.x, c.y, box.hi.z - 2.5};
+  const Vec3 face = from_below ? Vec3{box.hi.x + 5.0, c.y + 2.0, box.hi.z + 9.0} : Vec3{box.hi.x + 7.0, c.y + 4.0, box.hi.z - 1.0};
   const Vec3 z = normalized(normalized(eye - face) + normalized(crown - face));
   const Vec3 to_tooth = crown - face;
   const Vec3 x = normalized(to_tooth - z * dot(to_tooth, z));

@@ -13,7 +13,9 @@ Pose drillStartGrip(const TissueBox& box, double above_mm);
 // Where the demo (and a virtual mirror at start) holds the mirror: beside the crown's distal side,
 // a little lingual, turned the way a dentist turns it: its normal halves the angle between the eye
 // and the crown, so the eye sees the crown's distal and lingual surfaces in it. The handle (-X)
-// leaves away from the tooth. Returns the grip frame.
+// leaves away from the tooth. Seen from below the occlusal surface (eye.z under the crown's top),
+// the mirror is held above the crown instead, distally, where it shows the occlusal surface.
+// Returns the grip frame.
 Pose mirrorGrip(const TissueBox& box, const Vec3& eye);
 
 // Mirror samples for a scripted path that has none: held still at `grip` for the whole path.

@@ -49,12 +49,8 @@ void WindowInput::onCursor(double x, double y) {
   cursor_x_ = x;
   cursor_y_ = y;
   if (dragging_pen_ && pens_) pens_->drag(float(dx), float(dy));
-  if (orbiting_) camera_.orbit(float(-dx * 0.008), float(dy * 0.008));
-  if (panning_ && window_) {
-    const VkExtent2D e = window_->framebufferExtent();
-    const float mm = camera_.mmPerPixel(camera_.distance(), int(std::max(1u, e.height)));
-    camera_.pan(float(-dx) * mm, float(dy) * mm);
-  }
+  if (orbiting_) control_.orbit(dx, dy);
+  if (panning_ && window_) control_.pan(dx, dy, int(std::max(1u, window_->framebufferExtent().height)));
 }
 
 void WindowInput::onScroll(double, double dy) {
@@ -65,7 +61,7 @@ void WindowInput::onScroll(double, double dy) {
   const bool alt = glfwGetKey(w, GLFW_KEY_LEFT_ALT) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_RIGHT_ALT) == GLFW_PRESS;
   const bool shift = glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
   if (alt) {
-    camera_.zoom(float(std::pow(1.1, dy)));
+    control_.zoom(dy);
   } else if (ctrl && pens_) {
     pens_->wheelPedal(float(dy));
     hooks_.turbine_speed(pens_->pedal());
@@ -80,7 +76,7 @@ void WindowInput::onKey(int key, int action, int mods) {
   if (panel_ && panel_->wantsKeyboard()) return;
   const Vec3 c = box_.centre();
   const float radius = float(0.5 * norm(box_.hi - box_.lo) * 1.25);
-  auto view = [&](render::ViewPreset p) { camera_.setView(p, render::toGlm(c), radius); };
+  auto view = [&](render::ViewPreset p) { control_.showPreset(p, c, radius); };
   switch (key) {
     case GLFW_KEY_1: view(render::ViewPreset::Occlusal); break;
     case GLFW_KEY_2: view(render::ViewPreset::Buccal); break;

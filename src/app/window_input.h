@@ -1,10 +1,11 @@
-// The simulator window's mouse and keys: the virtual pens (drag, wheel, arrows), the camera (orbit, pan, zoom, views 1 to 5), the turbine (wheel with Ctrl, Page keys, Space) and Escape.
+// The simulator window's mouse and keys: the virtual pens (drag, wheel, arrows), the camera (orbit, pan, zoom, views 1 to 5; none of them while the task's view is fixed), the turbine (wheel with Ctrl, Page keys, Space) and Escape.
 #pragma once
 
 #include <functional>
 
 #include "render/camera.h"
 #include "sim/surface_probe.h"
+#include "ui/camera_control.h"
 #include "ui/imgui_layer.h"
 #include "ui/pen_input.h"
 #include "ui/window.h"
@@ -18,7 +19,8 @@ class WindowInput {
     std::function<void(double)> turbine_speed;  // the virtual pedal moved to this [0, 1]
     std::function<void()> quit;                 // Escape
   };
-  WindowInput(render::OrbitCamera& camera, const TissueBox& box, Hooks hooks) : camera_(camera), box_(box), hooks_(std::move(hooks)) {}
+  WindowInput(render::OrbitCamera& camera, const TissueBox& box, Hooks hooks)
+      : camera_(camera), control_(camera), box_(box), hooks_(std::move(hooks)) {}
 
   // Installs GLFW's callbacks on the window; they must go in before the panel's, which chain to them
   // (ui/imgui_layer.h). The window and this object must outlive the callbacks' use.
@@ -26,6 +28,9 @@ class WindowInput {
   // The pens the mouse moves (none: only the camera) and the panel that takes the mouse first (none: no panel).
   void setPens(ui::PenInput* pens) { pens_ = pens; }
   void setPanel(const ui::ImGuiLayer* panel) { panel_ = panel; }
+  // A fixed view (the task's, for indirect vision): the mouse and keys leave the camera alone.
+  void setViewFixed(bool fixed) { control_.setFixed(fixed); }
+  bool viewFixed() const { return control_.fixed(); }
 
   void onMouseButton(int button, int action, int mods);
   void onCursor(double x, double y);
@@ -34,6 +39,7 @@ class WindowInput {
 
  private:
   render::OrbitCamera& camera_;
+  ui::CameraControl control_;  // every camera move goes through its lock
   const TissueBox& box_;
   Hooks hooks_;
   ui::Window* window_ = nullptr;

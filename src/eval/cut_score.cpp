@@ -25,6 +25,7 @@ Result<Task> builtinTask(const std::string& name) {
   std::string file;
   if (name == "caries" || name == "caries_removal") file = "tasks/caries_removal.json";
   if (name == "cavity" || name == "class1_cavity") file = "tasks/class1_cavity.json";
+  if (file.empty() && !builtinAssetBytes("tasks/" + name + ".json").empty()) file = "tasks/" + name + ".json";  // every other embedded task
   if (file.empty()) {
     if (!std::filesystem::exists(name))
       return makeError(name, "no such task: the built-in ones are caries and cavity, or give a task file");

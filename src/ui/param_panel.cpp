@@ -1,9 +1,10 @@
 // The parameter window and the overlay: one function per section, each editing UiState and raising PanelActions.
 //
 // Contents
-//   1. Widget helpers: clamped double sliders, colour pickers on float copies, rectangle recording
-//   2. Sections: tissues, bur and turbine, surface, task, presets, advanced, score, status
-//   3. drawParamPanel, the score picture window, drawOverlay
+//   1. Sizes and the force gauge (the shared widgets are in panel_widgets.h)
+//   2. Pages and their sections: tissues, tools (bur, turbine, sound), view (surface), presets (and
+//      advanced), score; the run's buttons above them (the Task page is task_page.cpp)
+//   3. drawParamPanel, the score picture window beside the tooth, drawOverlay
 //   4. applyPresetActions
 #include "ui/param_panel.h"
 
@@ -14,88 +15,24 @@
 #include <imgui.h>
 
 #include "model/tool_generator.h"
+#include "ui/panel_widgets.h"
+#include "ui/task_page.h"
 #include "volume/tissue_table.h"
 
 namespace dentsim::ui {
 namespace {
 
-// ---- 1. widget helpers ---------------------------------------------------------------------------------
+using namespace panel;  // the shared widgets and the pages kept in files of their own
 
+// ---- 1. sizes and the gauge -------------------------------------------------------------------------
 
 constexpr float kPanelWidth = 380.0f;       // [px]
 constexpr float kMargin = 10.0f;            // from the display's edges [px]
-constexpr float kLabelWidth = 150.0f;       // room left for a widget's label [px]
 constexpr float kPictureBox = 320.0f;       // the score picture fits in this square [px]
+constexpr float kMinPictureBox = 120.0f;    // ... and shrinks no further to stay off the tooth [px]
 constexpr float kGaugeWidth = 220.0f;       // the overlay's force gauge [px]
 constexpr double kWheelSpeedStep = 0.05;    // turbine speed per wheel notch [-]
 constexpr double kKeySpeedStep = 0.1;       // turbine speed per PageUp/PageDown [-]
-
-// Drawing context shared by the sections of one frame.
-struct Frame {
-  UiState& state;
-  PanelActions& actions;
-  WidgetRects* rects;
-
-  // Remembers the last item's rectangle under `key`, for tests and tutorials.
-  void record(const std::string& key) const {
-    if (!rects) return;
-    ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
-    (*rects)[key] = WidgetRect{lo.x, lo.y, hi.x, hi.y};
-  }
-};
-
-// Where the next labelled widget's frame will be. ImGui's item rectangle of a labelled widget
-// takes in the label too, which is not where the slider's track is.
-struct Probe {
-  const Frame& f;
-  ImVec2 pos = ImGui::GetCursorScreenPos();
-  float width = ImGui::CalcItemWidth();
-
-  // Records the frame (the input part, without the label) under `key`.
-  void record(const std::string& key) const {
-    if (!f.rects) return;
-    (*f.rects)[key] = WidgetRect{pos.x, pos.y, pos.x + width, pos.y + ImGui::GetFrameHeight()};
-  }
-};
-
-// A slider on a double, clamped to [lo, hi] for drags and for Ctrl+click typing alike. The bounds
-// are sub-ranges of sim_params.cpp's table, so an edited set always saves.
-bool sliderDouble(const Frame& f, const std::string& key, const char* label, double& v, double lo, double hi,
-                  const char* format, bool logarithmic = false) {
-  ImGuiSliderFlags flags = ImGuiSliderFlags_AlwaysClamp | (logarithmic ? ImGuiSliderFlags_Logarithmic : 0);
-  const Probe probe{f};
-  bool changed = ImGui::SliderScalar(label, ImGuiDataType_Double, &v, &lo, &hi, format, flags);
-  probe.record(key);
-  return changed;
-}
-
-// A colour picker over three doubles. ImGui edits floats; a component is written back only when
-// its float differs from the float of the stored double, so the untouched components keep their
-// exact values (0.26 does not come back as 0.25999999).
-bool colourEdit(const Frame& f, const std::string& key, const char* label, double& r, double& g, double& b) {
-  float c[3] = {float(r), float(g), float(b)};
-  const Probe probe{f};
-  bool edited = ImGui::ColorEdit3(label, c, ImGuiColorEditFlags_Float);
-  probe.record(key);
-  if (!edited) return false;
-  bool changed = false;
-  double* dst[3] = {&r, &g, &b};
-  for (int i = 0; i < 3; ++i) {
-    float v = std::clamp(c[i], 0.0f, 1.0f);
-    if (v != float(*dst[i])) {
-      *dst[i] = double(v);
-      changed = true;
-    }
-  }
-  return changed;
-}
-
-// A collapsing header, recorded as "section.<key>"; true when open.
-bool section(const Frame& f, const char* key, const char* label, ImGuiTreeNodeFlags flags = 0) {
-  bool open = ImGui::CollapsingHeader(label, flags);
-  f.record(std::string("section.") + key);
-  return open;
-}
 
 // Green while light, amber when firm, red near the device's clamp.
 ImVec4 gaugeColour(double fraction) {
@@ -153,8 +90,7 @@ void tissueTab(const Frame& f, Material m) {
   f.actions.params_changed |= changed;
 }
 
-void tissuesSection(const Frame& f) {
-  if (!section(f, "tissues", "Tissues", ImGuiTreeNodeFlags_DefaultOpen)) return;
+void tissuesPage(const Frame& f) {
   if (!ImGui::BeginTabBar("tissues")) return;
   for (Material m : kTissues) {
     const std::string name = materialName(m);
@@ -202,17 +138,20 @@ void turbineSpeed(const Frame& f) {
     std::snprintf(text, sizeof text, "pedal %.0f%%", s.turbine_speed * 100.0);
     ImGui::ProgressBar(float(std::clamp(s.turbine_speed, 0.0, 1.0)), ImVec2(-kLabelWidth, 0.0f), text);
     f.record("turbine.speed");
+    ImGui::SameLine(0.0f, ImGui::GetStyle().ItemInnerSpacing.x);
+    ImGui::TextUnformatted("speed (pedal)");
     return;
   }
   double speed = s.turbine_speed;
-  sliderDouble(f, "turbine.speed", "speed (no pedal)", speed, 0.0, 1.0, "%.2f");
+  bool hovered = false;
+  sliderDouble(f, "turbine.speed", "speed (no pedal)", speed, 0.0, 1.0, "%.2f", false, &hovered);
   const float wheel = ImGui::GetIO().MouseWheel;
-  if (ImGui::IsItemHovered() && wheel != 0.0f) speed += kWheelSpeedStep * double(wheel);
+  if (hovered && wheel != 0.0f) speed += kWheelSpeedStep * double(wheel);
   setSpeed(f, speed);
 }
 
 void burSection(const Frame& f) {
-  if (!section(f, "bur", "Bur and turbine", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  ImGui::TextDisabled("bur and turbine");
   UiState& s = f.state;
 
   const std::vector<std::string> names = burNames(s.params);
@@ -244,7 +183,8 @@ void burSection(const Frame& f) {
 
 // Volume and mute; the output line says where the sound goes (or why there is none).
 void soundSection(const Frame& f) {
-  if (!section(f, "sound", "Sound", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  ImGui::Spacing();
+  ImGui::TextDisabled("sound");
   SoundControls& snd = f.state.sound;
   f.actions.sound_changed |= sliderDouble(f, "sound.volume", "volume", snd.volume, 0.0, 1.0, "%.2f");
   f.actions.sound_changed |= ImGui::Checkbox("mute", &snd.mute);
@@ -252,8 +192,7 @@ void soundSection(const Frame& f) {
   if (!snd.output.empty()) ImGui::TextDisabled("%s", snd.output.c_str());
 }
 
-void surfaceSection(const Frame& f) {
-  if (!section(f, "surface", "Surface", ImGuiTreeNodeFlags_DefaultOpen)) return;
+void viewPage(const Frame& f) {
   UiState& s = f.state;
   ImGui::TextUnformatted("normals averaged over (voxels)");
   for (NormalMode mode : kNormalModes) {
@@ -269,37 +208,22 @@ void surfaceSection(const Frame& f) {
   // A new level rebuilds the tooth, which a running task must not see.
   ImGui::BeginDisabled(s.run_state == RunState::Running);
   int level = s.level;
-  const Probe probe{f};
-  if (ImGui::SliderInt("voxel level", &level, kMinLevel, kMaxLevel, "%d", ImGuiSliderFlags_AlwaysClamp) &&
-      level != s.level) {
+  const bool moved = sliderRow(
+      f, "level", "voxel level",
+      [&](const char* id) { return ImGui::SliderInt(id, &level, kMinLevel, kMaxLevel, "%d", ImGuiSliderFlags_AlwaysClamp); },
+      [&] { return std::to_string(level); });
+  if (moved && level != s.level) {
     s.level = level;
     f.actions.level_changed = true;
   }
-  probe.record("level");
   ImGui::EndDisabled();
   ImGui::Text("%d voxels per side", 1 << std::clamp(s.level, kMinLevel, kMaxLevel));
 }
 
-void taskSection(const Frame& f) {
-  if (!section(f, "task", "Task", ImGuiTreeNodeFlags_DefaultOpen)) return;
+// Start, Stop, Reset and Score with the run's state: above the pages, so that every page has them.
+void runButtons(const Frame& f) {
   UiState& s = f.state;
   const bool running = s.run_state == RunState::Running;
-
-  ImGui::BeginDisabled(running);
-  const Probe probe{f};
-  bool opened = ImGui::BeginCombo("task", s.task.c_str());
-  probe.record("task");
-  if (opened) {
-    for (const char* t : {"caries", "cavity"}) {
-      if (ImGui::Selectable(t, s.task == t) && s.task != t) {
-        s.task = t;
-        f.actions.task_changed = true;
-      }
-    }
-    ImGui::EndCombo();
-  }
-  ImGui::EndDisabled();
-
   ImGui::BeginDisabled(running);
   f.actions.start |= ImGui::Button("Start");
   f.record("start");
@@ -324,7 +248,6 @@ void taskSection(const Frame& f) {
 }
 
 void presetSection(const Frame& f) {
-  if (!section(f, "presets", "Presets", ImGuiTreeNodeFlags_DefaultOpen)) return;
   UiState& s = f.state;
   const Probe preset_probe{f};
   bool opened = ImGui::BeginCombo("preset", s.selected_preset.c_str());
@@ -368,7 +291,7 @@ void advancedSection(const Frame& f) {
                     "%.4f", true);
   c |= sliderDouble(f, "coupling.rot_stiffness_n_mm_per_rad", "rot. spring [N mm/rad]",
                     p.coupling.rot_stiffness_n_mm_per_rad, 1.0, 10000.0, "%.1f", true);
-  c |= sliderDouble(f, "coupling.rot_damping_n_mm_s_per_rad", "rot. damper [N mm s/rad]",
+  c |= sliderDouble(f, "coupling.rot_damping_n_mm_s_per_rad", "rot. damp [N mm s/rad]",
                     p.coupling.rot_damping_n_mm_s_per_rad, 0.0, 100.0, "%.3f", true);
   c |= sliderDouble(f, "coupling.proxy_damping_n_s_per_mm", "proxy drag [N s/mm]", p.coupling.proxy_damping_n_s_per_mm,
                     0.0, 1.0, "%.4f", true);
@@ -390,10 +313,8 @@ void advancedSection(const Frame& f) {
   f.actions.params_changed |= c;
 }
 
-void scoreSection(const Frame& f) {
+void scorePage(const Frame& f) {
   const ScoreSummary& sc = f.state.score;
-  if (!sc.valid) return;
-  if (!section(f, "score", "Score", ImGuiTreeNodeFlags_DefaultOpen)) return;
   ImGui::Text("total %.1f / %.0f", sc.total, sc.total_max);
   if (!sc.rows.empty() && ImGui::BeginTable("score rows", 2, ImGuiTableFlags_RowBg)) {
     for (const ScoreRow& r : sc.rows) {
@@ -412,25 +333,56 @@ void scoreSection(const Frame& f) {
 
 // ---- 3. windows ----------------------------------------------------------------------------------------
 
-// The picture's size on screen: its own aspect, fitted into kPictureBox.
-ImVec2 pictureSize(const ScoreSummary& sc) {
-  if (sc.image_width <= 0 || sc.image_height <= 0) return ImVec2(kPictureBox * 0.8f, kPictureBox * 0.8f);
-  float scale = std::min(kPictureBox / float(sc.image_width), kPictureBox / float(sc.image_height));
+// The picture's size on screen: its own aspect, fitted into a square of `box` pixels.
+ImVec2 pictureSize(const ScoreSummary& sc, float box) {
+  if (sc.image_width <= 0 || sc.image_height <= 0) return ImVec2(box * 0.8f, box * 0.8f);
+  float scale = std::min(box / float(sc.image_width), box / float(sc.image_height));
   return ImVec2(std::floor(float(sc.image_width) * scale), std::floor(float(sc.image_height) * scale));
+}
+
+// Where the score picture's window goes, and how big its picture is: beside the tooth's rectangle
+// `keep` in the room the panel leaves (x below `free_right`), right of the tooth if it fits there,
+// else left of it, else on the roomier side, shrunk to fit (to no less than kMinPictureBox). With
+// no tooth given, at the right of that room.
+struct PicturePlace {
+  ImVec2 pos;
+  float box = kPictureBox;
+};
+PicturePlace placePicture(const ScoreSummary& sc, const PixelRect& keep, float free_right, float display_h) {
+  const ImGuiStyle& style = ImGui::GetStyle();
+  const float chrome_w = 2.0f * style.WindowPadding.x;
+  const float chrome_h = 2.0f * style.WindowPadding.y + ImGui::GetFrameHeight();
+  auto window_w = [&](float box) { return pictureSize(sc, box).x + chrome_w; };
+  const float top = std::clamp(keep.empty() ? 180.0f : float(keep.y), kMargin,
+                               std::max(kMargin, display_h - pictureSize(sc, kPictureBox).y - chrome_h - kMargin));
+  if (keep.empty()) return {ImVec2(std::max(kMargin, free_right - window_w(kPictureBox)), top), kPictureBox};
+  const float right_room = free_right - float(keep.x + keep.width) - kMargin;  // beside the tooth's right edge
+  const float left_room = float(keep.x) - 2.0f * kMargin;                       // between the display's left edge and the tooth
+  if (window_w(kPictureBox) <= right_room) return {ImVec2(float(keep.x + keep.width) + kMargin, top), kPictureBox};
+  if (window_w(kPictureBox) <= left_room) return {ImVec2(float(keep.x) - kMargin - window_w(kPictureBox), top), kPictureBox};
+  // Shrunk: the box that fits the roomier side.
+  const bool right = right_room >= left_room;
+  const float room = std::max(right_room, left_room);
+  float box = kPictureBox;
+  while (box > kMinPictureBox && window_w(box) > room) box -= 4.0f;
+  const float w = window_w(box);
+  return {ImVec2(right ? float(keep.x + keep.width) + kMargin : std::max(kMargin, float(keep.x) - kMargin - w), top), box};
 }
 
 // A window with no background around an empty item: the renderer draws the picture into the
 // item's visible rectangle before ImGui draws its frame, so the title bar and border sit over it.
-PixelRect scorePictureWindow(const ScoreSummary& sc) {
+// It follows the tooth, so it stays beside it when the view turns or zooms.
+PixelRect scorePictureWindow(const ScoreSummary& sc, const PixelRect& keep, float free_right) {
   const ImGuiStyle& style = ImGui::GetStyle();
-  const ImVec2 pic = pictureSize(sc);
+  const PicturePlace place = placePicture(sc, keep, free_right, ImGui::GetIO().DisplaySize.y);
+  const ImVec2 pic = pictureSize(sc, place.box);
   // The exact size up front: an auto-resizing window would hide its first frame while measuring.
   const ImVec2 size(pic.x + 2.0f * style.WindowPadding.x,
                     pic.y + 2.0f * style.WindowPadding.y + ImGui::GetFrameHeight());
-  ImGui::SetNextWindowPos(ImVec2(kMargin, 180.0f), ImGuiCond_FirstUseEver);
+  ImGui::SetNextWindowPos(place.pos, ImGuiCond_Always);
   ImGui::SetNextWindowSize(size, ImGuiCond_Always);
   PixelRect out;
-  const ImGuiWindowFlags flags = ImGuiWindowFlags_NoBackground | ImGuiWindowFlags_NoResize |
+  const ImGuiWindowFlags flags = ImGuiWindowFlags_NoBackground | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
                                  ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoSavedSettings;
   if (ImGui::Begin("Score picture", nullptr, flags)) {
     ImGui::Dummy(pic);
@@ -450,6 +402,16 @@ PixelRect scorePictureWindow(const ScoreSummary& sc) {
   return out;
 }
 
+// One page of the panel as a tab, recorded as "page.<key>".
+template <class Draw>
+void page(const Frame& f, const char* key, const char* label, Draw draw, ImGuiTabItemFlags flags = 0) {
+  const bool open = ImGui::BeginTabItem(label, nullptr, flags);
+  f.record(std::string("page.") + key);
+  if (!open) return;
+  draw();
+  ImGui::EndTabItem();
+}
+
 }  // namespace
 
 PanelActions drawParamPanel(UiState& state, WidgetRects* rects) {
@@ -463,14 +425,28 @@ PanelActions drawParamPanel(UiState& state, WidgetRects* rects) {
   ImGui::SetNextWindowSize(ImVec2(kPanelWidth, std::max(200.0f, display.y - 2.0f * kMargin)), ImGuiCond_FirstUseEver);
   if (ImGui::Begin("Parameters", nullptr, ImGuiWindowFlags_NoSavedSettings)) {
     ImGui::PushItemWidth(-kLabelWidth);
-    tissuesSection(f);
-    burSection(f);
-    soundSection(f);
-    surfaceSection(f);
-    taskSection(f);
-    presetSection(f);
-    advancedSection(f);
-    scoreSection(f);
+    runButtons(f);
+    // The score page comes forward once, the frame a score first shows.
+    ImGuiStorage* storage = ImGui::GetStateStorage();
+    const ImGuiID score_seen = ImGui::GetID("score seen");
+    const bool new_score = state.score.valid && !storage->GetBool(score_seen);
+    storage->SetBool(score_seen, state.score.valid);
+    if (ImGui::BeginTabBar("pages")) {
+      page(f, "task", "Task", [&] { taskPage(f); });
+      page(f, "tissues", "Tissues", [&] { tissuesPage(f); });
+      page(f, "tools", "Tools", [&] {
+        burSection(f);
+        soundSection(f);
+      });
+      page(f, "view", "View", [&] { viewPage(f); });
+      page(f, "presets", "Presets", [&] {
+        presetSection(f);
+        advancedSection(f);
+      });
+      if (state.score.valid)
+        page(f, "score", "Score", [&] { scorePage(f); }, new_score ? ImGuiTabItemFlags_SetSelected : 0);
+      ImGui::EndTabBar();
+    }
     ImGui::PopItemWidth();
     ImGui::Separator();
     ImGui::TextWrapped("%s", state.status.c_str());
@@ -480,7 +456,8 @@ PanelActions drawParamPanel(UiState& state, WidgetRects* rects) {
   actions.panel_rect = {int(panel_pos.x), int(panel_pos.y), int(panel_size.x), int(panel_size.y)};
   ImGui::End();
 
-  if (state.score.valid) actions.score_image_rect = scorePictureWindow(state.score);
+  if (state.score.valid)
+    actions.score_image_rect = scorePictureWindow(state.score, state.keep_clear, std::min(display.x, panel_pos.x) - kMargin);
   return actions;
 }
 

@@ -13,12 +13,18 @@
 // accepts, so the panel can never produce a set that would not save.
 //
 // Windows and where they sit (fixed first positions, no .ini file, so frames are reproducible):
-//   "Parameters"      right edge, full height: tissues, bur and turbine, sound, surface, task, presets,
-//                     advanced (coupling, device, cutting, point shells), score, status line
+//   "Parameters"      right edge, full height, 380 px wide. The run's buttons (Start, Stop, Reset,
+//                     Score) sit on top; below them one tab per page, each of which fits in a window
+//                     800 px high without scrolling: Task (tooth and task pickers, the task's
+//                     instructions, teacher mode), Tissues, Tools (bur, turbine, sound), View
+//                     (normals, voxel level), Presets (and the advanced section), Score (with a
+//                     score); the status line last. A slider shows its value beside its track, never
+//                     under the grab.
 //   "##overlay"       top-left, takes no input: frame time, haptic rate, re-mesh time, triangles,
 //                     rpm, force gauge, contact
-//   "Score picture"   shown with a score: no background, so the renderer's red/blue picture drawn
-//                     in PanelActions::score_image_rect before the ImGui pass shows through
+//   "Score picture"   shown with a score, beside the tooth (UiState::keep_clear), never over it: no
+//                     background, so the renderer's red/blue picture drawn in
+//                     PanelActions::score_image_rect before the ImGui pass shows through
 #pragma once
 
 #include <cstdint>
@@ -30,6 +36,7 @@
 #include "model/tool_generator.h"
 #include "render/look_params.h"
 #include "sim/sim_params.h"
+#include "ui/course_list.h"
 #include "ui/preset_store.h"
 
 namespace dentsim::ui {
@@ -82,7 +89,20 @@ struct UiState {
   double turbine_speed = 0.0;              // [0..1] of params.turbine.max_rpm
   bool pedal_present = false;              // false: the slider, PageUp/PageDown and the wheel set the speed
   int level = 9;                           // octree level of the tooth, kMinLevel..kMaxLevel
-  std::string task = "caries";             // "caries" or "cavity"
+  // The pickers (set by the app; the panel edits the choices and raises tooth_changed, task_changed).
+  CourseList course;                       // the teeth and tasks offered (listCourse)
+  std::string tooth;                       // the tooth in use: a volume file, empty for the built-in molar at `level`
+  std::string tooth_path;                  // the "open" field: any .dvol by its path
+  std::string tooth_error;                 // why the tooth last picked did not load; empty when it did
+  std::string task = "caries";             // the task in use: a TaskChoice::source (a built-in name or a file)
+  std::string task_title;                  // the task in use's title, and what it asks of the student
+  std::string task_instructions;
+  std::string task_error;                  // why the task last picked did not start; empty when it did
+  // Teacher mode: "Record as ideal" makes the current segment the task file's ideal.
+  bool teacher = false;
+  bool task_is_file = false;               // the task in use is a file (a built-in one cannot take an ideal)
+  bool segment_recorded = false;           // the current segment is being recorded to a session file
+  std::string ideal_status;                // the last recording's result or error; empty: none yet
   std::vector<std::string> presets{kDefaultPresetName};  // PresetStore::list()
   std::string selected_preset = kDefaultPresetName;
   std::string save_name;                   // the "save as" field
@@ -92,10 +112,8 @@ struct UiState {
   ForceGauge force;                        // set by the app each frame
   SoundControls sound;                     // volume and mute edited here; output set by the app
   std::string status;                      // last error or notice, one line ("preset 'soft' saved")
+  PixelRect keep_clear;                    // where the tooth is on screen: the score picture stays off it; empty: anywhere
 };
-
-inline constexpr int kMinLevel = 7;   // the coarsest tooth the panel offers
-inline constexpr int kMaxLevel = 10;  // the paper's finest
 
 // ---- 2. actions --------------------------------------------------------------------------------------
 
@@ -106,7 +124,9 @@ struct PanelActions {
   bool speed_changed = false;        // UiState::turbine_speed (no pedal only)
   bool level_changed = false;        // UiState::level: rebuild the tooth
   bool normal_mode_changed = false;  // looks.view.normals (params_changed too): re-mesh
-  bool task_changed = false;         // UiState::task
+  bool tooth_changed = false;        // UiState::tooth (and level, for the built-in molar): restart on it
+  bool task_changed = false;         // UiState::task: start it (its tooth, level, tools and view)
+  bool record_ideal = false;         // teacher mode: make the current segment the task's ideal
   bool sound_changed = false;        // UiState::sound volume or mute
   bool start = false, stop = false, reset = false, score = false;
   std::string load_preset;           // a preset to load; empty: none
@@ -122,8 +142,11 @@ struct PanelActions {
 // "tissues.<tissue>.<field>" and "looks.<tissue>.<field>" (field names as in the preset JSON; the
 // colour pickers are "looks.<tissue>.ambient", ".diffuse", ".specular"), "tab.<tissue>", "bur",
 // "bur.cutting_ability", "turbine.speed", "turbine.max_rpm", "view.normal_neighbours.<8|64|216>",
-// "level", "task", "start", "stop", "reset", "score", "preset", "load", "save_name", "save", and the
-// section headers "section.<tissues|bur|surface|task|presets|advanced|score>".
+// "level", "tooth", "tooth_path", "open_tooth", "task", "teacher", "record_ideal", "start", "stop",
+// "reset", "score", "preset", "load", "save_name", "save", the pages' tabs "page.<task|tissues|tools|
+// view|presets|score>", the advanced section's header "section.advanced", the pickers' open lists'
+// entries "tooth.item.<i>" and "task.item.<i>", and beside each slider its value, "value.<the
+// slider's key>".
 struct WidgetRect {
   float min_x = 0, min_y = 0, max_x = 0, max_y = 0;  // ImGui screen coordinates [px]
 };

@@ -18,18 +18,33 @@ namespace dentsim::ui {
 namespace {
 
 constexpr float kDisplayW = 1280.0f;  // [px]
-// Tall enough that the whole panel, every section open, fits without scrolling.
+// Tall enough that any page, every section open, fits without scrolling.
 constexpr float kDisplayH = 2000.0f;  // [px]
+// The window height the panel must fit in (issue 24): 1280 x 800.
+constexpr float kSmallDisplayH = 800.0f;  // [px]
+
+// The panel's pages and the widgets each lays out.
+const std::vector<std::pair<std::string, std::vector<std::string>>> kPages = {
+    {"page.task", {"tooth", "tooth_path", "open_tooth", "task", "teacher"}},
+    {"page.tissues",
+     {"tab.enamel", "tab.dentin", "tab.pulp", "tab.caries", "tissues.enamel.stiffness_n_per_mm3",
+      "tissues.enamel.damping_s_per_mm", "tissues.enamel.friction", "tissues.enamel.hardness", "looks.enamel.diffuse",
+      "looks.enamel.alpha", "looks.enamel.ambient", "looks.enamel.specular", "looks.enamel.shininess"}},
+    {"page.tools", {"bur", "bur.cutting_ability", "turbine.speed", "turbine.max_rpm", "sound.volume", "sound.mute"}},
+    {"page.view", {"view.normal_neighbours.8", "view.normal_neighbours.64", "view.normal_neighbours.216", "level"}},
+    {"page.presets", {"preset", "load", "save_name", "save", "section.advanced"}},
+};
 
 // One ImGui context per test, with the font atlas built (as a renderer backend would) and the
 // mouse moved frame by frame.
 class PanelTest : public ::testing::Test {
  protected:
+  virtual float displayHeight() const { return kDisplayH; }
   void SetUp() override {
     ctx_ = ImGui::CreateContext();
     ImGuiIO& io = ImGui::GetIO();
     io.IniFilename = nullptr;
-    io.DisplaySize = ImVec2(kDisplayW, kDisplayH);
+    io.DisplaySize = ImVec2(kDisplayW, displayHeight());
     io.DeltaTime = 1.0f / 60.0f;
     unsigned char* pixels = nullptr;
     int w = 0, h = 0;
@@ -79,6 +94,11 @@ class PanelTest : public ::testing::Test {
     c.release = mouse(p, false);
     return c;
   }
+  // Brings a page forward ("page.tissues") and lays it out.
+  void showPage(const std::string& key) {
+    click(centre(key));
+    frame();
+  }
   // Press at `from`, drag through `to`, release there.
   PanelActions drag(ImVec2 from, ImVec2 to) {
     mouse(from, false);
@@ -104,6 +124,8 @@ void expectOnly(const PanelActions& a, const std::vector<std::string>& set) {
   EXPECT_EQ(a.level_changed, has("level")) << "level_changed";
   EXPECT_EQ(a.normal_mode_changed, has("normals")) << "normal_mode_changed";
   EXPECT_EQ(a.task_changed, has("task")) << "task_changed";
+  EXPECT_EQ(a.tooth_changed, has("tooth")) << "tooth_changed";
+  EXPECT_EQ(a.record_ideal, has("record_ideal")) << "record_ideal";
   EXPECT_EQ(a.sound_changed, has("sound")) << "sound_changed";
   EXPECT_EQ(a.start, has("start")) << "start";
   EXPECT_EQ(a.stop, has("stop")) << "stop";
@@ -117,26 +139,31 @@ TEST_F(PanelTest, EveryWidgetIsLaidOutAndIdleFramesAskNothing) {
   PanelActions a = frame();
   expectOnly(a, {});
   EXPECT_TRUE(a.score_image_rect.empty());
-  for (const char* key : {"tab.enamel", "tab.dentin", "tab.pulp", "tab.caries", "tissues.enamel.stiffness_n_per_mm3",
-                          "tissues.enamel.damping_s_per_mm", "tissues.enamel.friction", "tissues.enamel.hardness",
-                          "looks.enamel.diffuse", "looks.enamel.alpha", "looks.enamel.ambient", "looks.enamel.specular",
-                          "looks.enamel.shininess", "bur", "bur.cutting_ability", "turbine.speed", "turbine.max_rpm", "sound.volume", "sound.mute",
-                          "view.normal_neighbours.8", "view.normal_neighbours.64", "view.normal_neighbours.216",
-                          "level", "task", "start", "stop", "reset", "score", "preset", "load", "save_name", "save"}) {
-    ASSERT_TRUE(rects_.count(key)) << key;
-    const WidgetRect& r = rects_.at(key);
-    EXPECT_LT(r.min_x, r.max_x) << key;
-    EXPECT_LT(r.min_y, r.max_y) << key;
-    EXPECT_LE(r.max_y, kDisplayH) << key << " is off screen";
+  // The task page comes first; every page has the run's buttons above it.
+  EXPECT_TRUE(rects_.count("tooth"));
+  for (const auto& [page, keys] : kPages) {
+    showPage(page);
+    expectOnly(frame(), {});
+    for (const std::string& key : keys) {
+      ASSERT_TRUE(rects_.count(key)) << page << ": " << key;
+      const WidgetRect& r = rects_.at(key);
+      EXPECT_LT(r.min_x, r.max_x) << key;
+      EXPECT_LT(r.min_y, r.max_y) << key;
+      EXPECT_LE(r.max_y, kDisplayH) << key << " is off screen";
+    }
+    for (const char* key : {"start", "stop", "reset", "score"}) EXPECT_TRUE(rects_.count(key)) << page << ": " << key;
   }
   // The other tissues' tabs are closed, and the advanced section is folded.
+  showPage("page.tissues");
   EXPECT_FALSE(rects_.count("tissues.dentin.hardness"));
+  showPage("page.presets");
   EXPECT_FALSE(rects_.count("device.max_force_n"));
   EXPECT_TRUE(state_.params == defaultSimParams());
 }
 
 TEST_F(PanelTest, ClickingTheHardnessSliderSetsExactlyEnamelHardness) {
   frame();
+  showPage("page.tissues");
   SimParams expected = state_.params;
   // The slider's usable track is symmetric inside its frame (grab padding and half a grab at each
   // end), so its centre is t = 0.5 of [0, 1].
@@ -150,6 +177,7 @@ TEST_F(PanelTest, ClickingTheHardnessSliderSetsExactlyEnamelHardness) {
 
 TEST_F(PanelTest, DraggingPastTheEndsClampsToTheRange) {
   frame();
+  showPage("page.tissues");
   const WidgetRect r = rect("tissues.enamel.hardness");
   const float y = (r.min_y + r.max_y) * 0.5f;
   PanelActions a = drag(centre("tissues.enamel.hardness"), ImVec2(r.max_x + 600.0f, y));
@@ -161,6 +189,7 @@ TEST_F(PanelTest, DraggingPastTheEndsClampsToTheRange) {
 
 TEST_F(PanelTest, AlphaSliderChangesOnlyEnamelAlpha) {
   frame();
+  showPage("page.tissues");
   const SimParams touch = state_.params;
   LookParams expected = state_.looks;
   const WidgetRect r = rect("looks.enamel.alpha");
@@ -174,6 +203,7 @@ TEST_F(PanelTest, AlphaSliderChangesOnlyEnamelAlpha) {
 
 TEST_F(PanelTest, ColourDragWritesBackOnlyTheDraggedComponent) {
   frame();
+  showPage("page.tissues");
   const SimParams touch = state_.params;
   const LookParams before = state_.looks;
   const WidgetRect r = rect("looks.enamel.diffuse");
@@ -195,6 +225,7 @@ TEST_F(PanelTest, ColourDragWritesBackOnlyTheDraggedComponent) {
 
 TEST_F(PanelTest, TabsSwitchTheEditedTissue) {
   frame();
+  showPage("page.tissues");
   click(centre("tab.dentin"));
   frame();
   ASSERT_TRUE(rects_.count("tissues.dentin.hardness"));
@@ -229,6 +260,7 @@ TEST_F(PanelTest, StartStopResetScoreFollowTheRunState) {
 
 TEST_F(PanelTest, NormalsAndLevelRaiseTheirFlags) {
   frame();
+  showPage("page.view");
   Click c = click(centre("view.normal_neighbours.64"));
   EXPECT_EQ(state_.looks.view.normals, NormalMode::Box64);
   expectOnly(c.press, {});
@@ -249,6 +281,7 @@ TEST_F(PanelTest, NormalsAndLevelRaiseTheirFlags) {
 
 TEST_F(PanelTest, TurbineSpeedFromSliderWheelAndKeysWithoutAPedal) {
   frame();
+  showPage("page.tools");
   const ImVec2 p = centre("turbine.speed");
   Click c = click(p);
   EXPECT_EQ(state_.turbine_speed, 0.5);
@@ -283,6 +316,7 @@ TEST_F(PanelTest, TurbineSpeedFromSliderWheelAndKeysWithoutAPedal) {
 
 TEST_F(PanelTest, VolumeSliderAndMuteBoxSetTheSoundAndNothingElse) {
   frame();
+  showPage("page.tools");
   const SimParams before = state_.params;
   const LookParams looks_before = state_.looks;
   // The slider's centre is half volume; past its right end, full.
@@ -306,6 +340,7 @@ TEST_F(PanelTest, LoadAndSaveButtonsNameThePreset) {
   state_.presets = {"default", "soft"};
   state_.selected_preset = "soft";
   frame();
+  showPage("page.presets");
   Click c = click(centre("load"));
   EXPECT_EQ(c.release.load_preset, "soft");
   // Save is disabled while the name field is empty.
@@ -323,13 +358,17 @@ TEST_F(PanelTest, ScorePictureRectangleIsLaidOutFromTheImageAspect) {
   state_.score.image_height = 100;
   frame();
   PanelActions a = frame();
-  // 200 x 100 fitted into the 320 px box: scale 1.6, so 320 x 160. The window opens at (10, 180);
-  // the picture starts one window padding (8, 8) in, below the 19 px title bar (13 px font plus
-  // twice the 3 px frame padding): (18, 207).
-  EXPECT_EQ(a.score_image_rect.x, 18);
+  // 200 x 100 fitted into the 320 px box: scale 1.6, so 320 x 160. With no tooth to keep clear, the
+  // window (336 px wide: 8 px padding each side) stands at the right of what the panel leaves free
+  // (the panel at x 890, 10 px margins), 180 px down; the picture starts one window padding (8, 8)
+  // in, below the 19 px title bar (13 px font plus twice the 3 px frame padding): (552, 207).
+  EXPECT_EQ(a.score_image_rect.x, 880 - 336 + 8);
   EXPECT_EQ(a.score_image_rect.y, 207);
   EXPECT_EQ(a.score_image_rect.width, 320);
   EXPECT_EQ(a.score_image_rect.height, 160);
+  // The score page came forward with the score.
+  EXPECT_TRUE(rects_.count("page.score"));
+  EXPECT_FALSE(rects_.count("tooth"));
 
   state_.score = ScoreSummary{};
   EXPECT_TRUE(frame().score_image_rect.empty());
@@ -339,22 +378,25 @@ TEST_F(PanelTest, ScorePictureRectangleIsLaidOutFromTheImageAspect) {
 // ranges lie inside parsePreset's.
 TEST_F(PanelTest, NoSliderCanProduceASetThatWouldNotSave) {
   frame();
+  showPage("page.presets");
   click(centre("section.advanced"));  // unfold it
   frame();
   ASSERT_TRUE(rects_.count("device.max_force_n"));
 
-  int dragged = 0;
-  for (const char* tab : {"tab.enamel", "tab.dentin", "tab.pulp", "tab.caries"}) {
-    click(centre(tab));
-    frame();
+  // The sliders of the tools and presets pages, then each tissue's.
+  auto slidersShown = [&] {
     std::vector<std::string> sliders;
     for (const auto& [key, r] : rects_) {
       const bool colour = key.ends_with(".diffuse") || key.ends_with(".ambient") || key.ends_with(".specular");
       const bool slider = key.starts_with("tissues.") || key.starts_with("looks.") || key.starts_with("cutting.") ||
                           key.starts_with("coupling.") || key.starts_with("device.") ||
                           key.starts_with("point_shell.") || key == "bur.cutting_ability" || key == "turbine.max_rpm";
-      if (slider && !colour) sliders.push_back(key);
+      if (slider && !colour && !key.starts_with("value.")) sliders.push_back(key);
     }
+    return sliders;
+  };
+  int dragged = 0;
+  auto dragAll = [&](const std::vector<std::string>& sliders) {
     for (const std::string& key : sliders) {
       for (float dx : {2000.0f, -2000.0f}) {
         const WidgetRect r = rect(key);
@@ -365,10 +407,17 @@ TEST_F(PanelTest, NoSliderCanProduceASetThatWouldNotSave) {
         ++dragged;
       }
     }
+  };
+  dragAll(slidersShown());  // 15: 2 cutting, 6 coupling, 4 device, 3 shells
+  showPage("page.tools");
+  dragAll(slidersShown());  // 2: ability, max rpm
+  showPage("page.tissues");
+  for (const char* tab : {"tab.enamel", "tab.dentin", "tab.pulp", "tab.caries"}) {
+    click(centre(tab));
+    frame();
+    dragAll(slidersShown());  // the tissue's 6: spring, damper, friction, hardness, alpha, shininess
   }
-  // Per tab: the tissue's 6 sliders (spring, damper, friction, hardness, alpha, shininess) and the
-  // 17 others (ability, max rpm, 2 cutting, 6 coupling, 4 device, 3 shells), each dragged both ways.
-  EXPECT_EQ(dragged, 4 * (6 + 17) * 2);
+  EXPECT_EQ(dragged, (15 + 2 + 4 * 6) * 2);
 }
 
 TEST_F(PanelTest, OverlayAndScoreDrawWithExtremeValues) {
@@ -381,6 +430,141 @@ TEST_F(PanelTest, OverlayAndScoreDrawWithExtremeValues) {
   for (int i = 0; i < 3; ++i) expectOnly(frame(), {});
   state_.force = {0.0, 0.0, false};  // no scale yet
   expectOnly(frame(), {});
+}
+
+// Picking a tooth from the list, or opening one by path, raises tooth_changed with the choice in
+// the state; a task file that does not load shows its error and starts nothing.
+TEST_F(PanelTest, ThePickersRaiseTheirChoicesAndABrokenTaskShowsItsError) {
+  state_.course.teeth = {{"built-in molar, level 7", "", 7}, {"built-in molar, level 9", "", 9}, {"t.dvol", "/c/t.dvol", 0}};
+  state_.course.tasks = {{"caries", "caries (built in)", "Remove the caries", "", true, ""},
+                         {"/c/good.json", "good.json", "A good task", "Do it well.", false, ""},
+                         {"/c/bad.json", "bad.json", "", "", false, "/c/bad.json: version: expected 1 or 2"}};
+  state_.level = 9;
+  frame();
+  // The tooth list: the third entry, a file.
+  click(centre("tooth"));
+  frame();
+  Click c = click(centre("tooth.item.2"));
+  EXPECT_TRUE(c.press.tooth_changed || c.release.tooth_changed);
+  EXPECT_EQ(state_.tooth, "/c/t.dvol");
+  frame();
+  // The built-in molar at level 7.
+  click(centre("tooth"));
+  frame();
+  c = click(centre("tooth.item.0"));
+  EXPECT_TRUE(c.press.tooth_changed || c.release.tooth_changed);
+  EXPECT_EQ(state_.tooth, "");
+  EXPECT_EQ(state_.level, 7);
+  frame();
+  // Any .dvol by its path: Open is disabled until a path is typed.
+  expectOnly(click(centre("open_tooth")).release, {});
+  state_.tooth_path = "/elsewhere/x.dvol";
+  frame();
+  expectOnly(click(centre("open_tooth")).release, {"tooth"});
+  EXPECT_EQ(state_.tooth, "/elsewhere/x.dvol");
+
+  // The broken task: listed, its error shown, nothing started.
+  click(centre("task"));
+  frame();
+  c = click(centre("task.item.2"));
+  EXPECT_FALSE(c.press.task_changed || c.release.task_changed);
+  EXPECT_EQ(state_.task, "caries");
+  EXPECT_EQ(state_.task_error, "/c/bad.json: version: expected 1 or 2");
+  frame();
+  // The good one starts.
+  click(centre("task"));
+  frame();
+  c = click(centre("task.item.1"));
+  EXPECT_TRUE(c.press.task_changed || c.release.task_changed);
+  EXPECT_EQ(state_.task, "/c/good.json");
+}
+
+// Record as ideal is offered in teacher mode only, and works only for a task file whose segment is
+// being recorded.
+TEST_F(PanelTest, RecordAsIdealNeedsTeacherModeATaskFileAndARecordedSegment) {
+  frame();
+  EXPECT_FALSE(rects_.count("record_ideal"));
+  click(centre("teacher"));
+  frame();
+  EXPECT_TRUE(state_.teacher);
+  ASSERT_TRUE(rects_.count("record_ideal"));
+  state_.task_is_file = false;
+  state_.segment_recorded = true;
+  frame();
+  expectOnly(click(centre("record_ideal")).release, {});
+  state_.task_is_file = true;
+  state_.segment_recorded = false;
+  frame();
+  expectOnly(click(centre("record_ideal")).release, {});
+  state_.segment_recorded = true;
+  frame();
+  expectOnly(click(centre("record_ideal")).release, {"record_ideal"});
+}
+
+// The score picture stands beside the tooth's rectangle, never over it: right of it when there is
+// room before the panel, else left of it, else shrunk on the roomier side.
+TEST_F(PanelTest, TheScorePictureStaysOffTheTooth) {
+  state_.score.valid = true;
+  state_.score.image_width = 200;
+  state_.score.image_height = 100;
+  auto overlaps = [](const PixelRect& a, const PixelRect& b) {
+    return a.x < b.x + b.width && b.x < a.x + a.width && a.y < b.y + b.height && b.y < a.y + a.height;
+  };
+  for (const PixelRect tooth : {PixelRect{150, 300, 300, 400}, PixelRect{500, 200, 300, 400}, PixelRect{200, 200, 450, 500}}) {
+    // The window follows the tooth from frame to frame.
+    state_.keep_clear = tooth;
+    frame();
+    const PanelActions a = frame();
+    ASSERT_FALSE(a.score_image_rect.empty());
+    EXPECT_FALSE(overlaps(a.score_image_rect, tooth)) << "tooth at x " << tooth.x << ": picture at " << a.score_image_rect.x
+                                                      << ", " << a.score_image_rect.y << " size " << a.score_image_rect.width;
+    EXPECT_LE(a.score_image_rect.x + a.score_image_rect.width, a.panel_rect.x) << "the picture stays off the panel";
+    EXPECT_GE(a.score_image_rect.x, 0);
+  }
+}
+
+// In a 1280 x 800 window every page of the panel fits without scrolling, with every section open
+// and a score shown, and each slider's value stands beside its track, inside the window.
+class SmallPanelTest : public PanelTest {
+ protected:
+  float displayHeight() const override { return kSmallDisplayH; }
+};
+
+TEST_F(SmallPanelTest, EveryPageFitsIn800PixelsAndNoValueIsUnderItsSlider) {
+  state_.score.valid = true;
+  state_.score.total = 71.5;
+  for (int i = 0; i < 12; ++i) state_.score.rows.push_back({"part " + std::to_string(i), "1.0 mm^3"});
+  state_.teacher = true;
+  state_.task_title = "Prepare an occlusal class I cavity by indirect vision, in the mirror";
+  state_.task_instructions = std::string(400, 'x');
+  state_.tooth_error = "t.dvol: not a dentsim volume file";
+  state_.ideal_status = "ideal recorded: t.ideal.dses and t.ideal.dvol beside t.json";
+  state_.status = "a status line long enough to wrap once in the panel's width, as notices often do";
+  frame();
+  ImGuiWindow* panel = ImGui::FindWindowByName("Parameters");
+  ASSERT_NE(panel, nullptr);
+  EXPECT_LE(panel->Pos.y + panel->Size.y, kSmallDisplayH) << "the panel itself fits the window";
+  int values = 0;
+  for (const char* page : {"page.task", "page.tissues", "page.tools", "page.view", "page.presets", "page.score"}) {
+    showPage(page);
+    if (std::string(page) == "page.presets") {
+      click(centre("section.advanced"));
+      frame();
+      ASSERT_TRUE(rects_.count("device.max_force_n"));
+    }
+    frame();
+    EXPECT_EQ(panel->ScrollMax.y, 0.0f) << page << " scrolls: its content is " << panel->ContentSize.y << " px high";
+    for (const auto& [key, r] : rects_) {
+      EXPECT_LE(r.max_y, panel->Pos.y + panel->Size.y) << page << ": " << key << " is below the panel";
+      if (!key.starts_with("value.")) continue;
+      const std::string slider = key.substr(6);
+      ASSERT_TRUE(rects_.count(slider)) << key;
+      EXPECT_GE(r.min_x, rects_.at(slider).max_x) << key << " overlaps its track";
+      EXPECT_LE(r.max_x, panel->Pos.x + panel->Size.x) << key << " runs off the panel";
+      ++values;
+    }
+  }
+  EXPECT_GT(values, 20);
 }
 
 TEST(PresetActions, LoadAndSaveUpdateStateAndStatus) {

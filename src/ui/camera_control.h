@@ -1,0 +1,38 @@
+// What the mouse and keys may do to the simulator's camera: orbit, pan, zoom and the five preset views, all refused while the task's view is fixed.
+//
+// A fixed view is the indirect-vision exercise (eval/task.h, TaskView::fixed): the eye stays where
+// the task put it, so the cavity can be seen only in the mirror. The window's callbacks
+// (app/window_input) ask this class rather than the camera, so that no input path can go around
+// the lock.
+#pragma once
+
+#include "core/rigid.h"
+#include "render/camera.h"
+
+namespace dentsim::ui {
+
+class CameraControl {
+ public:
+  explicit CameraControl(render::OrbitCamera& camera) : camera_(camera) {}
+
+  void setFixed(bool fixed) { fixed_ = fixed; }
+  bool fixed() const { return fixed_; }
+
+  // Each returns false, leaving the camera as it was, when the view is fixed.
+  // A right drag of (dx, dy) pixels turns the eye about the target, kOrbitRadPerPx a pixel.
+  bool orbit(double dx_px, double dy_px);
+  // A middle drag slides the view so that the target follows the cursor; viewport_h [px] > 0.
+  bool pan(double dx_px, double dy_px, int viewport_h);
+  // Alt + wheel: each notch up moves 10 % closer.
+  bool zoom(double notches);
+  // Keys 1 to 5: the preset's view of a tooth centred at `centre` with `radius_mm`.
+  bool showPreset(render::ViewPreset preset, const Vec3& centre, float radius_mm);
+
+  static constexpr double kOrbitRadPerPx = 0.008;  // [rad/px]
+
+ private:
+  render::OrbitCamera& camera_;
+  bool fixed_ = false;
+};
+
+}  // namespace dentsim::ui

@@ -1,0 +1,74 @@
+// Building the pickers' lists from the embedded tasks and a course folder.
+#include "ui/course_list.h"
+
+#include <algorithm>
+#include <filesystem>
+#include <system_error>
+
+#include "eval/cut_score.h"
+#include "model/builtin_assets.h"
+
+namespace dentsim::ui {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A task as the picker shows it, from builtinTask's answer for `source`.
+TaskChoice taskChoice(const std::string& source, const std::string& label, bool builtin) {
+  TaskChoice c;
+  c.source = source;
+  c.label = label;
+  c.builtin = builtin;
+  auto task = builtinTask(source);
+  if (!task) {
+    c.error = task.message();
+    return c;
+  }
+  c.title = task->title;
+  c.instructions = task->instructions;
+  return c;
+}
+
+// The regular files in `folder` ending in `ext`, sorted by name; *error says why it could not be read.
+std::vector<fs::path> filesWithExtension(const std::string& folder, const std::string& ext, std::string* error) {
+  std::vector<fs::path> files;
+  std::error_code ec;
+  for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
+    std::error_code type_ec;
+    if (it->path().extension() == ext && it->is_regular_file(type_ec)) files.push_back(it->path());
+  }
+  if (ec) *error = folder + ": cannot read the course folder: " + ec.message();
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+}  // namespace
+
+CourseList listCourse(const std::string& folder) {
+  CourseList list;
+  list.folder = folder;
+  for (int level = kMinLevel; level <= kMaxLevel; ++level)
+    list.teeth.push_back({"built-in molar, level " + std::to_string(level), "", level});
+  // Every embedded task file, by the name builtinTask knows it by (its stem).
+  for (const std::string& asset : builtinAssetPaths()) {
+    const fs::path p(asset);
+    if (p.parent_path() != "tasks" || p.extension() != ".json") continue;
+    const std::string name = p.stem().string();
+    list.tasks.push_back(taskChoice(name, name, true));  // a file shows as "name.json"
+  }
+  if (folder.empty()) return list;
+  for (const fs::path& f : filesWithExtension(folder, ".dvol", &list.error))
+    list.teeth.push_back({f.filename().string(), f.string(), 0});
+  std::string ignored;  // the same folder: its error is already kept
+  for (const fs::path& f : filesWithExtension(folder, ".json", &ignored))
+    list.tasks.push_back(taskChoice(f.string(), f.filename().string(), false));
+  return list;
+}
+
+std::string defaultCourseFolder(const std::string& cwd) {
+  const fs::path tasks = fs::path(cwd) / "assets" / "tasks";
+  std::error_code ec;
+  return fs::is_directory(tasks, ec) ? tasks.string() : std::string();
+}
+
+}  // namespace dentsim::ui

@@ -1,0 +1,65 @@
+// The parameter window's shared widgets: sliders on doubles, colour pickers, section headers, error lines and tooltips.
+#include "ui/panel_widgets.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace dentsim::ui::panel {
+
+// A slider on a double, clamped to [lo, hi] for drags and for Ctrl+click typing alike. The bounds
+// are sub-ranges of sim_params.cpp's table, so an edited set always saves.
+bool sliderDouble(const Frame& f, const std::string& key, const char* label, double& v, double lo, double hi,
+                  const char* format, bool logarithmic, bool* hovered) {
+  const ImGuiSliderFlags flags = ImGuiSliderFlags_AlwaysClamp | (logarithmic ? ImGuiSliderFlags_Logarithmic : 0);
+  return sliderRow(
+      f, key, label, [&](const char* id) { return ImGui::SliderScalar(id, ImGuiDataType_Double, &v, &lo, &hi, format, flags); },
+      [&] {
+        char buf[48];
+        std::snprintf(buf, sizeof buf, format, v);
+        return std::string(buf);
+      },
+      hovered);
+}
+
+// A colour picker over three doubles. ImGui edits floats; a component is written back only when
+// its float differs from the float of the stored double, so the untouched components keep their
+// exact values (0.26 does not come back as 0.25999999).
+bool colourEdit(const Frame& f, const std::string& key, const char* label, double& r, double& g, double& b) {
+  float c[3] = {float(r), float(g), float(b)};
+  const Probe probe{f};
+  bool edited = ImGui::ColorEdit3(label, c, ImGuiColorEditFlags_Float);
+  probe.record(key);
+  if (!edited) return false;
+  bool changed = false;
+  double* dst[3] = {&r, &g, &b};
+  for (int i = 0; i < 3; ++i) {
+    float v = std::clamp(c[i], 0.0f, 1.0f);
+    if (v != float(*dst[i])) {
+      *dst[i] = double(v);
+      changed = true;
+    }
+  }
+  return changed;
+}
+
+// A collapsing header, recorded as "section.<key>"; true when open.
+bool section(const Frame& f, const char* key, const char* label, ImGuiTreeNodeFlags flags) {
+  bool open = ImGui::CollapsingHeader(label, flags);
+  f.record(std::string("section.") + key);
+  return open;
+}
+
+// An error line: red, wrapped, after the widget it belongs to.
+void errorLine(const std::string& text) {
+  if (text.empty()) return;
+  ImGui::PushStyleColor(ImGuiCol_Text, ImVec4(1.0f, 0.40f, 0.35f, 1.0f));
+  ImGui::TextWrapped("%s", text.c_str());
+  ImGui::PopStyleColor();
+}
+
+// A tooltip for the last item, disabled or not.
+void tooltip(const char* text) {
+  if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("%s", text);
+}
+
+}  // namespace dentsim::ui::panel
