@@ -249,7 +249,7 @@ TEST(CoursePaths, EveryBuiltinPathHasAnExpertAndTheNamesAreChecked) {
     Exercise e;
     e.path = name;
     e.bur = std::string(name) == "class2_cavity" ? "fissure_bur_010" : "round_bur_010";
-    if (std::string(name) == "class5_cavity") e.insertion_axis = {0, -0.96, -0.26};
+    if (std::string(name) == "class5_cavity") e.insertion_axis = {0, -1, 0};
     auto path = expertPath(e, molar().voxels, molar().frame, params);
     ASSERT_TRUE(path.ok()) << name << ": " << path.message();
     EXPECT_GT(path->samples.size(), 10u) << name;
@@ -268,7 +268,7 @@ TEST(CoursePaths, TheFaultsChangeTheExpertsPathAsNamed) {
   const SimParams params = defaultSimParams();
   Exercise e;
   e.path = "class5_cavity";
-  e.insertion_axis = {0, -0.96, -0.26};
+  e.insertion_axis = {0, -1, 0};
   auto expert = taskAttemptPath(e, Attempt::Expert, molar().voxels, molar().frame, params);
   auto slow = taskAttemptPath(e, Attempt::Slow, molar().voxels, molar().frame, params);
   auto undercut = taskAttemptPath(e, Attempt::Undercut, molar().voxels, molar().frame, params);
