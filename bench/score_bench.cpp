@@ -184,7 +184,11 @@ std::vector<std::string> faultParts(TaskKind kind, Attempt attempt) {
   switch (attempt) {
     case Attempt::Expert: return {};
     case Attempt::Overcut: return {caries ? "healthy" : "overcut"};
-    case Attempt::Undercut: return {caries ? "removal" : "undercut"};
+    // An access stopped early leaves the chamber closed: the cap is its under-cut's cost too.
+    case Attempt::Undercut:
+      return caries ? std::vector<std::string>{"removal"}
+                    : kind == TaskKind::Access ? std::vector<std::string>{"undercut", "pulp cap"}
+                                               : std::vector<std::string>{"undercut"};
     case Attempt::Heavy: return {"force"};
     case Attempt::Slow: return {"time"};
     case Attempt::Trench: return caries ? std::vector<std::string>{"removal", "healthy"} : std::vector<std::string>{"undercut", "overcut"};

@@ -50,6 +50,8 @@ TEST(ScoreBench, FaultPartsPerTask) {
   EXPECT_EQ(faultParts(TaskKind::Caries, Attempt::Overcut), std::vector<std::string>{"healthy"});
   EXPECT_EQ(faultParts(TaskKind::Cavity, Attempt::Overcut), std::vector<std::string>{"overcut"});
   EXPECT_EQ(faultParts(TaskKind::Cavity, Attempt::Undercut), std::vector<std::string>{"undercut"});
+  EXPECT_EQ(faultParts(TaskKind::Access, Attempt::Undercut), (std::vector<std::string>{"undercut", "pulp cap"}));
+  EXPECT_EQ(faultParts(TaskKind::Access, Attempt::Overcut), std::vector<std::string>{"overcut"});
   EXPECT_EQ(faultParts(TaskKind::Caries, Attempt::Heavy), std::vector<std::string>{"force"});
   EXPECT_TRUE(faultParts(TaskKind::Caries, Attempt::Expert).empty());
 }
