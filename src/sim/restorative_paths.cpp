@@ -9,19 +9,6 @@ namespace dentsim {
 
 // ---- 1. landmarks ------------------------------------------------------------------------------------------
 
-std::optional<Vec3> lowestRest(SurfaceProbe& probe, double x, double y, double r, double search_mm, double grid_mm) {
-  const auto n = int(std::floor(search_mm / grid_mm));
-  std::optional<Vec3> best;
-  for (int j = -n; j <= n; ++j)
-    for (int i = -n; i <= n; ++i) {
-      if (i * i + j * j > n * n) continue;
-      const double px = x + grid_mm * i, py = y + grid_mm * j;
-      const std::optional<double> z = probe.restingTip(px, py, r);
-      if (z && (!best || *z < best->z)) best = Vec3{px, py, *z};
-    }
-  return best;
-}
-
 std::optional<double> cejAlong(TissueRay& ray, const Vec3& start, const Vec3& dir, double z_from, double z_to,
                                double step_mm, double reach_mm) {
   std::optional<double> last_enamel;
@@ -75,7 +62,7 @@ Result<Class2Path> class2CavityPath(const BrickVolume& volume, const VolumeFrame
   const Vec3 centre = box.centre();
 
   Class2Path out;
-  const std::optional<Vec3> fossa = lowestRest(probe, centre.x, centre.y, r, s.fossa_search_mm, s.fossa_grid_mm);
+  const std::optional<Vec3> fossa = lowestRestingTip(probe, centre.x, centre.y, r, s.fossa_search_mm, s.fossa_grid_mm);
   if (!fossa) return makeError(where, "no tissue under the bur near the crown's centre");
   out.fossa_mm = *fossa;
   out.fossa_surface_z = probe.surface(fossa->x, fossa->y).value_or(fossa->z);
@@ -142,7 +129,7 @@ Result<Class5Path> class5CavityPath(const BrickVolume& volume, const VolumeFrame
   const Vec3 centre = box.centre();
 
   // The crown's mesiodistal centre is the fossa's; the buccal CEJ lies under it.
-  const std::optional<Vec3> fossa = lowestRest(probe, centre.x, centre.y, r, s.fossa_search_mm, s.fossa_grid_mm);
+  const std::optional<Vec3> fossa = lowestRestingTip(probe, centre.x, centre.y, r, s.fossa_search_mm, s.fossa_grid_mm);
   if (!fossa) return makeError(where, "no tissue under the bur near the crown's centre");
   const double step = 0.5 * frame.voxel_mm, reach = box.hi.y - box.lo.y + 2.0;
   const Vec3 buccal_start{fossa->x, box.lo.y - 1.0, 0.0}, toward_lingual{0, 1, 0};

@@ -8,7 +8,7 @@
 // attempt (sim/course_paths.h).
 //
 // Contents
-//   1. Landmarks: the fossa, the CEJ along a line
+//   1. Landmarks: the CEJ along a line (the fossa is sim/surface_probe.h's lowestRestingTip)
 //   2. Class II mesio-occlusal cavity (fissure bur, held along +z)
 //   3. Class V cervical cavity (round bur, held along the buccal normal)
 //   4. Endodontic access cavity (round bur, held along +z)
@@ -28,10 +28,6 @@
 namespace dentsim {
 
 // ---- 1. landmarks ------------------------------------------------------------------------------------------
-
-// Where a ball of radius r [mm] coming down from +z rests lowest within search_mm of (x, y) on a
-// grid of grid_mm: the fossa when (x, y) is the crown's centre. nullopt when no column holds tissue.
-std::optional<Vec3> lowestRest(SurfaceProbe& probe, double x, double y, double r, double search_mm, double grid_mm);
 
 // The CEJ seen along a line: rays in direction `dir` from start + z (0, 0, 1), for z from z_from
 // down to z_to in steps of step_mm, meet enamel above it and other tissue (or none) below it. The
