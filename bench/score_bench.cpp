@@ -12,6 +12,7 @@
 #include "eval/cut_score.h"
 #include "eval/session_stats.h"
 #include "io/session_file.h"
+#include "sim/course_paths.h"
 #include "sim/session_run.h"
 #include "volume/volume_hash.h"
 
@@ -37,9 +38,12 @@ std::vector<std::pair<std::string, double>> reportParts(const nlohmann::ordered_
       parts.push_back({name, points == 0.0 ? 0.0 : -points});  // no "-0.0" in the tables
       sum += parts.back().second;
     }
-  const auto& cap = report["deductions"]["pulp_exposure"];
-  if (cap["applied"].get<bool>())
-    parts.push_back({"pulp cap", report["total"].get<double>() - std::clamp(sum, 0.0, report["total_max"].get<double>())});
+  // The pulp's cap: exposure for a cavity or caries removal, a chamber left closed for an access.
+  for (const char* key : {"pulp_exposure", "pulp_unopened"}) {
+    const auto& d = report["deductions"];
+    if (d.contains(key) && d[key]["applied"].get<bool>())
+      parts.push_back({"pulp cap", report["total"].get<double>() - std::clamp(sum, 0.0, report["total_max"].get<double>())});
+  }
   return parts;
 }
 
@@ -56,12 +60,8 @@ struct Runner {
   const SimParams params = defaultSimParams();
 
   Result<Drilled> drill(const Task& task, Attempt attempt) {
-    const bool caries = task.kind == TaskKind::Caries;
-    const std::string name = std::string(taskKindName(task.kind)) + "-" + attemptName(attempt);
-    CavityPathSettings cavity_settings;
-    if (const std::optional<double> r = burHeadRadiusMm(task.drill_tool)) cavity_settings.bur_radius_mm = *r;
-    Result<PenPath> path = caries ? cariesAttemptPath(attempt, molar.voxels, molar.frame, params, task.drill_tool)
-                                  : cavityAttemptPath(attempt, molar.voxels, molar.frame, cavity_settings);
+    const std::string name = task.name + "-" + attemptName(attempt);
+    Result<PenPath> path = taskAttemptPath(exerciseOf(task), attempt, molar.voxels, molar.frame, params);
     if (!path) return makeError(name, path.message());
     Drilled d{name, molar, {}};
     SessionInfo info;
@@ -96,7 +96,8 @@ struct Runner {
     }
 
     AttemptScore a;
-    a.task = taskKindName(task.kind);
+    a.task = task.name;
+    a.kind = task.kind;
     a.attempt = attempt;
     const nlohmann::ordered_json& r = scored->report;
     a.report = r;
@@ -115,7 +116,7 @@ struct Runner {
     a.caries_removed_percent = caries_initial > 0 ? 100.0 * v["caries"]["removed_mm3"].get<double>() / caries_initial : 0.0;
     a.healthy_removed_mm3 = v["healthy"]["removed_mm3"].get<double>();
     a.healthy_outside_mm3 = v["healthy"]["container_removed_mm3"].get<double>();
-    if (task.kind == TaskKind::Cavity) {
+    if (task.kind != TaskKind::Caries) {
       a.undercut_percent = r["components"]["undercut"]["percent_of_ideal"].get<double>();
       a.overcut_percent = r["components"]["overcut"]["percent_of_ideal"].get<double>();
     }
@@ -138,7 +139,7 @@ Task timedFromExpert(Task task, double expert_s, const ScoreBenchSettings& s) {
 
 }  // namespace
 
-Result<ScoreBenchResult> runScoreBench(const ToothVolume& molar, const Task& caries, const Task& cavity,
+Result<ScoreBenchResult> runScoreBench(const ToothVolume& molar, const std::vector<Task>& tasks,
                                        const ScoreBenchSettings& settings,
                                        const std::function<void(const std::string&)>& progress) {
   if (settings.work_dir.empty()) return makeError("bench scores", "no folder for the sessions");
@@ -146,14 +147,12 @@ Result<ScoreBenchResult> runScoreBench(const ToothVolume& molar, const Task& car
   out.level = molar.voxels.level();
   out.voxel_mm = molar.frame.voxel_mm;
   Runner runner{molar, settings};
-  std::vector<const Task*> tasks;
-  if (settings.caries) tasks.push_back(&caries);
-  if (settings.cavity) tasks.push_back(&cavity);
-  for (const Task* base : tasks) {
-    // The cavity's ideal is the same for every attempt: made once, from the task.
+  for (const Task& given : tasks) {
+    const Task* base = &given;
+    // A task's ideal is the same for every attempt: made once, from the task.
     std::optional<ToothVolume> ideal;
     if (base->ideal) {
-      if (progress) progress(std::string(taskKindName(base->kind)) + ": the ideal");
+      if (progress) progress(base->name + ": the ideal");
       std::vector<std::string> warnings;
       auto made = idealForTask(*base, molar, &warnings);
       if (!made) return made.error();
@@ -164,7 +163,7 @@ Result<ScoreBenchResult> runScoreBench(const ToothVolume& molar, const Task& car
     for (Attempt a : settings.attempts)
       if (a != Attempt::Expert) order.push_back(a);
     for (Attempt a : order) {
-      if (progress) progress(std::string(taskKindName(task.kind)) + ": " + attemptName(a));
+      if (progress) progress(task.name + ": " + attemptName(a));
       auto drilled = runner.drill(task, a);
       if (!drilled) return drilled.error();
       // The expert's session sets the task's times; every attempt is scored against them.
@@ -173,7 +172,7 @@ Result<ScoreBenchResult> runScoreBench(const ToothVolume& molar, const Task& car
       if (!scored) return scored.error();
       out.scores.push_back(std::move(*scored));
     }
-    (base->kind == TaskKind::Caries ? out.caries_task : out.cavity_task) = task;
+    out.tasks.push_back(task);
   }
   return out;
 }
@@ -185,7 +184,11 @@ std::vector<std::string> faultParts(TaskKind kind, Attempt attempt) {
   switch (attempt) {
     case Attempt::Expert: return {};
     case Attempt::Overcut: return {caries ? "healthy" : "overcut"};
-    case Attempt::Undercut: return {caries ? "removal" : "undercut"};
+    // An access stopped early leaves the chamber closed: the cap is its under-cut's cost too.
+    case Attempt::Undercut:
+      return caries ? std::vector<std::string>{"removal"}
+                    : kind == TaskKind::Access ? std::vector<std::string>{"undercut", "pulp cap"}
+                                               : std::vector<std::string>{"undercut"};
     case Attempt::Heavy: return {"force"};
     case Attempt::Slow: return {"time"};
     case Attempt::Trench: return caries ? std::vector<std::string>{"removal", "healthy"} : std::vector<std::string>{"undercut", "overcut"};
@@ -197,7 +200,7 @@ std::vector<NoviceCheck> checkNovices(const ScoreBenchResult& result, double min
   std::vector<NoviceCheck> out;
   for (const AttemptScore& expert : result.scores) {
     if (expert.attempt != Attempt::Expert) continue;
-    const TaskKind kind = expert.task == "caries" ? TaskKind::Caries : TaskKind::Cavity;
+    const TaskKind kind = expert.kind;
     std::map<std::string, double> base(expert.parts.begin(), expert.parts.end());
     for (const AttemptScore& novice : result.scores) {
       if (novice.task != expert.task || novice.attempt == Attempt::Expert) continue;
@@ -233,6 +236,7 @@ std::string fixed(double v, int digits = 1) {
 
 nlohmann::ordered_json taskTimes(const Task& t) {
   nlohmann::ordered_json j = {{"name", t.name}, {"drill", t.drill_tool}, {"target_s", t.target_s}};
+  j["kind"] = taskKindName(t.kind);
   if (t.kind == TaskKind::Caries) j["failure_s"] = t.failure_s;
   else j["time_coefficient"] = t.cavity.time_coefficient;
   return j;
@@ -245,11 +249,14 @@ nlohmann::ordered_json scoreBenchJson(const ScoreBenchResult& result) {
   j["benchmark"] = "scores";
   j["level"] = result.level;
   j["voxel_mm"] = result.voxel_mm;
-  j["tasks"] = {{"caries", taskTimes(result.caries_task)}, {"cavity", taskTimes(result.cavity_task)}};
+  nlohmann::ordered_json times = nlohmann::ordered_json::object();
+  for (const Task& t : result.tasks) times[t.name] = taskTimes(t);
+  j["tasks"] = std::move(times);
   nlohmann::ordered_json scores = nlohmann::ordered_json::array();
   for (const AttemptScore& a : result.scores) {
     nlohmann::ordered_json s;
     s["task"] = a.task;
+    s["kind"] = taskKindName(a.kind);
     s["attempt"] = attemptName(a.attempt);
     s["fault"] = attemptFault(a.attempt);
     s["total"] = a.total;
@@ -265,7 +272,7 @@ nlohmann::ordered_json scoreBenchJson(const ScoreBenchResult& result) {
     s["caries_removed_percent"] = a.caries_removed_percent;
     s["healthy_removed_mm3"] = a.healthy_removed_mm3;
     s["healthy_outside_zone_mm3"] = a.healthy_outside_mm3;
-    if (a.task == "cavity") {
+    if (a.kind != TaskKind::Caries) {
       s["undercut_percent"] = a.undercut_percent;
       s["overcut_percent"] = a.overcut_percent;
     }
@@ -293,10 +300,10 @@ std::string scoreBenchMarkdown(const ScoreBenchResult& result) {
   std::ostringstream o;
   const std::vector<NoviceCheck> checks = checkNovices(result);
   o << "# Scores of scripted attempts (level " << result.level << ", " << fixed(result.voxel_mm, 4) << " mm voxels)\n\n";
-  for (const char* task : {"caries", "cavity"}) {
-    const Task& t = std::string(task) == "caries" ? result.caries_task : result.cavity_task;
-    o << "## " << (std::string(task) == "caries" ? "Caries removal" : "Class I cavity") << " (" << t.drill_tool
-      << ", target " << fixed(t.target_s) << " s)\n\n";
+  for (const Task& t : result.tasks) {
+    const std::string& task = t.name;
+    o << "## " << t.name << ": " << t.title << " (" << taskKindName(t.kind) << ", " << t.drill_tool << ", target "
+      << fixed(t.target_s) << " s)\n\n";
     // The parts in the expert's order, then any the novices add.
     std::vector<std::string> names;
     for (const AttemptScore& a : result.scores)
@@ -331,20 +338,24 @@ std::string scoreBenchMarkdown(const ScoreBenchResult& result) {
 }
 
 std::string scoreBenchSvg(const ScoreBenchResult& result) {
+  // One group of bars per attempt, one bar per task; an attempt a task did not run scores no bar.
   std::vector<std::string> categories;
-  BarSeries caries{"caries removal", {}}, cavity{"class I cavity", {}};
-  for (const AttemptScore& a : result.scores) {
-    if (a.task != "caries") continue;
-    categories.push_back(attemptName(a.attempt));
-    caries.values.push_back(a.total);
-    for (const AttemptScore& b : result.scores)
-      if (b.task == "cavity" && b.attempt == a.attempt) cavity.values.push_back(b.total);
+  for (const AttemptScore& a : result.scores)
+    if (std::find(categories.begin(), categories.end(), attemptName(a.attempt)) == categories.end())
+      categories.push_back(attemptName(a.attempt));
+  std::vector<BarSeries> series;
+  for (const Task& t : result.tasks) {
+    BarSeries bars{t.name, std::vector<double>(categories.size(), 0.0)};
+    for (const AttemptScore& a : result.scores)
+      if (a.task == t.name)
+        bars.values[size_t(std::find(categories.begin(), categories.end(), attemptName(a.attempt)) - categories.begin())] = a.total;
+    series.push_back(std::move(bars));
   }
   double expert_min = 100.0;
   for (const AttemptScore& a : result.scores)
     if (a.attempt == Attempt::Expert) expert_min = std::min(expert_min, a.total);
   return svgBarChart("Scores of scripted attempts, level " + std::to_string(result.level), "score (of 100)", categories,
-                     {caries, cavity}, 100.0, 20.0, expert_min - 20.0, "expert - 20");
+                     series, 100.0, 20.0, expert_min - 20.0, "expert - 20");
 }
 
 }  // namespace dentsim::bench

@@ -1,7 +1,8 @@
-// The score benchmark (`dentsim bench scores`): scripted expert and novice attempts at both built-in tasks on the molar, scored, to show that the score tells them apart.
+// The score benchmark (`dentsim bench scores`): scripted expert and novice attempts at every built-in task on the molar, scored, to show that the score tells them apart.
 //
-// Construct validity, measured: every attempt of sim/novice_paths.h is drilled by the scripted pen
-// on the same tooth, recorded, and scored through eval's scoreCut like any student's. The expert
+// Construct validity, measured: every attempt of sim/novice_paths.h (made for each task by
+// sim/course_paths.h) is drilled by the scripted pen on the same tooth, recorded, and scored
+// through eval's scoreCut like any student's. The expert
 // should score at least 20 points above each novice, and each novice should lose its points in the
 // part that matches its fault. Scripted attempts are deterministic, so a second run gives the same
 // scores to the last bit.
@@ -9,7 +10,7 @@
 // The built-in tasks' times are a student's (minutes); the scripted expert works in seconds. So
 // the bench sets each task's times from its expert, as a teacher sets them from the professional's
 // recorded attempt: the target is target_factor times the expert's time, and the time points are
-// gone at failure_factor times it (the caries task's failure_s; the cavity task's time_coefficient).
+// gone at failure_factor times it (a caries task's failure_s; a cavity or access task's time_coefficient).
 //
 // Contents
 //   1. Running the attempts
@@ -36,8 +37,6 @@ namespace dentsim::bench {
 
 struct ScoreBenchSettings {
   std::vector<Attempt> attempts{kAttempts.begin(), kAttempts.end()};  // the expert is always run first
-  bool caries = true;            // run the caries removal task
-  bool cavity = true;            // run the class I cavity task
   double target_factor = 1.25;   // a task's target_s: this times its expert's elapsed time
   double failure_factor = 3.0;   // no time points left at this times the expert's elapsed time
   std::string work_dir;          // where the sessions are written and read back (removed after); required
@@ -46,7 +45,8 @@ struct ScoreBenchSettings {
 
 // One attempt's score and what it did.
 struct AttemptScore {
-  std::string task;                                      // "caries" or "cavity"
+  std::string task;                                      // the task's name ("caries_removal", "class2_cavity", ...)
+  TaskKind kind = TaskKind::Caries;
   Attempt attempt = Attempt::Expert;
   double total = 0.0, total_max = 100.0, paper_total = 0.0;
   std::vector<std::pair<std::string, double>> parts;     // each scored part's points; deductions negative
@@ -57,7 +57,7 @@ struct AttemptScore {
   double caries_removed_percent = 0.0;                   // of the initial caries
   double healthy_removed_mm3 = 0.0;
   double healthy_outside_mm3 = 0.0;                      // outside the allowed zone
-  double undercut_percent = 0.0, overcut_percent = 0.0;  // cavity: of the ideal
+  double undercut_percent = 0.0, overcut_percent = 0.0;  // cavity and access: of the ideal
   bool pulp_exposed = false;
   std::string final_hash;                                // volumeHash of the cut tooth
   std::vector<std::string> warnings;
@@ -67,13 +67,14 @@ struct AttemptScore {
 struct ScoreBenchResult {
   int level = 0;
   double voxel_mm = 0.0;
-  Task caries_task, cavity_task;   // as scored: the built-in tasks with the times set from the experts
-  std::vector<AttemptScore> scores;  // caries attempts, then cavity attempts, each in settings' order
+  std::vector<Task> tasks;           // as scored: the tasks given, with the times set from their experts
+  std::vector<AttemptScore> scores;  // each task's attempts in the tasks' order, the expert first, then settings' order
 };
 
-// Runs every attempt on `molar` (the built-in molar at some level). `progress` is told each attempt
-// as it starts (may be empty).
-Result<ScoreBenchResult> runScoreBench(const ToothVolume& molar, const Task& caries, const Task& cavity,
+// Runs every attempt at each task on `molar` (the built-in molar at some level). `progress` is told
+// each attempt as it starts (may be empty). Errors: a task the course has no scripted attempts at
+// (sim/course_paths.h), or a failed run.
+Result<ScoreBenchResult> runScoreBench(const ToothVolume& molar, const std::vector<Task>& tasks,
                                        const ScoreBenchSettings& settings,
                                        const std::function<void(const std::string&)>& progress = {});
 

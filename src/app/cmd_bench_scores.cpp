@@ -1,4 +1,4 @@
-// `dentsim bench scores [--level 8] [--out DIR]`: scripted expert and novice attempts at both built-in tasks, scored, as a table, JSON and a bar chart.
+// `dentsim bench scores [--level 8] [--tasks A,B] [--out DIR]`: scripted expert and novice attempts at every built-in task on the molar, scored, as a table, JSON and a bar chart.
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -10,6 +10,7 @@
 #include "app/commands.h"
 #include "bench/score_bench.h"
 #include "eval/cut_score.h"
+#include "eval/task_tooth.h"
 #include "io/atomic_file.h"
 #include "sim/builtin_tooth.h"
 
@@ -19,6 +20,7 @@ namespace {
 struct ScoresBenchOptions {
   int level = 8;                       // octree level of the built-in molar
   std::vector<std::string> attempts;   // empty: all
+  std::vector<std::string> tasks;      // built-in task names; empty: every one on the built-in molar
   std::string out = "docs/bench";      // scores.json, scores.md, scores.svg
   bool pictures = false;               // also each attempt's score picture, into out/scores/
 };
@@ -50,12 +52,20 @@ int runScoresBench(const ScoresBenchOptions& o) {
 
   auto molar = builtinMolarTooth(o.level);
   if (!molar) return fail(molar.message());
-  auto caries = builtinTask("caries");
-  if (!caries) return fail(caries.message());
-  auto cavity = builtinTask("cavity");
-  if (!cavity) return fail(cavity.message());
-  std::printf("scores bench: the built-in molar at level %d (%.4f mm voxels)\n", o.level, molar->frame.voxel_mm);
-  auto result = bench::runScoreBench(*molar, *caries, *cavity, settings, [](const std::string& line) {
+  // Every shipped task on the built-in molar (assets/tasks/*.json), or those named.
+  std::vector<Task> tasks;
+  for (const std::string& name : o.tasks.empty() ? builtinTaskNames() : o.tasks) {
+    auto task = builtinTask(name);
+    if (!task) return fail("--tasks: " + task.message());
+    if (task->tooth != kBuiltinMolarTooth) {
+      if (!o.tasks.empty()) return fail("--tasks: " + name + " is not on the built-in molar");
+      continue;
+    }
+    tasks.push_back(std::move(*task));
+  }
+  std::printf("scores bench: %zu tasks on the built-in molar at level %d (%.4f mm voxels)\n", tasks.size(), o.level,
+              molar->frame.voxel_mm);
+  auto result = bench::runScoreBench(*molar, tasks, settings, [](const std::string& line) {
     std::printf("  %s\n", line.c_str());
     std::fflush(stdout);
   });
@@ -87,9 +97,16 @@ int runScoresBench(const ScoresBenchOptions& o) {
 void addScoresBenchCommand(CLI::App& bench, Action& action) {
   auto o = std::make_shared<ScoresBenchOptions>();
   CLI::App* cmd = bench.add_subcommand("scores", "Scripted expert and novice attempts (over-cut, under-cut, heavy, slow, "
-                                                 "trench) at both built-in tasks on the molar, scored: the gaps");
+                                                 "trench) at every built-in task on the molar, scored: the gaps");
   cmd->add_option("--level", o->level, "Octree level of the molar")->check(CLI::Range(6, 10))->capture_default_str();
   cmd->add_option("--attempts", o->attempts, "Attempts to run besides the expert: " + attemptNames())->delimiter(',');
+  cmd->add_option("--tasks", o->tasks, "Built-in tasks to run (default: every one on the built-in molar: " +
+                                          [] {
+                                            std::string list;
+                                            for (const std::string& n : builtinTaskNames()) list += (list.empty() ? "" : ", ") + n;
+                                            return list;
+                                          }() + ")")
+      ->delimiter(',');
   cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
   cmd->add_flag("--pictures", o->pictures, "Also write each attempt's score picture to OUT/scores/");
   cmd->callback([o, &action] { action = [o] { return runScoresBench(*o); }; });

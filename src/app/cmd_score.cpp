@@ -60,7 +60,7 @@ int runScore(const ScoreCliOptions& o) {
 void addScoreCommand(CLI::App& root, Action& action) {
   auto o = std::make_shared<ScoreCliOptions>();
   CLI::App* cmd = root.add_subcommand("score", "Score a cut tooth against the start (and the ideal): JSON report and PNG");
-  cmd->add_option("--task", o->task, "caries, cavity, or a task file (.json)")->required();
+  cmd->add_option("--task", o->task, "caries, cavity, a built-in task by name (class2_cavity, class5_cavity, access_cavity, ...), or a task file (.json)")->required();
   cmd->add_option("--initial", o->initial, "The tooth before the cut (.dvol)")->required();
   cmd->add_option("--final", o->final_, "The tooth after the cut (.dvol)")->required();
   cmd->add_option("--ideal", o->ideal, "The professional's final tooth (.dvol); default: the task's ideal");

@@ -1,6 +1,7 @@
 // Scoring a cut end to end: built-in tasks, the ideal a task names, scoreCut, and the report and picture files.
 #include "eval/cut_score.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -13,7 +14,7 @@
 #include "eval/task_tooth.h"
 #include "io/atomic_file.h"
 #include "model/builtin_assets.h"
-#include "sim/scripted_paths.h"
+#include "sim/course_paths.h"
 #include "sim/session_run.h"
 #include "volume/crown_estimate.h"
 #include "volume/tooth_file.h"
@@ -21,14 +22,31 @@
 
 namespace dentsim {
 
+namespace {
+constexpr std::string_view kTaskFolder = "tasks/", kTaskSuffix = ".json";
+}  // namespace
+
+std::vector<std::string> builtinTaskNames() {
+  std::vector<std::string> names;
+  for (const std::string& path : builtinAssetPaths())
+    if (path.starts_with(kTaskFolder) && path.ends_with(kTaskSuffix))
+      names.push_back(path.substr(kTaskFolder.size(), path.size() - kTaskFolder.size() - kTaskSuffix.size()));
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
 Result<Task> builtinTask(const std::string& name) {
   std::string file;
-  if (name == "caries" || name == "caries_removal") file = "tasks/caries_removal.json";
-  if (name == "cavity" || name == "class1_cavity") file = "tasks/class1_cavity.json";
-  if (file.empty() && !builtinAssetBytes("tasks/" + name + ".json").empty()) file = "tasks/" + name + ".json";  // every other embedded task
+  const std::vector<std::string> names = builtinTaskNames();
+  if (std::find(names.begin(), names.end(), name) != names.end()) file = std::string(kTaskFolder) + name + std::string(kTaskSuffix);
+  if (name == "caries") file = "tasks/caries_removal.json";
+  if (name == "cavity") file = "tasks/class1_cavity.json";
   if (file.empty()) {
-    if (!std::filesystem::exists(name))
-      return makeError(name, "no such task: the built-in ones are caries and cavity, or give a task file");
+    if (!std::filesystem::exists(name)) {
+      std::string list = "caries, cavity";
+      for (const std::string& n : names) list += ", " + n;
+      return makeError(name, "no such task: the built-in ones are " + list + ", or give a task file");
+    }
     auto task = loadTask(name);
     if (!task) return task;
     // The tooth and an ideal file are named relative to the task file.
@@ -44,6 +62,15 @@ Result<Task> builtinTask(const std::string& name) {
   const std::span<const uint8_t> bytes = builtinAssetBytes(file);
   if (bytes.empty()) return makeError(file, "not among the embedded assets");
   return parseTask(std::string(bytes.begin(), bytes.end()), "assets/" + file);
+}
+
+Exercise exerciseOf(const Task& task) {
+  Exercise e;
+  e.kind = taskKindName(task.kind);
+  if (task.ideal && task.ideal->kind == IdealKind::BuiltinPath) e.path = task.ideal->path;
+  e.bur = task.drill_tool;
+  e.insertion_axis = task.insertion_axis;
+  return e;
 }
 
 Result<ToothVolume> idealForTask(const Task& task, const ToothVolume& initial, std::vector<std::string>* warnings) {
@@ -80,25 +107,25 @@ Result<ToothVolume> idealForTask(const Task& task, const ToothVolume& initial, s
       return recorded(std::move(tooth), ideal.path);
     }
     case IdealKind::BuiltinPath: {
-      if (ideal.path != "class1_cavity") return makeError(where, "no built-in path \"" + ideal.path + "\" (there is class1_cavity)");
-      // The path looks for the fossa from +z: on a tooth whose crown faces elsewhere it drills the side or the roots.
+      if (!isBuiltinPath(ideal.path))
+        return makeError(where, "no built-in path \"" + ideal.path + "\" (there are " + builtinPathNames() + ")");
+      // The paths find the fossa, the CEJ and the pulp with +z as the crown's axis: on a tooth whose
+      // crown faces elsewhere they drill the side or the roots.
       const CrownEstimate crown = estimateCrown(initial.voxels);
       if (crown.from_enamel && crown.axis.z < std::cos(45.0 * std::numbers::pi / 180.0)) {
         char axis[96];
         std::snprintf(axis, sizeof axis, "(%.2f, %.2f, %.2f)", crown.axis.x, crown.axis.y, crown.axis.z);
-        warnings->push_back(where + ": the built-in path class1_cavity drills from +z, but this tooth's crown faces " + axis +
-                            " (estimated from the enamel): the ideal is not an occlusal cavity on it");
+        warnings->push_back(where + ": the built-in path " + ideal.path + " is laid out for a crown facing +z, but this tooth's crown faces " + axis +
+                            " (estimated from the enamel): the ideal is not the cavity it names on it");
       }
       // The professional drills with the task's own bur, as the student will.
       const SimParams params = defaultSimParams();
-      CavityPathSettings ps;
-      if (const std::optional<double> r = burHeadRadiusMm(task.drill_tool)) ps.bur_radius_mm = *r;
-      auto path = cavityPreparationPath(initial.voxels, initial.frame, ps);
+      auto path = expertPath(exerciseOf(task), initial.voxels, initial.frame, params);
       if (!path) return makeError(where, path.message());
       ToothVolume tooth = initial;
       ScriptedSessionOptions so;
       so.drill_tool = task.drill_tool;
-      auto run = recordScriptedSession(tooth, params, path->path, "", SessionInfo{}, so);
+      auto run = recordScriptedSession(tooth, params, *path, "", SessionInfo{}, so);
       if (!run) return makeError(where, run.message());
       return tooth;
     }
@@ -174,7 +201,7 @@ RgbImage scorePicture(const Task& task, const ToothVolume& initial, const ToothV
   ScoreImageOptions options;
   options.oblique = true;
   const ToothVolume* ideal = given_ideal ? given_ideal : (score.ideal ? &*score.ideal : nullptr);
-  const CutMarks& red = task.kind == TaskKind::Cavity ? score.diff.beyond_target : score.diff.healthy_outside_zone;
+  const CutMarks& red = task.kind != TaskKind::Caries ? score.diff.beyond_target : score.diff.healthy_outside_zone;
   return renderScoreImage(initial, final_, ideal, &red, options).image;
 }
 

@@ -16,17 +16,25 @@
 #include "eval/tooth_diff.h"
 #include "io/png_file.h"
 #include "io/session_file.h"
+#include "sim/course_paths.h"
 #include "volume/brick_volume.h"
 
 namespace dentsim {
 
-// A task: "caries" or "cavity" (the built-in tasks, also by their full names), or a task file.
+// A task: a built-in one by its name ("caries_removal", "class2_cavity", ...; "caries" and "cavity"
+// are the first two's short names), or a task file.
 Result<Task> builtinTask(const std::string& name_or_file);
+// The names of the built-in tasks (assets/tasks/*.json, embedded), sorted.
+std::vector<std::string> builtinTaskNames();
 
-// The professional's final tooth that task.ideal names (which must be set): its built-in path drilled
-// on `initial`, its volume file, or its session replayed on `initial`. What may make it wrong for
+// The professional's final tooth that task.ideal names (which must be set): its built-in path
+// (sim/course_paths.h) drilled on `initial` with the task's bur, its volume file, or its session replayed on `initial`. What may make it wrong for
 // this tooth (a built-in path laid out for a crown facing +z on a tooth whose crown faces elsewhere)
 // is added to *warnings.
+// What the scripted dentist (sim/course_paths.h) needs of the task: its kind, its ideal's built-in
+// path (empty when it has none of that kind), its drill and its insertion axis.
+Exercise exerciseOf(const Task& task);
+
 Result<ToothVolume> idealForTask(const Task& task, const ToothVolume& initial, std::vector<std::string>* warnings);
 
 struct SessionScore {

@@ -27,6 +27,8 @@ double forceOverPercent(const SessionStats& s) {
 
 // The cap an exposed pulp puts on a total out of total_max: the task's cap is out of 100.
 double pulpCap(const Task& task, double total_max) { return task.pulp_exposure_cap * total_max / 100.0; }
+// The same for an access cavity whose pulp chamber was left closed.
+double unopenedCap(const Task& task, double total_max) { return task.access.unopened_cap * total_max / 100.0; }
 
 // Without a session, the parts that need one are not scored: the total is out of what remains.
 constexpr double kSessionPoints = 50.0;
@@ -119,7 +121,15 @@ Result<CavityScore> scoreCavityPreparation(const ToothDiff& diff, const SessionS
   s.total = clampScore(s.paper_total - s.force_deduction.value_or(0.0), 0.0, s.total_max);
   s.pulp_exposed = diff.pulp_exposed;
   s.exposed_pulp_voxels = diff.exposed_pulp_voxels;
-  if (s.pulp_exposed && s.total > pulpCap(task, s.total_max)) {
+  s.access = task.kind == TaskKind::Access;
+  if (s.access) {
+    // The access exists to reach the canals: without the chamber open it has failed, however close
+    // its outline came; opened, the pulp is where the exercise ends, not a fault.
+    if (!s.pulp_exposed && s.total > unopenedCap(task, s.total_max)) {
+      s.total = unopenedCap(task, s.total_max);
+      s.unopened_cap_applied = true;
+    }
+  } else if (s.pulp_exposed && s.total > pulpCap(task, s.total_max)) {
     s.total = pulpCap(task, s.total_max);
     s.pulp_cap_applied = true;
   }
@@ -429,7 +439,13 @@ ojson scoreReportJson(const Task& task, const ScoreInputs& inputs, const ToothDi
                 {"force_error_n", task.force_error_n},
                 {"coefficient", t.force_coefficient}};
   if (!s.force_deduction) d["force"]["not_scored"] = inputs.no_session_reason;
-  d["pulp_exposure"] = pulpCapJson(task, s.pulp_exposed, s.pulp_cap_applied, s.total_max);
+  if (s.access)
+    d["pulp_unopened"] = {{"pulp_opened", s.pulp_exposed},
+                          {"cap", unopenedCap(task, s.total_max)},
+                          {"cap_of_100", task.access.unopened_cap},
+                          {"applied", s.unopened_cap_applied}};
+  else
+    d["pulp_exposure"] = pulpCapJson(task, s.pulp_exposed, s.pulp_cap_applied, s.total_max);
   j["deductions"] = std::move(d);
   j["nothing_removed"] = s.nothing_removed;
   j["ideal_missed"] = s.ideal_missed;
@@ -484,15 +500,17 @@ std::string scoreSummary(const CavityScore& s, const ScoreInputs& inputs) {
   if (!s.parallel) missing.push_back("parallel");
   if (!s.time) missing.push_back("time");
   if (!s.force_deduction) missing.push_back("force");
-  std::string line = "cavity preparation score " + fixed(s.total) + " / " + fixed(s.total_max, 0) + " (under-cut " +
+  std::string line = std::string(s.access ? "access cavity score " : "cavity preparation score ") + fixed(s.total) + " / " + fixed(s.total_max, 0) + " (under-cut " +
                      fixed(s.undercut) + " / 25, over-cut " + fixed(s.overcut) + " / 25" +
                      partText("parallel", s.parallel, 25) + partText("time", s.time, 25) +
                      (!s.force_deduction ? "" : *s.force_deduction > 0 ? ", force errors -" + fixed(*s.force_deduction) : ", no force errors") +
-                     (s.pulp_cap_applied ? ", capped: pulp exposed" : "") + (s.ideal_missed ? ", the ideal missed" : "") +
+                     (s.pulp_cap_applied ? ", capped: pulp exposed" : "") +
+                     (s.unopened_cap_applied ? ", capped: pulp chamber not opened" : "") + (s.ideal_missed ? ", the ideal missed" : "") +
                      notScoredText(missing, inputs) + "; Table 5 alone " + fixed(s.paper_total) + "): ";
   line += "ideal " + fixed(s.ideal_mm3, 3) + " mm^3, under-cut " + fixed(s.undercut_mm3, 3) + " mm^3, over-cut " +
           fixed(s.overcut_mm3, 3) + " mm^3 (" + fixed(s.overcut_near_mm3, 3) + " near, " + fixed(s.overcut_gross_mm3, 3) +
-          " gross); pulp " + (s.pulp_exposed ? "exposed" : "not exposed");
+          " gross); " + (s.access ? (s.pulp_exposed ? "pulp chamber opened" : "pulp chamber not opened")
+                                  : (s.pulp_exposed ? "pulp exposed" : "pulp not exposed"));
   return line;
 }
 

@@ -44,7 +44,8 @@ struct CariesScore {
 };
 
 // Cavity preparation: the paper's four parts 0..25 each, less the force errors, capped when the pulp
-// is exposed [points].
+// is exposed [points]. An access cavity scores the same parts, but its cap is the other way round:
+// a pulp chamber left closed caps it, an opened one is the exercise.
 struct CavityScore {
   double undercut = 0.0;                // 25 - undercut x coef x 100 / ideal, clamped
   double overcut = 0.0;                 // 25 - overcut x coef x 100 / ideal, clamped (near + gross)
@@ -53,6 +54,8 @@ struct CavityScore {
   double paper_total = 0.0;             // Table 5's total over the parts scored
   std::optional<double> force_deduction;  // force_coefficient x 100 x force_over / contact; none without a session
   bool pulp_cap_applied = false;
+  bool access = false;                  // the task is an access cavity (TaskKind::Access)
+  bool unopened_cap_applied = false;    // access: the pulp chamber was not opened and the cap lowered the total
   double total = 0.0;                   // clamp(paper_total - force_deduction, 0, total_max), capped
   double total_max = 100.0;             // 100, or 50 without a session
   bool nothing_removed = false;         // the attempt removed no tissue
@@ -74,7 +77,8 @@ double clampScore(double v, double lo, double hi);
 
 // `stats` null: there is no session, and the parts that need one are not scored.
 CariesScore scoreCariesRemoval(const ToothDiff& diff, const SessionStats* stats, const Task& task);
-// Errors when the diff has no ideal or the ideal cavity is empty (nothing to compare with).
+// Also scores an access cavity (task.kind Access). Errors when the diff has no ideal or the ideal
+// cavity is empty (nothing to compare with).
 Result<CavityScore> scoreCavityPreparation(const ToothDiff& diff, const SessionStats* stats, const Task& task);
 
 // Why a score may be wrong although it computes: the task's insertion axis points away from the

@@ -146,7 +146,7 @@ bool readView(const json& view, TaskReader& r, TaskView* out) {
 bool readZone(const json& j, const std::string& path, TaskReader& r, Task* t) {
   if (!r.direction(j, path, "insertion_axis", &t->insertion_axis)) return false;
   if (!r.number(j, path, "leeway_mm", false, 0, true, 1, "in [0, 1]", &t->leeway_mm)) return false;
-  const json* ideal = r.member(j, path, "ideal", t->kind == TaskKind::Cavity);
+  const json* ideal = r.member(j, path, "ideal", t->kind != TaskKind::Caries);
   if (!ideal) return !r.failed();
   t->ideal.emplace();
   return readIdeal(*ideal, jsonChildPath(path, "ideal"), r, &*t->ideal);
@@ -170,6 +170,12 @@ void readCavity(const json& j, int version, TaskReader& r, Task* t) {
   if (!r.number(j, path, "force_coefficient", false, 0, true, kHuge, kNonNegative, &c->force_coefficient)) return;
   if (!r.number(j, path, "parallel_error_deg", false, 0, false, 90, "in (0, 90]", &c->parallel_error_deg)) return;
   if (version == 1) readZone(j, path, r, t);
+}
+
+void readAccess(const json& j, TaskReader& r, Task* t) {
+  const std::string path = "access";
+  if (!r.object(j, path, {"unopened_cap"})) return;
+  r.number(j, path, "unopened_cap", false, 0, true, 100, "in [0, 100]", &t->access.unopened_cap);
 }
 
 void readCaries(const json& j, TaskReader& r, Task* t) {
@@ -205,12 +211,16 @@ void readTask(const json& root, TaskReader& r, Task* t) {
   std::vector<std::string> keys = {"format",    "version",   "name",          "kind",  "title", "tooth", "level",
                                    "tools",     "target_s",  "failure_s",     "force_error_n", "cavity"};
   if (version >= 2)
-    keys.insert(keys.end(), {"insertion_axis", "leeway_mm", "ideal", "pulp_exposure_cap", "caries", "instructions", "view"});
+    keys.insert(keys.end(), {"insertion_axis", "leeway_mm", "ideal", "pulp_exposure_cap", "caries", "instructions", "view", "access"});
   if (!r.object(root, "", keys)) return;
   if (!r.string(root, "", "name", true, true, &t->name)) return;
   size_t kind = 0;
-  if (!r.choice(root, "", "kind", {"caries", "cavity"}, &kind)) return;
-  t->kind = kind == 0 ? TaskKind::Caries : TaskKind::Cavity;
+  if (!r.choice(root, "", "kind", {"caries", "cavity", "access"}, &kind)) return;
+  if (kind == 2 && version == 1) {
+    r.fail("kind", "\"access\" needs version 2");
+    return;
+  }
+  t->kind = static_cast<TaskKind>(kind);
   t->title = t->name;
   if (!r.string(root, "", "title", false, false, &t->title)) return;
   if (!r.string(root, "", "instructions", false, false, &t->instructions)) return;
@@ -232,12 +242,25 @@ void readTask(const json& root, TaskReader& r, Task* t) {
     if (!r.number(root, "", "pulp_exposure_cap", false, 0, true, 100, "in [0, 100]", &t->pulp_exposure_cap)) return;
     if (!readZone(root, "", r, t)) return;
   }
-  // Each kind's own keys; the other kind's are mistakes.
+  // Each kind's own keys; the other kind's are mistakes. An access is scored as a cavity, with
+  // its own rule for the pulp in place of the exposure cap.
   const char* own = t->kind == TaskKind::Caries ? "caries" : "cavity";
   const char* other = t->kind == TaskKind::Caries ? "cavity" : "caries";
   if (root.contains(other)) {
     r.fail(other, std::string("only for kind \"") + other + "\"");
     return;
+  }
+  if (t->kind == TaskKind::Access && root.contains("pulp_exposure_cap")) {
+    r.fail("pulp_exposure_cap", "not for kind \"access\", which must open the pulp (access.unopened_cap caps one that does not)");
+    return;
+  }
+  if (const json* access = r.member(root, "", "access", false)) {
+    if (t->kind != TaskKind::Access) {
+      r.fail("access", "only for kind \"access\"");
+      return;
+    }
+    readAccess(*access, r, t);
+    if (r.failed()) return;
   }
   if (t->kind == TaskKind::Caries) {
     if (!r.number(root, "", "failure_s", true, 0, false, kHuge, "> 0 and <= 1e9", &t->failure_s)) return;
@@ -258,7 +281,14 @@ void readTask(const json& root, TaskReader& r, Task* t) {
 
 }  // namespace
 
-const char* taskKindName(TaskKind kind) { return kind == TaskKind::Caries ? "caries" : "cavity"; }
+const char* taskKindName(TaskKind kind) {
+  switch (kind) {
+    case TaskKind::Caries: return "caries";
+    case TaskKind::Cavity: return "cavity";
+    case TaskKind::Access: return "access";
+  }
+  return "unknown";
+}
 
 Result<Task> parseTask(const std::string& json_text, const std::string& where) {
   try {

@@ -15,6 +15,7 @@ namespace dentsim {
 enum class TaskKind {
   Caries,  // caries removal (the paper's Table 4)
   Cavity,  // cavity preparation against a professional's result (Table 5)
+  Access,  // endodontic access: scored as a cavity, but the pulp chamber must be opened
 };
 
 // Where the professional's final tooth comes from; idealForTask (eval/cut_score.h) turns it into a volume.
@@ -68,6 +69,11 @@ struct CavityTask {
   double parallel_error_deg = 10.0;   // tolerated tilt of the bur from insertion_axis [deg], (0, 90]
 };
 
+// The access cavity's rule beyond a cavity's; the default is docs/SCORING.md's.
+struct AccessTask {
+  double unopened_cap = 40.0;         // a pulp chamber left closed caps the total at this [points of 100], [0, 100]
+};
+
 struct Task {
   std::string name;                   // file stem ("caries_removal"); letters, digits, '_', '-', '.'
   TaskKind kind = TaskKind::Caries;
@@ -84,14 +90,15 @@ struct Task {
   // Where the student may cut (docs/SCORING.md, "The allowed zone"), for both kinds.
   Vec3 insertion_axis{0, 0, 1};       // the bur's ideal +z axis (tip along -z), unit length, tooth grid axes
   double leeway_mm = 0.2;             // shell around the target that a cut may reach unpunished [mm], [0, 1]
-  std::optional<IdealSpec> ideal;     // the professional's final tooth; required for kind Cavity
+  std::optional<IdealSpec> ideal;     // the professional's final tooth; required for kinds Cavity and Access
   std::optional<TaskView> view;       // the simulator's first view; none: the simulator's default
-  double pulp_exposure_cap = 50.0;    // an exposed pulp caps the total at this [points of 100], [0, 100]
+  double pulp_exposure_cap = 50.0;    // an exposed pulp caps the total at this [points of 100], [0, 100]; not for Access
   CariesTask caries;                  // kind Caries only (defaults otherwise)
-  CavityTask cavity;                  // kind Cavity only (defaults otherwise)
+  CavityTask cavity;                  // kinds Cavity and Access (defaults otherwise)
+  AccessTask access;                  // kind Access only (defaults otherwise)
 };
 
-// "caries" or "cavity".
+// "caries", "cavity" or "access".
 const char* taskKindName(TaskKind kind);
 
 // Parses a task file's text, version 2 or the older version 1 (whose insertion_axis, leeway_mm and

@@ -31,16 +31,9 @@ Result<CavityPath> cavityPreparationPath(const BrickVolume& volume, const Volume
   // The fossa: where the bur comes to rest lowest near the centre of the crown.
   CavityPath out;
   out.crown_centre_mm = {0.5 * (box.lo.x + box.hi.x), 0.5 * (box.lo.y + box.hi.y), box.hi.z};
-  const auto n = int(std::floor(s.fossa_search_mm / s.fossa_grid_mm));
-  std::optional<Vec3> fossa;
-  for (int j = -n; j <= n; ++j)
-    for (int i = -n; i <= n; ++i) {
-      if (i * i + j * j > n * n) continue;
-      const double x = out.crown_centre_mm.x + s.search_offset_mm.x + s.fossa_grid_mm * i,
-                   y = out.crown_centre_mm.y + s.search_offset_mm.y + s.fossa_grid_mm * j;
-      const std::optional<double> z = probe.restingTip(x, y, r);
-      if (z && (!fossa || *z < fossa->z)) fossa = Vec3{x, y, *z};
-    }
+  const std::optional<Vec3> fossa =
+      lowestRestingTip(probe, out.crown_centre_mm.x + s.search_offset_mm.x, out.crown_centre_mm.y + s.search_offset_mm.y, r,
+                       s.fossa_search_mm, s.fossa_grid_mm);
   if (!fossa) return makeError(where, "no tissue under the bur within " + std::to_string(s.fossa_search_mm) +
                                           " mm of the search's centre");
   out.fossa_mm = *fossa;

@@ -56,6 +56,19 @@ std::optional<double> SurfaceProbe::restingTip(double x, double y, double r) {
   return best;
 }
 
+std::optional<Vec3> lowestRestingTip(SurfaceProbe& probe, double x, double y, double r, double search_mm, double grid_mm) {
+  const auto n = int(std::floor(search_mm / grid_mm));
+  std::optional<Vec3> best;
+  for (int j = -n; j <= n; ++j)
+    for (int i = -n; i <= n; ++i) {
+      if (i * i + j * j > n * n) continue;
+      const double px = x + grid_mm * i, py = y + grid_mm * j;
+      const std::optional<double> z = probe.restingTip(px, py, r);
+      if (z && (!best || *z < best->z)) best = Vec3{px, py, *z};
+    }
+  return best;
+}
+
 std::optional<double> restingTipHeight(const BrickVolume& volume, const VolumeFrame& frame, double x_mm, double y_mm,
                                        double radius_mm) {
   const TissueBox box = tissueBox(volume, frame);

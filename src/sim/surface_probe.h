@@ -39,6 +39,11 @@ class SurfaceProbe {
   double bottom_mm_;
 };
 
+// Where a ball of radius r [mm] coming down from +z rests lowest on a grid of grid_mm within search_mm
+// of (x, y), scanned row by row (y outer, x inner) and keeping the first of equal heights: the
+// fossa when (x, y) is the crown's centre. nullopt when no column under the search holds tissue.
+std::optional<Vec3> lowestRestingTip(SurfaceProbe& probe, double x, double y, double r, double search_mm, double grid_mm);
+
 // The bur tip's lowest height [mm] when a ball of `radius_mm` comes down vertically over (x, y) onto
 // the volume's tissue (fill over one half), from above the tissue; nullopt when it meets none.
 std::optional<double> restingTipHeight(const BrickVolume& volume, const VolumeFrame& frame, double x_mm, double y_mm,

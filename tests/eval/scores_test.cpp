@@ -365,6 +365,94 @@ ToothVolume layeredSlab() {
   return t;
 }
 
+// ---- access cavity ----------------------------------------------------------------------------------
+
+// The enamel slab over a pulp chamber x 6..9, y 6..9, z 2..3 (32 voxels); the ideal access removes
+// the 64 enamel voxels above it, x 6..9, y 6..9, z 4..7, so the chamber's top faces open space.
+struct AccessCase {
+  ToothVolume initial = enamelSlab();
+  ToothVolume ideal, student;
+  AccessCase() {
+    setBox(initial, {6, 6, 2}, {10, 10, 4}, makeVoxel(Material::Pulp));
+    ideal = initial;
+    setBox(ideal, {6, 6, 4}, {10, 10, 8}, kEmpty);
+    student = ideal;
+  }
+  ToothDiff diff() const { return diffOf(initial, student, &ideal); }
+};
+
+Task accessTask() {
+  Task t = test::cavityTask();
+  t.kind = TaskKind::Access;
+  return t;
+}
+
+TEST(AccessScore, AnOpenedChamberIsTheExerciseNotAFault) {
+  const AccessCase c;
+  const SessionStats st = stats(600, 50, 0, 0);
+  const ToothDiff d = c.diff();
+  ASSERT_TRUE(d.pulp_exposed);  // the pulp's top faces voxels that held enamel and are now empty
+  auto access = scoreCavityPreparation(d, &st, accessTask());
+  ASSERT_TRUE(access.ok()) << access.message();
+  EXPECT_TRUE(access->access);
+  EXPECT_FALSE(access->pulp_cap_applied);
+  EXPECT_FALSE(access->unopened_cap_applied);
+  EXPECT_EQ(access->total, 100.0);
+  // The same cut as a cavity preparation exposes the pulp and is capped at 50.
+  auto cavity = scoreCavityPreparation(d, &st, test::cavityTask());
+  ASSERT_TRUE(cavity.ok());
+  EXPECT_TRUE(cavity->pulp_cap_applied);
+  EXPECT_EQ(cavity->total, 50.0);
+}
+
+TEST(AccessScore, AChamberLeftClosedCapsTheTotal) {
+  AccessCase c;
+  setBox(c.student, {6, 6, 4}, {10, 10, 5}, makeVoxel(Material::Enamel));  // the last layer of the roof left: 16 voxels
+  const SessionStats st = stats(600, 50, 0, 0);
+  const ToothDiff d = c.diff();
+  ASSERT_FALSE(d.pulp_exposed);
+  Task task = accessTask();
+  auto s = scoreCavityPreparation(d, &st, task);
+  ASSERT_TRUE(s.ok()) << s.message();
+  // Under-cut 16 of 64 voxels, 25 %: 25 - 25 = 0 points; over-cut, parallel and time full: 75, capped at 40.
+  EXPECT_EQ(s->undercut, 0.0);
+  EXPECT_EQ(s->paper_total, 75.0);
+  EXPECT_TRUE(s->unopened_cap_applied);
+  EXPECT_EQ(s->total, 40.0);
+  task.access.unopened_cap = 30.0;
+  EXPECT_EQ(scoreCavityPreparation(d, &st, task)->total, 30.0);
+  // Without a session the cap is a share of what can be scored: 30 of 100 is 15 of 50.
+  EXPECT_EQ(scoreCavityPreparation(d, nullptr, task)->total, 15.0);
+  // A cap above the score takes nothing.
+  task.access.unopened_cap = 90.0;
+  auto high = scoreCavityPreparation(d, &st, task);
+  EXPECT_FALSE(high->unopened_cap_applied);
+  EXPECT_EQ(high->total, 75.0);
+  // As a cavity preparation the same cut is not capped: the pulp is not exposed.
+  EXPECT_EQ(scoreCavityPreparation(d, &st, test::cavityTask())->total, 75.0);
+}
+
+TEST(AccessScore, TheReportAndTheLineSayWhetherTheChamberWasOpened) {
+  AccessCase c;
+  setBox(c.student, {6, 6, 4}, {10, 10, 5}, makeVoxel(Material::Enamel));
+  const SessionStats st = stats(600, 50, 0, 0);
+  const ToothDiff d = c.diff();
+  const Task task = accessTask();
+  auto s = scoreCavityPreparation(d, &st, task);
+  ASSERT_TRUE(s.ok());
+  const nlohmann::ordered_json r = scoreReportJson(task, ScoreInputs{}, d, &st, *s);
+  EXPECT_EQ(r["task"]["kind"], "access");
+  EXPECT_FALSE(r["deductions"].contains("pulp_exposure"));
+  EXPECT_EQ(r["deductions"]["pulp_unopened"]["pulp_opened"], false);
+  EXPECT_EQ(r["deductions"]["pulp_unopened"]["applied"], true);
+  EXPECT_EQ(r["deductions"]["pulp_unopened"]["cap"], 40.0);
+  EXPECT_EQ(r["deductions"]["pulp_unopened"]["cap_of_100"], 40.0);
+  const std::string line = scoreSummary(*s, ScoreInputs{});
+  EXPECT_EQ(line.rfind("access cavity score 40.00 / 100", 0), 0u) << line;
+  EXPECT_NE(line.find("capped: pulp chamber not opened"), std::string::npos) << line;
+  EXPECT_NE(line.find("pulp chamber not opened"), std::string::npos) << line;
+}
+
 TEST(ScoreWarnings, AGoodExerciseHasNone) {
   const ToothVolume t = layeredSlab();
   ToothVolume ideal = t;

@@ -162,9 +162,64 @@ TEST(Task, ErrorsNameTheFileAndKey) {
   EXPECT_EQ(errorOf(cavityText(R"("ideal": {"kind": "guess", "path": "a"})")),
             "t.json: cavity.ideal: repeated key");
   EXPECT_EQ(errorOf(R"({"format": "dentsim-task", "version": 1, "name": "c", "kind": "filling"})"),
-            "t.json: kind: \"filling\" is not one of \"caries\", \"cavity\"");
+            "t.json: kind: \"filling\" is not one of \"caries\", \"cavity\", \"access\"");
   EXPECT_EQ(errorOf(R"({"format": "dentsim-task", "version": 1, "name": "a b"})"),
             "t.json: name: \"a b\" is not a name (1 to 64 letters, digits, '_', '-', '.')");
+}
+
+// A version 2 access task with `extra` members appended.
+std::string accessText(const std::string& extra = "") {
+  return std::string(R"({"format": "dentsim-task", "version": 2, "name": "a", "kind": "access", "tooth": "builtin:molar",)"
+                     R"( "tools": {"drill": "round_bur_014"}, "target_s": 900, "force_error_n": 3,)"
+                     R"( "ideal": {"kind": "builtin_path", "path": "access_cavity"})") +
+         (extra.empty() ? "" : ", " + extra) + "}";
+}
+
+TEST(Task, TheCourseTasksParse) {
+  for (const char* name : {"class2_cavity", "class5_cavity", "access_cavity"}) {
+    auto t = loadTask(assetTask(std::string(name) + ".json"));
+    ASSERT_TRUE(t.ok()) << t.message();
+    EXPECT_EQ(t->name, name);
+    EXPECT_EQ(t->tooth, "builtin:molar");
+    ASSERT_TRUE(t->ideal.has_value());
+    EXPECT_EQ(t->ideal->kind, IdealKind::BuiltinPath);
+    EXPECT_EQ(t->ideal->path, name);  // each names its own built-in path
+    EXPECT_FALSE(t->instructions.empty());
+  }
+  auto access = loadTask(assetTask("access_cavity.json"));
+  ASSERT_TRUE(access.ok());
+  EXPECT_EQ(access->kind, TaskKind::Access);
+  EXPECT_EQ(access->access.unopened_cap, 40.0);
+  EXPECT_STREQ(taskKindName(access->kind), "access");
+  // The class V bur comes from buccal, level: within 15 degrees of the surface normal just above the CEJ.
+  auto class5 = loadTask(assetTask("class5_cavity.json"));
+  ASSERT_TRUE(class5.ok());
+  EXPECT_LT(class5->insertion_axis.y, -0.9);
+  EXPECT_NEAR(norm(class5->insertion_axis), 1.0, 1e-12);
+}
+
+TEST(Task, AccessKeysBelongToTheAccessKind) {
+  auto t = parseTask(accessText(R"("access": {"unopened_cap": 25}, "cavity": {"overcut_coefficient": 2})"), kWhere);
+  ASSERT_TRUE(t.ok()) << t.message();
+  EXPECT_EQ(t->access.unopened_cap, 25.0);
+  EXPECT_EQ(t->cavity.overcut_coefficient, 2.0);  // scored as a cavity, with its coefficients
+  auto plain = parseTask(accessText(), kWhere);
+  ASSERT_TRUE(plain.ok()) << plain.message();
+  EXPECT_EQ(plain->access.unopened_cap, 40.0);  // the default
+  EXPECT_EQ(errorOf(accessText(R"("access": {"unopened_cap": 120})")), "t.json: access.unopened_cap: 120 is not in [0, 100]");
+  EXPECT_EQ(errorOf(accessText(R"("access": {"cap": 10})")).rfind("t.json: access", 0), 0u);
+  EXPECT_EQ(errorOf(accessText(R"("pulp_exposure_cap": 50)")).rfind("t.json: pulp_exposure_cap: not for kind \"access\"", 0), 0u);
+  EXPECT_EQ(errorOf(accessText(R"("caries": {})")), "t.json: caries: only for kind \"caries\"");
+  // An access needs its ideal, as a cavity does.
+  const std::string no_ideal =
+      R"({"format": "dentsim-task", "version": 2, "name": "a", "kind": "access", "tooth": "builtin:molar",)"
+      R"( "tools": {"drill": "round_bur_014"}, "target_s": 900, "force_error_n": 3})";
+  EXPECT_EQ(errorOf(no_ideal), "t.json: ideal: missing");
+  // The access key on another kind, and the access kind in a version 1 file.
+  EXPECT_EQ(errorOf(cariesText().replace(cariesText().find("\"version\": 1"), 12, "\"version\": 2").insert(1, R"("access": {}, )")),
+            "t.json: access: only for kind \"access\"");
+  EXPECT_EQ(errorOf(R"({"format": "dentsim-task", "version": 1, "name": "a", "kind": "access"})"),
+            "t.json: kind: \"access\" needs version 2");
 }
 
 TEST(Task, IdealKindMustBeKnown) {

@@ -1,0 +1,131 @@
+// The course end to end: for every task file in assets/tasks on the built-in molar, the scripted expert scored against the task's own ideal scores at least 90, and a novice who stops early or cuts in the wrong place at least 20 points less.
+//
+// The tasks are found by listing the source tree's assets/tasks, so a task added there is covered
+// without touching this file. The molar is voxelized at level 7 (0.17 mm voxels) rather than the
+// tasks' 9, which keeps each task to seconds here and to minutes under the sanitizers; the paths
+// are worked out from whatever volume they are given. The novices are the under-cutter and the
+// trench, the two cheapest to drill; the over-cutter of every task is in `dentsim bench scores`
+// (docs/SCORING.md, section 13), whose wide outlines take minutes of loop time each.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "eval/cut_score.h"
+#include "eval/session_stats.h"
+#include "eval/task_tooth.h"
+#include "io/session_file.h"
+#include "sim/builtin_tooth.h"
+#include "sim/course_paths.h"
+#include "sim/session_run.h"
+#include "test_support.h"
+
+namespace dentsim {
+namespace {
+
+constexpr int kLevel = 7;
+
+// The task files on the built-in molar, sorted. A file that does not parse is kept, so that its
+// test fails and names it.
+std::vector<std::string> courseTaskFiles() {
+  std::vector<std::string> files;
+  const std::filesystem::path folder = std::filesystem::path(DENTSIM_SOURCE_DIR) / "assets" / "tasks";
+  std::error_code ec;
+  for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
+    if (entry.path().extension() != ".json") continue;
+    auto task = loadTask(entry.path().string());
+    if (task && task->tooth != kBuiltinMolarTooth) continue;
+    files.push_back(entry.path().string());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+const ToothVolume& molar() {
+  static const ToothVolume tooth = [] {
+    auto t = builtinMolarTooth(kLevel);
+    EXPECT_TRUE(t.ok()) << t.message();
+    return std::move(t).value();
+  }();
+  return tooth;
+}
+
+// The attempt drilled by the scripted pen, recorded, read back and scored like a student's, against
+// `ideal` (null: the task's own, made by scoreCut).
+struct Scored {
+  SessionScore score;
+  double elapsed_s = 0.0;
+};
+Scored attemptScore(const Task& task, Attempt attempt, const ToothVolume* ideal) {
+  test::TempDir dir;
+  const SimParams params = defaultSimParams();
+  auto path = taskAttemptPath(exerciseOf(task), attempt, molar().voxels, molar().frame, params);
+  EXPECT_TRUE(path.ok()) << task.name << " " << attemptName(attempt) << ": " << path.message();
+  if (!path) return {};
+  ToothVolume tooth = molar();
+  ScriptedSessionOptions so;
+  so.drill_tool = task.drill_tool;
+  auto run = recordScriptedSession(tooth, params, *path, dir.file("s.dses"), SessionInfo{}, so);
+  EXPECT_TRUE(run.ok()) << run.message();
+  auto session = readSessionFile(dir.file("s.dses"));
+  EXPECT_TRUE(session.ok()) << session.message();
+  if (!run || !session) return {};
+  EXPECT_EQ(run->steps_lost, 0u);
+  ScoreFiles files = scoreFiles("molar", attemptName(attempt), "s.dses");
+  if (ideal) {
+    files.ideal_spec = task.ideal;
+    files.ideal_from = "task";
+  }
+  auto score = scoreCut(task, molar(), tooth, ideal, &*session, files);
+  EXPECT_TRUE(score.ok()) << score.message();
+  if (!score) return {};
+  return {std::move(*score), sessionStats(*session, task).elapsed_s};
+}
+
+class CourseTask : public ::testing::TestWithParam<std::string> {};
+
+TEST(Course, ShipsEveryExercise) {
+  std::vector<std::string> names;
+  for (const std::string& f : courseTaskFiles()) names.push_back(std::filesystem::path(f).stem().string());
+  for (const char* name : {"caries_removal", "class1_cavity", "class2_cavity", "class5_cavity", "access_cavity"})
+    EXPECT_NE(std::find(names.begin(), names.end(), name), names.end()) << name;
+  // And each is built in by name, the file and the embedded copy alike.
+  for (const std::string& name : names) {
+    auto embedded = builtinTask(name);
+    ASSERT_TRUE(embedded.ok()) << embedded.message();
+    EXPECT_EQ(embedded->name, name);
+  }
+}
+
+TEST_P(CourseTask, TheExpertScoresAtLeast90AndEachNoviceAtLeast20Less) {
+  auto loaded = loadTask(GetParam());
+  ASSERT_TRUE(loaded.ok()) << loaded.message();
+  const Task& task = *loaded;
+  const Scored expert = attemptScore(task, Attempt::Expert, nullptr);
+  EXPECT_GE(expert.score.total, 90.0) << task.name << ": " << expert.score.summary;
+  for (const std::string& w : expert.score.warnings) ADD_FAILURE() << "warning: " << w;
+  EXPECT_GT(expert.elapsed_s, 0.0);
+  // The access is the one exercise whose expert opens the pulp.
+  EXPECT_EQ(expert.score.pulp_exposed, task.kind == TaskKind::Access) << expert.score.summary;
+  const ToothVolume* ideal = expert.score.ideal ? &*expert.score.ideal : nullptr;
+  EXPECT_EQ(ideal != nullptr, task.kind != TaskKind::Caries) << "a cavity or an access is scored against its ideal";
+  std::printf("%s at level %d: expert %.1f (%.1f s)", task.name.c_str(), kLevel, expert.score.total, expert.elapsed_s);
+  for (Attempt attempt : {Attempt::Undercut, Attempt::Trench}) {
+    const Scored novice = attemptScore(task, attempt, ideal);
+    EXPECT_LE(novice.score.total, expert.score.total - 20.0) << task.name << " " << attemptName(attempt) << ": "
+                                                            << novice.score.summary;
+    std::printf(", %s %.1f (%.1f s)", attemptName(attempt), novice.score.total, novice.elapsed_s);
+  }
+  std::printf("\n");
+}
+
+INSTANTIATE_TEST_SUITE_P(AssetsTasks, CourseTask, ::testing::ValuesIn(courseTaskFiles()),
+                         [](const ::testing::TestParamInfo<std::string>& param) {
+                           return std::filesystem::path(param.param).stem().string();
+                         });
+
+}  // namespace
+}  // namespace dentsim
