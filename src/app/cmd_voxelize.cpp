@@ -73,7 +73,7 @@ void printFrame(const ToothVolume& tooth) {
               t.crown[1], t.crown[2], t.turned() ? " after quarter turns that stand the crown up" : "",
               axisSourceText(t.mesial_source));
   if (t.crown_source == AxisSource::Assumed)
-    std::fprintf(stderr, "dentsim: warning: no enamel to find the crown by: +z is taken as the crown axis (give --crown-axis)\n");
+    std::fprintf(stderr, "dentsim: warning: the enamel does not show which way the crown faces (none, or centred on the tooth): +z is taken as the crown axis (give --crown-axis)\n");
 }
 
 void printSummary(const ToothVolume& tooth, const std::string& output) {
