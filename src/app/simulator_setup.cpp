@@ -7,6 +7,7 @@
 #include "app/simulator_state.h"
 #include "app/tool_placement.h"
 #include "eval/cut_score.h"
+#include "sim/course_paths.h"
 #include "sim/novice_paths.h"
 #include "sim/pen_script.h"
 #include "sim/scripted_paths.h"
@@ -108,11 +109,10 @@ Status Simulator::setUpScript(const Pose& mirror_start) {
   if (o_.demo_script) {
     const std::optional<Attempt> attempt = parseAttempt(o_.attempt);
     if (!attempt) return makeError("--attempt", "\"" + o_.attempt + "\" is not one of " + attemptNames());
-    CavityPathSettings cavity;
-    if (const std::optional<double> r = burHeadRadiusMm(drill_name_)) cavity.bur_radius_mm = *r;
-    auto path = task_->kind == TaskKind::Caries
-                    ? cariesAttemptPath(*attempt, initial_.voxels, initial_.frame, params_, drill_name_)
-                    : cavityAttemptPath(*attempt, initial_.voxels, initial_.frame, cavity);
+    // The task's own exercise (course_paths.h), with the bur this run holds.
+    Exercise exercise = exerciseOf(*task_);
+    exercise.bur = drill_name_;
+    auto path = taskAttemptPath(exercise, *attempt, initial_.voxels, initial_.frame, params_);
     if (!path) return path.error();
     script_ = std::move(*path);
   } else {
