@@ -154,7 +154,7 @@ class CariesPlanner {
   CariesPlanner(const BrickVolume& volume, const VolumeFrame& frame, const SimParams& params, double rate,
                 const LesionBox& lesion, const CariesPathSettings& s)
       : volume_(volume), frame_(frame), params_(params), rate_(rate), r_(s.bur_radius_mm),
-        masks_(volume.brickDim()) {
+        pulp_margin_(s.pulp_margin_mm), masks_(volume.brickDim()) {
     const double v = frame.voxel_mm;
     markCariesAccess(volume, {0, 0, 1}, uint32_t(std::ceil(s.leeway_mm / v / DS_BRICK_DIM)) + 1, &masks_);
     leeway_.emplace(masks_, s.leeway_mm / v);
@@ -178,6 +178,12 @@ class CariesPlanner {
   };
   Fit fit(const Vec3& tip) const {
     Fit out{true, 0};
+    // Near the pulp a careful dentist leaves a layer of dentin over it rather than expose it.
+    if (pulp_margin_ > 0)
+      forBall(tip, [&](int64_t, int64_t, int64_t, Voxel vox) {
+        return voxelFill(vox) == 0 || voxelMaterial(vox) != Material::Pulp || (out.fits = false);
+      }, pulp_margin_);
+    if (!out.fits) return out;
     forBall(tip, [&](int64_t x, int64_t y, int64_t z, Voxel vox) {
       if (voxelFill(vox) == 0 || voxelMaterial(vox) == Material::Empty) return true;
       if (!zone_->allowed(x, y, z)) return out.fits = false;
@@ -215,19 +221,20 @@ class CariesPlanner {
   }
 
  private:
-  // Calls f(x, y, z, voxel) for the grid's voxels whose centres lie in the ball, until f returns
-  // false. (The zone answers "not allowed" for tissue beyond its box.)
+  // Calls f(x, y, z, voxel) for the grid's voxels whose centres lie in the ball (grown by `extra`
+  // [mm]), until f returns false. (The zone answers "not allowed" for tissue beyond its box.)
   template <typename F>
-  void forBall(const Vec3& tip, F&& f) const {
+  void forBall(const Vec3& tip, F&& f, double extra = 0.0) const {
     const double v = frame_.voxel_mm;
     const Vec3 c = tip + Vec3{0, 0, r_};
+    const double r = r_ + extra;
     const int64_t dim = volume_.dim();
     int64_t lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
-      lo[a] = std::max<int64_t>(0, int64_t(std::floor((c[a] - r_ - frame_.origin_mm[size_t(a)]) / v)));
-      hi[a] = std::min<int64_t>(dim - 1, int64_t(std::ceil((c[a] + r_ - frame_.origin_mm[size_t(a)]) / v)));
+      lo[a] = std::max<int64_t>(0, int64_t(std::floor((c[a] - r - frame_.origin_mm[size_t(a)]) / v)));
+      hi[a] = std::min<int64_t>(dim - 1, int64_t(std::ceil((c[a] + r - frame_.origin_mm[size_t(a)]) / v)));
     }
-    const double r2 = r_ * r_;
+    const double r2 = r * r;
     for (int64_t z = lo[2]; z <= hi[2]; ++z)
       for (int64_t y = lo[1]; y <= hi[1]; ++y)
         for (int64_t x = lo[0]; x <= hi[0]; ++x) {
@@ -249,6 +256,7 @@ class CariesPlanner {
   const SimParams& params_;
   double rate_;                 // [mm^3/s] at hardness 1, full speed
   double r_;                    // the ball's radius [mm]
+  double pulp_margin_;          // no position's ball comes nearer the pulp than this [mm]
   TargetMasks masks_;
   std::optional<LeewayField> leeway_;
   std::optional<ZoneGrid> zone_;

@@ -108,6 +108,10 @@ struct CariesPathSettings {
   double layer_mm = 0.2;          // between layers of tip positions [mm]
   double press_mm = 1.2;          // the pen's target below each position [mm]
   double floor_overshoot_mm = 0.0;  // the pen presses at most this far below the column's lowest fitting tip [mm]
+  // No position's ball comes nearer the pulp than this [mm]: over a deep lesion a careful dentist
+  // leaves a layer of dentin on the pulp (selective removal) rather than expose it. The built-in
+  // molar's lesion stays more than 1 mm from its pulp, so there it changes nothing.
+  double pulp_margin_mm = 0.25;
   double margin = 1.2;            // a position lasts this times the time its tissue takes to cut
   double speed_mm_s = 4.0;        // fastest between neighbouring positions [mm/s]
   double hop_speed_mm_s = 10.0;   // lifted, from one part of a layer to another [mm/s]
