@@ -51,7 +51,8 @@ Result<Task> builtinTask(const std::string& name) {
     if (!task) return task;
     // The tooth and an ideal file are named relative to the task file.
     const std::filesystem::path folder = std::filesystem::path(name).parent_path();
-    if (task->tooth != kBuiltinMolarTooth && std::filesystem::path(task->tooth).is_relative())
+    if (task->tooth != kBuiltinMolarTooth && task->tooth.rfind(kAssetToothPrefix, 0) != 0 &&
+        std::filesystem::path(task->tooth).is_relative())
       task->tooth = (folder / task->tooth).string();
     if (task->ideal && task->ideal->kind != IdealKind::BuiltinPath && std::filesystem::path(task->ideal->path).is_relative())
       task->ideal->path = (folder / task->ideal->path).string();
@@ -61,7 +62,12 @@ Result<Task> builtinTask(const std::string& name) {
   }
   const std::span<const uint8_t> bytes = builtinAssetBytes(file);
   if (bytes.empty()) return makeError(file, "not among the embedded assets");
-  return parseTask(std::string(bytes.begin(), bytes.end()), "assets/" + file);
+  auto task = parseTask(std::string(bytes.begin(), bytes.end()), "assets/" + file);
+  // An embedded task's own tooth file is embedded beside it.
+  if (task && task->tooth != kBuiltinMolarTooth && task->tooth.rfind(kAssetToothPrefix, 0) != 0 &&
+      std::filesystem::path(task->tooth).is_relative())
+    task->tooth = std::string(kAssetToothPrefix) + "tasks/" + task->tooth;
+  return task;
 }
 
 Exercise exerciseOf(const Task& task) {

@@ -3,6 +3,7 @@
 
 #include <filesystem>
 
+#include "model/builtin_assets.h"
 #include "sim/builtin_tooth.h"
 #include "volume/tooth_file.h"
 
@@ -12,6 +13,12 @@ std::string builtinToothSource(int level) { return std::string(kBuiltinMolarToot
 
 Result<ToothVolume> taskTooth(const Task& task, int level) {
   if (task.tooth == kBuiltinMolarTooth) return builtinMolarTooth(level > 0 ? level : task.level);
+  if (task.tooth.rfind(kAssetToothPrefix, 0) == 0) {
+    const std::string asset = task.tooth.substr(std::string(kAssetToothPrefix).size());
+    const std::span<const uint8_t> bytes = builtinAssetBytes(asset);
+    if (bytes.empty()) return makeError(task.tooth, "not among the embedded assets");
+    return parseTooth(bytes, "assets/" + asset);
+  }
   return loadTooth(task.tooth);
 }
 

@@ -12,12 +12,15 @@ namespace dentsim {
 
 // A task's "tooth" that names the built-in molar (any other value is a volume file).
 inline constexpr const char* kBuiltinMolarTooth = "builtin:molar";
+// A task's tooth among the embedded assets ("asset:tasks/tooth_2_caries.dvol"): what an embedded
+// task's relative tooth file becomes, so the shipped course needs no files beside the program.
+inline constexpr const char* kAssetToothPrefix = "asset:";
 
 // How a session names the built-in molar at a level, so that replay can rebuild it: "builtin:molar:LEVEL".
 std::string builtinToothSource(int level);
 
-// The task's tooth: the built-in molar at `level` (0: the task's level), or the task's volume file
-// (whose grid is its own: `level` does not apply to it).
+// The task's tooth: the built-in molar at `level` (0: the task's level), an embedded course tooth,
+// or the task's volume file (whose grid is its own: `level` does not apply to either).
 Result<ToothVolume> taskTooth(const Task& task, int level);
 
 // The tooth a session starts from: `override_path` when given, else the session's tooth file beside

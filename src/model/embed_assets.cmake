@@ -1,8 +1,8 @@
 # Script (cmake -P): writes a C++ source holding every file under ASSET_DIR/teeth, ASSET_DIR/tools,
-# ASSET_DIR/presets and ASSET_DIR/tasks as a byte string, plus the table that src/model/embedded_assets.h declares.
+# ASSET_DIR/presets and ASSET_DIR/tasks (the task files and their teeth) as a byte string, plus the table that src/model/embedded_assets.h declares.
 # Inputs: ASSET_DIR, OUTPUT. Keep the globs equal to DENTSIM_ASSET_FILES in src/model/CMakeLists.txt.
 file(GLOB_RECURSE files RELATIVE ${ASSET_DIR} ${ASSET_DIR}/teeth/*.stl ${ASSET_DIR}/tools/*.stl
-  ${ASSET_DIR}/tools/*.json ${ASSET_DIR}/presets/*.json ${ASSET_DIR}/tasks/*.json)
+  ${ASSET_DIR}/tools/*.json ${ASSET_DIR}/presets/*.json ${ASSET_DIR}/tasks/*.json ${ASSET_DIR}/tasks/*.dvol)
 list(SORT files)
 set(body "// Generated from assets/ by src/model/embed_assets.cmake; do not edit.\n")
 string(APPEND body "#include \"model/embedded_assets.h\"\n\nnamespace dentsim::embedded {\nnamespace {\n")

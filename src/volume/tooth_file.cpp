@@ -17,13 +17,22 @@ Status saveTooth(const std::string& path, ToothVolume& tooth) {
   return writeVolumeFile(path, d);
 }
 
-Result<ToothVolume> loadTooth(const std::string& path) {
-  auto file = readVolumeFile(path);
+namespace {
+
+Result<ToothVolume> toothOf(Result<VolumeFileData> file, const std::string& where) {
   if (!file) return file.error();
   VolumeFileData& d = *file;
-  auto voxels = BrickVolume::fromWords(d.frame.level, std::move(d.chunks), std::move(d.blocks), std::move(d.bricks), path);
+  auto voxels = BrickVolume::fromWords(d.frame.level, std::move(d.chunks), std::move(d.blocks), std::move(d.bricks), where);
   if (!voxels) return voxels.error();
   return ToothVolume{d.frame, std::move(*voxels)};
+}
+
+}  // namespace
+
+Result<ToothVolume> loadTooth(const std::string& path) { return toothOf(readVolumeFile(path), path); }
+
+Result<ToothVolume> parseTooth(std::span<const uint8_t> bytes, const std::string& where) {
+  return toothOf(parseVolumeFile(bytes, where), where);
 }
 
 }  // namespace dentsim
