@@ -71,7 +71,7 @@ TEST_F(FrameOfCli, TakesTheReferenceGridNotAFittedOne) {
   const auto r = runDentsim("voxelize --tooth " + file("small.stl") + " --frame-of " + file("layered.dvol") +
                             " --cpu -o " + file("small.dvol"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
-  EXPECT_NE(r.output.find("grid of " + file("layered.dvol")), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("grid and tooth frame of " + file("layered.dvol")), std::string::npos) << r.output;
   Result<ToothVolume> ref = loadTooth(file("layered.dvol"));
   Result<ToothVolume> small = loadTooth(file("small.dvol"));
   ASSERT_TRUE(ref.ok() && small.ok());
