@@ -66,11 +66,6 @@ const KindDefaults* defaultsFor(const std::string& kind) {
   return nullptr;
 }
 
-bool sameFile(const std::string& a, const std::string& b) {
-  std::error_code ec;
-  return fs::exists(a, ec) && fs::exists(b, ec) && fs::equivalent(a, b, ec);
-}
-
 // A path as the task file names it: relative to the task's folder when it can be.
 std::string relativeToTask(const std::string& path, const std::string& task_path) {
   std::error_code ec;

@@ -22,20 +22,6 @@ namespace fs = std::filesystem;
 
 constexpr uint64_t kMaxTaskBytes = 1u << 20;
 
-// The built-in molar's level a session names ("builtin:molar:7" -> 7), or 0.
-int builtinLevelOf(const SessionInfo& info) {
-  const std::string prefix = std::string(kBuiltinMolarTooth) + ":";
-  if (info.tooth_source.rfind(prefix, 0) != 0) return 0;
-  const std::string level = info.tooth_source.substr(prefix.size());
-  if (level.empty() || level.size() > 2 || level.find_first_not_of("0123456789") != std::string::npos) return 0;
-  return std::stoi(level);
-}
-
-bool sameFile(const std::string& a, const std::string& b) {
-  std::error_code ec;
-  return fs::exists(a, ec) && fs::exists(b, ec) && fs::equivalent(a, b, ec);
-}
-
 // Copies `from` to `to` through a temporary sibling, so that `to` is whole or untouched.
 Status copyFileAtomic(const std::string& from, const std::string& to) {
   if (sameFile(from, to)) return Ok{};
@@ -87,7 +73,7 @@ Result<IdealRecord> setTaskIdeal(const std::string& task_path, const std::string
   if (!session->end) return makeError(session_path, "the session has no end record (it was cut short): record it again");
 
   // The session must start on the task's own tooth, or the ideal would be scored against another.
-  const int level = task->tooth == kBuiltinMolarTooth ? builtinLevelOf(session->info) : 0;
+  const int level = task->tooth == kBuiltinMolarTooth ? builtinToothLevel(session->info.tooth_source) : 0;
   if (task->tooth == kBuiltinMolarTooth && level == 0)
     return makeError(session_path, "recorded on \"" + session->info.tooth_source + "\", not on the task's tooth, the built-in molar");
   auto initial = taskTooth(*task, level);

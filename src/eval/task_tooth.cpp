@@ -11,6 +11,14 @@ namespace dentsim {
 
 std::string builtinToothSource(int level) { return std::string(kBuiltinMolarTooth) + ":" + std::to_string(level); }
 
+int builtinToothLevel(const std::string& tooth_source) {
+  const std::string prefix = std::string(kBuiltinMolarTooth) + ":";
+  if (tooth_source.rfind(prefix, 0) != 0) return 0;
+  const std::string level = tooth_source.substr(prefix.size());
+  if (level.empty() || level.size() > 2 || level.find_first_not_of("0123456789") != std::string::npos) return 0;
+  return std::stoi(level);
+}
+
 Result<ToothVolume> taskTooth(const Task& task, int level) {
   if (task.tooth == kBuiltinMolarTooth) return builtinMolarTooth(level > 0 ? level : task.level);
   if (task.tooth.rfind(kAssetToothPrefix, 0) == 0) {
@@ -31,12 +39,7 @@ Result<ToothVolume> resolveSessionTooth(const SessionRecording& session, const s
     const fs::path beside = fs::path(session_path).parent_path() / info.tooth_file;
     if (fs::exists(beside)) return loadTooth(beside.string());
   }
-  const std::string prefix = std::string(kBuiltinMolarTooth) + ":";
-  if (info.tooth_source.rfind(prefix, 0) == 0) {
-    const std::string level = info.tooth_source.substr(prefix.size());
-    if (level.size() <= 2 && !level.empty() && level.find_first_not_of("0123456789") == std::string::npos)
-      return builtinMolarTooth(std::stoi(level));
-  }
+  if (const int level = builtinToothLevel(info.tooth_source); level > 0) return builtinMolarTooth(level);
   return makeError(session_path, "cannot find the session's tooth (file \"" + info.tooth_file + "\", source \"" +
                                      info.tooth_source + "\"): give it with --tooth");
 }

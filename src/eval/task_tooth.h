@@ -18,6 +18,8 @@ inline constexpr const char* kAssetToothPrefix = "asset:";
 
 // How a session names the built-in molar at a level, so that replay can rebuild it: "builtin:molar:LEVEL".
 std::string builtinToothSource(int level);
+// The level in a session's tooth source that names the built-in molar ("builtin:molar:7" -> 7), or 0.
+int builtinToothLevel(const std::string& tooth_source);
 
 // The task's tooth: the built-in molar at `level` (0: the task's level), an embedded course tooth,
 // or the task's volume file (whose grid is its own: `level` does not apply to either).

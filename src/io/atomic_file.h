@@ -23,6 +23,9 @@ Status writeFileAtomic(const std::string& path, const std::string& text);
 // commitTemporary() fsyncs and renames it over `path`, or discardTemporary() removes it.
 std::string temporarySibling(const std::string& path);
 Status commitTemporary(const std::string& temp_path, const std::string& path);
+// True when both paths exist and name the same file (links and relative forms included): an output
+// that would overwrite an input.
+bool sameFile(const std::string& a, const std::string& b);
 void discardTemporary(const std::string& temp_path);
 
 }  // namespace dentsim
