@@ -65,6 +65,24 @@ TEST(VoxelizeExportCliTest, RoundTripReproducesTheLabels) {
   for (size_t i = 0; i < im.labels.size(); ++i) ASSERT_EQ(back->labels[i], renumber[im.labels[i]]) << i;
 }
 
+// A label file whose header pitch is a placeholder gets the warning an STL in the wrong unit gets.
+TEST(VoxelizeExportCliTest, AnImplausibleVoxelSizeIsAWarning) {
+  test::TempDir dir;
+  LabelImage im = ctLikeImage();
+  im.pitch_mm = {20, 20, 20};  // 11 voxels of 20 mm: a 220 mm "tooth"
+  const std::string in = dir.file("tooth.nii.gz");
+  ASSERT_TRUE(writeNiftiLabels(in, im).ok());
+  const auto big = test::runDentsim("voxelize --labels " + in + " --label-map 1=caries,2=enamel,3=dentin -o " + dir.file("a.dvol"));
+  ASSERT_EQ(big.exit_code, 0) << big.output;
+  EXPECT_NE(big.output.find("dentsim: warning: " + in + ": the tissue spans 220 mm at 20 mm voxels, which does not look like a tooth"),
+            std::string::npos) << big.output;
+  EXPECT_NE(big.output.find("give the true one with --voxel-size"), std::string::npos) << big.output;
+  const auto right = test::runDentsim("voxelize --labels " + in + " --label-map 1=caries,2=enamel,3=dentin --voxel-size 1.5 -o " +
+                                      dir.file("b.dvol"));
+  ASSERT_EQ(right.exit_code, 0) << right.output;
+  EXPECT_EQ(right.output.find("does not look like a tooth"), std::string::npos) << right.output;  // 16.5 mm
+}
+
 TEST(VoxelizeExportCliTest, FillEnclosedAndLevelRun) {
   test::TempDir dir;
   LabelImage im = ctLikeImage();
