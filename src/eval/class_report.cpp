@@ -2,6 +2,7 @@
 #include "eval/class_report.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <set>
 #include <tuple>
@@ -74,8 +75,14 @@ ClassReport buildClassReport(std::vector<ClassAttempt> attempts, const ClassRepo
     s.tasks = int(tasks_of[id].size());
     r.students.push_back(s);
   }
-  std::sort(r.students.begin(), r.students.end(),
-            [](const StudentSummary& x, const StudentSummary& y) { return std::tie(x.name, x.id) < std::tie(y.name, y.id); });
+  // By name as a teacher reads a list: "ben" before "Chloé", whatever the case.
+  auto folded = [](std::string text) {
+    for (char& c : text) c = char(std::tolower(static_cast<unsigned char>(c)));
+    return text;
+  };
+  std::sort(r.students.begin(), r.students.end(), [&](const StudentSummary& x, const StudentSummary& y) {
+    return std::make_tuple(folded(x.name), x.name, x.id) < std::make_tuple(folded(y.name), y.name, y.id);
+  });
 
   // Tasks: counts, bins, spread.
   std::map<std::string, TaskSummary> tasks;

@@ -51,7 +51,7 @@ struct FlaggedAttempt {
 struct ClassReport {
   std::vector<ClassAttempt> attempts;           // by time, then student, then source
   std::vector<TaskSummary> tasks;          // by name
-  std::vector<StudentSummary> students;    // by name, then id
+  std::vector<StudentSummary> students;    // by name (ASCII case folded), then id
   std::vector<FlaggedAttempt> flags;       // in the attempts' order
   double first_s = 0.0, last_s = 0.0;      // the earliest and latest attempt [s since the epoch]
 };

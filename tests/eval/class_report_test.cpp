@@ -224,6 +224,21 @@ TEST(ClassReportModel, FlagsPulpExposureFailuresAndScoresBelowThePassMark) {
   EXPECT_EQ(r.attempts[3].task_kind, "access");  // carol at 2500 s
 }
 
+TEST(ClassReportModel, ListsStudentsByNameWhateverTheCase) {
+  std::vector<ClassAttempt> all(3);
+  const char* names[] = {"Chlo\u00e9", "ben", "Ana"};
+  for (size_t i = 0; i < all.size(); ++i) {
+    all[i].student = "id" + std::to_string(i);
+    all[i].student_name = names[i];
+    all[i].task = "caries_removal";
+  }
+  const ClassReport r = buildClassReport(std::move(all), {});
+  ASSERT_EQ(r.students.size(), 3u);
+  EXPECT_EQ(r.students[0].name, "Ana");
+  EXPECT_EQ(r.students[1].name, "ben");  // a plain byte order puts it after "Chlo\u00e9"
+  EXPECT_EQ(r.students[2].id, "id0");
+}
+
 TEST(ClassReportHtml, EscapesEverythingThatCameFromAFile) {
   EXPECT_EQ(htmlEscape(R"(<b>"Tom" & 'Jerry'</b>)"), "&lt;b&gt;&quot;Tom&quot; &amp; &#39;Jerry&#39;&lt;/b&gt;");
   ClassAttempt a;
