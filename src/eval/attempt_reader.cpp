@@ -210,14 +210,22 @@ std::string lastSegment(std::string iri) {
   return slash == std::string::npos ? iri : iri.substr(slash + 1);
 }
 
-// The text at a path of keys when it is a string; empty otherwise.
-std::string textAt(const json& j, std::initializer_list<const char*> keys) {
+// The value at a path of keys; null when a step is missing or not an object.
+const json* valueAt(const json& j, std::initializer_list<const char*> keys) {
   const json* at = &j;
   for (const char* k : keys) {
-    if (!at->is_object() || !at->contains(k)) return "";
-    at = &(*at)[k];
+    if (!at->is_object()) return nullptr;
+    const auto it = at->find(k);
+    if (it == at->end()) return nullptr;
+    at = &*it;
   }
-  return at->is_string() ? at->get<std::string>() : "";
+  return at;
+}
+
+// The text at a path of keys when it is a string; empty otherwise.
+std::string textAt(const json& j, std::initializer_list<const char*> keys) {
+  const json* at = valueAt(j, keys);
+  return at && at->is_string() ? at->get<std::string>() : "";
 }
 
 bool endsWith(const std::string& s, std::string_view tail) {
@@ -256,8 +264,19 @@ Result<std::optional<ClassAttempt>> parseStatement(const json& st, const std::st
   const std::string object_id = textAt(st, {"object", "id"});
   a.task = lastSegment(object_id);
   if (a.task.empty()) return Error{"object.id: missing or no task name in it"};
+  // The title in English, else in the first language the statement gives, else the name.
   a.task_title = textAt(st, {"object", "definition", "name", "en-US"});
+  if (a.task_title.empty()) {
+    const json* names = valueAt(st, {"object", "definition", "name"});
+    if (names && names->is_object())
+      for (const auto& [lang, title] : names->items())
+        if (title.is_string() && !title.get<std::string>().empty()) {
+          a.task_title = title.get<std::string>();
+          break;
+        }
+  }
   if (a.task_title.empty()) a.task_title = a.task;
+  a.statement_id = textAt(st, {"id"});
   a.verb = lastSegment(textAt(st, {"verb", "id"}));
   if (a.verb.empty()) return Error{"verb.id: missing"};
   if (result.contains("success")) {
@@ -283,6 +302,9 @@ Result<std::optional<ClassAttempt>> parseStatement(const json& st, const std::st
     if (endsWith(key, "/pulp-exposed")) {
       if (!value.is_boolean()) return Error{"result.extensions " + key + ": not true or false"};
       a.pulp_exposed = value.get<bool>();
+    } else if (endsWith(key, "/task-kind")) {
+      if (!value.is_string()) return Error{"result.extensions " + key + ": not a task kind"};
+      a.task_kind = value.get<std::string>();
     } else if (endsWith(key, "/score-picture")) {
       if (!value.is_string()) return Error{"result.extensions " + key + ": not a path"};
       const fs::path p = value.get<std::string>();

@@ -32,6 +32,7 @@ struct ClassAttempt {
   bool pulp_exposed = false;           // the cut reached the pulp
   std::string picture;                 // the score picture's file; empty when there is none
   std::string source;                  // where it was read: "path" or "path:line"
+  std::string statement_id;            // the statement's "id" (a UUID); empty for a score report
 };
 
 // What a caller knows about score reports that the reports do not say.

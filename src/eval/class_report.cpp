@@ -45,6 +45,14 @@ std::vector<std::string> reasonsFor(const ClassAttempt& a, const std::optional<d
 
 ClassReport buildClassReport(std::vector<ClassAttempt> attempts, const ClassReportOptions& options) {
   ClassReport r;
+  // The outbox gives each statement an id; the same id twice is one attempt read twice.
+  std::set<std::string> ids;
+  std::vector<ClassAttempt> kept;
+  for (ClassAttempt& a : attempts) {
+    if (!a.statement_id.empty() && !ids.insert(a.statement_id).second) ++r.duplicates;
+    else kept.push_back(std::move(a));
+  }
+  attempts = std::move(kept);
   std::map<std::string, std::string> kinds;  // built-in kinds looked up once per task
   for (ClassAttempt& a : attempts)
     if (a.task_kind.empty()) {

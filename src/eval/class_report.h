@@ -54,8 +54,10 @@ struct ClassReport {
   std::vector<StudentSummary> students;    // by name (ASCII case folded), then id
   std::vector<FlaggedAttempt> flags;       // in the attempts' order
   double first_s = 0.0, last_s = 0.0;      // the earliest and latest attempt [s since the epoch]
+  int duplicates = 0;                      // statements left out for an id seen before (two copies of an outbox)
 };
 
+// A statement whose id came before (in the order given) is counted in `duplicates` and left out.
 ClassReport buildClassReport(std::vector<ClassAttempt> attempts, const ClassReportOptions& options);
 
 // The indices (into report.attempts, oldest first) of one student's attempts at one task.

@@ -127,6 +127,21 @@ TEST(StatementInput, ReadEachLineSkipThoseWithoutAScoreAndResolvePictures) {
   EXPECT_EQ(bo.source, "out/outbox.jsonl:3");
 }
 
+TEST(StatementInput, ReadsTheIdTheTaskKindAndATitleInAnotherLanguage) {
+  const std::string text =
+      R"({"id":"6f1c0e0a-0000-4000-8000-000000000001","actor":{"account":{"name":"s09"}},"verb":{"id":"x/completed"},)"
+      R"("object":{"id":"https://school.example/courses/c1/tasks/access_cavity","definition":{"name":{"fr-FR":"Cavit\u00e9 d'acc\u00e8s"}}},)"
+      R"("result":{"score":{"raw":77},"extensions":{"https://dentsim.invalid/xapi/extensions/task-kind":"access"}},"timestamp":"2026-11-27T08:00:00Z"})";
+  auto read = parseStatements(text, "o.jsonl", ".", 0.0, nullptr);
+  ASSERT_TRUE(read.ok()) << read.message();
+  ASSERT_EQ(read->size(), 1u);
+  EXPECT_EQ((*read)[0].statement_id, "6f1c0e0a-0000-4000-8000-000000000001");
+  EXPECT_EQ((*read)[0].task_kind, "access");
+  EXPECT_EQ((*read)[0].task_title, "Cavit\u00e9 d'acc\u00e8s");
+  EXPECT_EQ((*read)[0].student_name, "s09");  // no name: the id
+  EXPECT_FALSE((*read)[0].success);           // "completed" says neither
+}
+
 TEST(StatementInput, AMalformedLineIsNamedByFileAndLine) {
   const std::string good = statement(account("s01", "Ann"), "caries_removal", "passed", 80, "2026-11-27T08:00:00Z");
   auto broken = parseStatements(good + "\n{\"actor\": \n", "o.jsonl", ".", 0.0, nullptr);
@@ -222,6 +237,21 @@ TEST(ClassReportModel, FlagsPulpExposureFailuresAndScoresBelowThePassMark) {
   EXPECT_EQ(r.flags[2].reasons, (std::vector<std::string>{"below the pass mark of 60", "failed"}));
   EXPECT_EQ(flagged(3).source, "carol@3500");
   EXPECT_EQ(r.attempts[3].task_kind, "access");  // carol at 2500 s
+}
+
+TEST(ClassReportModel, AStatementGivenTwiceCountsOnce) {
+  std::vector<ClassAttempt> all(4);
+  const char* ids[] = {"a", "b", "a", ""};  // the third repeats the first; a score report has no id
+  for (size_t i = 0; i < all.size(); ++i) {
+    all[i].student = "s";
+    all[i].task = "caries_removal";
+    all[i].statement_id = ids[i];
+    all[i].time_s = double(i);
+  }
+  const ClassReport r = buildClassReport(std::move(all), {});
+  EXPECT_EQ(r.attempts.size(), 3u);
+  EXPECT_EQ(r.duplicates, 1);
+  EXPECT_EQ(r.attempts[2].time_s, 3.0);
 }
 
 TEST(ClassReportModel, ListsStudentsByNameWhateverTheCase) {
