@@ -2,7 +2,8 @@
 # Installs every Debian 12 package dentsim needs to build, test and benchmark; idempotent, no prompts.
 set -euo pipefail
 
-# Build and test: compiler, CMake, shaders, Vulkan on lavapipe with validation, libraries.
+# Build and test: compiler, CMake, shaders, Vulkan on lavapipe with validation, libraries, and the
+# headless browser that renders the class report in its test.
 packages=(
   build-essential cmake ninja-build pkg-config clang lld
   glslc glslang-tools spirv-tools
@@ -13,6 +14,7 @@ packages=(
   libgtest-dev libgmock-dev
   libnifti2-dev zlib1g-dev libzstd-dev libxxhash-dev
   libcli11-dev libstb-dev nlohmann-json3-dev libmeshoptimizer-dev
+  chromium
 )
 # Benchmark peers, measured beside dentsim in the same run (docs/PERFORMANCE.md): OpenVDB and VTK.
 if [[ "${DENTSIM_NO_PEERS:-0}" != 1 ]]; then

@@ -34,6 +34,7 @@ int main(int argc, char** argv) {
   addReplayCommand(root, action);
   addScoreCommand(root, action);
   addTaskCommand(root, action);
+  addReportCommand(root, action);
   try {
     root.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,67 @@
+// Reading a class's attempts for the class report: score reports (score.json) and outboxes of xAPI statements, as one list.
+//
+// docs/CLASS_REPORT.md gives the formats and the rules below. A score report holds no student and
+// no time of its own, so both come from around it: the `student` and `timestamp` fields when the
+// report has them, else the caller's student, else the folder layout STUDENT/ATTEMPT/score.json
+// (the student is the folder two above the file); the time is the file's modification time. An
+// outbox is JSON lines, one xAPI 1.0.3 statement per line; statements with no score (launched,
+// attempted) are counted and left out. Every error is one line naming the file (and the line).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/result.h"
+
+namespace dentsim {
+
+// One scored attempt at a task, from either source.
+struct ClassAttempt {
+  std::string student;                 // the student's id (account name, mbox, or the report's student)
+  std::string student_name;            // what to show; the id when no name is known
+  std::string task;                    // the task's name ("class2_cavity"): a report's task.name, a statement's last IRI segment
+  std::string task_title;              // the task's title; the name when none is known
+  std::string task_kind;               // "caries", "cavity", "access"; empty when unknown (statements)
+  double score = 0.0;                  // [points of 100], [0, 100]
+  double time_s = 0.0;                 // when the attempt ended [s since 1970-01-01 UTC]
+  std::optional<double> duration_s;    // how long it took [s], when said
+  std::optional<bool> success;         // a statement's result.success, when said
+  std::string verb;                    // the statement's verb ("passed", "failed", "completed"); "scored" for a report
+  bool pulp_exposed = false;           // the cut reached the pulp
+  std::string picture;                 // the score picture's file; empty when there is none
+  std::string source;                  // where it was read: "path" or "path:line"
+  std::string statement_id;            // the statement's "id" (a UUID); empty for a score report
+};
+
+// What a caller knows about score reports that the reports do not say.
+struct AttemptReadOptions {
+  std::string student;                 // every score report given is this student's; empty: the report's or the folders'
+};
+
+// A whole input file's attempts. A file is a score report when it is one JSON object whose
+// "format" is "dentsim-score"; otherwise it is read as an outbox. `skipped` (may be null) counts
+// the statements left out for having no score.
+Result<std::vector<ClassAttempt>> readAttempts(const std::string& path, const AttemptReadOptions& options, int* skipped);
+
+// ---- the parts, for tests ------------------------------------------------------------------------
+
+// A score report's text. `file_time_s` is the file's modification time, used when the report has
+// no "timestamp"; `picture` the score.png beside it ("" when there is none).
+Result<ClassAttempt> parseScoreReport(const std::string& text, const std::string& path, double file_time_s,
+                                 const std::string& picture, const AttemptReadOptions& options);
+// An outbox's text, line by line (blank lines are allowed). Relative picture paths are taken from
+// `folder`; `file_time_s` stands in for a statement's missing timestamp.
+Result<std::vector<ClassAttempt>> parseStatements(const std::string& text, const std::string& path, const std::string& folder,
+                                             double file_time_s, int* skipped);
+// An ISO 8601 date and time ("2026-11-27T08:15:00.5Z", "...+01:00"; no zone means UTC) in seconds
+// since 1970-01-01 UTC; none when the text is not one.
+std::optional<double> parseIsoTime(const std::string& text);
+// An ISO 8601 duration ("PT5M12.5S", "P1DT2H") in seconds; none when the text is not one.
+std::optional<double> parseIsoDuration(const std::string& text);
+// The student a score report's path names by the layout STUDENT/ATTEMPT/score.json; empty when the
+// path has no two folders above the file.
+std::string studentFromLayout(const std::string& path);
+
+}  // namespace dentsim

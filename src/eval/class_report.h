@@ -1,0 +1,69 @@
+// The class report's page model: a class's attempts grouped by student and task, each task's score distribution, and the attempts a teacher should look at.
+//
+// eval/attempt_reader.h reads the attempts; eval/class_report_html.h draws this model as one HTML
+// page. Nothing here reads or writes a file.
+#pragma once
+
+#include <array>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "eval/attempt_reader.h"
+
+namespace dentsim {
+
+// Pass marks: tasks carry none, so the teacher gives them.
+struct ClassReportOptions {
+  std::optional<double> pass_mark;               // every task's [points of 100]; none: no pass mark
+  std::map<std::string, double> task_pass_marks; // by task name; wins over pass_mark
+};
+
+// Ten bins of ten points: [0, 10), [10, 20), ..., [90, 100] (100 falls in the last).
+constexpr int kScoreBins = 10;
+int scoreBin(double score);
+
+struct TaskSummary {
+  std::string name;                        // the task's name
+  std::string title;                       // its title as the latest attempt gave it
+  std::optional<double> pass_mark;         // [points of 100]
+  int attempts = 0;                        // attempts at this task
+  std::array<int, kScoreBins> bins{};      // attempts per score bin (scoreBin)
+  double min = 0.0, median = 0.0, max = 0.0;  // of the scores; median by the nearest-rank rule (core/percentile.h)
+  std::vector<std::string> students;       // ids of the students who tried it, in ClassReport::students' order
+};
+
+struct StudentSummary {
+  std::string id;                          // the student's id
+  std::string name;                        // the latest name the attempts gave
+  int attempts = 0;                        // all tasks
+  int tasks = 0;                           // distinct tasks tried
+};
+
+// An attempt a teacher should look at, and why: "pulp exposed", "below the pass mark of 50",
+// "failed" (verb failed or success false). An access cavity must open the pulp, so there it is no fault.
+struct FlaggedAttempt {
+  size_t attempt = 0;                      // index into ClassReport::attempts
+  std::vector<std::string> reasons;        // one or more, in that order
+};
+
+struct ClassReport {
+  std::vector<ClassAttempt> attempts;           // by time, then student, then source
+  std::vector<TaskSummary> tasks;          // by name
+  std::vector<StudentSummary> students;    // by name (ASCII case folded), then id
+  std::vector<FlaggedAttempt> flags;       // in the attempts' order
+  double first_s = 0.0, last_s = 0.0;      // the earliest and latest attempt [s since the epoch]
+  int duplicates = 0;                      // statements left out for an id seen before (two copies of an outbox)
+};
+
+// A statement whose id came before (in the order given) is counted in `duplicates` and left out.
+ClassReport buildClassReport(std::vector<ClassAttempt> attempts, const ClassReportOptions& options);
+
+// The indices (into report.attempts, oldest first) of one student's attempts at one task.
+std::vector<size_t> attemptsOf(const ClassReport& report, const std::string& student, const std::string& task);
+
+// The pass mark of a task under these options; none when neither gives one.
+std::optional<double> passMarkFor(const ClassReportOptions& options, const std::string& task);
+
+}  // namespace dentsim

@@ -1,0 +1,356 @@
+// Writes the class report's page: HTML tables, SVG progress plots and histograms, pictures inlined as base64 PNG.
+//
+// Contents: 1. text helpers  2. the progress plot  3. the histogram  4. the page
+#include "eval/class_report_html.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+
+namespace dentsim {
+
+// ---- 1. text helpers ------------------------------------------------------------------------------
+
+std::string htmlEscape(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&#39;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string base64(std::span<const uint8_t> bytes) {
+  static constexpr char kAlphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (size_t i = 0; i < bytes.size(); i += 3) {
+    // Three bytes make four six-bit digits; a short tail is padded with '='.
+    const size_t n = std::min<size_t>(3, bytes.size() - i);
+    uint32_t v = uint32_t(bytes[i]) << 16;
+    if (n > 1) v |= uint32_t(bytes[i + 1]) << 8;
+    if (n > 2) v |= uint32_t(bytes[i + 2]);
+    out += kAlphabet[(v >> 18) & 63];
+    out += kAlphabet[(v >> 12) & 63];
+    out += n > 1 ? kAlphabet[(v >> 6) & 63] : '=';
+    out += n > 2 ? kAlphabet[v & 63] : '=';
+  }
+  return out;
+}
+
+namespace {
+
+std::string timeText(double time_s, const char* format) {
+  const auto t = std::time_t(std::floor(time_s));
+  std::tm tm{};
+  ::gmtime_r(&t, &tm);
+  char text[64];
+  std::strftime(text, sizeof text, format, &tm);
+  return text;
+}
+
+std::string num(double v, int digits = 1) {
+  char text[48];
+  std::snprintf(text, sizeof text, "%.*f", digits, v);
+  return text;
+}
+
+}  // namespace
+
+std::string utcText(double time_s) { return timeText(time_s, "%Y-%m-%d %H:%M"); }
+
+std::string studentColour(size_t i) {
+  // Ten colours that stay apart on screen and in print.
+  static constexpr const char* kPalette[] = {"#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd",
+                                             "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
+  return kPalette[i % 10];
+}
+
+// ---- 2. the progress plot -------------------------------------------------------------------------
+
+namespace {
+
+// Plot geometry [px]: the axes' box inside the SVG, room on the right for the legend.
+constexpr double kWidth = 720, kHeight = 300;
+constexpr double kLeft = 50, kRight = 560, kTop = 20, kBottom = 250;
+
+double yOf(double score) { return kBottom - (kBottom - kTop) * std::clamp(score, 0.0, 100.0) / 100.0; }
+
+// Time ticks: the smallest step from this ladder that gives at most six ticks over the span [s].
+double tickStep(double span_s) {
+  static constexpr double kSteps[] = {60,     300,     900,     1800,     3600,      3 * 3600, 6 * 3600,
+                                      43200,  86400,   2 * 86400, 7 * 86400, 14 * 86400, 28 * 86400, 91 * 86400};
+  for (double s : kSteps)
+    if (span_s / s <= 6.0) return s;
+  return std::ceil(span_s / 6.0 / 86400.0) * 86400.0;
+}
+
+void scoreAxis(std::string& svg, const std::string& label) {
+  for (int s = 0; s <= 100; s += 20) {
+    const std::string y = num(yOf(s));
+    svg += "<line class=\"grid\" x1=\"" + num(kLeft) + "\" x2=\"" + num(kRight) + "\" y1=\"" + y + "\" y2=\"" + y + "\"/>";
+    svg += "<text class=\"tick\" x=\"" + num(kLeft - 6) + "\" y=\"" + y + "\" text-anchor=\"end\" dominant-baseline=\"middle\">" +
+           std::to_string(s) + "</text>";
+  }
+  svg += "<text class=\"axis-label\" transform=\"translate(14," + num((kTop + kBottom) / 2) +
+         ") rotate(-90)\" text-anchor=\"middle\">" + htmlEscape(label) + "</text>";
+}
+
+void passLine(std::string& svg, const std::optional<double>& pass_mark) {
+  if (!pass_mark) return;
+  const std::string y = num(yOf(*pass_mark));
+  svg += "<line class=\"pass\" x1=\"" + num(kLeft) + "\" x2=\"" + num(kRight) + "\" y1=\"" + y + "\" y2=\"" + y + "\"/>";
+  svg += "<text class=\"pass-label\" x=\"" + num(kRight - 4) + "\" y=\"" + num(yOf(*pass_mark) - 4) +
+         "\" text-anchor=\"end\">pass " + num(*pass_mark, 0) + "</text>";
+}
+
+}  // namespace
+
+std::string progressSvg(const ClassReport& report, const TaskSummary& task) {
+  // The time span of this task's attempts; a single moment is widened by an hour each way.
+  double t0 = 0, t1 = 0;
+  bool first = true;
+  for (const ClassAttempt& a : report.attempts)
+    if (a.task == task.name) {
+      t0 = first ? a.time_s : std::min(t0, a.time_s);
+      t1 = first ? a.time_s : std::max(t1, a.time_s);
+      first = false;
+    }
+  if (t1 - t0 < 60) {
+    t0 -= 3600;
+    t1 += 3600;
+  }
+  const double pad = 0.04 * (t1 - t0);
+  t0 -= pad;
+  t1 += pad;
+  auto xOf = [&](double t) { return kLeft + (kRight - kLeft) * (t - t0) / (t1 - t0); };
+
+  // A long legend makes the picture taller; the axes stay where they are.
+  const double height = std::max(kHeight, kTop + 8 + 18.0 * double(task.students.size()));
+  std::string svg = "<svg class=\"progress\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" + num(kWidth, 0) + "\" height=\"" +
+                    num(height, 0) + "\" viewBox=\"0 0 " + num(kWidth, 0) + " " + num(height, 0) +
+                    "\" role=\"img\" aria-label=\"" + htmlEscape("scores over time: " + task.title) + "\">";
+  scoreAxis(svg, "score");
+  // Time ticks: dates when a step is a day or more, or when the span crosses midnight.
+  const double step = tickStep(t1 - t0);
+  const bool one_day = timeText(t0, "%F") == timeText(t1, "%F");
+  const char* format = step >= 86400 ? "%m-%d" : one_day ? "%H:%M" : "%m-%d %H:%M";
+  for (double t = std::ceil(t0 / step) * step; t <= t1; t += step) {
+    const std::string x = num(xOf(t));
+    svg += "<line class=\"tickmark\" x1=\"" + x + "\" x2=\"" + x + "\" y1=\"" + num(kBottom) + "\" y2=\"" + num(kBottom + 5) + "\"/>";
+    svg += "<text class=\"tick\" x=\"" + x + "\" y=\"" + num(kBottom + 18) + "\" text-anchor=\"middle\">" + timeText(t, format) + "</text>";
+  }
+  svg += "<line class=\"axis\" x1=\"" + num(kLeft) + "\" x2=\"" + num(kRight) + "\" y1=\"" + num(kBottom) + "\" y2=\"" + num(kBottom) + "\"/>";
+  svg += "<line class=\"axis\" x1=\"" + num(kLeft) + "\" x2=\"" + num(kLeft) + "\" y1=\"" + num(kTop) + "\" y2=\"" + num(kBottom) + "\"/>";
+  const std::string day = one_day ? timeText(t0, "%F") + ", " : "";
+  svg += "<text class=\"axis-label\" x=\"" + num((kLeft + kRight) / 2) + "\" y=\"" + num(kHeight - 8) +
+         "\" text-anchor=\"middle\">time (" + day + "UTC)</text>";
+  passLine(svg, task.pass_mark);
+
+  // One line and legend entry per student; every attempt a dot with its score as a tooltip.
+  for (size_t s = 0; s < report.students.size(); ++s) {
+    const StudentSummary& student = report.students[s];
+    const std::vector<size_t> mine = attemptsOf(report, student.id, task.name);
+    if (mine.empty()) continue;
+    const std::string colour = studentColour(s);
+    const std::string dash = s >= 10 ? " stroke-dasharray=\"6,3\"" : "";
+    std::string points;
+    for (size_t i : mine) points += num(xOf(report.attempts[i].time_s)) + "," + num(yOf(report.attempts[i].score)) + " ";
+    svg += "<polyline class=\"student-line\" fill=\"none\" stroke=\"" + colour + "\" stroke-width=\"2.5\"" + dash + " points=\"" +
+           points + "\"/>";
+    for (size_t i : mine) {
+      const ClassAttempt& a = report.attempts[i];
+      svg += "<circle cx=\"" + num(xOf(a.time_s)) + "\" cy=\"" + num(yOf(a.score)) + "\" r=\"4\" fill=\"" + colour + "\"><title>" +
+             htmlEscape(student.name + ": " + num(a.score) + " on " + utcText(a.time_s)) + "</title></circle>";
+    }
+    const size_t row = size_t(std::find(task.students.begin(), task.students.end(), student.id) - task.students.begin());
+    const double ly = kTop + 8 + 18.0 * double(row);
+    svg += "<line x1=\"" + num(kRight + 16) + "\" x2=\"" + num(kRight + 40) + "\" y1=\"" + num(ly) + "\" y2=\"" + num(ly) +
+           "\" stroke=\"" + colour + "\" stroke-width=\"2.5\"" + dash + "/>";
+    svg += "<text class=\"legend\" x=\"" + num(kRight + 46) + "\" y=\"" + num(ly) + "\" dominant-baseline=\"middle\">" +
+           htmlEscape(student.name) + "</text>";
+  }
+  svg += "</svg>";
+  return svg;
+}
+
+// ---- 3. the histogram -----------------------------------------------------------------------------
+
+std::string histogramSvg(const TaskSummary& task) {
+  constexpr double w = 560, h = 240, left = 50, right = 540, top = 20, bottom = 200;
+  const int most = std::max(1, *std::max_element(task.bins.begin(), task.bins.end()));
+  auto xOf = [&](double score) { return left + (right - left) * score / 100.0; };
+  auto yOf = [&](double count) { return bottom - (bottom - top) * count / most; };
+  std::string svg = "<svg class=\"histogram\" xmlns=\"http://www.w3.org/2000/svg\" width=\"" + num(w, 0) + "\" height=\"" + num(h, 0) +
+                    "\" viewBox=\"0 0 " + num(w, 0) + " " + num(h, 0) + "\" role=\"img\" aria-label=\"" +
+                    htmlEscape("score distribution: " + task.title) + "\">";
+  // Count ticks: whole numbers, at most five.
+  const int step = std::max(1, int(std::ceil(most / 5.0)));
+  for (int c = 0; c <= most; c += step) {
+    const std::string y = num(yOf(c));
+    svg += "<line class=\"grid\" x1=\"" + num(left) + "\" x2=\"" + num(right) + "\" y1=\"" + y + "\" y2=\"" + y + "\"/>";
+    svg += "<text class=\"tick\" x=\"" + num(left - 6) + "\" y=\"" + y + "\" text-anchor=\"end\" dominant-baseline=\"middle\">" +
+           std::to_string(c) + "</text>";
+  }
+  for (int b = 0; b < kScoreBins; ++b) {
+    const int count = task.bins[size_t(b)];
+    const double x = xOf(b * 10.0) + 2, bw = xOf(10.0) - xOf(0.0) - 4;
+    if (count > 0) {
+      svg += "<rect class=\"bar\" x=\"" + num(x) + "\" y=\"" + num(yOf(count)) + "\" width=\"" + num(bw) + "\" height=\"" +
+             num(bottom - yOf(count)) + "\"><title>" + std::to_string(count) + " attempts scored " +
+             std::to_string(b * 10) + (b == kScoreBins - 1 ? "-100" : "-" + std::to_string(b * 10 + 10)) + "</title></rect>";
+      svg += "<text class=\"count\" x=\"" + num(x + bw / 2) + "\" y=\"" + num(yOf(count) - 4) + "\" text-anchor=\"middle\">" +
+             std::to_string(count) + "</text>";
+    }
+  }
+  for (int s = 0; s <= 100; s += 10)
+    svg += "<text class=\"tick\" x=\"" + num(xOf(s)) + "\" y=\"" + num(bottom + 16) + "\" text-anchor=\"middle\">" + std::to_string(s) + "</text>";
+  svg += "<line class=\"axis\" x1=\"" + num(left) + "\" x2=\"" + num(right) + "\" y1=\"" + num(bottom) + "\" y2=\"" + num(bottom) + "\"/>";
+  svg += "<line class=\"axis\" x1=\"" + num(left) + "\" x2=\"" + num(left) + "\" y1=\"" + num(top) + "\" y2=\"" + num(bottom) + "\"/>";
+  svg += "<text class=\"axis-label\" x=\"" + num((left + right) / 2) + "\" y=\"" + num(h - 6) + "\" text-anchor=\"middle\">score</text>";
+  svg += "<text class=\"axis-label\" transform=\"translate(14," + num((top + bottom) / 2) + ") rotate(-90)\" text-anchor=\"middle\">attempts</text>";
+  if (task.pass_mark) {
+    const std::string x = num(xOf(std::clamp(*task.pass_mark, 0.0, 100.0)));
+    svg += "<line class=\"pass\" x1=\"" + x + "\" x2=\"" + x + "\" y1=\"" + num(top) + "\" y2=\"" + num(bottom) + "\"/>";
+    svg += "<text class=\"pass-label\" x=\"" + x + "\" y=\"" + num(top - 6) + "\" text-anchor=\"middle\">pass " +
+           num(*task.pass_mark, 0) + "</text>";
+  }
+  svg += "</svg>";
+  return svg;
+}
+
+// ---- 4. the page ----------------------------------------------------------------------------------
+
+namespace {
+
+constexpr const char* kStyle = R"(
+body { font: 15px/1.4 system-ui, sans-serif; color: #222; background: #fff; margin: 24px; max-width: 1200px; }
+h1 { margin-bottom: 4px; } h2 { border-bottom: 1px solid #ccc; margin-top: 32px; }
+table { border-collapse: collapse; margin: 8px 0; }
+th, td { border: 1px solid #ccc; padding: 3px 8px; text-align: left; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; }
+tr.flagged td { background: #fdecea; }
+.task { margin: 12px 0 24px; }
+svg text { font: 12px system-ui, sans-serif; fill: #333; }
+svg .grid { stroke: #e4e4e4; } svg .axis, svg .tickmark { stroke: #444; }
+svg .pass { stroke: #c0392b; stroke-width: 1.5; stroke-dasharray: 6,4; } svg .pass-label { fill: #c0392b; }
+svg .bar { fill: #4a7fb5; } svg .count { font-weight: bold; }
+.pictures { display: flex; flex-wrap: wrap; gap: 16px; }
+figure { margin: 0; border: 1px solid #ccc; padding: 6px; width: 360px; }
+figure img { width: 100%; height: auto; display: block; }
+figcaption { font-size: 13px; margin-top: 4px; }
+.nopic { color: #888; font-style: italic; padding: 40px 0; text-align: center; }
+)";
+
+std::string cell(const std::string& text, bool number = false) {
+  return std::string(number ? "<td class=\"num\">" : "<td>") + htmlEscape(text) + "</td>";
+}
+
+std::string durationText(const std::optional<double>& s) {
+  if (!s) return "";
+  const int total = int(std::lround(*s));
+  char text[32];
+  std::snprintf(text, sizeof text, "%d:%02d", total / 60, total % 60);
+  return text;
+}
+
+std::string studentName(const ClassReport& r, const std::string& id) {
+  for (const StudentSummary& s : r.students)
+    if (s.id == id) return s.name;
+  return id;
+}
+
+void studentsSection(std::string& html, const ClassReport& r) {
+  html += "<h2>Students</h2><table class=\"students\"><tr><th>student</th><th>id</th><th>attempts</th><th>tasks</th></tr>";
+  for (const StudentSummary& s : r.students)
+    html += "<tr>" + cell(s.name) + cell(s.id) + cell(std::to_string(s.attempts), true) + cell(std::to_string(s.tasks), true) + "</tr>";
+  html += "</table>";
+}
+
+void tasksSection(std::string& html, const ClassReport& r) {
+  html += "<h2>Progress and scores by task</h2>";
+  for (const TaskSummary& t : r.tasks) {
+    html += "<div class=\"task\"><h3>" + htmlEscape(t.title) + " <small>(" + htmlEscape(t.name) + ")</small></h3>";
+    html += "<p>" + std::to_string(t.attempts) + " attempts by " + std::to_string(t.students.size()) + " students; score min " +
+            num(t.min) + ", median " + num(t.median) + ", max " + num(t.max) +
+            (t.pass_mark ? "; pass mark " + num(*t.pass_mark, 0) : "; no pass mark") + ".</p>";
+    html += progressSvg(r, t);
+    html += histogramSvg(t);
+    html += "</div>";
+  }
+}
+
+void flaggedSection(std::string& html, const ClassReport& r) {
+  html += "<h2>Attempts to look at</h2>";
+  if (r.flags.empty()) {
+    html += "<p>No attempt exposed the pulp, failed or fell below a pass mark.</p>";
+    return;
+  }
+  html += "<p>Attempts that exposed the pulp (not a fault in an access cavity), failed, or fell below the pass mark.</p>";
+  html += "<table class=\"flagged\"><tr><th>student</th><th>task</th><th>date (UTC)</th><th>score</th><th>why</th><th>from</th></tr>";
+  for (const FlaggedAttempt& f : r.flags) {
+    const ClassAttempt& a = r.attempts[f.attempt];
+    std::string why;
+    for (const std::string& reason : f.reasons) why += (why.empty() ? "" : ", ") + reason;
+    html += "<tr class=\"flagged\">" + cell(studentName(r, a.student)) + cell(a.task_title) + cell(utcText(a.time_s)) +
+            cell(num(a.score), true) + cell(why) + cell(a.source) + "</tr>";
+  }
+  html += "</table>";
+}
+
+void attemptsSection(std::string& html, const ClassReport& r) {
+  html += "<h2>All attempts</h2><table class=\"attempts\"><tr><th>date (UTC)</th><th>student</th><th>task</th><th>score</th>"
+          "<th>time taken</th><th>result</th><th>from</th></tr>";
+  for (const ClassAttempt& a : r.attempts)
+    html += "<tr>" + cell(utcText(a.time_s)) + cell(studentName(r, a.student)) + cell(a.task_title) + cell(num(a.score), true) +
+            cell(durationText(a.duration_s), true) + cell(a.verb) + cell(a.source) + "</tr>";
+  html += "</table>";
+}
+
+void picturesSection(std::string& html, const ClassReport& r, const ReportPictures& pictures) {
+  html += "<h2>Score pictures</h2><p>Red: over-cut, or healthy tissue cut outside the allowed zone; blue: under-cut.</p>"
+          "<div class=\"pictures\">";
+  for (const ClassAttempt& a : r.attempts) {
+    const std::string caption = studentName(r, a.student) + " \u2014 " + a.task_title + " \u2014 " + num(a.score) + " \u2014 " +
+                                utcText(a.time_s);
+    html += "<figure>";
+    const auto it = a.picture.empty() ? pictures.end() : pictures.find(a.picture);
+    if (it != pictures.end())
+      html += "<img alt=\"" + htmlEscape("score picture: " + caption) + "\" src=\"data:image/png;base64," + base64(it->second) + "\">";
+    else
+      html += "<div class=\"nopic\">no picture</div>";
+    html += "<figcaption>" + htmlEscape(caption) + "</figcaption></figure>";
+  }
+  html += "</div>";
+}
+
+}  // namespace
+
+std::string classReportHtml(const ClassReport& r, const ReportPictures& pictures) {
+  std::string html = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+                     "<meta http-equiv=\"Content-Security-Policy\" content=\"default-src 'none'; img-src data:; style-src 'unsafe-inline'\">"
+                     "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">"
+                     "<title>dentsim class report</title><style>";
+  html += kStyle;
+  html += "</style></head><body><h1>Class report</h1><p class=\"summary\">" + std::to_string(r.attempts.size()) + " attempts by " +
+          std::to_string(r.students.size()) + " students at " + std::to_string(r.tasks.size()) + " tasks";
+  if (!r.attempts.empty()) html += ", " + utcText(r.first_s) + " to " + utcText(r.last_s) + " UTC";
+  html += ".</p>\n";
+  studentsSection(html, r);
+  tasksSection(html, r);
+  flaggedSection(html, r);
+  attemptsSection(html, r);
+  picturesSection(html, r, pictures);
+  html += "\n</body></html>\n";
+  return html;
+}
+
+}  // namespace dentsim

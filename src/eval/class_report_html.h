@@ -1,0 +1,41 @@
+// The class report as one self-contained HTML page: inline CSS, inline SVG plots, score pictures as data: URIs, no script and no request.
+//
+// The page's Content-Security-Policy allows only inline styles and data: images, so a browser
+// refuses any request the page might make. Every text that came from a file (student names, task
+// titles, paths) goes through htmlEscape.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "eval/class_report.h"
+
+namespace dentsim {
+
+// The PNG bytes of the score pictures, by the path an attempt names; an attempt whose picture is
+// not here shows "no picture".
+using ReportPictures = std::map<std::string, std::vector<uint8_t>>;
+
+// The whole page.
+std::string classReportHtml(const ClassReport& report, const ReportPictures& pictures);
+
+// ---- the parts, for tests ------------------------------------------------------------------------
+
+// Text made safe inside HTML and SVG elements and quoted attributes: & < > " ' as entities.
+std::string htmlEscape(std::string_view text);
+// Standard base64 with padding (RFC 4648), for data: URIs.
+std::string base64(std::span<const uint8_t> bytes);
+// "2026-11-27 08:15" in UTC.
+std::string utcText(double time_s);
+// One task's progress plot: score (0..100) against time, one line per student, the pass mark dashed.
+std::string progressSvg(const ClassReport& report, const TaskSummary& task);
+// One task's histogram of scores in ten bins, each bar with its count, the pass mark dashed.
+std::string histogramSvg(const TaskSummary& task);
+// The i-th student's line colour ("#1f77b4"); colours repeat after ten, with a dash from the 11th.
+std::string studentColour(size_t i);
+
+}  // namespace dentsim

@@ -1,0 +1,179 @@
+// Tests of `dentsim report`: a class of synthetic score reports and an outbox becomes one page with the counts, plots and pictures it should have; bad input fails in one line and writes nothing; Chromium renders the page.
+#include <sys/time.h>
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "io/png_file.h"
+#include "test_support.h"
+
+namespace dentsim {
+namespace {
+
+using test::runCommand;
+using test::runDentsim;
+using test::TempDir;
+
+namespace fs = std::filesystem;
+
+size_t countOf(const std::string& text, const std::string& what) {
+  size_t n = 0;
+  for (size_t at = text.find(what); at != std::string::npos; at = text.find(what, at + what.size())) ++n;
+  return n;
+}
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void writeText(const std::string& path, const std::string& text) {
+  fs::create_directories(fs::path(path).parent_path());
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+// A picture of one colour, 32x16: the page shows it 360 px wide, so its colour fills a block.
+void writePicture(const std::string& path, uint8_t r, uint8_t g, uint8_t b) {
+  RgbImage image;
+  image.width = 32;
+  image.height = 16;
+  for (int i = 0; i < image.width * image.height; ++i) image.rgb.insert(image.rgb.end(), {r, g, b});
+  fs::create_directories(fs::path(path).parent_path());
+  ASSERT_TRUE(writePng(path, image).ok());
+}
+
+// A score report as `dentsim score` writes it, trimmed to what the page reads, its file dated `time_s`.
+void writeReport(const std::string& path, const std::string& task, double total, bool pulp, long time_s) {
+  writeText(path, "{\"format\":\"dentsim-score\",\"version\":2,\"task\":{\"name\":\"" + task + "\",\"kind\":\"cavity\",\"title\":\"" + task +
+                      " exercise\"},\"total\":" + std::to_string(total) + ",\"total_max\":100,\"pulp_exposed\":" +
+                      (pulp ? "true" : "false") + "}\n");
+  const timeval times[2] = {{time_s, 0}, {time_s, 0}};
+  ASSERT_EQ(::utimes(path.c_str(), times), 0) << path;
+}
+
+std::string statement(const std::string& verb, const std::string& task, double raw, const std::string& when,
+                      const std::string& extensions) {
+  return "{\"actor\":{\"objectType\":\"Agent\",\"name\":\"Carol <O'Brien>\",\"account\":{\"homePage\":\"https://school.example\","
+         "\"name\":\"s03\"}},\"verb\":{\"id\":\"http://adlnet.gov/expapi/verbs/" + verb +
+         "\"},\"object\":{\"id\":\"https://dentsim.example/tasks/" + task + "\",\"definition\":{\"name\":{\"en-US\":\"" + task +
+         " exercise\"}}},\"result\":{\"score\":{\"raw\":" + std::to_string(raw) + ",\"scaled\":" + std::to_string(raw / 100) +
+         "},\"success\":" + (verb == "passed" ? "true" : "false") + ",\"duration\":\"PT4M30S\",\"extensions\":{" + extensions +
+         "}},\"timestamp\":\"" + when + "\"}\n";
+}
+
+// The class: alice tried caries removal twice (40, then 70), bob a class II once (55, pulp exposed),
+// and carol's outbox holds a caries removal passed at 85 with its picture, a class II failed at 30,
+// and a launch with no score. With a pass mark of 50: alice's 40, bob's pulp and carol's 30 are flagged.
+class ReportCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    writeReport(file("class/alice/try1/score.json"), "caries_removal", 40, false, 1795760000);
+    writePicture(file("class/alice/try1/score.png"), 200, 30, 30);
+    writeReport(file("class/alice/try2/score.json"), "caries_removal", 70, false, 1795763600);
+    writePicture(file("class/alice/try2/score.png"), 30, 30, 200);
+    writeReport(file("class/bob/try1/score.json"), "class2_cavity", 55, true, 1795762000);
+    writePicture(file("class/bob/try1/score.png"), 30, 200, 30);
+    writePicture(file("class/pics/carol.png"), 255, 0, 255);
+    writeText(file("class/outbox.jsonl"),
+              statement("passed", "caries_removal", 85, "2026-11-27T07:30:00Z",
+                        "\"https://dentsim.example/xapi/pulp-exposed\":false,\"https://dentsim.example/xapi/score-picture\":\"pics/carol.png\"") +
+                  statement("failed", "class2_cavity", 30, "2026-11-27T08:10:00Z", "\"https://dentsim.example/xapi/pulp-exposed\":false") +
+                  "{\"actor\":{\"account\":{\"name\":\"s03\"}},\"verb\":{\"id\":\"http://adlnet.gov/expapi/verbs/launched\"},"
+                  "\"object\":{\"id\":\"https://dentsim.example/tasks/caries_removal\"},\"timestamp\":\"2026-11-27T07:25:00Z\"}\n");
+  }
+  std::string file(const std::string& name) const { return dir_.file(name); }
+  std::string inputs() const {
+    return file("class/alice/try1/score.json") + " " + file("class/alice/try2/score.json") + " " + file("class/bob/try1/score.json") +
+           " " + file("class/outbox.jsonl");
+  }
+  TempDir dir_;
+};
+
+TEST_F(ReportCli, ScoreReportsAndAnOutboxMakeOnePageWithPlotsTablesAndPictures) {
+  // The pass mark before the inputs takes one value, leaving the inputs to be inputs.
+  const auto r = runDentsim("report --pass-mark 50 " + inputs() + " -o " + file("report.html"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("5 attempts by 3 students at 2 tasks, 3 to look at, 4 pictures (1 statements without a score left out)"),
+            std::string::npos)
+      << r.output;
+  const std::string html = readText(file("report.html"));
+  EXPECT_EQ(countOf(html, "<svg class=\"progress\""), 2u);
+  EXPECT_EQ(countOf(html, "<svg class=\"histogram\""), 2u);
+  EXPECT_EQ(countOf(html, "<polyline"), 4u);  // caries: alice, carol; class II: bob, carol
+  EXPECT_EQ(countOf(html, "<tr class=\"flagged\">"), 3u);
+  EXPECT_EQ(countOf(html, "src=\"data:image/png;base64,"), 4u);
+  EXPECT_EQ(countOf(html, "no picture"), 1u);  // carol's class II named none
+  EXPECT_NE(html.find("Carol &lt;O&#39;Brien&gt;"), std::string::npos);
+  EXPECT_EQ(html.find("<O'Brien>"), std::string::npos);
+  EXPECT_NE(html.find("below the pass mark of 50, failed"), std::string::npos);  // carol's 30
+  EXPECT_NE(html.find("pulp exposed"), std::string::npos);                     // bob's
+  EXPECT_NE(html.find(">4:30<"), std::string::npos);                            // carol's time taken
+
+  // The class's folder gives the same page as its files named one by one.
+  const auto folder = runDentsim("report " + file("class") + " --pass-mark 50 -o " + file("folder.html"));
+  ASSERT_EQ(folder.exit_code, 0) << folder.output;
+  EXPECT_EQ(readText(file("folder.html")), html);
+}
+
+TEST_F(ReportCli, BadInputFailsInOneLineAndLeavesTheLastPageAlone) {
+  const std::string out = file("report.html");
+  writeText(out, "the last good page");
+  test::expectCleanFailure(runDentsim("report " + file("nope.json") + " -o " + out), "nope.json", "no such file");
+  writeText(file("bad.jsonl"), statement("passed", "caries_removal", 85, "2026-11-27T07:30:00Z", "") + "{\"actor\": oops}\n");
+  test::expectCleanFailure(runDentsim("report " + inputs() + " " + file("bad.jsonl") + " -o " + out), "bad.jsonl:2", "malformed JSON");
+  test::expectCleanFailure(runDentsim("report " + inputs() + " --pass-mark 150 -o " + out), "--pass-mark 150", "[0, 100]");
+  EXPECT_EQ(readText(out), "the last good page");
+  const std::string fresh = file("never.html");
+  test::expectCleanFailure(runDentsim("report " + file("class/outbox.jsonl") + " " + file("missing/score.json") + " -o " + fresh),
+                           "missing/score.json", "no such file", fresh);
+}
+
+// Chromium renders the page: the DOM it built holds the plots' lines and bars and the pictures, and
+// its screenshot shows the first student's line colour, the histogram bars and carol's magenta picture.
+TEST_F(ReportCli, ChromiumRendersThePlotsAndPictures) {
+  const char* chromium = "/usr/bin/chromium";
+  if (!fs::exists(chromium)) GTEST_SKIP() << "chromium is not installed (" << chromium << "): scripts/install-deps.sh installs it";
+  const std::string page = file("report.html");
+  const auto r = runDentsim("report " + inputs() + " --pass-mark 50 -o " + page);
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // No sandbox: the tests may run as root in a container; the profile is the test's own.
+  const std::string browser = std::string("timeout 120 ") + chromium +
+                              " --headless --no-sandbox --disable-gpu --disable-dev-shm-usage --no-first-run --user-data-dir=" +
+                              file("profile") + " --force-color-profile=srgb --hide-scrollbars --window-size=1280,4000 ";
+  const std::string shot = file("shot.png");
+  const auto dom = runCommand(browser + "--dump-dom file://" + page);
+  ASSERT_EQ(dom.exit_code, 0) << dom.output;
+  EXPECT_EQ(countOf(dom.output, "<svg class=\"progress\""), 2u);
+  EXPECT_EQ(countOf(dom.output, "<polyline"), 4u);
+  EXPECT_EQ(countOf(dom.output, "<rect class=\"bar\""), 5u);  // caries 40, 70, 85; class II 30, 55
+  EXPECT_EQ(countOf(dom.output, "<img alt="), 4u);
+  const auto taken = runCommand(browser + "--screenshot=" + shot + " file://" + page);
+  ASSERT_EQ(taken.exit_code, 0) << taken.output;
+  auto image = readPng(shot);
+  ASSERT_TRUE(image.ok()) << image.message() << "\n" << taken.output;
+  size_t white = 0, line = 0, bar = 0, magenta = 0;
+  auto near = [](std::array<uint8_t, 3> p, int red, int green, int blue) {
+    return std::abs(p[0] - red) <= 6 && std::abs(p[1] - green) <= 6 && std::abs(p[2] - blue) <= 6;
+  };
+  for (int y = 0; y < image->height; ++y)
+    for (int x = 0; x < image->width; ++x) {
+      const auto p = image->pixel(x, y);
+      white += near(p, 255, 255, 255);
+      line += near(p, 0x1f, 0x77, 0xb4);   // studentColour(0)
+      bar += near(p, 0x4a, 0x7f, 0xb5);    // the bars' fill
+      magenta += near(p, 255, 0, 255);     // carol's picture
+    }
+  const size_t all = size_t(image->width) * size_t(image->height);
+  EXPECT_LT(white, all * 98 / 100) << "the screenshot is blank";
+  EXPECT_GT(line, 100u);
+  EXPECT_GT(bar, 2000u);
+  EXPECT_GT(magenta, 20000u);  // 360 x 180 px less the frame
+}
+
+}  // namespace
+}  // namespace dentsim
