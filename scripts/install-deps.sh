@@ -14,8 +14,12 @@ packages=(
   libgtest-dev libgmock-dev
   libnifti2-dev zlib1g-dev libzstd-dev libxxhash-dev
   libcli11-dev libstb-dev nlohmann-json3-dev libmeshoptimizer-dev
-  chromium
+  chromium libcurl4-openssl-dev python3
 )
+# The learning-record tests' validator runs on Node (tests/xapi); a Node already on the PATH is kept.
+if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
+  packages+=(nodejs npm)
+fi
 # Benchmark peers, measured beside dentsim in the same run (docs/PERFORMANCE.md): OpenVDB and VTK.
 if [[ "${DENTSIM_NO_PEERS:-0}" != 1 ]]; then
   packages+=(libopenvdb-dev libtbb-dev libboost-iostreams-dev libblosc-dev libvtk9-dev)
@@ -27,12 +31,15 @@ for p in "${packages[@]}"; do
 done
 if ((${#missing[@]} == 0)); then
   echo "install-deps: all ${#packages[@]} packages present"
-  exit 0
+else
+  echo "install-deps: installing ${#missing[@]} packages: ${missing[*]}"
+  sudo=""
+  [[ $(id -u) -eq 0 ]] || sudo="sudo"
+  export DEBIAN_FRONTEND=noninteractive
+  $sudo apt-get update -qq
+  $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 fi
-echo "install-deps: installing ${#missing[@]} packages: ${missing[*]}"
-sudo=""
-[[ $(id -u) -eq 0 ]] || sudo="sudo"
-export DEBIAN_FRONTEND=noninteractive
-$sudo apt-get update -qq
-$sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+
+# Test tools from npm, pinned by tests/xapi/package-lock.json: the independent xAPI validator.
+(cd "$(dirname "$0")/../tests/xapi" && npm ci --no-audit --no-fund --silent)
 echo "install-deps: done"

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/learning_cli.h"
 #include "app/mesh_output.h"
 #include "eval/task_tooth.h"
 #include "eval/cut_score.h"
@@ -39,6 +40,7 @@ struct DemoOptions {
   std::string mirror = kDefaultMirror;  // the mirror the script holds beside the tooth; "none": none
   bool sound = true;                 // the window plays it; headless, it goes to sound.wav
   std::string attempt = "expert";    // the careful removal, or one with a fault (sim/novice_paths.h)
+  LearningCliOptions learning;       // the attempt's learning record, when a student is named
 };
 
 // The final tooth as a mesh, beside the other files: what a reader opens in any 3-D viewer.
@@ -56,6 +58,7 @@ int runCpuDemo(const DemoOptions& o);
 
 int runDemo(const DemoOptions& o) {
   namespace fs = std::filesystem;
+  if (Status st = checkLearningOptions(o.learning); !st) return fail(st.message());
   std::error_code ec;
   fs::create_directories(o.out, ec);
   if (ec) return fail(o.out + ": cannot create the output folder: " + ec.message());
@@ -82,6 +85,8 @@ int runDemo(const DemoOptions& o) {
   so.frame_every_s = 20.0;
   // The score screen stays up a few seconds, then the window closes by itself (unless --stay).
   so.linger_s = o.stay ? -1.0 : kScoreScreenS;
+  so.on_scored = [&o](const Task& task, const nlohmann::ordered_json& report, const std::string& session,
+                      const std::string& final_file) { recordAttemptOrWarn(o.learning, task, report, session, final_file); };
   auto run = runSimulator(so);
   if (!run && gpu::isNoDeviceError(run.error())) {
     std::printf("dentsim: %s: the demo runs on the CPU, without frames\n", run.message().c_str());
@@ -104,6 +109,7 @@ int runDemo(const DemoOptions& o) {
   std::printf("wrote %s:", o.out.c_str());
   for (const std::string& f : written) std::printf(" %s", fs::path(f).filename().c_str());
   std::printf("\n");
+  if (Status st = sendPendingIfConfigured(o.learning); !st) return fail(st.message());
   return 0;
 }
 
@@ -168,6 +174,8 @@ int runCpuDemo(const DemoOptions& o) {
   if (Status st = writeScoreImage(png_path, *task, initial, *tooth, *score, nullptr); !st) return fail(st.message());
   std::printf("%s\n", score->summary.c_str());
   std::printf("wrote %s: initial.dvol session.dses final.dvol final.ply score.json score.png\n", o.out.c_str());
+  if (Status st = recordAttempt(o.learning, *task, score->report, session_path, final_path); !st) return fail(st.message());
+  if (Status st = sendPendingIfConfigured(o.learning); !st) return fail(st.message());
   return 0;
 }
 
@@ -190,6 +198,7 @@ void addDemoCommand(CLI::App& root, Action& action) {
   cmd->add_option("--attempt", o->attempt, "The careful removal, or one with a fault: " + attemptNames())
       ->check(CLI::IsMember(attemptNameList()))
       ->capture_default_str();
+  addLearningOptions(cmd, o->learning);
   cmd->callback([o, &action] { action = [o] { return runDemo(*o); }; });
 }
 

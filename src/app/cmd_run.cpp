@@ -5,6 +5,7 @@
 #include <system_error>
 
 #include "app/commands.h"
+#include "app/learning_cli.h"
 #include "app/simulator.h"
 #include "sim/novice_paths.h"
 #include "ui/course_list.h"
@@ -29,6 +30,7 @@ void printOutcome(const SimulatorOutcome& r) {
 
 void addRunCommand(CLI::App& root, Action& action) {
   auto o = std::make_shared<SimulatorOptions>();
+  auto learning = std::make_shared<LearningCliOptions>();
   CLI::App* cmd = root.add_subcommand("run", "The simulator: drill a tooth with the mouse (or a pen script) in a window, or headless to PNG frames");
   cmd->add_option("--tooth", o->tooth, "Tooth file (.dvol); default: the task's tooth (the built-in molar for the built-in tasks)");
   cmd->add_option("--level", o->level, "Octree level of the built-in molar; default: the task's (9 for the built-in tasks)")
@@ -88,16 +90,23 @@ void addRunCommand(CLI::App& root, Action& action) {
   cmd->add_flag("--score-at-end", o->score_at_end, "Score the cut when the pen script ends");
   cmd->add_flag("--exit-at-end", o->exit_at_end, "Quit one frame after the pen script ends, windowed too");
   cmd->add_option("--device", o->device, "Vulkan device index or name part");
-  cmd->callback([o, cmd, &action] {
+  // --course is the folder the pickers list, so the learning records' course id is --course-id here.
+  addLearningOptions(cmd, *learning, "--course-id");
+  cmd->callback([o, learning, cmd, &action] {
     if (cmd->count("--course") == 0) {
       std::error_code ec;
       o->course = ui::defaultCourseFolder(std::filesystem::current_path(ec).string());
     }
     if (o->record_ideal_at_end && !o->teacher) throw CLI::ValidationError("--record-ideal-at-end", "needs --teacher");
-    action = [o] {
+    action = [o, learning] {
+      if (Status st = checkLearningOptions(*learning); !st) return fail(st.message());
+      o->on_scored = [learning](const Task& task, const nlohmann::ordered_json& report, const std::string& session,
+                                const std::string& final_file) { recordAttemptOrWarn(*learning, task, report, session, final_file); };
       auto r = runSimulator(*o);
       if (!r) return fail(r.message());
       printOutcome(*r);
+      // After the run, never inside it: a dead LRS must not stall the frame loop.
+      if (Status st = sendPendingIfConfigured(*learning); !st) return fail(st.message());
       return 0;
     };
   });

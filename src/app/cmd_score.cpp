@@ -5,6 +5,7 @@
 #include <string>
 
 #include "app/commands.h"
+#include "app/learning_cli.h"
 #include "eval/cut_score.h"
 #include "io/session_file.h"
 #include "volume/tooth_file.h"
@@ -18,6 +19,7 @@ struct ScoreCliOptions {
   std::string report = "score.json";
   std::string png = "score.png";
   bool json = false;
+  LearningCliOptions learning;  // the attempt's learning record, when a student is named
 };
 
 int runScore(const ScoreCliOptions& o) {
@@ -48,6 +50,9 @@ int runScore(const ScoreCliOptions& o) {
   for (const std::string& w : score->warnings) std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
   if (Status st = writeScoreImage(o.png, *task, *initial, *final_, *score, ideal ? &*ideal : nullptr); !st)
     return fail(st.message());
+  // The learning record before the report, so that --json's report stays the last thing printed.
+  if (Status st = recordAttempt(o.learning, *task, score->report, o.session, o.final_); !st) return fail(st.message());
+  if (Status st = sendPendingIfConfigured(o.learning); !st) return fail(st.message());
   if (o.json)
     std::printf("%s\n", score->report.dump(2).c_str());
   else
@@ -68,6 +73,7 @@ void addScoreCommand(CLI::App& root, Action& action) {
   cmd->add_option("-o,--report", o->report, "Report to write (.json)")->capture_default_str();
   cmd->add_option("--png", o->png, "Picture to write: over-cut red, under-cut blue (.png)")->capture_default_str();
   cmd->add_flag("--json", o->json, "Print the report on stdout");
+  addLearningOptions(cmd, o->learning);
   cmd->callback([o, &action] { action = [o] { return runScore(*o); }; });
 }
 

@@ -34,6 +34,7 @@ struct TaskNewOptions {
   std::string bur, mirror = kDefaultMirror;
   int level = 0;                  // the built-in molar's level; 0: 9
   double target_s = 0, failure_s = 0, force_error_n = 3.0, leeway_mm = 0.2;
+  double pass_mark = 70.0;        // the total that passes [points of 100]; negative: none (attempts only "completed")
   std::vector<double> insertion_axis;  // empty: the tooth's crown axis
   std::string ideal_path, ideal_volume, ideal_session, ideal_final;
   std::string view;               // a view preset; empty: the simulator's default
@@ -115,6 +116,7 @@ int runTaskNew(const TaskNewOptions& o) {
   j["target_s"] = o.target_s > 0 ? o.target_s : kind->target_s;
   if (o.kind == "caries") j["failure_s"] = o.failure_s > 0 ? o.failure_s : kind->failure_s;
   j["force_error_n"] = o.force_error_n;
+  if (o.pass_mark >= 0) j["pass_mark"] = o.pass_mark;
   if (!o.insertion_axis.empty()) {
     if (o.insertion_axis.size() != 3) return fail("--insertion-axis: expected three numbers x,y,z");
     j["insertion_axis"] = o.insertion_axis;
@@ -231,6 +233,9 @@ void addTaskCommand(CLI::App& root, Action& action) {
   make->add_option("--failure-s", n->failure_s, "Caries: the time that earns no time points [s] (default 900)");
   make->add_option("--force-error-n", n->force_error_n, "A contact sample above this force is an error [N]")->capture_default_str();
   make->add_option("--leeway-mm", n->leeway_mm, "Leeway around the target [mm]")->capture_default_str();
+  make->add_option("--pass-mark", n->pass_mark, "The total that passes [points of 100]; -1: none, attempts are only completed")
+      ->check(CLI::Range(-1.0, 100.0))
+      ->capture_default_str();
   make->add_option("--insertion-axis", n->insertion_axis,
                    "The bur's axis x,y,z (default: the grid axis nearest the tooth's crown axis, +z once voxelize stood it up)")
       ->delimiter(',')

@@ -25,7 +25,10 @@ void addScoreCommand(CLI::App& root, Action& action);
 void addTaskCommand(CLI::App& root, Action& action);
 void addRunCommand(CLI::App& root, Action& action);
 void addDevicesCommand(CLI::App& root, Action& action);
+// `dentsim report` (app/cmd_report.cpp).
 void addReportCommand(CLI::App& root, Action& action);
+// `dentsim outbox send|status` (app/learning_cli.cpp).
+void addOutboxCommand(CLI::App& root, Action& action);
 // `dentsim bench scores`, added under `bench` by addBenchCommand.
 void addScoresBenchCommand(CLI::App& bench, Action& action);
 

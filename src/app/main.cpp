@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
   addMeshCommand(root, action);
   addRunCommand(root, action);
   addDevicesCommand(root, action);
+  addOutboxCommand(root, action);
   addDemoCommand(root, action);
   addReplayCommand(root, action);
   addScoreCommand(root, action);

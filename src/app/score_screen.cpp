@@ -36,6 +36,7 @@ Result<ScreenScore> scoreForScreen(const Task& task, const ToothVolume& initial,
   s.total = score->total;
   s.summary = score->summary;
   s.warnings = score->warnings;
+  s.report = score->report;
   if (!out.empty()) {
     if (Status st = saveTooth(path("final.dvol"), final_); !st) return st.error();
     if (Status st = writeScoreReport(path("score.json"), score->report); !st) return st.error();

@@ -18,6 +18,7 @@ struct ScreenScore {
   std::string summary;                // the terminal's line
   std::vector<std::string> warnings;
   std::vector<std::string> written;   // final.dvol, score.json and score.png in `out`
+  nlohmann::ordered_json report;      // the "dentsim-score" report (the learning record reads it)
 };
 
 // The recorded files a score may use: the session that holds the whole cut, when one does.

@@ -10,12 +10,16 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "app/device_rack.h"
 #include "core/result.h"
+#include "eval/task.h"
 
 namespace dentsim::app {
 
@@ -53,6 +57,12 @@ struct SimulatorOptions {
   std::string view;                     // the first camera view (occlusal, buccal, lingual, mesial, distal); empty: the task's, else buccal
   bool vsync = true;                    // windowed: wait for the display's refresh
   bool score_at_end = false;            // score the cut when the script ends, write score files, show it
+  // Called with every cut the run scores (at the script's end or by the panel's Score button): the
+  // task, the score report, the session holding the whole cut (empty: none) and the final tooth
+  // file (empty: not saved). The commands hand it app/learning_cli.h's recordAttempt.
+  std::function<void(const Task&, const nlohmann::ordered_json& report, const std::string& session_file,
+                     const std::string& final_file)>
+      on_scored;
   bool exit_at_end = false;             // quit one frame after the script ends (windowed too)
   double linger_s = -1.0;               // windowed: quit this long after the script's end (and its score) [wall s]; < 0: stay
   std::string device;                   // Vulkan device index or name part; empty: the best

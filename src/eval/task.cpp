@@ -211,7 +211,8 @@ void readTask(const json& root, TaskReader& r, Task* t) {
   std::vector<std::string> keys = {"format",    "version",   "name",          "kind",  "title", "tooth", "level",
                                    "tools",     "target_s",  "failure_s",     "force_error_n", "cavity"};
   if (version >= 2)
-    keys.insert(keys.end(), {"insertion_axis", "leeway_mm", "ideal", "pulp_exposure_cap", "caries", "instructions", "view", "access"});
+    keys.insert(keys.end(), {"insertion_axis", "leeway_mm", "ideal", "pulp_exposure_cap", "caries", "instructions", "view", "access",
+                             "pass_mark"});
   if (!r.object(root, "", keys)) return;
   if (!r.string(root, "", "name", true, true, &t->name)) return;
   size_t kind = 0;
@@ -241,6 +242,11 @@ void readTask(const json& root, TaskReader& r, Task* t) {
   if (version >= 2) {
     if (!r.number(root, "", "pulp_exposure_cap", false, 0, true, 100, "in [0, 100]", &t->pulp_exposure_cap)) return;
     if (!readZone(root, "", r, t)) return;
+    double pass_mark = 0.0;
+    if (root.contains("pass_mark")) {
+      if (!r.number(root, "", "pass_mark", true, 0, true, 100, "in [0, 100]", &pass_mark)) return;
+      t->pass_mark = pass_mark;
+    }
   }
   // Each kind's own keys; the other kind's are mistakes. An access is scored as a cavity, with
   // its own rule for the pulp in place of the exposure cap.

@@ -93,6 +93,9 @@ struct Task {
   std::optional<IdealSpec> ideal;     // the professional's final tooth; required for kinds Cavity and Access
   std::optional<TaskView> view;       // the simulator's first view; none: the simulator's default
   double pulp_exposure_cap = 50.0;    // an exposed pulp caps the total at this [points of 100], [0, 100]; not for Access
+  // The total that passes [points of 100], [0, 100]; none: an attempt is only completed, neither
+  // passed nor failed (the learning record's verb, eval/learning_record.h).
+  std::optional<double> pass_mark;
   CariesTask caries;                  // kind Caries only (defaults otherwise)
   CavityTask cavity;                  // kinds Cavity and Access (defaults otherwise)
   AccessTask access;                  // kind Access only (defaults otherwise)

@@ -178,9 +178,21 @@ TEST(CourseCli, TheScorePictureDoesNotCoverTheTooth) {
   TempDir dir;
   const std::string out = dir.file("scored");
   const test::NoLeakCheckForGpuChild no_leak_check;
+  // The scored cut is also a learning record (docs/LEARNING_RECORDS.md): the simulator's hook.
+  const std::string config = dir.file("learning.json"), outbox = dir.file("outbox.jsonl");
+  std::ofstream(config) << "{}";
   const auto r = test::runDentsim("run --headless --no-sound --level 7 --params " + writeFastPreset(dir) +
-                                  " --demo-script --score-at-end --width 1280 --height 800 --out " + out);
+                                  " --demo-script --score-at-end --width 1280 --height 800 --out " + out +
+                                  " --student s1001 --course-id cons-101 --config " + config + " --outbox " + outbox);
   ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream records(outbox);
+  std::string line, extra;
+  ASSERT_TRUE(std::getline(records, line)) << r.output;
+  EXPECT_FALSE(std::getline(records, extra)) << "one scored cut, one statement";
+  const nlohmann::json statement = nlohmann::json::parse(line);
+  EXPECT_EQ(statement["object"]["id"], "https://dentsim.invalid/xapi/courses/cons-101/tasks/caries_removal");
+  EXPECT_EQ(statement["actor"]["account"]["name"], "s1001");
+  EXPECT_TRUE(statement["result"]["extensions"]["https://dentsim.invalid/xapi/extensions/session-hash"].is_string());
   const nlohmann::json shot = readJson(out + "/shot-final.json");
   ASSERT_FALSE(shot.is_discarded()) << r.output;
   ASSERT_TRUE(shot.contains("score_image_rect")) << shot.dump(1);

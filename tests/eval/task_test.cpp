@@ -110,6 +110,19 @@ TEST(Task, VersionTwoReadsTheZoneForBothKinds) {
   EXPECT_EQ(cavity->ideal->path, "p.dvol");
 }
 
+TEST(Task, PassMarkIsOptionalAndWithinTheHundredPoints) {
+  auto without = parseTask(v2Text(kV2Caries), kWhere);
+  ASSERT_TRUE(without.ok()) << without.message();
+  EXPECT_FALSE(without->pass_mark.has_value());  // none: attempts are only "completed"
+  auto with = parseTask(v2Text(kV2Cavity, R"("pass_mark": 62.5)"), kWhere);
+  ASSERT_TRUE(with.ok()) << with.message();
+  ASSERT_TRUE(with->pass_mark.has_value());
+  EXPECT_EQ(*with->pass_mark, 62.5);
+  EXPECT_EQ(errorOf(v2Text(kV2Caries, R"("pass_mark": 100.5)")), "t.json: pass_mark: 100.5 is not in [0, 100]");
+  EXPECT_EQ(errorOf(v2Text(kV2Caries, R"("pass_mark": "70")")), "t.json: pass_mark: expected a number, got string");
+  EXPECT_EQ(errorOf(cariesText(R"("pass_mark": 70)")).rfind("t.json: pass_mark: unknown key", 0), 0u);
+}
+
 TEST(Task, VersionTwoErrors) {
   EXPECT_EQ(errorOf(v2Text(R"("kind": "cavity")")), "t.json: ideal: missing");
   EXPECT_EQ(errorOf(v2Text(kV2Caries, R"("pulp_exposure_cap": 101)")), "t.json: pulp_exposure_cap: 101 is not in [0, 100]");

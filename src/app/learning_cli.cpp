@@ -1,0 +1,214 @@
+// The learning records on the command line: settings from flags, config and environment; the attempt hook; sending; `dentsim outbox`.
+#include "app/learning_cli.h"
+
+#include <cinttypes>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <optional>
+
+#include "app/commands.h"
+#include "eval/learning_record.h"
+#include "io/file_hash.h"
+#include "io/learning_config.h"
+#include "io/lrs_client.h"
+#include "io/session_file.h"
+#include "io/xapi_outbox.h"
+
+namespace dentsim::app {
+namespace {
+
+// Everything the flags, the config file and the environment say, merged: flags first.
+struct LearningSettings {
+  LearnerContext learner;
+  std::string outbox;
+  std::optional<LrsEndpoint> lrs;  // none: statements wait in the outbox
+};
+
+std::string envText(const char* name) {
+  const char* v = std::getenv(name);
+  return v ? std::string(v) : std::string();
+}
+
+Result<LearningSettings> resolveSettings(const LearningCliOptions& o) {
+  // A file the user named must exist; the default place may be empty.
+  const bool named = !o.config.empty() || !envText("DENTSIM_CONFIG").empty();
+  const std::string config_path = o.config.empty() ? defaultLearningConfigPath() : o.config;
+  LearningConfig config;
+  std::error_code ec;
+  if (named || std::filesystem::exists(config_path, ec)) {
+    auto loaded = loadLearningConfig(config_path);
+    if (!loaded) return loaded.error();
+    config = std::move(*loaded);
+  }
+  LearningSettings s;
+  LearnerContext& l = s.learner;
+  l.student = !o.student.empty() ? o.student : config.student.value_or("");
+  // The config's display name belongs to the config's student, not to another one named by --student.
+  if (config.student_name && (o.student.empty() || o.student == config.student.value_or(""))) l.student_name = *config.student_name;
+  l.course = !o.course.empty() ? o.course : config.course.value_or("builtin");
+  if (config.home_page) l.home_page = *config.home_page;
+  if (config.activity_base) l.activity_base = *config.activity_base;
+  if (config.language) l.language = *config.language;
+  s.outbox = !o.outbox.empty() ? o.outbox : config.outbox.value_or(defaultOutboxPath());
+  const std::string url = !o.lrs.empty() ? o.lrs : config.lrs.value_or("");
+  if (!url.empty()) {
+    if (url.rfind("http://", 0) != 0 && url.rfind("https://", 0) != 0)
+      return Error{"--lrs: \"" + url + "\" does not start with http:// or https://"};
+    LrsEndpoint lrs;
+    lrs.url = url;
+    // Credentials never come from the command line, where other users could read them in the process list.
+    const std::string user = envText("DENTSIM_LRS_USERNAME"), password = envText("DENTSIM_LRS_PASSWORD");
+    lrs.username = !user.empty() ? user : config.username.value_or("");
+    lrs.password = !password.empty() ? password : config.password.value_or("");
+    s.lrs = lrs;
+  }
+  return s;
+}
+
+struct SendSummary {
+  size_t delivered = 0, pending = 0;
+  std::string problem;  // the first failure's one line; empty: none
+};
+
+Result<SendSummary> sendPending(const LearningSettings& s) {
+  auto pending = pendingStatements(s.outbox);
+  if (!pending) return pending.error();
+  SendSummary sum;
+  std::vector<std::string> delivered;
+  for (const nlohmann::ordered_json& statement : *pending) {
+    const PostOutcome out = postStatement(*s.lrs, statement.dump());
+    if (out.delivery == Delivery::Delivered) {
+      delivered.push_back(statement["id"].get<std::string>());
+      continue;
+    }
+    if (sum.problem.empty()) sum.problem = out.detail;
+    // Nobody answers: the rest would only wait for the same timeout.
+    if (out.delivery == Delivery::Unreachable) break;
+  }
+  if (!delivered.empty())
+    if (Status st = markSent(s.outbox, delivered); !st) return st.error();
+  sum.delivered = delivered.size();
+  sum.pending = pending->size() - delivered.size();
+  return sum;
+}
+
+void printSendSummary(const LearningSettings& s, const SendSummary& sum) {
+  if (sum.delivered > 0) std::printf("learning records: %zu sent to %s\n", sum.delivered, s.lrs->url.c_str());
+  if (sum.pending > 0)
+    std::fprintf(stderr, "dentsim: warning: LRS %s: %s; %zu statement(s) stay pending in %s and go with the next run\n",
+                 s.lrs->url.c_str(), sum.problem.c_str(), sum.pending, s.outbox.c_str());
+}
+
+// The attempt's identity: its session's bytes, or the final tooth's when no session was scored.
+Result<std::string> hashHex(const std::string& path) {
+  auto h = fileHash(path);
+  if (!h) return h.error();
+  char text[17];
+  std::snprintf(text, sizeof text, "%016" PRIx64, *h);
+  return std::string(text);
+}
+
+}  // namespace
+
+void addLearningOptions(CLI::App* cmd, LearningCliOptions& o, const std::string& course_flag) {
+  cmd->add_option("--student", o.student, "Learning records: the student's account name (default: the config's)");
+  cmd->add_option(course_flag, o.course, "Learning records: the course id (default: the config's, else builtin)");
+  cmd->add_option("--lrs", o.lrs, "Learning records: the LRS's xAPI endpoint (credentials: config or DENTSIM_LRS_USERNAME/PASSWORD)");
+  cmd->add_option("--outbox", o.outbox, "Learning records: the outbox file (.jsonl; default: the config's, else ~/.local/share/dentsim)");
+  cmd->add_option("--config", o.config, "Learning records: the config file (default: $DENTSIM_CONFIG, else ~/.config/dentsim/learning.json)");
+}
+
+Status recordAttempt(const LearningCliOptions& o, const Task& task, const nlohmann::ordered_json& report,
+                     const std::string& session_file, const std::string& final_file) {
+  auto settings = resolveSettings(o);
+  if (!settings) return settings.error();
+  if (settings->learner.student.empty()) return Ok{};  // nobody to record it for
+  AttemptFacts facts;
+  if (!session_file.empty()) {
+    auto h = hashHex(session_file);
+    if (!h) return h.error();
+    facts.session_hash = *h;
+    facts.attempt_key = *h;
+  } else {
+    if (final_file.empty()) return Error{"learning record: no session or final tooth was saved to name the attempt by (give --out)"};
+    auto h = hashHex(final_file);
+    if (!h) return h.error();
+    facts.attempt_key = *h;
+  }
+  facts.timestamp = utcNow();
+  auto statement = buildStatement(task, report, settings->learner, facts);
+  if (!statement) return statement.error();
+  auto added = appendToOutbox(settings->outbox, *statement);
+  if (!added) return added.error();
+  const std::string id = (*statement)["id"].get<std::string>();
+  const std::string verb = (*statement)["verb"]["id"].get<std::string>();
+  std::printf("learning record %s (%s) %s %s\n", id.c_str(), verb.substr(verb.rfind('/') + 1).c_str(),
+              *added ? "added to" : "already in", settings->outbox.c_str());
+  return Ok{};
+}
+
+Status checkLearningOptions(const LearningCliOptions& o) {
+  auto settings = resolveSettings(o);
+  if (!settings) return settings.error();
+  return Ok{};
+}
+
+void recordAttemptOrWarn(const LearningCliOptions& o, const Task& task, const nlohmann::ordered_json& report,
+                         const std::string& session_file, const std::string& final_file) {
+  if (Status st = recordAttempt(o, task, report, session_file, final_file); !st)
+    std::fprintf(stderr, "dentsim: warning: the attempt was not recorded: %s\n", st.message().c_str());
+}
+
+Status sendPendingIfConfigured(const LearningCliOptions& o) {
+  auto settings = resolveSettings(o);
+  if (!settings) return settings.error();
+  if (!settings->lrs) return Ok{};
+  auto sum = sendPending(*settings);
+  if (!sum) return sum.error();
+  printSendSummary(*settings, *sum);
+  return Ok{};
+}
+
+void addOutboxCommand(CLI::App& root, Action& action) {
+  CLI::App* cmd = root.add_subcommand("outbox", "The learning records waiting for the school's LRS (docs/LEARNING_RECORDS.md)");
+  cmd->require_subcommand(1);
+  auto o = std::make_shared<LearningCliOptions>();
+  auto add_common = [o](CLI::App* sub) {
+    sub->add_option("--lrs", o->lrs, "The LRS's xAPI endpoint (default: the config's)");
+    sub->add_option("--outbox", o->outbox, "The outbox file (default: the config's, else ~/.local/share/dentsim/outbox.jsonl)");
+    sub->add_option("--config", o->config, "The config file (default: $DENTSIM_CONFIG, else ~/.config/dentsim/learning.json)");
+  };
+  CLI::App* send = cmd->add_subcommand("send", "Send the pending statements now; fails while any stay pending");
+  add_common(send);
+  send->callback([o, &action] {
+    action = [o] {
+      auto settings = resolveSettings(*o);
+      if (!settings) return fail(settings.message());
+      if (!settings->lrs) return fail("outbox send: no LRS (give --lrs or \"lrs\" in the config)");
+      auto sum = sendPending(*settings);
+      if (!sum) return fail(sum.message());
+      printSendSummary(*settings, *sum);
+      if (sum->pending > 0) return 1;
+      if (sum->delivered == 0) std::printf("learning records: nothing pending in %s\n", settings->outbox.c_str());
+      return 0;
+    };
+  });
+  CLI::App* status = cmd->add_subcommand("status", "How many statements the outbox holds and how many wait to be sent");
+  add_common(status);
+  status->callback([o, &action] {
+    action = [o] {
+      auto settings = resolveSettings(*o);
+      if (!settings) return fail(settings.message());
+      auto all = readOutbox(settings->outbox);
+      if (!all) return fail(all.message());
+      auto pending = pendingStatements(settings->outbox);
+      if (!pending) return fail(pending.message());
+      std::printf("%s: %zu statement(s), %zu pending\n", settings->outbox.c_str(), all->size(), pending->size());
+      return 0;
+    };
+  });
+}
+
+}  // namespace dentsim::app

@@ -1,0 +1,51 @@
+// The learning records on the command line: the options score, demo and run share, the one function every scored attempt goes through, and sending the outbox to the LRS.
+//
+// A scored attempt becomes an xAPI statement (eval/learning_record.h) in the outbox
+// (io/xapi_outbox.h) when a student is named, by --student or the config file; without one,
+// nothing is recorded. Sending happens after the work (never inside the frame loop): a dead LRS
+// costs a few seconds and a warning, never the run. docs/LEARNING_RECORDS.md.
+#pragma once
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "core/result.h"
+#include "eval/task.h"
+
+namespace dentsim::app {
+
+struct LearningCliOptions {
+  std::string student;  // --student: the account name; empty: the config's
+  std::string course;   // --course (--course-id on run): the course id; empty: the config's, else "builtin"
+  std::string lrs;      // --lrs: the LRS's xAPI endpoint; empty: the config's, else no sending
+  std::string outbox;   // --outbox: the outbox file; empty: the config's, else the default place
+  std::string config;   // --config: the config file; empty: $DENTSIM_CONFIG or the default place
+};
+
+// Adds --student, --course (or `course_flag` where the command's --course means something else),
+// --lrs, --outbox and --config.
+void addLearningOptions(CLI::App* cmd, LearningCliOptions& o, const std::string& course_flag = "--course");
+
+// THE hook for a scored attempt: builds its statement and adds it to the outbox (once per id).
+// `session_file` is the session the score used (empty: none), `final_file` the final tooth file
+// (used for the attempt's identity when there is no session). Does nothing without a student.
+// Errors: a malformed config (file and key named), an outbox that cannot be written.
+Status recordAttempt(const LearningCliOptions& o, const Task& task, const nlohmann::ordered_json& report,
+                     const std::string& session_file, const std::string& final_file);
+
+// Checks the settings (config file, --lrs) before a long run, so that a mistake is named before the
+// drilling rather than after it.
+Status checkLearningOptions(const LearningCliOptions& o);
+// recordAttempt for the simulator's on_scored: a failure is a warning line, so that the run and
+// the files it wrote stand.
+void recordAttemptOrWarn(const LearningCliOptions& o, const Task& task, const nlohmann::ordered_json& report,
+                         const std::string& session_file, const std::string& final_file);
+
+// Sends the outbox's pending statements when an LRS is named (--lrs or the config); prints what
+// was delivered, or a one-line warning when the LRS could not take them (they stay pending). Only
+// a malformed config or an unreadable outbox is an error.
+Status sendPendingIfConfigured(const LearningCliOptions& o);
+
+}  // namespace dentsim::app

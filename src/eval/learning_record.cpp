@@ -1,0 +1,258 @@
+// Learning records: the xAPI statement of a scored attempt, its name-based id, and the SHA-1 that id needs.
+//
+// Sections: 1. SHA-1 and UUIDs  2. IRIs, verbs, durations  3. the statement
+#include "eval/learning_record.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <cstdio>
+
+#include "eval/tooth_diff.h"
+#include "io/strict_json.h"
+#include "volume/brick_volume.h"
+
+namespace dentsim {
+
+// ---- 1. SHA-1 and UUIDs ----------------------------------------------------------------------------
+// Only for the statement id: a version-5 UUID is defined on SHA-1, and XXH3 (io/file_hash) would
+// give ids that no other tool could recompute.
+
+namespace {
+
+uint32_t rotl(uint32_t x, int n) { return (x << n) | (x >> (32 - n)); }
+
+// One 64-byte block into the five state words.
+void sha1Block(const uint8_t* block, std::array<uint32_t, 5>& h) {
+  std::array<uint32_t, 80> w{};
+  for (int i = 0; i < 16; ++i)
+    w[size_t(i)] = uint32_t(block[4 * i]) << 24 | uint32_t(block[4 * i + 1]) << 16 | uint32_t(block[4 * i + 2]) << 8 |
+                   uint32_t(block[4 * i + 3]);
+  for (size_t i = 16; i < 80; ++i) w[i] = rotl(w[i - 3] ^ w[i - 8] ^ w[i - 14] ^ w[i - 16], 1);
+  uint32_t a = h[0], b = h[1], c = h[2], d = h[3], e = h[4];
+  for (size_t i = 0; i < 80; ++i) {
+    uint32_t f = 0, k = 0;
+    if (i < 20) f = (b & c) | (~b & d), k = 0x5A827999u;
+    else if (i < 40) f = b ^ c ^ d, k = 0x6ED9EBA1u;
+    else if (i < 60) f = (b & c) | (b & d) | (c & d), k = 0x8F1BBCDCu;
+    else f = b ^ c ^ d, k = 0xCA62C1D6u;
+    const uint32_t t = rotl(a, 5) + f + e + k + w[i];
+    e = d;
+    d = c;
+    c = rotl(b, 30);
+    b = a;
+    a = t;
+  }
+  h[0] += a, h[1] += b, h[2] += c, h[3] += d, h[4] += e;
+}
+
+// "xxxxxxxx-xxxx-..." to 16 bytes; false when it is not a UUID.
+bool parseUuid(const std::string& text, std::array<uint8_t, 16>* out) {
+  std::string hex;
+  for (char ch : text)
+    if (ch != '-') hex += ch;
+  if (hex.size() != 32 || text.size() != 36) return false;
+  for (size_t i = 0; i < 16; ++i) {
+    unsigned v = 0;
+    if (std::sscanf(hex.c_str() + 2 * i, "%2x", &v) != 1) return false;
+    (*out)[i] = uint8_t(v);
+  }
+  return true;
+}
+
+// RFC 4122's URL namespace, in which dentsim's own namespace is named.
+constexpr const char* kUrlNamespace = "6ba7b811-9dad-11d1-80b4-00c04fd430c8";
+
+}  // namespace
+
+std::array<uint8_t, 20> sha1(const std::string& bytes) {
+  std::array<uint32_t, 5> h{0x67452301u, 0xEFCDAB89u, 0x98BADCFEu, 0x10325476u, 0xC3D2E1F0u};
+  // The message, a 1 bit, zeros, and the bit length as 64 bits big-endian, in whole blocks.
+  std::string padded = bytes;
+  padded += char(0x80);
+  while (padded.size() % 64 != 56) padded += char(0);
+  const uint64_t bits = uint64_t(bytes.size()) * 8;
+  for (int i = 7; i >= 0; --i) padded += char(uint8_t(bits >> (8 * i)));
+  for (size_t at = 0; at < padded.size(); at += 64) sha1Block(reinterpret_cast<const uint8_t*>(padded.data() + at), h);
+  std::array<uint8_t, 20> digest{};
+  for (size_t i = 0; i < 20; ++i) digest[i] = uint8_t(h[i / 4] >> (24 - 8 * (i % 4)));
+  return digest;
+}
+
+std::string uuidV5(const std::string& ns, const std::string& name) {
+  std::array<uint8_t, 16> ns_bytes{};
+  const bool ok = parseUuid(ns, &ns_bytes);
+  (void)ok;
+  assert(ok && "uuidV5: the namespace is a UUID");
+  const std::array<uint8_t, 20> digest = sha1(std::string(ns_bytes.begin(), ns_bytes.end()) + name);
+  std::array<uint8_t, 16> u{};
+  for (size_t i = 0; i < 16; ++i) u[i] = digest[i];
+  u[6] = uint8_t((u[6] & 0x0F) | 0x50);  // version 5
+  u[8] = uint8_t((u[8] & 0x3F) | 0x80);  // the RFC 4122 variant
+  std::string text;
+  char two[3];
+  for (size_t i = 0; i < 16; ++i) {
+    if (i == 4 || i == 6 || i == 8 || i == 10) text += '-';
+    std::snprintf(two, sizeof two, "%02x", unsigned(u[i]));
+    text += two;
+  }
+  return text;
+}
+
+std::string statementId(const std::string& attempt_key, const std::string& task, const std::string& student) {
+  static const std::string ns = uuidV5(kUrlNamespace, kDefaultActivityBase);
+  return uuidV5(ns, attempt_key + "|" + task + "|" + student);
+}
+
+// ---- 2. IRIs, verbs, durations ---------------------------------------------------------------------
+
+namespace {
+std::string withoutTrailingSlash(std::string s) {
+  while (!s.empty() && s.back() == '/') s.pop_back();
+  return s;
+}
+}  // namespace
+
+std::string courseActivityIri(const std::string& activity_base, const std::string& course) {
+  return withoutTrailingSlash(activity_base) + "/courses/" + course;
+}
+
+std::string taskActivityIri(const std::string& activity_base, const std::string& course, const std::string& task) {
+  return courseActivityIri(activity_base, course) + "/tasks/" + task;
+}
+
+std::string extensionIri(const std::string& name) { return std::string(kExtensionBase) + name; }
+
+AttemptVerb attemptVerb(const Task& task, double total) {
+  if (!task.pass_mark) return AttemptVerb::Completed;
+  return total >= *task.pass_mark ? AttemptVerb::Passed : AttemptVerb::Failed;
+}
+
+const char* attemptVerbName(AttemptVerb verb) {
+  switch (verb) {
+    case AttemptVerb::Completed: return "completed";
+    case AttemptVerb::Passed: return "passed";
+    case AttemptVerb::Failed: return "failed";
+  }
+  return "completed";
+}
+
+std::string isoDuration(double seconds) {
+  // Whole centiseconds first, so that 59.999 s becomes "PT1M0S" rather than "PT60S".
+  const long long cs = seconds > 0 && std::isfinite(seconds) ? std::llround(seconds * 100.0) : 0;
+  const long long hours = cs / 360000, minutes = cs / 6000 % 60, rest_cs = cs % 6000;
+  std::string text = "PT";
+  if (hours > 0) text += std::to_string(hours) + "H";
+  if (minutes > 0) text += std::to_string(minutes) + "M";
+  char secs[32];
+  if (rest_cs % 100 == 0) std::snprintf(secs, sizeof secs, "%lldS", rest_cs / 100);
+  else if (rest_cs % 10 == 0) std::snprintf(secs, sizeof secs, "%lld.%lldS", rest_cs / 100, rest_cs % 100 / 10);
+  else std::snprintf(secs, sizeof secs, "%lld.%02lldS", rest_cs / 100, rest_cs % 100);
+  return text + secs;
+}
+
+// ---- 3. the statement ------------------------------------------------------------------------------
+
+namespace {
+
+using ojson = nlohmann::ordered_json;
+
+// A number at a path of the report, or null where the report has none (a part not scored).
+ojson numberAt(const ojson& report, std::initializer_list<const char*> path) {
+  const ojson* at = &report;
+  for (const char* key : path) {
+    if (!at->is_object() || !at->contains(key)) return nullptr;
+    at = &(*at)[key];
+  }
+  return at->is_number() ? *at : ojson(nullptr);
+}
+
+// The extensions a teacher's report reads: what was cut, how hard, on which session.
+ojson resultExtensions(const Task& task, const ojson& report, const AttemptFacts& facts) {
+  ojson removed = ojson::object();
+  for (Material m : kScoredTissues) removed[materialName(m)] = numberAt(report, {"volumes", materialName(m).c_str(), "removed_mm3"});
+  // A cavity measures against the ideal; a caries removal has no ideal, and its over-cut is the
+  // healthy tissue cut outside the allowed zone, its under-cut the caries left standing.
+  ojson overcut = numberAt(report, {"volumes", "all", "overcut_mm3"});
+  if (overcut.is_null()) overcut = numberAt(report, {"zones", "healthy_outside_zone_mm3"});
+  ojson undercut = numberAt(report, {"volumes", "all", "undercut_mm3"});
+  if (undercut.is_null()) undercut = numberAt(report, {"caries_remaining_mm3"});
+  ojson force = nullptr;
+  const ojson contacts = numberAt(report, {"session", "contact_samples"});
+  if (!contacts.is_null()) {
+    const double n = contacts.get<double>();
+    const ojson over = numberAt(report, {"session", "force_over"});
+    force = {{"mean_n", numberAt(report, {"session", "mean_force_n"})},
+             {"max_n", numberAt(report, {"session", "max_force_n"})},
+             {"threshold_n", task.force_error_n},
+             {"over_threshold_fraction", n > 0 && over.is_number() ? ojson(over.get<double>() / n) : ojson(0.0)},
+             {"contact_samples", contacts}};
+  }
+  const bool pulp_exposed = report.contains("pulp_exposed") && report["pulp_exposed"].is_boolean() && report["pulp_exposed"].get<bool>();
+  ojson ext = ojson::object();
+  ext[extensionIri("removed-mm3")] = std::move(removed);
+  ext[extensionIri("overcut-mm3")] = std::move(overcut);
+  ext[extensionIri("undercut-mm3")] = std::move(undercut);
+  ext[extensionIri("force")] = std::move(force);
+  ext[extensionIri("guided")] = false;  // the guidance feature does not exist yet
+  ext[extensionIri("session-hash")] = facts.session_hash ? ojson(*facts.session_hash) : ojson(nullptr);
+  ext[extensionIri("pulp-exposed")] = pulp_exposed;
+  ext[extensionIri("task-kind")] = taskKindName(task.kind);
+  ext[extensionIri("total-max")] = numberAt(report, {"total_max"});
+  return ext;
+}
+
+}  // namespace
+
+Result<ojson> buildStatement(const Task& task, const ojson& report, const LearnerContext& learner, const AttemptFacts& facts) {
+  if (learner.student.empty()) return Error{"learning record: no student (give --student or \"student\" in the config)"};
+  if (!isPlainName(learner.course))
+    return Error{"learning record: course " + quotedForMessage(learner.course) + " is not a plain name (letters, digits, '_', '-', '.')"};
+  const ojson total_json = numberAt(report, {"total"});
+  if (total_json.is_null()) return Error{"learning record: the score report has no total"};
+  const double total = total_json.get<double>();
+  const double raw = std::clamp(total, 0.0, 100.0);
+  const AttemptVerb verb = attemptVerb(task, total);
+  const std::string& lang = learner.language;
+
+  ojson actor = ojson::object();
+  actor["objectType"] = "Agent";
+  if (!learner.student_name.empty()) actor["name"] = learner.student_name;
+  actor["account"] = {{"homePage", learner.home_page}, {"name", learner.student}};
+
+  ojson definition = ojson::object();
+  definition["name"] = {{lang, task.title}};
+  if (!task.instructions.empty()) definition["description"] = {{lang, task.instructions}};
+  definition["type"] = "http://adlnet.gov/expapi/activities/assessment";
+
+  ojson result = ojson::object();
+  // xAPI's scaled score is at most four decimals in many LRSs' eyes; the raw score keeps the rest.
+  result["score"] = {{"scaled", std::round(raw / 100.0 * 1e4) / 1e4}, {"raw", raw}, {"min", 0}, {"max", 100}};
+  if (verb != AttemptVerb::Completed) result["success"] = verb == AttemptVerb::Passed;
+  result["completion"] = true;
+  const ojson elapsed = numberAt(report, {"session", "elapsed_s"});
+  if (!elapsed.is_null()) result["duration"] = isoDuration(elapsed.get<double>());
+  result["extensions"] = resultExtensions(task, report, facts);
+
+  ojson context = ojson::object();
+  context["contextActivities"] = {
+      {"parent", ojson::array({{{"objectType", "Activity"}, {"id", courseActivityIri(learner.activity_base, learner.course)}}})}};
+  context["platform"] = "dentsim";
+  context["language"] = lang;
+  context["extensions"] = {{extensionIri("course"), learner.course}};
+
+  ojson s = ojson::object();
+  s["id"] = statementId(facts.attempt_key, task.name, learner.student);
+  s["actor"] = std::move(actor);
+  s["verb"] = {{"id", std::string(kVerbBase) + attemptVerbName(verb)}, {"display", {{"en-US", attemptVerbName(verb)}}}};
+  s["object"] = {{"objectType", "Activity"},
+                 {"id", taskActivityIri(learner.activity_base, learner.course, task.name)},
+                 {"definition", std::move(definition)}};
+  s["result"] = std::move(result);
+  s["context"] = std::move(context);
+  s["timestamp"] = facts.timestamp;
+  s["version"] = "1.0.3";
+  return s;
+}
+
+}  // namespace dentsim

@@ -1,0 +1,37 @@
+// The HTTP side of the learning records: one xAPI statement POSTed to a school's LRS through libcurl, with short timeouts and Basic credentials.
+//
+// The caller decides what a failure means for its outbox (app/learning_cli.cpp): delivered
+// statements are marked sent; refused or unreachable ones stay pending for the next run.
+#pragma once
+
+#include <string>
+
+namespace dentsim {
+
+struct LrsEndpoint {
+  std::string url;                // the xAPI endpoint ("https://lrs.school.example/xapi"); statements go to <url>/statements
+  std::string username, password; // HTTP Basic credentials; empty username: none sent
+  long connect_timeout_ms = 3000; // a dead host costs at most this [ms]
+  long timeout_ms = 6000;         // the whole request, answer included [ms]
+};
+
+enum class Delivery {
+  Delivered,    // 2xx, or 409 (the LRS holds a statement with this id already): never send it again
+  Refused,      // any other answer: the LRS is up but will not take it now (auth, 5xx, bad request)
+  Unreachable,  // no answer at all: down, no route, timeout; the later statements need not be tried
+};
+
+struct PostOutcome {
+  Delivery delivery = Delivery::Unreachable;
+  long http_status = 0;  // 0 without an answer
+  std::string detail;    // one line: "HTTP 401", "Connection refused", ...
+};
+
+// "<url>/statements" with exactly one '/' between.
+std::string statementsUrl(const std::string& endpoint_url);
+
+// POSTs one statement (its JSON text) with "X-Experience-API-Version: 1.0.3" and
+// "Content-Type: application/json".
+PostOutcome postStatement(const LrsEndpoint& lrs, const std::string& statement_json);
+
+}  // namespace dentsim

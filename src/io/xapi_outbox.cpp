@@ -1,0 +1,166 @@
+// The learning records' outbox and sent log: JSON lines read whole and rewritten atomically under a lock.
+#include "io/xapi_outbox.h"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cassert>
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+
+#include "io/atomic_file.h"
+#include "io/strict_json.h"
+
+namespace dentsim {
+namespace {
+
+using ojson = nlohmann::ordered_json;
+
+constexpr uint64_t kMaxOutboxBytes = 1ull << 30;  // a statement is about 2 kB: half a million attempts
+
+// Holds an exclusive flock on "<outbox>.lock" for its lifetime, so that two dentsim processes
+// (a score and an `outbox send`) do not both read the old file and each rename their own over it.
+class OutboxLock {
+ public:
+  explicit OutboxLock(const std::string& outbox) {
+    const std::string path = outbox + ".lock";
+    fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+    if (fd_ < 0) {
+      error_ = path + ": cannot open the outbox's lock: " + std::strerror(errno);
+      return;
+    }
+    while (::flock(fd_, LOCK_EX) != 0 && errno == EINTR) {
+    }
+  }
+  ~OutboxLock() {
+    if (fd_ >= 0) ::close(fd_);  // closing releases the lock
+  }
+  OutboxLock(const OutboxLock&) = delete;
+  OutboxLock& operator=(const OutboxLock&) = delete;
+  const std::string& error() const { return error_; }
+
+ private:
+  int fd_ = -1;
+  std::string error_;
+};
+
+// The file's lines, without their '\n'; none when it does not exist.
+Result<std::vector<std::string>> readLines(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return std::vector<std::string>{};
+  auto bytes = readFileBytes(path, kMaxOutboxBytes);
+  if (!bytes) return bytes.error();
+  std::vector<std::string> lines;
+  std::string line;
+  for (uint8_t b : *bytes) {
+    if (b == '\n') {
+      lines.push_back(std::move(line));
+      line.clear();
+    } else {
+      line += char(b);
+    }
+  }
+  if (!line.empty()) lines.push_back(std::move(line));  // a last line without its newline
+  return lines;
+}
+
+Result<std::vector<ojson>> readOutboxUnlocked(const std::string& outbox) {
+  auto lines = readLines(outbox);
+  if (!lines) return lines.error();
+  std::vector<ojson> out;
+  for (size_t i = 0; i < lines->size(); ++i) {
+    const std::string& text = (*lines)[i];
+    if (text.empty()) continue;
+    const std::string where = outbox + ":" + std::to_string(i + 1);
+    ojson j = ojson::parse(text, nullptr, false);
+    if (j.is_discarded()) return makeError(where, "not valid JSON");
+    if (!j.is_object() || !j.contains("id") || !j["id"].is_string()) return makeError(where, "not a JSON object with a string \"id\"");
+    out.push_back(std::move(j));
+  }
+  return out;
+}
+
+Result<std::set<std::string>> readSentUnlocked(const std::string& outbox) {
+  auto lines = readLines(sentLogPath(outbox));
+  if (!lines) return lines.error();
+  std::set<std::string> ids;
+  for (const std::string& line : *lines)
+    if (!line.empty()) ids.insert(line);
+  return ids;
+}
+
+}  // namespace
+
+std::string sentLogPath(const std::string& outbox) { return outbox + ".sent"; }
+
+Result<std::vector<ojson>> readOutbox(const std::string& outbox) {
+  std::error_code ec;
+  if (!std::filesystem::exists(outbox, ec)) return std::vector<ojson>{};
+  OutboxLock lock(outbox);
+  if (!lock.error().empty()) return Error{lock.error()};
+  return readOutboxUnlocked(outbox);
+}
+
+Result<bool> appendToOutbox(const std::string& outbox, const ojson& statement) {
+  assert(statement.is_object() && statement.contains("id") && statement["id"].is_string());
+  const std::filesystem::path folder = std::filesystem::path(outbox).parent_path();
+  std::error_code ec;
+  if (!folder.empty()) std::filesystem::create_directories(folder, ec);
+  if (ec) return makeError(folder.string(), "cannot create the outbox's folder: " + ec.message());
+  OutboxLock lock(outbox);
+  if (!lock.error().empty()) return Error{lock.error()};
+  auto lines = readLines(outbox);
+  if (!lines) return lines.error();
+  auto existing = readOutboxUnlocked(outbox);
+  if (!existing) return existing.error();
+  const std::string id = statement["id"].get<std::string>();
+  for (const ojson& s : *existing)
+    if (s["id"].get<std::string>() == id) return false;
+  std::string text;
+  for (const std::string& line : *lines)
+    if (!line.empty()) text += line + "\n";
+  text += statement.dump() + "\n";
+  if (Status st = writeFileAtomic(outbox, text); !st) return st.error();
+  return true;
+}
+
+Result<std::set<std::string>> readSentIds(const std::string& outbox) {
+  std::error_code ec;
+  if (!std::filesystem::exists(outbox, ec)) return std::set<std::string>{};
+  OutboxLock lock(outbox);
+  if (!lock.error().empty()) return Error{lock.error()};
+  return readSentUnlocked(outbox);
+}
+
+Status markSent(const std::string& outbox, const std::vector<std::string>& ids) {
+  OutboxLock lock(outbox);
+  if (!lock.error().empty()) return Error{lock.error()};
+  auto lines = readLines(sentLogPath(outbox));
+  if (!lines) return lines.error();
+  std::set<std::string> known;
+  std::string text;
+  for (const std::string& line : *lines)
+    if (!line.empty() && known.insert(line).second) text += line + "\n";
+  for (const std::string& id : ids)
+    if (known.insert(id).second) text += id + "\n";
+  return writeFileAtomic(sentLogPath(outbox), text);
+}
+
+Result<std::vector<ojson>> pendingStatements(const std::string& outbox) {
+  std::error_code ec;
+  if (!std::filesystem::exists(outbox, ec)) return std::vector<ojson>{};
+  OutboxLock lock(outbox);
+  if (!lock.error().empty()) return Error{lock.error()};
+  auto all = readOutboxUnlocked(outbox);
+  if (!all) return all.error();
+  auto sent = readSentUnlocked(outbox);
+  if (!sent) return sent.error();
+  std::vector<ojson> pending;
+  for (ojson& s : *all)
+    if (!sent->count(s["id"].get<std::string>())) pending.push_back(std::move(s));
+  return pending;
+}
+
+}  // namespace dentsim

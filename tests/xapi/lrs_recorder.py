@@ -1,0 +1,73 @@
+#!/usr/bin/env python3
+"""A stand-in LRS for the learning-record tests: records every request and answers as an LRS would.
+
+No real LRS runs here (the ones packaged need a database server), so the tests talk to this one.
+It listens on a free localhost port, writes that port to --port-file once it accepts connections,
+and appends each request to --log as one JSON line: method, path, headers, body. POST
+<prefix>/statements answers 200 with the id, or 409 when that id came before (as an LRS does);
+--refuse answers every request 503, an LRS that is up but will not take statements.
+"""
+import argparse
+import json
+import os
+import sys
+from http.server import BaseHTTPRequestHandler, HTTPServer
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--port-file", required=True)
+    parser.add_argument("--log", required=True)
+    parser.add_argument("--refuse", action="store_true")
+    args = parser.parse_args()
+    seen = set()
+
+    class Handler(BaseHTTPRequestHandler):
+        def log_message(self, *unused):  # keep the test's output clean
+            pass
+
+        def answer(self, status, body=b""):
+            self.send_response(status)
+            self.send_header("Content-Length", str(len(body)))
+            self.send_header("Content-Type", "application/json")
+            self.end_headers()
+            self.wfile.write(body)
+
+        def record(self, body):
+            entry = {"method": self.command, "path": self.path,
+                     "headers": {k.lower(): v for k, v in self.headers.items()},
+                     "body": body.decode("utf-8", "replace")}
+            with open(args.log, "a", encoding="utf-8") as log:
+                log.write(json.dumps(entry) + "\n")
+
+        def do_POST(self):
+            body = self.rfile.read(int(self.headers.get("Content-Length", "0")))
+            self.record(body)
+            if args.refuse:
+                return self.answer(503)
+            if not self.path.endswith("/statements"):
+                return self.answer(404)
+            try:
+                statement_id = json.loads(body)["id"]
+            except (ValueError, KeyError, TypeError):
+                return self.answer(400)
+            if statement_id in seen:
+                return self.answer(409)
+            seen.add(statement_id)
+            self.answer(200, json.dumps([statement_id]).encode())
+
+        def do_GET(self):
+            self.record(b"")
+            self.answer(405)
+
+    server = HTTPServer(("127.0.0.1", 0), Handler)
+    # The port appears whole or not at all: written to a temporary name, then renamed.
+    tmp = args.port_file + ".tmp"
+    with open(tmp, "w", encoding="utf-8") as f:
+        f.write(str(server.server_address[1]))
+    os.replace(tmp, args.port_file)
+    server.serve_forever()
+
+
+if __name__ == "__main__":
+    sys.exit(main())
