@@ -14,7 +14,7 @@ packages=(
   libgtest-dev libgmock-dev
   libnifti2-dev zlib1g-dev libzstd-dev libxxhash-dev
   libcli11-dev libstb-dev nlohmann-json3-dev libmeshoptimizer-dev
-  chromium libcurl4-openssl-dev python3
+  chromium libcurl4-openssl-dev uuid-dev python3
 )
 # The learning-record tests' validator runs on Node (tests/xapi); a Node already on the PATH is kept.
 if ! command -v node >/dev/null || ! command -v npm >/dev/null; then

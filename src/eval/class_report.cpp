@@ -14,9 +14,14 @@ namespace dentsim {
 
 int scoreBin(double score) { return std::clamp(int(score / 10.0), 0, kScoreBins - 1); }
 
+// The teacher's marks on the command line win; otherwise a built-in task's own `pass_mark`.
 std::optional<double> passMarkFor(const ClassReportOptions& options, const std::string& task) {
   if (auto it = options.task_pass_marks.find(task); it != options.task_pass_marks.end()) return it->second;
-  return options.pass_mark;
+  if (options.pass_mark) return options.pass_mark;
+  const std::vector<std::string> names = builtinTaskNames();
+  if (std::find(names.begin(), names.end(), task) == names.end()) return std::nullopt;
+  auto t = builtinTask(task);
+  return t ? t->pass_mark : std::nullopt;
 }
 
 namespace {

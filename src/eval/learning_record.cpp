@@ -1,6 +1,6 @@
-// Learning records: the xAPI statement of a scored attempt, its name-based id, and the SHA-1 that id needs.
+// Learning records: the xAPI statement of a scored attempt and its name-based id.
 //
-// Sections: 1. SHA-1 and UUIDs  2. IRIs, verbs, durations  3. the statement
+// Sections: 1. UUIDs  2. IRIs, verbs, durations  3. the statement
 #include "eval/learning_record.h"
 
 #include <algorithm>
@@ -8,94 +8,32 @@
 #include <cmath>
 #include <cstdio>
 
+#include <uuid/uuid.h>
+
 #include "eval/tooth_diff.h"
 #include "io/strict_json.h"
 #include "volume/brick_volume.h"
 
 namespace dentsim {
 
-// ---- 1. SHA-1 and UUIDs ----------------------------------------------------------------------------
-// Only for the statement id: a version-5 UUID is defined on SHA-1, and XXH3 (io/file_hash) would
-// give ids that no other tool could recompute.
+// ---- 1. UUIDs ----------------------------------------------------------------------------------------
+// The statement id is a version-5 UUID, which any xAPI tool can recompute; XXH3 (io/file_hash)
+// would give ids that no other tool could. libuuid makes it.
 
 namespace {
-
-uint32_t rotl(uint32_t x, int n) { return (x << n) | (x >> (32 - n)); }
-
-// One 64-byte block into the five state words.
-void sha1Block(const uint8_t* block, std::array<uint32_t, 5>& h) {
-  std::array<uint32_t, 80> w{};
-  for (int i = 0; i < 16; ++i)
-    w[size_t(i)] = uint32_t(block[4 * i]) << 24 | uint32_t(block[4 * i + 1]) << 16 | uint32_t(block[4 * i + 2]) << 8 |
-                   uint32_t(block[4 * i + 3]);
-  for (size_t i = 16; i < 80; ++i) w[i] = rotl(w[i - 3] ^ w[i - 8] ^ w[i - 14] ^ w[i - 16], 1);
-  uint32_t a = h[0], b = h[1], c = h[2], d = h[3], e = h[4];
-  for (size_t i = 0; i < 80; ++i) {
-    uint32_t f = 0, k = 0;
-    if (i < 20) f = (b & c) | (~b & d), k = 0x5A827999u;
-    else if (i < 40) f = b ^ c ^ d, k = 0x6ED9EBA1u;
-    else if (i < 60) f = (b & c) | (b & d) | (c & d), k = 0x8F1BBCDCu;
-    else f = b ^ c ^ d, k = 0xCA62C1D6u;
-    const uint32_t t = rotl(a, 5) + f + e + k + w[i];
-    e = d;
-    d = c;
-    c = rotl(b, 30);
-    b = a;
-    a = t;
-  }
-  h[0] += a, h[1] += b, h[2] += c, h[3] += d, h[4] += e;
-}
-
-// "xxxxxxxx-xxxx-..." to 16 bytes; false when it is not a UUID.
-bool parseUuid(const std::string& text, std::array<uint8_t, 16>* out) {
-  std::string hex;
-  for (char ch : text)
-    if (ch != '-') hex += ch;
-  if (hex.size() != 32 || text.size() != 36) return false;
-  for (size_t i = 0; i < 16; ++i) {
-    unsigned v = 0;
-    if (std::sscanf(hex.c_str() + 2 * i, "%2x", &v) != 1) return false;
-    (*out)[i] = uint8_t(v);
-  }
-  return true;
-}
-
-// RFC 4122's URL namespace, in which dentsim's own namespace is named.
+// RFC 4122's namespace for names that are URLs.
 constexpr const char* kUrlNamespace = "6ba7b811-9dad-11d1-80b4-00c04fd430c8";
-
 }  // namespace
 
-std::array<uint8_t, 20> sha1(const std::string& bytes) {
-  std::array<uint32_t, 5> h{0x67452301u, 0xEFCDAB89u, 0x98BADCFEu, 0x10325476u, 0xC3D2E1F0u};
-  // The message, a 1 bit, zeros, and the bit length as 64 bits big-endian, in whole blocks.
-  std::string padded = bytes;
-  padded += char(0x80);
-  while (padded.size() % 64 != 56) padded += char(0);
-  const uint64_t bits = uint64_t(bytes.size()) * 8;
-  for (int i = 7; i >= 0; --i) padded += char(uint8_t(bits >> (8 * i)));
-  for (size_t at = 0; at < padded.size(); at += 64) sha1Block(reinterpret_cast<const uint8_t*>(padded.data() + at), h);
-  std::array<uint8_t, 20> digest{};
-  for (size_t i = 0; i < 20; ++i) digest[i] = uint8_t(h[i / 4] >> (24 - 8 * (i % 4)));
-  return digest;
-}
-
 std::string uuidV5(const std::string& ns, const std::string& name) {
-  std::array<uint8_t, 16> ns_bytes{};
-  const bool ok = parseUuid(ns, &ns_bytes);
+  uuid_t ns_bytes;
+  const bool ok = uuid_parse(ns.c_str(), ns_bytes) == 0;
   (void)ok;
   assert(ok && "uuidV5: the namespace is a UUID");
-  const std::array<uint8_t, 20> digest = sha1(std::string(ns_bytes.begin(), ns_bytes.end()) + name);
-  std::array<uint8_t, 16> u{};
-  for (size_t i = 0; i < 16; ++i) u[i] = digest[i];
-  u[6] = uint8_t((u[6] & 0x0F) | 0x50);  // version 5
-  u[8] = uint8_t((u[8] & 0x3F) | 0x80);  // the RFC 4122 variant
-  std::string text;
-  char two[3];
-  for (size_t i = 0; i < 16; ++i) {
-    if (i == 4 || i == 6 || i == 8 || i == 10) text += '-';
-    std::snprintf(two, sizeof two, "%02x", unsigned(u[i]));
-    text += two;
-  }
+  uuid_t u;
+  uuid_generate_sha1(u, ns_bytes, name.data(), name.size());
+  char text[37];
+  uuid_unparse_lower(u, text);
   return text;
 }
 

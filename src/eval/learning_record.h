@@ -78,8 +78,6 @@ std::string isoDuration(double seconds);
 
 // ---- The pieces, for the tests ------------------------------------------------------------------------
 
-// SHA-1 of bytes (FIPS 180-4).
-std::array<uint8_t, 20> sha1(const std::string& bytes);
 // RFC 4122 version-5 UUID of `name` in the namespace `ns` (a UUID in its text form), lower-case text.
 std::string uuidV5(const std::string& ns, const std::string& name);
 

@@ -8,6 +8,7 @@
 #include "eval/attempt_reader.h"
 #include "eval/class_report.h"
 #include "eval/class_report_html.h"
+#include "eval/cut_score.h"
 
 namespace dentsim {
 namespace {
@@ -184,6 +185,29 @@ ClassReport sampleReport() {
   options.pass_mark = 50;
   options.task_pass_marks["class2_cavity"] = 60;
   return buildClassReport(std::move(all), options);
+}
+
+// Without a mark from the teacher, a built-in task brings its own (70 in the course files), and a
+// task dentsim does not know has none; the teacher's class-wide mark still wins over the task's.
+TEST(ClassReportModel, ABuiltInTasksOwnPassMarkIsTheFallback) {
+  ClassReportOptions none;
+  auto own = builtinTask("class2_cavity");
+  ASSERT_TRUE(own.ok()) << own.message();
+  ASSERT_TRUE(own->pass_mark.has_value());
+  EXPECT_EQ(passMarkFor(none, "class2_cavity"), own->pass_mark);
+  EXPECT_EQ(passMarkFor(none, "a_task_of_my_own"), std::nullopt);
+  ClassReportOptions forty;
+  forty.pass_mark = 40;
+  EXPECT_EQ(passMarkFor(forty, "class2_cavity"), std::optional<double>(40.0));
+  ClassAttempt a;
+  a.student = a.student_name = "dan";
+  a.task = a.task_title = "class2_cavity";
+  a.score = *own->pass_mark - 1;
+  a.time_s = 1000;
+  a.verb = "scored";
+  a.source = "dan@1000";
+  const ClassReport r = buildClassReport({a}, none);
+  ASSERT_EQ(r.flags.size(), 1u) << "just below the task's own mark";
 }
 
 TEST(ClassReportModel, CountsAttemptsPerStudentAndTaskAndBinsTheScores) {
