@@ -53,13 +53,14 @@ std::vector<std::string> claimedFiles(const std::string& output) {
   return files;
 }
 
-// A line "score N.NN", as a scored run prints it. (Not std::regex: GCC's -O1 sanitizer build warns
-// falsely inside <regex>, and that build treats warnings as errors.)
+// A line that ends "score N.NN", as a scored run's last line does. (Not std::regex: GCC's -O1
+// sanitizer build warns falsely inside <regex>, and that build treats warnings as errors.)
 bool hasScoreLine(const std::string& output) {
   std::istringstream lines(output);
   for (std::string line; std::getline(lines, line);) {
-    if (!line.starts_with("score ")) continue;
-    const std::string n = line.substr(6);
+    const size_t at = line.rfind("score ");
+    if (at == std::string::npos || (at > 0 && line[at - 1] != ' ')) continue;
+    const std::string n = line.substr(at + 6);
     const size_t dot = n.find('.');
     if (dot == 0 || dot == std::string::npos || n.size() != dot + 3) continue;
     if (std::all_of(n.begin(), n.end(), [](char c) { return std::isdigit(static_cast<unsigned char>(c)) || c == '.'; })) return true;
