@@ -30,7 +30,7 @@ namespace fs = std::filesystem;
 using test::runCommand;
 using test::TempDir;
 
-const fs::path kToolsDir = fs::path(__FILE__).parent_path().parent_path() / "xapi";
+const fs::path kToolsDir = fs::path(DENTSIM_SOURCE_DIR) / "tests" / "xapi";
 
 std::vector<nlohmann::json> readJsonLines(const std::string& path) {
   std::vector<nlohmann::json> out;
