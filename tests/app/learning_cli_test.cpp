@@ -5,10 +5,7 @@
 // has seen, and can refuse everything (503). "Down" is a localhost port where nobody listens.
 #include <gtest/gtest.h>
 
-#include <netinet/in.h>
 #include <signal.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <filesystem>
@@ -21,12 +18,14 @@
 
 #include <nlohmann/json.hpp>
 
+#include "free_port.h"
 #include "test_support.h"
 
 namespace dentsim {
 namespace {
 
 namespace fs = std::filesystem;
+using test::freePort;
 using test::runCommand;
 using test::TempDir;
 
@@ -38,19 +37,6 @@ std::vector<nlohmann::json> readJsonLines(const std::string& path) {
   for (std::string line; std::getline(in, line);)
     if (!line.empty()) out.push_back(nlohmann::json::parse(line));
   return out;
-}
-
-// A localhost port that was free a moment ago: the LRS that is down.
-int freePort() {
-  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
-  sockaddr_in a{};
-  a.sin_family = AF_INET;
-  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-  ::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a);
-  socklen_t len = sizeof a;
-  ::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &len);
-  ::close(fd);
-  return ntohs(a.sin_port);
 }
 
 // The stand-in LRS, started on a free port and stopped at scope exit.
