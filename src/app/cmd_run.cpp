@@ -70,6 +70,18 @@ void addRunCommand(CLI::App& root, Action& action) {
   cmd->add_option("--attempt", o->attempt, "With --demo-script: the careful one or one with a fault: " + attemptNames())
       ->check(CLI::IsMember(attemptNameList()))
       ->capture_default_str();
+  cmd->add_option("--guide", o->guide,
+                  "A professional's session (.dses): a spring pulls the drill toward its path (haptic guidance)");
+  cmd->add_option("--guide-stiffness", o->guide_settings.stiffness_n_per_mm, "The guide's spring [N/mm]")
+      ->check(CLI::Range(0.01, 10.0))
+      ->capture_default_str();
+  cmd->add_option_function<double>(
+         "--hand-stiffness", [o](double k) { o->devices.script_hand = HandSettings{k, HandSettings{}.lag_s}; },
+         "A pen script is held by a hand of this stiffness that gives way to the rendered force [N/mm]; default: rigid")
+      ->check(CLI::Range(0.05, 100.0));
+  cmd->add_option("--wander", o->wander_mm,
+                  "The pen script's drill wanders sideways up to this far, off its path and back (a shaky hand) [mm]")
+      ->check(CLI::Range(0.0, 5.0));
   cmd->add_flag("--headless", o->headless, "No window: frames go offscreen, to PNG (also when no display answers)");
   cmd->add_option("--width", o->width, "Window or frame width [px]")->check(CLI::Range(64, 8192))->capture_default_str();
   cmd->add_option("--height", o->height, "Window or frame height [px]")->check(CLI::Range(64, 8192))->capture_default_str();

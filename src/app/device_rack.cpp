@@ -35,9 +35,18 @@ Status DeviceRack::open(const PenPath* script, bool with_mirror, const RackPlace
     const std::string where = std::string(penRoleName(role)) + " pen";
     const Pose& start = role == PenRole::Drill ? at.drill_start : at.mirror_start;
     if (chosen.empty() && script) {
+      std::unique_ptr<PenSource> source = std::make_unique<ScriptedPen>(*script, role);
+      std::shared_ptr<const void> keep_alive;
+      if (o_.script_hand) {
+        // The hand holds the script's pen and gives way to what the safety layer lets out.
+        auto scripted = std::shared_ptr<PenSource>(std::move(source));
+        source = std::make_unique<YieldingHand>(*scripted, *o_.script_hand);
+        keep_alive = scripted;
+      }
       devices_[r] = std::make_unique<devices::SoftwarePen>(
-          "script", std::make_unique<ScriptedPen>(*script, role),
-          devices::softwarePenSpec("pen script", device_params.max_force_n, device_params.max_torque_n_mm));
+          "script", std::move(source),
+          devices::softwarePenSpec("pen script", device_params.max_force_n, device_params.max_torque_n_mm),
+          std::move(keep_alive));
     } else {
       auto name = devices::parsePenName(chosen.empty() ? "virtual" : chosen);
       if (!name) return makeError(where, name.message());

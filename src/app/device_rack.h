@@ -4,6 +4,7 @@
 #include <array>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "core/result.h"
@@ -16,6 +17,7 @@
 #include "devices/virtual_pen.h"
 #include "io/pen_path_file.h"
 #include "sim/sim_params.h"
+#include "sim/yielding_hand.h"
 
 namespace dentsim::app {
 
@@ -28,6 +30,7 @@ struct DeviceRackOptions {
   std::string mirror_pen;
   std::string pedal;              // "none", "hid[:...]"; empty: none (the script, the wheel or keys set the speed)
   devices::DeviceOptions backends;  // the backends' own options (the Falcon's firmware, ...) and the pens' reach
+  std::optional<HandSettings> script_hand;  // a pen script is held by a hand that gives way to the force; none: rigid
 };
 
 // Where the pens start, and how the screen is turned: a hardware pen's workspace is mapped around

@@ -39,6 +39,14 @@ Status Segments::start(ToothVolume& tooth, const SegmentSetup& setup, std::vecto
   lockstep_ = setup.lockstep;
   loop_ = std::make_unique<HapticLoop>(tooth.voxels, tooth.frame, *setup.params, *setup.drill, setup.mirror, &edits_);
   loop_->setIdleLatencyUs(setup.idle_latency_us);
+  if (setup.guide) {
+    GuidePath g = *setup.guide;
+    if (setup.guide_goes_on && guide_) g.start_index = guide_->cursor();
+    guide_.emplace(std::move(g));
+    loop_->setGuide(&*guide_);
+  } else {
+    guide_.reset();
+  }
   for (PenRole role : {PenRole::Drill, PenRole::Mirror}) {
     if (role == PenRole::Mirror && !setup.mirror) continue;
     PenSource* pen = setup.pens[size_t(role)];
@@ -58,6 +66,7 @@ Status Segments::start(ToothVolume& tooth, const SegmentSetup& setup, std::vecto
     info.tooth_source = setup.tooth_source;
     info = sessionHeader(std::move(info), tooth, *setup.params, setup.drill_name, setup.mirror ? setup.mirror_name : "");
     if (!setup.params_json.empty()) info.params_json = setup.params_json;
+    if (guide_) info.guide_json = guideJson(guide_->path());
     session_path_ = out_path("session" + suffix + ".dses");
     last_session_path_ = session_path_;
     recorder_ = std::make_unique<SessionRecorder>();

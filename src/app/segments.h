@@ -7,12 +7,14 @@
 
 #include <array>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "core/pen_source.h"
 #include "core/result.h"
 #include "sim/edit_channel.h"
+#include "sim/guide_spring.h"
 #include "sim/haptic_loop.h"
 #include "sim/session_recorder.h"
 #include "sim/sim_params.h"
@@ -35,6 +37,8 @@ struct SegmentSetup {
   std::string out;                      // folder for the tooth and session files; empty: nothing recorded
   std::string params_json;              // the whole preset the session records (ui::presetJson of *params
                                         // and the looks); empty: simParamsJson(*params)
+  const GuidePath* guide = nullptr;     // a guide's spring on the drill; none: unguided
+  bool guide_goes_on = false;           // the guide starts where the last segment's stopped (the same tooth)
 };
 
 class Segments {
@@ -75,6 +79,7 @@ class Segments {
 
  private:
   std::unique_ptr<HapticLoop> loop_;
+  std::optional<GuideSpring> guide_;  // the current or last segment's; the loop points at it
   std::unique_ptr<SessionRecorder> recorder_;
   std::string session_path_;       // the session being recorded; empty when none
   std::string last_session_path_;  // the current or last segment's session file

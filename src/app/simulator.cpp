@@ -68,6 +68,8 @@ Status Simulator::startSegment() {
   s.idle_latency_us = o_.idle_latency_us;
   s.lockstep = lockstep_;
   s.out = o_.out;
+  s.guide = guide_ ? &*guide_ : nullptr;
+  s.guide_goes_on = tooth_first_segment_ <= segments_.count();  // not the first segment on this tooth
   if (Status st = segments_.start(cut_, s, &out_.written); !st) return st;
   final_saved_ = false;
   ui_.segment_recorded = segments_.recording();

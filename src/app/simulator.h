@@ -20,6 +20,7 @@
 #include "app/device_rack.h"
 #include "core/result.h"
 #include "eval/task.h"
+#include "sim/guide_spring.h"
 
 namespace dentsim::app {
 
@@ -41,6 +42,9 @@ struct SimulatorOptions {
   std::string audio_out;                // FILE.wav; empty: live in a window, none headless
   std::string turbine_wav, cutting_wav; // recordings replacing the synthesized voices; empty: synthesized
   double recorded_rpm = 40000.0;        // the turbine recording's speed [1/min]
+  double wander_mm = 0.0;               // the script's drill wanders sideways this far (sim/novice_paths.h wanderingPath) [mm]
+  std::string guide;                    // a professional's session whose path a spring pulls the drill toward; empty: none
+  GuideSettings guide_settings;         // that spring (sim/guide_spring.h)
   bool demo_script = false;             // the task's scripted preparation (caries removal or class I), the mirror held distally
   std::string attempt = "expert";       // with demo_script: the careful one, or one with a fault (sim/novice_paths.h)
   bool headless = false;                // offscreen frames, no window (also when no display answers)

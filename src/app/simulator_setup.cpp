@@ -16,6 +16,7 @@
 #include "ui/course_list.h"
 #include "ui/window.h"
 #include "volume/tooth_file.h"
+#include "volume/volume_hash.h"
 
 namespace dentsim::app {
 
@@ -123,6 +124,7 @@ Status Simulator::setUpScript(const Pose& mirror_start) {
     for (const std::string& w : penPathStartWarnings(*script_, initial_, o_.pen_script))
       std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
   }
+  if (o_.wander_mm > 0) script_ = wanderingPath(*script_, o_.wander_mm);
   if (mirror_tool_ && !hasPen(*script_, PenRole::Mirror)) addStillMirror(*script_, mirror_start);
   script_end_s_ = pathEnd(*script_);
   return Ok{};
@@ -171,6 +173,14 @@ Status Simulator::setUp() {
   const render::CameraBasis basis = camera_.basis();
   at.screen = Quat::fromAxes(render::fromGlm(basis.right), render::fromGlm(basis.up), -render::fromGlm(basis.forward));
   if (Status st = setUpScript(at.mirror_start); !st) return st;
+  if (!o_.guide.empty()) {
+    auto guide = loadGuidePath(o_.guide, o_.guide_settings);
+    if (!guide) return makeError("--guide", guide.message());
+    guide_ = std::move(*guide);
+    // A path cut on another tooth leads the bur through other tissue: allowed, but said.
+    if (guide_->source_tooth_hash != volumeHashHex(initial_.voxels, initial_.frame))
+      note("warning: --guide " + o_.guide + " was recorded on another tooth (" + guide_->source_tooth_hash + ")");
+  }
   if (Status st = rack_.open(script_ ? &*script_ : nullptr, mirror_tool_.has_value(), at, params_.device, lockstep_); !st)
     return st;
   if (rack_.hasVirtualPen()) {

@@ -88,6 +88,7 @@ class Simulator {
 
   DeviceRack rack_;
   std::optional<PenPath> script_;
+  std::optional<GuidePath> guide_;      // --guide's path, read once; every segment's spring starts from it
   double script_end_s_ = 0.0;
   std::unique_ptr<ui::PenInput> pens_;  // the mouse and keys move the virtual pens
 

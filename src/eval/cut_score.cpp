@@ -193,6 +193,19 @@ Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, cons
     out.lines = scoreLines(*s);
     out.pulp_exposed = s->pulp_exposed;
   }
+  // A guided attempt is not the student's alone: the report and the line say so.
+  if (session && !session->info.guide_json.empty()) {
+    auto guide = parseGuideJson(session->info.guide_json, files.session.empty() ? "session" : files.session);
+    if (!guide) return guide.error();
+    out.guided = true;
+    out.report["guided"] = {{"source", guide->source},
+                            {"source_hash", guide->source_hash},
+                            {"stiffness_n_per_mm", guide->settings.stiffness_n_per_mm},
+                            {"max_force_n", guide->settings.max_force_n}};
+    char k[32];
+    std::snprintf(k, sizeof k, "%.2f", guide->settings.stiffness_n_per_mm);
+    out.summary += "; guided by " + guide->source + " at " + k + " N/mm";
+  }
   out.diff = std::move(*diff);
   return out;
 }

@@ -49,6 +49,7 @@ struct SessionScore {
   std::vector<ScoreLine> lines;        // parts and deductions, in the report's order
   std::optional<double> caries_remaining_mm3;  // caries removal only
   bool pulp_exposed = false;
+  bool guided = false;                 // the session's drill had a guide's spring (the report's "guided" says which)
 };
 
 struct ScoreFiles {

@@ -132,7 +132,8 @@ ojson resultExtensions(const Task& task, const ojson& report, const AttemptFacts
   ext[extensionIri("overcut-mm3")] = std::move(overcut);
   ext[extensionIri("undercut-mm3")] = std::move(undercut);
   ext[extensionIri("force")] = std::move(force);
-  ext[extensionIri("guided")] = false;  // the guidance feature does not exist yet
+  // A guided attempt's report names its guide (eval/cut_score.h); an unguided one has none.
+  ext[extensionIri("guided")] = report.contains("guided") && report["guided"].is_object();
   ext[extensionIri("session-hash")] = facts.session_hash ? ojson(*facts.session_hash) : ojson(nullptr);
   ext[extensionIri("pulp-exposed")] = pulp_exposed;
   ext[extensionIri("task-kind")] = taskKindName(task.kind);

@@ -168,6 +168,7 @@ std::string headerText(const SessionInfo& info) {
   h["tooth"] = std::move(tooth);
   h["tools"] = std::move(tools);
   h["params"] = paramsValue(info.params_json);
+  if (!info.guide_json.empty()) h["guide"] = paramsValue(info.guide_json);
   // nlohmann prints doubles so that they read back to the same bits; invalid UTF-8 in a string
   // becomes U+FFFD rather than an exception.
   return h.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
@@ -294,6 +295,12 @@ std::optional<std::string> readHeaderJson(std::string_view text, SessionInfo& in
   }
   if (std::string p = watch.problem(); !p.empty()) return p;
   if (!h.is_object()) return "expected a JSON object, found " + describe(h);
+  // "guide" is the one optional key: only a guided session has it.
+  if (auto g = h.find("guide"); g != h.end()) {
+    if (!g->is_object()) return "guide: expected an object (the guide's spring and path), found " + describe(*g);
+    info.guide_json = g->dump(-1, ' ', false, Json::error_handler_t::replace);
+    h.erase(g);
+  }
   if (auto p = checkKeys(h, kRootKeys, "")) return p;
 
   const Json& format = h.at("format");
@@ -719,6 +726,8 @@ Status SessionWriter::open(const std::string& path, const SessionInfo& info) {
   if (std::optional<std::string> p = checkInfoValues(info)) return makeError(path, "header: " + *p);
   if (!paramsValue(info.params_json).is_object())
     return makeError(path, "header: params: the parameter set is not a JSON object");
+  if (!info.guide_json.empty() && !paramsValue(info.guide_json).is_object())
+    return makeError(path, "header: guide: the guide is not a JSON object");
   path_ = path;
   part_path_ = path + ".part";
   bytes_written_ = 0;

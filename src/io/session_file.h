@@ -40,6 +40,8 @@ struct SessionInfo {
   std::string drill_tool;       // tool on the drill pen ("round_bur_010"); never empty
   std::string mirror_tool;      // tool on the mirror pen; empty when none
   std::string params_json;      // the parameter set at step 0 (simParamsJson text); sim parses it
+  std::string guide_json;       // the guide's spring and path the drill was pulled along (sim/guide_spring.h's
+                                // JSON object); empty: the session was not guided, and the header has no "guide"
 };
 
 // The current time as ISO 8601 UTC ("2026-11-22T10:21:44Z"), as SessionInfo::created_utc holds it.

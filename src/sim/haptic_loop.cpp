@@ -129,6 +129,16 @@ const StepReport& HapticLoop::step() {
   for (size_t r = 0; r < 2; ++r)
     if (report_.stepped[r]) report_.tools[r] = proxies_[r]->step(field_, p, readings[r], dt);
 
+  // 2b. The guide's spring joins the drill's force under the device's clamp: what the hand feels,
+  // never what moves the proxy.
+  report_.guide_n = {};
+  if (guide_ != nullptr && report_.stepped[0]) {
+    report_.guide_n = guide_->force(proxies_[0]->grip().position);
+    ProxyStep& d = report_.tools[0];
+    d.display.force += report_.guide_n;
+    if (clampLength(&d.display.force, p.device.max_force_n)) d.force_clamped = true;
+  }
+
   // 3. Cut under the drill's head; the next step's contact already feels it.
   report_.speed = report_.stepped[0] ? std::clamp(readings[0].pedal, 0.0, 1.0) : 0.0;
   if (report_.stepped[0] && tools_[0]->cuts && report_.speed > 0) {
@@ -159,6 +169,7 @@ const StepReport& HapticLoop::step() {
   totals_.step = ++step_;
   totals_.t_s = t + dt;
   totals_.pedal = report_.speed;
+  totals_.guide_n = report_.guide_n;
   totals_.rpm = report_.speed * p.turbine.max_rpm;
   totals_.removed_mm3 += report_.cut.removed_mm3;
   for (size_t m = 0; m < totals_.removed_by_material_mm3.size(); ++m)

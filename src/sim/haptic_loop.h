@@ -32,6 +32,7 @@
 #include "io/session_file.h"
 #include "sim/cutter.h"
 #include "sim/edit_channel.h"
+#include "sim/guide_spring.h"
 #include "sim/sim_params.h"
 #include "sim/tool_proxy.h"
 #include "sim/voxel_field.h"
@@ -63,6 +64,8 @@ struct HapticState {
   std::array<double, DS_MATERIAL_COUNT> removed_by_material_mm3{};  // the same by tissue (Material index)
   uint64_t voxels_changed = 0;         // voxel edits since start
   uint64_t deferred_cuts = 0;          // steps whose cut waited for room
+  bool guided = false;                 // a guide's spring joins the drill's force
+  Vec3 guide_n;                        // the guide's force this step [N] (before the device's clamp)
 };
 
 // What one step did, for tests and benchmarks.
@@ -71,6 +74,7 @@ struct StepReport {
   std::array<bool, 2> stepped{};       // the tool was stepped
   CutStep cut;
   double speed = 0.0;                  // turbine speed used [0..1]
+  Vec3 guide_n;                        // the guide's force added to the drill's display [N]
 };
 
 // ---- 3. step times -----------------------------------------------------------------------------------
@@ -114,6 +118,12 @@ class HapticLoop {
 
   // Attaches a pen to a tool (null detaches). Only while the thread is stopped.
   void attach(PenRole role, PenSource* pen);
+  // The guide whose spring joins the drill's force from the next step on (null: none). Only while
+  // the thread is stopped; the loop does not own it.
+  void setGuide(GuideSpring* guide) {
+    guide_ = guide;
+    totals_.guided = guide != nullptr;
+  }
   // Puts a tool's proxy on its pen's current reading (or on `grip` when given).
   void placeTool(PenRole role, const Pose& grip);
 
@@ -184,6 +194,7 @@ class HapticLoop {
   double drill_ability_ = 0.0;  // the drill's cutting ability under the active parameters
   Cutter cutter_;
   EditChannel* edits_;
+  GuideSpring* guide_ = nullptr;
   std::array<ForceOutput, 2> forces_;
   TripleBuffer<HapticState> state_;
   HapticState totals_;        // the loop's own running state, published each step

@@ -9,7 +9,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <vector>
+
+#include "io/pen_playback.h"
 
 namespace dentsim {
 
@@ -65,6 +68,38 @@ PenPath slowedPath(const PenPath& path, double factor) {
     s.t_s *= factor;
     s.pedal /= factor;
   }
+  return out;
+}
+
+PenPath wanderingPath(const PenPath& path, double amplitude_mm, double period_s) {
+  constexpr double kEveryS = 0.02;  // dense enough that the wander is not lost between the path's samples
+  PenPath out = path;
+  out.samples.clear();
+  ScriptedPen drill(path, PenRole::Drill);
+  const double end = drill.endTime();
+  bool any = false;
+  for (const PenSample& s : path.samples) {
+    if (s.pen == PenRole::Drill) any = true;
+    else out.samples.push_back(s);
+  }
+  if (!any) return path;
+  const double w = 2.0 * std::numbers::pi / period_s;
+  for (int k = 0;; ++k) {
+    const double t = std::min(end, double(k) * kEveryS);
+    PenReading r;
+    drill.read(t, &r);
+    PenSample s;
+    s.t_s = t;
+    s.pen = PenRole::Drill;
+    s.pose = r.grip;
+    s.pose.position += Vec3{std::sin(w * t), std::sin(w * t / 1.37), 0.0} * amplitude_mm;
+    s.buttons = r.buttons;
+    s.pedal = r.pedal;
+    out.samples.push_back(s);
+    if (t >= end) break;
+  }
+  // Per pen the samples stay in time order; the file's order is by time across pens.
+  std::stable_sort(out.samples.begin(), out.samples.end(), [](const PenSample& a, const PenSample& b) { return a.t_s < b.t_s; });
   return out;
 }
 

@@ -62,6 +62,10 @@ Result<PenPath> cavityAttemptPath(Attempt attempt, const BrickVolume& volume, co
 PenPath slowedPath(const PenPath& path, double factor);
 // The path up to `stop_s`, then pedal up and straight up by `lift_mm` over `lift_s`.
 PenPath stoppedPath(const PenPath& path, double stop_s, double lift_mm = 3.0, double lift_s = 0.3);
+// A wandering hand: the drill's samples every 20 ms along the path, each moved sideways (in the
+// simulation frame's x and y) by amplitude_mm (sin(2 pi t / period_s), sin(2 pi t / (1.37 period_s))),
+// so that the bur drifts off the path and back at two unrelated rates; the mirror's samples as they were.
+PenPath wanderingPath(const PenPath& path, double amplitude_mm, double period_s = 1.5);
 // `b` after `a`: b's times shifted to start `gap_s` after a's last sample.
 PenPath joinedPaths(const PenPath& a, const PenPath& b, double gap_s = 0.01);
 

@@ -36,6 +36,7 @@ Result<ProPath> ProPath::fromSession(const SessionRecording& session, const std:
   path.drill_tool_ = session.info.drill_tool;
   path.mirror_tool_ = session.info.mirror_tool;
   path.task_ = session.info.task;
+  path.tooth_hash_ = session.info.tooth_hash;
   ProPose held;
   bool any_drill = false;
   for (const SessionStep& s : session.steps) {

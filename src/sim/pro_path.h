@@ -41,6 +41,7 @@ class ProPath {
   const std::string& drillTool() const { return drill_tool_; }
   const std::string& mirrorTool() const { return mirror_tool_; }  // empty: the session had no mirror
   const std::string& task() const { return task_; }
+  const std::string& toothHash() const { return tooth_hash_; }  // the tooth the professional cut
 
   // The pose at loop time t_s, interpolated between the samples (position linearly, rotation by
   // slerp); before the start the first pose, after the end the last.
@@ -52,7 +53,7 @@ class ProPath {
 
  private:
   std::vector<ProPose> poses_;
-  std::string drill_tool_, mirror_tool_, task_;
+  std::string drill_tool_, mirror_tool_, task_, tooth_hash_;
 };
 
 }  // namespace dentsim

@@ -63,8 +63,19 @@ Result<SessionOutcome> recordScriptedSession(ToothVolume& tooth, const SimParams
   const auto t0 = std::chrono::steady_clock::now();
   HapticLoop loop(tooth.voxels, tooth.frame, params, tools->drill, tools->mirror ? &*tools->mirror : nullptr, nullptr);
   ScriptedPen drill(path, PenRole::Drill), mirror(path, PenRole::Mirror);
-  loop.attach(PenRole::Drill, &drill);
-  if (tools->mirror) loop.attach(PenRole::Mirror, &mirror);
+  std::optional<YieldingHand> drill_hand, mirror_hand;
+  if (options.hand) {
+    drill_hand.emplace(drill, *options.hand);
+    mirror_hand.emplace(mirror, *options.hand);
+  }
+  loop.attach(PenRole::Drill, drill_hand ? static_cast<PenSource*>(&*drill_hand) : &drill);
+  if (tools->mirror) loop.attach(PenRole::Mirror, mirror_hand ? static_cast<PenSource*>(&*mirror_hand) : &mirror);
+  std::optional<GuideSpring> guide;
+  if (options.guide) {
+    info.guide_json = guideJson(*options.guide);
+    guide.emplace(*options.guide);
+    loop.setGuide(&*guide);
+  }
   // The session's convention: each proxy starts on its pen's first reading.
   for (PenRole role : {PenRole::Drill, PenRole::Mirror}) {
     PenReading first;
@@ -125,6 +136,13 @@ Result<ReplayOutcome> replaySession(const SessionRecording& session, ToothVolume
   }
   auto tools = loadTools(session.info.drill_tool, session.info.mirror_tool, *params);
   if (!tools) return tools.error();
+  // A guided session's forces held the guide's spring: the same guide, from the header, makes them again.
+  std::optional<GuideSpring> guide;
+  if (!session.info.guide_json.empty()) {
+    auto g = parseGuideJson(session.info.guide_json, where);
+    if (!g) return g.error();
+    guide.emplace(std::move(*g));
+  }
 
   // Steps up to the first gap: past it the loop's state is unknown.
   size_t count = session.steps.size();
@@ -145,6 +163,7 @@ Result<ReplayOutcome> replaySession(const SessionRecording& session, ToothVolume
   ReplayPen drill(steps, PenRole::Drill), mirror(steps, PenRole::Mirror);
   loop.attach(PenRole::Drill, &drill);
   if (tools->mirror) loop.attach(PenRole::Mirror, &mirror);
+  if (guide) loop.setGuide(&*guide);
   for (size_t r = 0; r < 2; ++r) {
     // Each proxy starts on its pen's first reading.
     for (const SessionStep& s : steps)

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -14,8 +15,10 @@
 #include "io/pen_path_file.h"
 #include "io/session_file.h"
 #include "model/tool_generator.h"
+#include "sim/guide_spring.h"
 #include "sim/haptic_loop.h"
 #include "sim/sim_params.h"
+#include "sim/yielding_hand.h"
 #include "volume/brick_volume.h"
 
 namespace dentsim {
@@ -29,6 +32,8 @@ struct ScriptedSessionOptions {
   double extra_s = 0.05;          // keep stepping this long after the path's last sample [s]
   std::string params_json;        // the preset text the header records, the same tactile set as `params`
                                   // with the stages above's sections (ui::presetJson); empty: simParamsJson
+  std::optional<GuidePath> guide; // a guide's spring on the drill (recorded in the header); none: unguided
+  std::optional<HandSettings> hand;  // the script's hand gives way to the rendered force; none: rigid
 };
 
 struct SessionOutcome {

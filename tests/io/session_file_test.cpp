@@ -288,6 +288,28 @@ TEST(SessionFileTest, HeaderParamsKeepEveryDouble) {
   EXPECT_EQ(again->info.params_json, "{\n  \"b\": 0.30000000000000004,\n  \"a\": 1e-300\n}\n");
 }
 
+TEST(SessionFileTest, AGuideIsOptionalAndReadsBackAsTheSameObject) {
+  // Unguided: no "guide" key at all, so unguided files are what they were before guidance existed.
+  const std::vector<uint8_t> plain = encodeSession(testRecording());
+  EXPECT_EQ(std::string(plain.begin(), plain.end()).find("\"guide\""), std::string::npos);
+  SessionRecording guided = testRecording();
+  guided.info.guide_json = R"({"source":"pro.dses","stiffness_n_per_mm":0.30000000000000004,"points":[[1e-300,2,3]]})";
+  const Result<SessionRecording> back = parse(encodeSession(guided));
+  ASSERT_TRUE(back.ok()) << back.message();
+  EXPECT_EQ(back->info.guide_json, guided.info.guide_json);
+  EXPECT_EQ(encodeSession(*back), encodeSession(guided));
+  // A guide that is not an object is a header error, named.
+  guided.info.guide_json = "5";
+  const Result<SessionRecording> bad = parse(encodeSession(guided));
+  ASSERT_FALSE(bad.ok());
+  EXPECT_NE(bad.message().find("guide: expected an object"), std::string::npos) << bad.message();
+  test::TempDir dir;
+  SessionWriter w;
+  const Status st = w.open(dir.file("s.dses"), guided.info);
+  ASSERT_FALSE(st.ok());
+  EXPECT_EQ(st.message(), dir.file("s.dses") + ": header: guide: the guide is not a JSON object");
+}
+
 TEST(SessionFileTest, DrillOnlyAndNoStepsRoundTrip) {
   // Only the header and the end record: a session stopped before its first step.
   SessionRecording r;

@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 
 namespace dentsim {
 namespace {
@@ -20,6 +22,36 @@ PenPath threeSamples() {
   PenPath p;
   p.samples = {sample(0.0, {0, 0, 5}, 0.0), sample(1.0, {1, 0, 4}, 1.0), sample(2.0, {2, 0, 4}, 1.0)};
   return p;
+}
+
+TEST(NovicePaths, WanderingPathMovesTheDrillSidewaysOnlyAndKeepsTheMirror) {
+  // A drill held still at (1, 2, 3) for 3 s with the pedal down, and a mirror sample.
+  PenPath still;
+  PenSample a;
+  a.pose.position = {1, 2, 3};
+  a.pedal = 1.0;
+  PenSample b = a;
+  b.t_s = 3.0;
+  PenSample m;
+  m.pen = PenRole::Mirror;
+  m.pose.position = {9, 9, 9};
+  still.samples = {a, m, b};
+  const PenPath w = wanderingPath(still, 0.5, 1.5);
+  // Drill samples every 20 ms from 0 to 3 s (151), and the mirror's one.
+  ASSERT_EQ(w.samples.size(), 152u);
+  for (const PenSample& s : w.samples) {
+    if (s.pen == PenRole::Mirror) {
+      EXPECT_EQ(s, m);
+      continue;
+    }
+    // x wanders with the 1.5 s period, y with 1.37 times it; z and the pedal as they were.
+    EXPECT_NEAR(s.pose.position.x, 1.0 + 0.5 * std::sin(2 * std::numbers::pi * s.t_s / 1.5), 1e-12);
+    EXPECT_NEAR(s.pose.position.y, 2.0 + 0.5 * std::sin(2 * std::numbers::pi * s.t_s / (1.5 * 1.37)), 1e-12);
+    EXPECT_DOUBLE_EQ(s.pose.position.z, 3.0);
+    EXPECT_DOUBLE_EQ(s.pedal, 1.0);
+  }
+  EXPECT_TRUE(std::is_sorted(w.samples.begin(), w.samples.end(),
+                             [](const PenSample& x, const PenSample& y) { return x.t_s < y.t_s; }));
 }
 
 TEST(NovicePaths, SlowedPathStretchesTimeAndEasesThePedal) {
