@@ -178,6 +178,9 @@ Result<ClassAttempt> parseScoreReport(const std::string& text, const std::string
   const json pulp = j.value("pulp_exposed", json());
   if (!pulp.is_null() && !pulp.is_boolean()) return Error{path + ": pulp_exposed: not true or false"};
   a.pulp_exposed = pulp.is_boolean() && pulp.get<bool>();
+  const json guided = j.value("guided", json());
+  if (!guided.is_null() && !guided.is_object()) return Error{path + ": guided: not an object"};
+  a.guided = guided.is_object();
   // The student: the caller's, the report's own, the folders'.
   const json student = j.value("student", json());
   if (!student.is_null() && !student.is_string()) return Error{path + ": student: not a string"};
@@ -302,6 +305,9 @@ Result<std::optional<ClassAttempt>> parseStatement(const json& st, const std::st
     if (endsWith(key, "/pulp-exposed")) {
       if (!value.is_boolean()) return Error{"result.extensions " + key + ": not true or false"};
       a.pulp_exposed = value.get<bool>();
+    } else if (endsWith(key, "/guided")) {
+      if (!value.is_boolean()) return Error{"result.extensions " + key + ": not true or false"};
+      a.guided = value.get<bool>();
     } else if (endsWith(key, "/task-kind")) {
       if (!value.is_string()) return Error{"result.extensions " + key + ": not a task kind"};
       a.task_kind = value.get<std::string>();

@@ -30,6 +30,7 @@ struct ClassAttempt {
   std::optional<bool> success;         // a statement's result.success, when said
   std::string verb;                    // the statement's verb ("passed", "failed", "completed"); "scored" for a report
   bool pulp_exposed = false;           // the cut reached the pulp
+  bool guided = false;                 // a guide's spring pulled the drill (a report's "guided", a statement's guided extension)
   std::string picture;                 // the score picture's file; empty when there is none
   std::string source;                  // where it was read: "path" or "path:line"
   std::string statement_id;            // the statement's "id" (a UUID); empty for a score report

@@ -169,7 +169,8 @@ std::string progressSvg(const ClassReport& report, const TaskSummary& task) {
     for (size_t i : mine) {
       const ClassAttempt& a = report.attempts[i];
       svg += "<circle cx=\"" + num(xOf(a.time_s)) + "\" cy=\"" + num(yOf(a.score)) + "\" r=\"4\" fill=\"" + colour + "\"><title>" +
-             htmlEscape(student.name + ": " + num(a.score) + " on " + utcText(a.time_s)) + "</title></circle>";
+             htmlEscape(student.name + ": " + num(a.score) + " on " + utcText(a.time_s) + (a.guided ? ", guided" : "")) +
+             "</title></circle>";
     }
     const size_t row = size_t(std::find(task.students.begin(), task.students.end(), student.id) - task.students.begin());
     const double ly = kTop + 8 + 18.0 * double(row);
@@ -311,7 +312,7 @@ void attemptsSection(std::string& html, const ClassReport& r) {
           "<th>time taken</th><th>result</th><th>from</th></tr>";
   for (const ClassAttempt& a : r.attempts)
     html += "<tr>" + cell(utcText(a.time_s)) + cell(studentName(r, a.student)) + cell(a.task_title) + cell(num(a.score), true) +
-            cell(durationText(a.duration_s), true) + cell(a.verb) + cell(a.source) + "</tr>";
+            cell(durationText(a.duration_s), true) + cell(a.guided ? a.verb + " (guided)" : a.verb) + cell(a.source) + "</tr>";
   html += "</table>";
 }
 
@@ -320,7 +321,7 @@ void picturesSection(std::string& html, const ClassReport& r, const ReportPictur
           "<div class=\"pictures\">";
   for (const ClassAttempt& a : r.attempts) {
     const std::string caption = studentName(r, a.student) + " \u2014 " + a.task_title + " \u2014 " + num(a.score) + " \u2014 " +
-                                utcText(a.time_s);
+                                utcText(a.time_s) + (a.guided ? " \u2014 guided" : "");
     html += "<figure>";
     const auto it = a.picture.empty() ? pictures.end() : pictures.find(a.picture);
     if (it != pictures.end())

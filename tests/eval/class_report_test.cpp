@@ -77,6 +77,16 @@ TEST(ScoreReportInput, TakesTheStudentFromTheOptionTheReportOrTheFolders) {
   ASSERT_TRUE(c.ok()) << c.message();
   EXPECT_EQ(c->student, "carol");
   EXPECT_EQ(c->time_s, 86400.0);
+  EXPECT_FALSE(c->guided);
+  // A guided attempt's report names its guide.
+  std::string guided = kReport;
+  guided.insert(guided.size() - 1, R"(,"guided":{"source":"pro.dses","stiffness_n_per_mm":1.0})");
+  auto g = parseScoreReport(guided, "/x/y/score.json", 0, "", {});
+  ASSERT_TRUE(g.ok()) << g.message();
+  EXPECT_TRUE(g->guided);
+  std::string bad = kReport;
+  bad.insert(bad.size() - 1, R"(,"guided":true)");
+  EXPECT_EQ(parseScoreReport(bad, "b.json", 0, "", {}).message(), "b.json: guided: not an object");
 }
 
 TEST(ScoreReportInput, BadReportsNameTheFileAndTheField) {
@@ -98,7 +108,8 @@ TEST(StatementInput, ReadEachLineSkipThoseWithoutAScoreAndResolvePictures) {
                 "\"https://dentsim.example/xapi/score-picture\":\"s01/score.png\"}") +
       "\n\n" +
       statement("{\"mbox\":\"mailto:bo@school.example\"}", "class2_cavity/", "failed", 30, "2026-11-27T09:00:00Z",
-                ",\"success\":false,\"extensions\":{\"https://dentsim.example/xapi/pulp-exposed\":true}") +
+                ",\"success\":false,\"extensions\":{\"https://dentsim.example/xapi/pulp-exposed\":true,"
+                "\"https://dentsim.example/xapi/guided\":true}") +
       "\n" +
       R"({"actor":{"name":"Ann"},"verb":{"id":"http://adlnet.gov/expapi/verbs/launched"},"object":{"id":"https://dentsim.example/tasks/caries_removal"},"timestamp":"2026-11-27T07:55:00Z"})" +
       "\r\n";
@@ -117,6 +128,7 @@ TEST(StatementInput, ReadEachLineSkipThoseWithoutAScoreAndResolvePictures) {
   EXPECT_EQ(ann.success, std::optional<bool>(true));
   EXPECT_DOUBLE_EQ(*ann.duration_s, 312.5);
   EXPECT_FALSE(ann.pulp_exposed);
+  EXPECT_FALSE(ann.guided);  // no guided extension: not guided
   EXPECT_EQ(ann.picture, "out/s01/score.png");
   EXPECT_EQ(ann.source, "out/outbox.jsonl:1");
   const ClassAttempt& bo = (*read)[1];
@@ -124,6 +136,7 @@ TEST(StatementInput, ReadEachLineSkipThoseWithoutAScoreAndResolvePictures) {
   EXPECT_EQ(bo.task, "class2_cavity");                 // the trailing slash is not a segment
   EXPECT_EQ(bo.verb, "failed");
   EXPECT_TRUE(bo.pulp_exposed);
+  EXPECT_TRUE(bo.guided);
   EXPECT_TRUE(bo.picture.empty());
   EXPECT_EQ(bo.source, "out/outbox.jsonl:3");
 }
@@ -346,6 +359,13 @@ TEST(ClassReportHtml, PlotsOneLinePerStudentAndOneBarPerFilledBin) {
   EXPECT_EQ(countOf(html, "<figure>"), 6u);
   EXPECT_EQ(countOf(html, "src=\"data:image/png;base64,AQID\""), 1u);
   EXPECT_EQ(countOf(html, "no picture"), 5u);
+  EXPECT_EQ(countOf(html, "(guided)"), 0u);
+  // A guided attempt says so in the table, its dot's title and its picture's caption.
+  with_picture.attempts[0].guided = true;
+  const std::string guided = classReportHtml(with_picture, {});
+  EXPECT_EQ(countOf(guided, "(guided)"), 1u);
+  EXPECT_EQ(countOf(guided, ", guided</title>"), 1u);
+  EXPECT_EQ(countOf(guided, "\u2014 guided</figcaption>"), 1u);
   EXPECT_EQ(html.find("http://"), html.find("http://www.w3.org/2000/svg"));  // the SVG namespace is the only URL
   EXPECT_EQ(html.find("https://"), std::string::npos);
 }
