@@ -20,11 +20,13 @@ PixelRect rectOf(ImVec2 lo, ImVec2 hi) {
   return PixelRect{int(std::floor(lo.x)), int(std::floor(lo.y)), int(std::ceil(hi.x - lo.x)), int(std::ceil(hi.y - lo.y))};
 }
 
-// The strip's full scale: a little above the largest force and the threshold, on a round number.
-float stripTop(const std::vector<ForceColumn>& columns, double threshold_n) {
-  float top = float(threshold_n) * 1.25f;
+// The strip's full scale: a little above the largest force, on a quarter newton. A careful
+// session stays far below the threshold; scaled to the threshold its bars would be a few pixels
+// high, so the threshold's line only shows when some force comes near it.
+float stripTop(const std::vector<ForceColumn>& columns) {
+  float top = 0.0f;
   for (const ForceColumn& c : columns) top = std::max(top, c.max_force_n);
-  return std::max(0.5f, std::ceil(top * 2.0f) / 2.0f);
+  return std::max(0.25f, std::ceil(top * 1.15f * 4.0f) / 4.0f);
 }
 
 }  // namespace
@@ -104,7 +106,7 @@ ReplayPanelActions drawReplayPanel(ReplayPanelState& s) {
   if (columns != s.columns_width) {
     s.columns = forceColumns(s.steps, s.threshold_n, columns);
     s.columns_width = columns;
-    s.strip_top_n = stripTop(s.columns, s.threshold_n);
+    s.strip_top_n = stripTop(s.columns);
   }
   const ImVec2 lo = ImGui::GetCursorScreenPos();
   ImGui::InvisibleButton("##timeline", ImVec2(width, kStripHeight));
@@ -132,12 +134,17 @@ ReplayPanelActions drawReplayPanel(ReplayPanelState& s) {
     const ImU32 colour = col.over ? IM_COL32(230, 60, 50, 255) : col.contact ? IM_COL32(225, 190, 90, 255) : IM_COL32(110, 120, 140, 255);
     draw->AddRectFilled(ImVec2(x, bars_bottom - h), ImVec2(x + 1.0f, bars_bottom), colour);
   }
-  const float threshold_y = bars_bottom - std::min(1.0f, float(s.threshold_n) / s.strip_top_n) * bars_height;
-  draw->AddLine(ImVec2(lo.x, threshold_y), ImVec2(hi.x, threshold_y), IM_COL32(230, 60, 50, 160));
-  char label[48];
-  std::snprintf(label, sizeof label, "%.1f N", s.threshold_n);
-  draw->AddText(ImVec2(lo.x + 4.0f, threshold_y - ImGui::GetTextLineHeight()), IM_COL32(240, 120, 110, 255), label);
-  std::snprintf(label, sizeof label, "%.1f N", double(s.strip_top_n));
+  char label[64];
+  if (s.threshold_n < double(s.strip_top_n)) {
+    const float threshold_y = bars_bottom - float(s.threshold_n) / s.strip_top_n * bars_height;
+    draw->AddLine(ImVec2(lo.x, threshold_y), ImVec2(hi.x, threshold_y), IM_COL32(230, 60, 50, 160));
+    std::snprintf(label, sizeof label, "%.1f N", s.threshold_n);
+    draw->AddText(ImVec2(lo.x + 4.0f, threshold_y - ImGui::GetTextLineHeight()), IM_COL32(240, 120, 110, 255), label);
+  } else {
+    std::snprintf(label, sizeof label, "every force below the %.1f N threshold", s.threshold_n);
+    draw->AddText(ImVec2(lo.x + 4.0f, lo.y + 2.0f), IM_COL32(170, 175, 185, 255), label);
+  }
+  std::snprintf(label, sizeof label, "%.2f N", double(s.strip_top_n));
   draw->AddText(ImVec2(hi.x - ImGui::CalcTextSize(label).x - 4.0f, lo.y + 2.0f), IM_COL32(170, 175, 185, 255), label);
   const double shown = s.drag_s ? *s.drag_s : s.time_s;
   const float head_x = lo.x + float(s.duration_s > 0 ? shown / s.duration_s : 0.0) * (width - 1.0f);
