@@ -86,7 +86,6 @@ Status ReplayViewer::setUp() {
   cursor_ = std::move(*cursor);
   view_ = cursor_->start();
   if (box_.empty()) return makeError(o_.title, "the tooth holds no tissue");
-  for (const std::string& w : cursor_->warnings()) std::fprintf(stderr, "dentsim: warning: %s: %s\n", o_.title.c_str(), w.c_str());
   if (auto params = parseSimParams(session_.info.params_json, "session parameters")) max_force_n_ = params->device.max_force_n;
 
   // The simulator's first view: buccal, raised 30 degrees, widened when a mirror is in the scene.
