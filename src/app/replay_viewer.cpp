@@ -8,8 +8,6 @@
 #include <memory>
 #include <vector>
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include "app/frame_painter.h"
 #include "app/window_input.h"
 #include "io/png_file.h"
@@ -68,7 +66,7 @@ class ReplayViewer {
   ui::ReplayPanelState panel_;
   PixelRect panel_rect_;
   double playhead_s_ = 0.0;           // where the replay should be [s of loop time]
-  double max_force_n_ = 8.0;          // the device's clamp: the bur is full red there
+  SceneContents scene_;               // the tooth's frame and looks, the bur, the mirror
   Clock::time_point last_frame_;
   bool quit_ = false;
   bool ended_ = false;                // at_end has run
@@ -86,7 +84,11 @@ Status ReplayViewer::setUp() {
   cursor_ = std::move(*cursor);
   view_ = cursor_->start();
   if (box_.empty()) return makeError(o_.title, "the tooth holds no tissue");
-  if (auto params = parseSimParams(session_.info.params_json, "session parameters")) max_force_n_ = params->device.max_force_n;
+  scene_.tooth_frame = view_.frame;
+  scene_.looks = defaultLookParams().looks;
+  scene_.bur = session_.info.drill_tool;
+  scene_.mirror_tool = !session_.info.mirror_tool.empty();
+  if (auto params = parseSimParams(session_.info.params_json, "session parameters")) scene_.max_force_n = params->device.max_force_n;
 
   // The simulator's first view: buccal, raised 30 degrees, widened when a mirror is in the scene.
   camera_.setView(render::ViewPreset::Buccal, render::toGlm(box_.centre()), float(0.5 * norm(box_.hi - box_.lo)));
@@ -162,28 +164,8 @@ Status ReplayViewer::reachedEnd() {
 }
 
 render::FrameState ReplayViewer::frameState(VkExtent2D extent) const {
-  render::FrameState fs;
-  const float aspect = float(extent.width) / float(std::max(1u, extent.height));
-  fs.view = camera_.view();
   // The panel covers the bottom: the view's centre moves up into the rest of the window.
-  const float shift_ndc = -float(panel_rect_.height) / float(std::max(1u, extent.height));
-  fs.projection = glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, shift_ndc, 0.0f)) * camera_.projection(aspect);
-  fs.eye = camera_.eye();
-  const render::CameraBasis b = camera_.basis();
-  fs.light_dir = glm::normalize(-b.forward + 0.6f * b.up + 0.25f * b.right);
-  fs.tooth_frame = view_.frame;
-  fs.looks = defaultLookParams().looks;
-  HapticState state = cursor_->loop().latest();
-  const ToolState& drill = state.tools[size_t(PenRole::Drill)];
-  const ToolState& mirror = state.tools[size_t(PenRole::Mirror)];
-  fs.drill_shown = drill.present;
-  fs.drill = drill.tool;
-  fs.bur = session_.info.drill_tool;
-  fs.drill_force_n = norm(drill.display.force);
-  fs.max_force_n = max_force_n_;
-  fs.mirror_shown = !session_.info.mirror_tool.empty() && mirror.present;
-  fs.mirror = mirror.tool;
-  return fs;
+  return sceneFrameState(camera_, extent, 0.0f, 0.5f * float(panel_rect_.height), cursor_->loop().latest(), scene_);
 }
 
 Status ReplayViewer::frame() {
