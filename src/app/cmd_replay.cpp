@@ -213,7 +213,7 @@ void addReplayCommand(CLI::App& root, Action& action) {
   cmd->add_option("--report", o->report, "Write the score report (.json) when the session names a task");
   cmd->add_option("--png", o->png, "Write the score picture (.png) when the session names a task");
   cmd->add_option("--task", o->task, "Score against this task (caries, cavity or a task file) instead of the session's");
-  cmd->add_option("--audio-out", o->audio_out, "Write the session's sound to this WAV file (rendered offline)");
+  cmd->add_option("--audio-out", o->audio_out, "Write the session's sound to this WAV file (rendered offline, without a window)");
   cmd->add_flag("--json", o->json, "Print one JSON object");
   cmd->add_option("--speed", o->speed, "The window's playback speed: 0.25, 0.5, 1, 2, 4 or 8")->capture_default_str();
   cmd->add_flag("--exit-at-end", o->exit_at_end, "Close the window once the last step has played and the files are written");

@@ -49,7 +49,7 @@ class ReplayViewer {
   void playUpTo(size_t target);
   void drainEdits();
   render::FrameState frameState(VkExtent2D extent) const;
-  Status reachedEnd();
+  void reachedEnd();  // the files written (at_end) the first time the last step has played
 
   const SessionRecording& session_;
   ToothVolume& tooth_;
@@ -150,7 +150,7 @@ void ReplayViewer::seek(double t_s) {
     std::fprintf(stderr, "dentsim: warning: re-meshing the starting tooth: %s\n", st.message().c_str());
 }
 
-Status ReplayViewer::reachedEnd() {
+void ReplayViewer::reachedEnd() {
   ended_ = true;
   const ReplayOutcome outcome = cursor_->outcome();
   if (o_.at_end) {
@@ -160,7 +160,6 @@ Status ReplayViewer::reachedEnd() {
   panel_.status = "played to the end: " + std::to_string(outcome.steps) + " steps, final volume " + outcome.final_hash +
                   (session_.end ? (outcome.recorded_hash_matches ? " (the recording's)" : " (NOT the recording's)") : "");
   if (o_.exit_at_end) quit_ = true;
-  return Ok{};
 }
 
 render::FrameState ReplayViewer::frameState(VkExtent2D extent) const {
@@ -176,9 +175,9 @@ Status ReplayViewer::frame() {
   last_frame_ = now;
 
   // The playhead moves with the wall clock, but never more than a quarter second of wall time ahead
-  // of what the cursor has played: a slow machine plays slower rather than in jumps.
+  // of what the cursor has played: a slow machine plays slower rather than in jumps. A seek's
+  // target stays put until the cursor has got there.
   const double speed = ui::kReplaySpeeds[size_t(panel_.speed_index)];
-  // A seek's target stays put until the cursor has got there.
   if (panel_.playing && !seeking_)
     playhead_s_ = std::min({playhead_s_ + dt * speed, cursor_->time() + 0.25 * speed, cursor_->duration()});
   playUpTo(goal());
@@ -190,8 +189,7 @@ Status ReplayViewer::frame() {
     playUpTo(goal());
   }
   if (seeking_ && cursor_->position() >= goal()) seeking_ = false;
-  if (cursor_->atEnd() && !ended_)
-    if (Status st = reachedEnd(); !st) return st;
+  if (cursor_->atEnd() && !ended_) reachedEnd();
   if (cursor_->atEnd()) panel_.playing = false;
   if (!dirty_.empty())
     if (Status st = painter_->remesh(view_.voxels, &dirty_); !st) return st;
