@@ -87,6 +87,17 @@ class NoLeakCheckForGpuChild {
   std::string old_;
 };
 
+// An X server for the window tests: xvfb-run and Xvfb both installed (Debian: xvfb xauth).
+inline bool haveXvfb() {
+  return std::system("command -v xvfb-run >/dev/null 2>&1 && command -v Xvfb >/dev/null 2>&1") == 0;
+}
+// `dentsim ARGS` inside a fresh 1280x800 virtual display, with Vulkan validation on; the GPU child
+// runs without leak checks (NoLeakCheckForGpuChild).
+inline CommandResult runDentsimInXvfb(const std::string& args) {
+  const NoLeakCheckForGpuChild no_leak_check;
+  return runCommand("DENTSIM_VALIDATION=1 xvfb-run -a -s '-screen 0 1280x800x24' " + std::string(DENTSIM_BINARY) + " " + args);
+}
+
 // Writes `bytes` to `path`, replacing it: how tests forge input files.
 inline void writeBytes(const std::string& path, const std::vector<uint8_t>& bytes) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);

@@ -1,11 +1,13 @@
-// `dentsim replay SESSION [--headless] [--tooth X.dvol] [-o final.dvol] [--audio-out S.wav]`: replays a recorded session step for step, checks it ends where the recording did, and can write its sound.
+// `dentsim replay SESSION [--headless] [--speed X] [--tooth X.dvol] [-o final.dvol] [--audio-out S.wav]`: replays a recorded session step for step, in a window where a display answers, checks it ends where the recording did, and can write its sound.
 #include <cstdio>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "app/commands.h"
+#include "app/replay_viewer.h"
 #include "eval/task_tooth.h"
 #include "eval/cut_score.h"
 #include "audio/sound_engine.h"
@@ -15,6 +17,8 @@
 #include "sim/tool_library.h"
 #include "io/session_file.h"
 #include "sim/session_run.h"
+#include "ui/replay_panel.h"
+#include "ui/window.h"
 #include "volume/tooth_file.h"
 
 namespace dentsim::app {
@@ -27,10 +31,17 @@ struct ReplayCliOptions {
   std::string report;      // score report to write (.json), when the session names a task
   std::string png;         // score picture to write (.png), when the session names a task
   std::string task;        // score against this task instead of the session's
-  bool headless = false;   // accepted for scripts; a replay draws nothing, so it never opens a window
+  bool headless = false;   // no window, even where a display answers
   bool allow_other_tooth = false;
   bool json = false;       // one JSON object on stdout
-  std::string audio_out;   // the session's sound, rendered offline to this WAV file
+  std::string audio_out;   // the session's sound, rendered offline to this WAV file (headless only)
+  // The window's.
+  double speed = 1.0;      // loop time per wall-clock second: one of ui::kReplaySpeeds
+  bool exit_at_end = false;
+  std::vector<double> seek_at;         // FROM_S TO_S: one scripted seek
+  std::vector<std::string> shot_at;    // SECONDS FILE.png: one screenshot
+  int width = 1280, height = 800;
+  std::string device;
 };
 
 // The sound of the replay: the engine follows the loop 100 times a second of loop time, heard from
@@ -55,13 +66,121 @@ Result<std::unique_ptr<audio::SoundEngine>> replaySound(const std::string& audio
   return engine;
 }
 
+// The replay's end, the same headless and in the window: warnings, the final volume, the score's
+// files, what is printed, and the exit code.
+int finishReplay(const ReplayCliOptions& o, const SessionRecording& session, const ToothVolume& initial,
+                 ToothVolume& tooth, const ReplayOutcome& outcome) {
+  for (const std::string& w : outcome.warnings)
+    if (w != session.truncation_warning) std::fprintf(stderr, "dentsim: warning: %s: %s\n", o.session.c_str(), w.c_str());
+  if (!o.output.empty())
+    if (Status st = saveTooth(o.output, tooth); !st) return fail(st.message());
+
+  nlohmann::json j;
+  j["session"] = o.session;
+  j["steps"] = outcome.steps;
+  j["final_hash"] = outcome.final_hash;
+  j["recorded_final_hash"] = session.end ? session.end->final_hash : "";
+  j["matches_recording"] = outcome.recorded_hash_matches;
+  j["removed_mm3"] = outcome.removed_mm3;
+  j["force_mismatches"] = outcome.force_mismatches;
+  std::optional<SessionScore> score;
+  const std::string task_name = o.task.empty() ? session.info.task : o.task;
+  std::optional<Task> task;
+  if (!task_name.empty()) {
+    // The replay stands without a score: a task this build does not know only costs the score.
+    auto found = builtinTask(task_name);
+    if (found) task = std::move(*found);
+    else std::fprintf(stderr, "dentsim: warning: %s: not scored: %s\n", o.session.c_str(), found.message().c_str());
+  }
+  if (task) {
+    auto s = scoreCut(*task, initial, tooth, nullptr, &session, scoreFiles("", o.output, o.session));
+    if (!s) return fail(o.session + ": " + s.message());
+    score = std::move(*s);
+    for (const std::string& w : score->warnings) std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
+    j["task"] = task->name;
+    j["total"] = score->total;
+    if (!o.report.empty())
+      if (Status st = writeScoreReport(o.report, score->report); !st) return fail(st.message());
+    if (!o.png.empty())
+      if (Status st = writeScoreImage(o.png, *task, initial, tooth, *score, nullptr); !st)
+        return fail(st.message());
+  }
+  if (o.json) {
+    std::printf("%s\n", j.dump(2).c_str());
+  } else {
+    std::printf("replayed %llu steps of %s; final volume %s", static_cast<unsigned long long>(outcome.steps),
+                o.session.c_str(), outcome.final_hash.c_str());
+    if (session.end)
+      std::printf(outcome.recorded_hash_matches ? " (the recording's)\n" : " (the recording ended on %s)\n",
+                  session.end->final_hash.c_str());
+    else
+      std::printf("\n");
+    std::printf("removed %.4f mm^3\n", outcome.removed_mm3);
+    if (score) std::printf("%s\n", score->summary.c_str());
+  }
+  std::fflush(stdout);
+  // A finished session that replays to other voxels is a broken promise, not a warning.
+  if (session.end && !outcome.recorded_hash_matches && !o.allow_other_tooth && session.gaps.empty())
+    return fail(o.session + ": the replay ended on " + outcome.final_hash + ", the recording on " +
+                session.end->final_hash + ": the replay is not deterministic");
+  return 0;
+}
+
+// The force over which a contact step counts as an error: the task's, else the default task's.
+double forceThreshold(const ReplayCliOptions& o, const SessionRecording& session) {
+  const std::string name = !o.task.empty() ? o.task : !session.info.task.empty() ? session.info.task : "caries";
+  if (auto task = builtinTask(name)) return task->force_error_n;
+  // A task this build does not know costs the score, not the timeline's marks.
+  auto fallback = builtinTask("caries");
+  return fallback ? fallback->force_error_n : Task{}.force_error_n;
+}
+
+int runReplayWindow(const ReplayCliOptions& o, const SessionRecording& session, ToothVolume& tooth) {
+  const ToothVolume initial = tooth;
+  ReplayViewerOptions vo;
+  vo.title = std::filesystem::path(o.session).filename().string();
+  vo.width = o.width;
+  vo.height = o.height;
+  vo.device = o.device;
+  vo.speed = o.speed;
+  vo.force_threshold_n = forceThreshold(o, session);
+  vo.allow_other_tooth = o.allow_other_tooth;
+  vo.exit_at_end = o.exit_at_end;
+  if (o.seek_at.size() == 2) vo.seek_at = ReplayViewerOptions::Seek{o.seek_at[0], o.seek_at[1]};
+  if (o.shot_at.size() == 2) {
+    try {
+      vo.shot_at_s = std::stod(o.shot_at[0]);
+    } catch (const std::exception&) {
+      return fail("--shot-at: \"" + o.shot_at[0] + "\" is not a number of seconds");
+    }
+    vo.shot_png = o.shot_at[1];
+  }
+  vo.at_end = [&](const ReplayOutcome& outcome, ToothVolume& final_tooth) {
+    return finishReplay(o, session, initial, final_tooth, outcome);
+  };
+  const bool outputs_pending = !o.output.empty() || !o.report.empty() || !o.png.empty();
+  auto rc = runReplayViewer(session, tooth, vo, outputs_pending);
+  if (!rc) return fail(o.session + ": " + rc.message());
+  return *rc;
+}
+
 int runReplay(const ReplayCliOptions& o) {
+  if (!ui::replaySpeedIndex(o.speed)) {
+    char speed[32];
+    std::snprintf(speed, sizeof speed, "%g", o.speed);
+    return fail(std::string("--speed: ") + speed + " is not one of 0.25, 0.5, 1, 2, 4, 8");
+  }
   auto session = readSessionFile(o.session);
   if (!session) return fail(session.message());
   for (const std::string& w : {session->truncation_warning})
     if (!w.empty()) std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
   auto tooth = resolveSessionTooth(*session, o.session, o.tooth);
   if (!tooth) return fail(tooth.message());
+  // A window where a display answers; the sound is rendered offline, step for step, so it stays headless.
+  if (!o.headless && o.audio_out.empty()) {
+    if (std::string why = ui::whyNoDisplay(); why.empty()) return runReplayWindow(o, *session, *tooth);
+    else std::fprintf(stderr, "dentsim: %s: replaying headless\n", why.c_str());
+  }
   const ToothVolume initial = *tooth;
   ReplayOptions ro;
   ro.allow_other_tooth = o.allow_other_tooth;
@@ -78,76 +197,33 @@ int runReplay(const ReplayCliOptions& o) {
     if (Status st = sound->finish(); !st) return fail(st.message());
     if (!o.json) std::printf("wrote %s (%.1f s of sound)\n", o.audio_out.c_str(), double(sound->framesRendered()) / double(audio::EngineOptions{}.sample_rate));
   }
-  for (const std::string& w : outcome->warnings)
-    if (w != session->truncation_warning) std::fprintf(stderr, "dentsim: warning: %s: %s\n", o.session.c_str(), w.c_str());
-  if (!o.output.empty())
-    if (Status st = saveTooth(o.output, *tooth); !st) return fail(st.message());
-
-  nlohmann::json j;
-  j["session"] = o.session;
-  j["steps"] = outcome->steps;
-  j["final_hash"] = outcome->final_hash;
-  j["recorded_final_hash"] = session->end ? session->end->final_hash : "";
-  j["matches_recording"] = outcome->recorded_hash_matches;
-  j["removed_mm3"] = outcome->removed_mm3;
-  j["force_mismatches"] = outcome->force_mismatches;
-  std::optional<SessionScore> score;
-  const std::string task_name = o.task.empty() ? session->info.task : o.task;
-  std::optional<Task> task;
-  if (!task_name.empty()) {
-    // The replay stands without a score: a task this build does not know only costs the score.
-    auto found = builtinTask(task_name);
-    if (found) task = std::move(*found);
-    else std::fprintf(stderr, "dentsim: warning: %s: not scored: %s\n", o.session.c_str(), found.message().c_str());
-  }
-  if (task) {
-    auto s = scoreCut(*task, initial, *tooth, nullptr, &*session, scoreFiles("", o.output, o.session));
-    if (!s) return fail(o.session + ": " + s.message());
-    score = std::move(*s);
-    for (const std::string& w : score->warnings) std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
-    j["task"] = task->name;
-    j["total"] = score->total;
-    if (!o.report.empty())
-      if (Status st = writeScoreReport(o.report, score->report); !st) return fail(st.message());
-    if (!o.png.empty())
-      if (Status st = writeScoreImage(o.png, *task, initial, *tooth, *score, nullptr); !st)
-        return fail(st.message());
-  }
-  if (o.json) {
-    std::printf("%s\n", j.dump(2).c_str());
-  } else {
-    std::printf("replayed %llu steps of %s; final volume %s", static_cast<unsigned long long>(outcome->steps),
-                o.session.c_str(), outcome->final_hash.c_str());
-    if (session->end)
-      std::printf(outcome->recorded_hash_matches ? " (the recording's)\n" : " (the recording ended on %s)\n",
-                  session->end->final_hash.c_str());
-    else
-      std::printf("\n");
-    std::printf("removed %.4f mm^3\n", outcome->removed_mm3);
-    if (score) std::printf("%s\n", score->summary.c_str());
-  }
-  // A finished session that replays to other voxels is a broken promise, not a warning.
-  if (session->end && !outcome->recorded_hash_matches && !o.allow_other_tooth && session->gaps.empty())
-    return fail(o.session + ": the replay ended on " + outcome->final_hash + ", the recording on " +
-                session->end->final_hash + ": the replay is not deterministic");
-  return 0;
+  return finishReplay(o, *session, initial, *tooth, *outcome);
 }
 
 }  // namespace
 
 void addReplayCommand(CLI::App& root, Action& action) {
   auto o = std::make_shared<ReplayCliOptions>();
-  CLI::App* cmd = root.add_subcommand("replay", "Replay a recorded session step for step and write the final volume");
+  CLI::App* cmd = root.add_subcommand("replay", "Replay a recorded session step for step, in a window where a display answers, and write the final volume");
   cmd->add_option("session", o->session, "Session file (.dses)")->required();
-  cmd->add_flag("--headless", o->headless, "No window (a replay never opens one; kept for scripts)");
+  cmd->add_flag("--headless", o->headless, "No window: replay back to back and print the result (the default where no display answers)");
   cmd->add_option("--tooth", o->tooth, "Starting volume (.dvol); default: the tooth the session names");
   cmd->add_flag("--allow-other-tooth", o->allow_other_tooth, "Replay on a tooth whose hash differs from the session's");
   cmd->add_option("-o,--output", o->output, "Write the final volume (.dvol)");
   cmd->add_option("--report", o->report, "Write the score report (.json) when the session names a task");
   cmd->add_option("--png", o->png, "Write the score picture (.png) when the session names a task");
   cmd->add_option("--task", o->task, "Score against this task (caries, cavity or a task file) instead of the session's");
-  cmd->add_option("--audio-out", o->audio_out, "Write the session's sound to this WAV file (rendered offline)");
+  cmd->add_option("--audio-out", o->audio_out, "Write the session's sound to this WAV file (rendered offline, without a window)");
   cmd->add_flag("--json", o->json, "Print one JSON object");
+  cmd->add_option("--speed", o->speed, "The window's playback speed: 0.25, 0.5, 1, 2, 4 or 8")->capture_default_str();
+  cmd->add_flag("--exit-at-end", o->exit_at_end, "Close the window once the last step has played and the files are written");
+  cmd->add_option("--seek-at", o->seek_at, "FROM TO: when the window's playhead first reaches FROM seconds, seek to TO seconds")
+      ->expected(2);
+  cmd->add_option("--shot-at", o->shot_at, "SECONDS FILE.png: a screenshot of the window when the playhead reaches SECONDS")
+      ->expected(2);
+  cmd->add_option("--width", o->width, "Window width [px]")->check(CLI::Range(320, 8192))->capture_default_str();
+  cmd->add_option("--height", o->height, "Window height [px]")->check(CLI::Range(240, 8192))->capture_default_str();
+  cmd->add_option("--device", o->device, "Vulkan device for the window (index or name part); default: the best");
   cmd->callback([o, &action] { action = [o] { return runReplay(*o); }; });
 }
 

@@ -4,9 +4,37 @@
 #include <algorithm>
 #include <tuple>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "gpu/compute.h"
 
 namespace dentsim::app {
+
+render::FrameState sceneFrameState(const render::OrbitCamera& camera, VkExtent2D extent, float shift_left_px,
+                                   float shift_up_px, const HapticState& state, const SceneContents& scene) {
+  render::FrameState fs;
+  const float width = float(std::max(1u, extent.width)), height = float(std::max(1u, extent.height));
+  fs.view = camera.view();
+  // Vulkan's clip space runs right and down: left and up are negative.
+  const glm::vec3 shift_ndc(-shift_left_px * 2.0f / width, -shift_up_px * 2.0f / height, 0.0f);
+  fs.projection = glm::translate(glm::mat4(1.0f), shift_ndc) * camera.projection(width / height);
+  fs.eye = camera.eye();
+  // A lamp above and behind the operator's shoulder: from the eye, raised toward +z.
+  const render::CameraBasis b = camera.basis();
+  fs.light_dir = glm::normalize(-b.forward + 0.6f * b.up + 0.25f * b.right);
+  fs.tooth_frame = scene.tooth_frame;
+  fs.looks = scene.looks;
+  const ToolState& drill = state.tools[size_t(PenRole::Drill)];
+  const ToolState& mirror = state.tools[size_t(PenRole::Mirror)];
+  fs.drill_shown = drill.present;
+  fs.drill = drill.tool;
+  fs.bur = scene.bur;
+  fs.drill_force_n = norm(drill.display.force);
+  fs.max_force_n = scene.max_force_n;
+  fs.mirror_shown = scene.mirror_tool && mirror.present;
+  fs.mirror = mirror.tool;
+  return fs;
+}
 
 Result<std::unique_ptr<FramePainter>> FramePainter::create(const PainterOptions& o,
                                                            const std::function<void(ui::Window&)>& before_panel) {

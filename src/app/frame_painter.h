@@ -1,6 +1,7 @@
 // What the simulator draws with: the window (or an offscreen image), the Vulkan device, the swapchain, the scene renderer, the tooth's surfaces and the panel's layer; one frame drawn and, when asked, read back.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -10,10 +11,13 @@
 #include "core/result.h"
 #include "gpu/context.h"
 #include "io/png_file.h"
+#include "render/camera.h"
+#include "render/look_params.h"
 #include "render/offscreen.h"
 #include "render/scene_renderer.h"
 #include "render/swapchain.h"
 #include "render/tooth_surfaces.h"
+#include "sim/haptic_loop.h"
 #include "ui/imgui_layer.h"
 #include "ui/window.h"
 #include "volume/normal_mode.h"
@@ -28,6 +32,22 @@ struct PainterOptions {
   bool panel = true;              // the ImGui layer for the parameter window and the overlay
   NormalMode normals = NormalMode::Box216;  // the tooth surfaces' normal mode
 };
+
+// What a frame shows besides the camera: the tooth's frame and looks, and the tools.
+struct SceneContents {
+  VolumeFrame tooth_frame;
+  std::array<TissueLook, DS_MATERIAL_COUNT> looks{};  // by Material
+  std::string bur;                 // the drill's bur (a toolCatalog() name)
+  bool mirror_tool = false;        // a mirror is in the scene
+  double max_force_n = 8.0;        // the device's clamp: the bur is full red there [N]
+};
+
+// The scene as `run` and `replay` draw it at `extent`: the camera's view, its picture moved
+// `shift_left_px` left and `shift_up_px` up (so the tooth sits in the middle of what a panel leaves
+// free), a lamp above and behind the operator's shoulder, and the tools where the loop's `state`
+// puts them.
+render::FrameState sceneFrameState(const render::OrbitCamera& camera, VkExtent2D extent, float shift_left_px,
+                                   float shift_up_px, const HapticState& state, const SceneContents& scene);
 
 class FramePainter {
  public:

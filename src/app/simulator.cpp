@@ -13,8 +13,6 @@
 #include <csignal>
 #include <cstdio>
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include "app/score_screen.h"
 #include "app/simulator_state.h"
 #include "core/percentile.h"
@@ -100,28 +98,11 @@ Status Simulator::endSegment(const std::string& reason) {
 // ---- one frame -------------------------------------------------------------------------------------------
 
 render::FrameState Simulator::frameState(const HapticState& state, VkExtent2D extent) const {
-  render::FrameState fs;
-  const float aspect = float(extent.width) / float(std::max(1u, extent.height));
-  fs.view = camera_.view();
   // The parameter window covers the right edge: the view's centre moves into the rest, so that the
   // tooth sits in the middle of what the student sees.
-  const float shift_ndc = -float(sceneShiftPx()) * 2.0f / float(std::max(1u, extent.width));
-  fs.projection = glm::translate(glm::mat4(1.0f), glm::vec3(shift_ndc, 0.0f, 0.0f)) * camera_.projection(aspect);
-  fs.eye = camera_.eye();
-  // A lamp above and behind the operator's shoulder: from the eye, raised toward +z.
-  const render::CameraBasis b = camera_.basis();
-  fs.light_dir = glm::normalize(-b.forward + 0.6f * b.up + 0.25f * b.right);
-  fs.tooth_frame = view_.frame;
-  fs.looks = ui_.looks.looks;
-  const ToolState& drill = state.tools[size_t(PenRole::Drill)];
-  const ToolState& mirror = state.tools[size_t(PenRole::Mirror)];
-  fs.drill_shown = drill.present;
-  fs.drill = drill.tool;
-  fs.bur = drill_name_;
-  fs.drill_force_n = norm(drill.display.force);
-  fs.max_force_n = ui_.params.device.max_force_n;
-  fs.mirror_shown = mirror_tool_.has_value() && mirror.present;
-  fs.mirror = mirror.tool;
+  render::FrameState fs = sceneFrameState(
+      camera_, extent, float(sceneShiftPx()), 0.0f, state,
+      SceneContents{view_.frame, ui_.looks.looks, drill_name_, mirror_tool_.has_value(), ui_.params.device.max_force_n});
   if (score_shown_ && !last_actions_.score_image_rect.empty()) {
     fs.overlay_shown = true;
     fs.overlay_rect = last_actions_.score_image_rect;

@@ -24,6 +24,7 @@ class EditChannel {
  public:
   // Room for 2^capacity_log2 edits.
   explicit EditChannel(int capacity_log2 = 20);
+  size_t capacity() const { return ring_.size(); }  // edits the channel holds at most
 
   // ---- producer (the haptic thread) ----
   size_t freeSlots() const;              // edits that can be pushed before the next publish

@@ -7,6 +7,7 @@
 
 #include "io/pen_playback.h"
 #include "sim/haptic_loop.h"
+#include "sim/replay_cursor.h"
 #include "sim/session_recorder.h"
 #include "sim/tool_library.h"
 #include "volume/volume_hash.h"
@@ -115,92 +116,20 @@ Result<SessionOutcome> recordScriptedSession(ToothVolume& tooth, const SimParams
 }
 
 Result<ReplayOutcome> replaySession(const SessionRecording& session, ToothVolume& tooth, const ReplayOptions& options) {
-  const std::string where = "replay";
-  ReplayOutcome out;
-  if (!session.truncation_warning.empty()) out.warnings.push_back(session.truncation_warning);
-  const std::string hash = volumeHashHex(tooth.voxels, tooth.frame);
-  if (hash != session.info.tooth_hash) {
-    const std::string what = "the tooth's hash " + hash + " is not the session's " + session.info.tooth_hash +
-                             " (" + session.info.tooth_source + "): a session replays only on the tooth it was recorded on";
-    if (!options.allow_other_tooth) return makeError(where, what);
-    out.warnings.push_back(what);
+  ReplayCursorOptions co;
+  co.allow_other_tooth = options.allow_other_tooth;
+  auto cursor = ReplayCursor::open(session, tooth, co);
+  if (!cursor) return cursor.error();
+  ReplayCursor& c = **cursor;
+  const size_t steps = c.size();
+  const uint64_t every = std::max<uint64_t>(options.observe_every, 1);
+  while (!c.atEnd()) {
+    c.step();
+    const size_t done = c.position();
+    if (options.progress && done % 1000 == 0) options.progress(done, steps);
+    if (options.observe && (done % every == 0 || done == steps)) options.observe(c.loop().latest());
   }
-  if (session.steps.empty()) return makeError(where, "the session holds no steps");
-  auto params = parseSimParams(session.info.params_json, "session parameters");
-  if (!params) return params.error();
-  std::vector<SimParams> changes;
-  for (const SessionParams& p : session.params) {
-    auto c = parseSimParams(p.params_json, "session parameters " + std::to_string(p.serial));
-    if (!c) return c.error();
-    changes.push_back(std::move(*c));
-  }
-  auto tools = loadTools(session.info.drill_tool, session.info.mirror_tool, *params);
-  if (!tools) return tools.error();
-  // A guided session's forces held the guide's spring: the same guide, from the header, makes them again.
-  std::optional<GuideSpring> guide;
-  if (!session.info.guide_json.empty()) {
-    auto g = parseGuideJson(session.info.guide_json, where);
-    if (!g) return g.error();
-    guide.emplace(std::move(*g));
-  }
-
-  // Steps up to the first gap: past it the loop's state is unknown.
-  size_t count = session.steps.size();
-  if (!session.gaps.empty()) {
-    const uint64_t gap = session.gaps.front().first_step;
-    for (size_t i = 0; i < session.steps.size(); ++i)
-      if (session.steps[i].step >= gap) {
-        count = i;
-        break;
-      }
-    out.warnings.push_back("the session lost steps from step " + std::to_string(gap) + "; replayed the " +
-                           std::to_string(count) + " before them");
-  }
-  const std::span<const SessionStep> steps(session.steps.data(), count);
-  if (steps.empty()) return makeError(where, "no step before the session's first gap");
-
-  HapticLoop loop(tooth.voxels, tooth.frame, *params, tools->drill, tools->mirror ? &*tools->mirror : nullptr, nullptr);
-  ReplayPen drill(steps, PenRole::Drill), mirror(steps, PenRole::Mirror);
-  loop.attach(PenRole::Drill, &drill);
-  if (tools->mirror) loop.attach(PenRole::Mirror, &mirror);
-  if (guide) loop.setGuide(&*guide);
-  for (size_t r = 0; r < 2; ++r) {
-    // Each proxy starts on its pen's first reading.
-    for (const SessionStep& s : steps)
-      if (s.hasReading(r)) {
-        loop.placeTool(PenRole(r), s.reading[r].grip);
-        break;
-      }
-  }
-  size_t next_change = 0;
-  for (size_t i = 0; i < steps.size(); ++i) {
-    while (next_change < session.params.size() && session.params[next_change].from_step <= steps[i].step) {
-      loop.setParams(changes[next_change]);
-      ++next_change;
-    }
-    const StepReport& report = loop.step();
-    const Vec3 force = report.stepped[0] ? report.tools[0].display.force : Vec3{};
-    const Vec3& recorded = steps[i].force_n[0];
-    if (force.x != recorded.x || force.y != recorded.y || force.z != recorded.z) {
-      if (out.force_mismatches == 0) out.first_mismatch = steps[i].step;
-      ++out.force_mismatches;
-    }
-    if (options.progress && (i + 1) % 1000 == 0) options.progress(i + 1, steps.size());
-    if (options.observe && ((i + 1) % std::max<uint64_t>(options.observe_every, 1) == 0 || i + 1 == steps.size()))
-      options.observe(loop.latest());
-  }
-  out.steps = loop.stepsRun();
-  out.removed_mm3 = loop.latest().removed_mm3;
-  out.final_hash = volumeHashHex(tooth.voxels, tooth.frame);
-  if (!session.end) {
-    out.warnings.push_back("the session has no end record (it was not finished cleanly)");
-  } else {
-    out.recorded_hash_matches = session.end->final_hash == out.final_hash;
-  }
-  if (out.force_mismatches > 0)
-    out.warnings.push_back("the replayed force differs from the recorded one at " + std::to_string(out.force_mismatches) +
-                           " steps, first at step " + std::to_string(out.first_mismatch));
-  return out;
+  return c.outcome();
 }
 
 }  // namespace dentsim

@@ -19,7 +19,7 @@ namespace {
 using test::runDentsim;
 using test::TempDir;
 
-bool haveXvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1 && command -v Xvfb >/dev/null 2>&1") == 0; }
+using test::haveXvfb;
 
 nlohmann::json readJson(const std::string& path) {
   std::ifstream in(path);

@@ -68,7 +68,7 @@ class GoldenSession : public ::testing::Test {
     dir_ = new TempDir();
     unpacked_ = unpackSession(dir_->file("session.dses"));
     if (unpacked_)
-      replay_ = new test::CommandResult(runDentsim("replay " + dir_->file("session.dses") + " -o " + dir_->file("final.dvol") +
+      replay_ = new test::CommandResult(runDentsim("replay " + dir_->file("session.dses") + " --headless -o " + dir_->file("final.dvol") +
                                                    " --report " + dir_->file("score.json")));
   }
   static void TearDownTestSuite() {
@@ -122,7 +122,7 @@ TEST_F(GoldenSession, ScoresTheSameToTheLastBit) {
   EXPECT_DOUBLE_EQ(got["total"].get<double>(), expected["total"].get<double>());
 }
 
-bool haveXvfb() { return std::system("command -v xvfb-run >/dev/null 2>&1 && command -v Xvfb >/dev/null 2>&1") == 0; }
+using test::haveXvfb;
 
 // The windowed screenshot of the same demo at 6 s of loop time, in lockstep so that it shows exactly
 // that state, against the one taken on the fixture's day. The statistics overlay in the top-left
