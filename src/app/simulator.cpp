@@ -69,6 +69,7 @@ Status Simulator::startSegment() {
   s.lockstep = lockstep_;
   s.out = o_.out;
   if (Status st = segments_.start(cut_, s, &out_.written); !st) return st;
+  restartGhost();
   final_saved_ = false;
   ui_.segment_recorded = segments_.recording();
   // Forces may go out only now that the loop commands them every step (the watchdog counts from here).
@@ -120,6 +121,7 @@ render::FrameState Simulator::frameState(const HapticState& state, VkExtent2D ex
   fs.max_force_n = ui_.params.device.max_force_n;
   fs.mirror_shown = mirror_tool_.has_value() && mirror.present;
   fs.mirror = mirror.tool;
+  showGhost(fs);
   if (score_shown_ && !last_actions_.score_image_rect.empty()) {
     fs.overlay_shown = true;
     fs.overlay_rect = last_actions_.score_image_rect;
@@ -311,6 +313,7 @@ Status Simulator::frame() {
   }
 
   const HapticState state = segments_.state();
+  followGhost(state);
   const ToolState& drill = state.tools[size_t(PenRole::Drill)];
   ui_.force.force_n = norm(drill.display.force);
   ui_.force.contact = drill.contacts > 0;
