@@ -84,7 +84,9 @@ TEST_F(GhostCli, TheProfessionalsBurShowsWhereTheSessionHadItAndNeverCuts) {
   ASSERT_EQ(without.exit_code, 0) << without.output;
   EXPECT_EQ(with.output.find("another tooth"), std::string::npos) << with.output;
 
-  // The ghost never cuts: the student's final tooth is the same, byte for byte.
+  // The ghost never cuts: the student's final tooth (the whole slow attempt's cut) is the same,
+  // byte for byte.
+  EXPECT_GT(readJson(dir_->file("with/shot-final.json"))["removed_mm3"].get<double>(), 0.5) << "the student cut nothing";
   const std::vector<uint8_t> final_with = readBytes(dir_->file("with/final.dvol"));
   ASSERT_FALSE(final_with.empty());
   EXPECT_EQ(final_with, readBytes(dir_->file("without/final.dvol")));
@@ -139,9 +141,11 @@ TEST_F(GhostCli, TheProfessionalsBurShowsWhereTheSessionHadItAndNeverCuts) {
 
 TEST_F(GhostCli, NearestFollowStandsBesideTheStudentsBur) {
   ASSERT_EQ(pro_->exit_code, 0) << pro_->output;
-  const auto time = runGpu(student(dir_->file("time"), "--ghost " + proSession()));
+  // Only the shots are looked at: the runs stop just after them.
+  const std::string stop = " --exit-after " + std::to_string(kShotS + 0.05);
+  const auto time = runGpu(student(dir_->file("time"), "--ghost " + proSession() + stop));
   ASSERT_EQ(time.exit_code, 0) << time.output;
-  const auto nearest = runGpu(student(dir_->file("nearest"), "--ghost " + proSession() + " --ghost-follow nearest"));
+  const auto nearest = runGpu(student(dir_->file("nearest"), "--ghost " + proSession() + " --ghost-follow nearest" + stop));
   ASSERT_EQ(nearest.exit_code, 0) << nearest.output;
   const auto gap = [](const nlohmann::json& shot) {
     return std::hypot(shot["ghost_bur_tip_px"][0].get<double>() - shot["bur_tip_px"][0].get<double>(),
