@@ -102,6 +102,14 @@ void addRunCommand(CLI::App& root, Action& action) {
   cmd->add_flag("--score-at-end", o->score_at_end, "Score the cut when the pen script ends");
   cmd->add_flag("--exit-at-end", o->exit_at_end, "Quit one frame after the pen script ends, windowed too");
   cmd->add_option("--device", o->device, "Vulkan device index or name part");
+  cmd->add_option("--ghost", o->ghost,
+                  "A professional's session (.dses): its drill and mirror show translucent beside yours "
+                  "(the panel's View page hides it); default: none, or the task's recorded ideal when the panel shows it");
+  cmd->add_option("--ghost-follow", o->ghost_follow,
+                  "How the ghost moves: time (the professional's pose at your task time) or nearest "
+                  "(standing where the professional's bur came nearest yours)")
+      ->check(CLI::IsMember({"time", "nearest"}))
+      ->capture_default_str();
   // --course is the folder the pickers list, so the learning records' course id is --course-id here.
   addLearningOptions(cmd, *learning, "--course-id");
   cmd->callback([o, learning, cmd, &action] {

@@ -53,6 +53,10 @@ Status writeShot(const std::string& stem_path, const RgbImage& image, const rend
   j["windowed"] = facts.windowed;
   j["bur_tip_px"] = point(fs.drill.position);
   j["bur_shank_px"] = point(fs.drill.apply({0.0, 0.0, 4.0}));  // on the shank, below the handpiece's nose
+  if (fs.ghost_drill_shown) {
+    j["ghost_bur_tip_px"] = point(fs.ghost_drill.position);
+    j["ghost_bur_shank_px"] = point(fs.ghost_drill.apply({0.0, 0.0, 4.0}));
+  }
   if (fs.mirror_shown) {
     const Vec3 centre = fs.mirror.position;
     const glm::vec3 pc = camera.project(render::toGlm(centre), w, h);
@@ -84,6 +88,13 @@ Status writeShot(const std::string& stem_path, const RgbImage& image, const rend
                  {"pitch_deg", camera.pitch() * 180.0 / std::numbers::pi},
                  {"eye_mm", {eye.x, eye.y, eye.z}},
                  {"fixed", facts.view_fixed}};
+  // World [mm] to Vulkan clip space as drawn (panel shift included), columns first: a reader
+  // projects any point with it (pixel = (ndc * 0.5 + 0.5) * size).
+  const glm::mat4 vp = fs.projection * fs.view;
+  nlohmann::ordered_json columns = nlohmann::ordered_json::array();
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) columns.push_back(vp[c][r]);
+  j["camera"]["view_proj"] = columns;
   j["tooth_top_mm"] = facts.tooth_top_mm;
   if (!facts.task.empty()) j["task"] = facts.task;
   j["panel_shown"] = facts.panel_shown;

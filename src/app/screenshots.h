@@ -52,8 +52,8 @@ struct ShotFacts {
   PixelRect tooth_rect;              // the tissue box's projection on screen; empty: not computed
 };
 
-// Writes STEM.png and STEM.json (the projected bur tip and shank, the mirror's centre, radius and
-// facing, the tooth's centre and rectangle, the camera, the panel), atomically.
+// Writes STEM.png and STEM.json (the projected bur tip and shank, the ghost bur's too when shown, the
+// mirror's centre, radius and facing, the tooth's centre and rectangle, the camera, the panel), atomically.
 Status writeShot(const std::string& stem_path, const RgbImage& image, const render::OrbitCamera& camera,
                  const render::FrameState& frame, const ShotFacts& facts);
 

@@ -69,6 +69,7 @@ Status Simulator::startSegment() {
   s.guide = guide_ ? &*guide_ : nullptr;
   s.guide_goes_on = tooth_first_segment_ <= segments_.count();  // not the first segment on this tooth
   if (Status st = segments_.start(cut_, s, &out_.written); !st) return st;
+  restartGhost();
   final_saved_ = false;
   ui_.segment_recorded = segments_.recording();
   // Forces may go out only now that the loop commands them every step (the watchdog counts from here).
@@ -103,6 +104,7 @@ render::FrameState Simulator::frameState(const HapticState& state, VkExtent2D ex
   render::FrameState fs = sceneFrameState(
       camera_, extent, float(sceneShiftPx()), 0.0f, state,
       SceneContents{view_.frame, ui_.looks.looks, drill_name_, mirror_tool_.has_value(), ui_.params.device.max_force_n});
+  showGhost(fs);
   if (score_shown_ && !last_actions_.score_image_rect.empty()) {
     fs.overlay_shown = true;
     fs.overlay_rect = last_actions_.score_image_rect;
@@ -294,6 +296,7 @@ Status Simulator::frame() {
   }
 
   const HapticState state = segments_.state();
+  followGhost(state);
   const ToolState& drill = state.tools[size_t(PenRole::Drill)];
   ui_.force.force_n = norm(drill.display.force);
   ui_.force.contact = drill.contacts > 0;

@@ -70,6 +70,10 @@ struct SimulatorOptions {
   bool exit_at_end = false;             // quit one frame after the script ends (windowed too)
   double linger_s = -1.0;               // windowed: quit this long after the script's end (and its score) [wall s]; < 0: stay
   std::string device;                   // Vulkan device index or name part; empty: the best
+  // The professional's ghost (docs/SIMULATOR.md): a session's drill and mirror drawn translucent
+  // beside the student's, never in the haptic loop.
+  std::string ghost;                    // the professional's session (.dses); empty: the task's recorded ideal, if the panel shows it
+  std::string ghost_follow = "time";    // "time": the pose at the student's task time; "nearest": nearest the student's bur
   int bench_frames = 0;                 // > 0: draw every frame (headless too), stop after this many
   double bench_from_s = 0.0;            // ... from this loop time on (the script's steps before run undrawn) [s]
 };

@@ -165,6 +165,7 @@ Status Simulator::setUp() {
   mirror_name_ = o_.mirror_tool ? *o_.mirror_tool : task_->mirror_tool;
   if (Status st = loadMirror(); !st) return st;
   if (Status st = placeCamera(); !st) return st;
+  if (Status st = setUpGhost(); !st) return st;
 
   // The pens: hardware ones map their workspace around the tool's start, turned with the camera.
   RackPlacement at;

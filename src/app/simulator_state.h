@@ -10,6 +10,7 @@
 
 #include "app/device_rack.h"
 #include "app/frame_painter.h"
+#include "app/ghost.h"
 #include "app/run_sound.h"
 #include "app/screenshots.h"
 #include "app/segments.h"
@@ -124,6 +125,16 @@ class Simulator {
   std::vector<double> frame_ms_;
   double remesh_sum_ms_ = 0.0;
   uint64_t remesh_count_ = 0;
+
+  // The professional's ghost (simulator_ghost.cpp): drawn only, never in the haptic loop.
+  Status setUpGhost();                       // --ghost read (an error ends the run) and the panel's ghost state
+  void restartGhost();                       // a segment starts: the ghost's task time from here
+  void followGhost(const HapticState& state);  // this frame's ghost pose, loading it when first shown
+  void showGhost(render::FrameState& fs) const;
+  std::string ghostSource() const;           // --ghost, else the task's ideal session; empty: none
+  std::optional<Ghost> ghost_;
+  std::string ghost_failed_;                 // a source that did not load (not tried again)
+  double ghost_t0_ = 0.0;                    // loop time at the segment's start [s]
 };
 
 }  // namespace dentsim::app

@@ -102,6 +102,8 @@ struct Pipelines {
   std::array<VkPipeline, 2> tooth_blend{};
   std::array<VkPipeline, 2> tool{};
   std::array<VkPipeline, 2> glass{};
+  std::array<VkPipeline, 2> ghost_depth{};  // the ghost tools' depth only, no colour
+  std::array<VkPipeline, 2> ghost{};        // the ghost tools' colour, blended where their depth is nearest
   VkPipeline overlay = VK_NULL_HANDLE;
 };
 
@@ -147,7 +149,7 @@ struct SceneRenderer::State {
   Status createLayouts();
   Result<VkPipeline> createPipeline(const char* name, std::span<const uint32_t> vert, std::span<const uint32_t> frag,
                                     int vertex_kind, bool blend, bool depth_write, bool depth_test, bool cull,
-                                    bool flip);
+                                    bool flip, bool colour_write = true, bool yield_depth = false);
   Status createPipelines();
   Status createTools();
   Status createMirrorTarget();
@@ -156,6 +158,7 @@ struct SceneRenderer::State {
   void drawTooth(VkCommandBuffer cmd, const ToothSurfaces& tooth, const FrameState& frame, bool translucent, bool flip);
   void drawTool(VkCommandBuffer cmd, const ToolMesh& mesh, VkPipeline pipe, const glm::mat4& model, const TissueLook& look);
   void drawTools(VkCommandBuffer cmd, const FrameState& frame, bool with_mirror, bool flip);
+  void drawGhost(VkCommandBuffer cmd, const FrameState& frame, bool with_mirror, bool flip);
 };
 
 SceneRenderer::State::~State() {
@@ -165,7 +168,7 @@ SceneRenderer::State::~State() {
   // Pipelines, passes and sets may still be in a submission up to last_serial.
   VkDevice device = core->device;
   std::vector<VkPipeline> pipelines;
-  for (auto* arr : {&pipes.tooth_opaque, &pipes.tooth_blend, &pipes.tool, &pipes.glass})
+  for (auto* arr : {&pipes.tooth_opaque, &pipes.tooth_blend, &pipes.tool, &pipes.glass, &pipes.ghost_depth, &pipes.ghost})
     for (VkPipeline p : *arr) pipelines.push_back(p);
   pipelines.push_back(pipes.overlay);
   core->retired.retire(last_serial, [=, modules = modules, passes = std::array{main_pass, mirror_pass},
@@ -349,9 +352,11 @@ Status SceneRenderer::State::createLayouts() {
 }
 
 // vertex_kind: 0 none (overlay), 1 MeshVertex (tooth), 2 ToolVertex (tools), 3 ToolVertex position (glass).
+// colour_write false: depth only; yield_depth: a slight depth bias away from the eye.
 Result<VkPipeline> SceneRenderer::State::createPipeline(const char* name, std::span<const uint32_t> vert,
                                                         std::span<const uint32_t> frag, int vertex_kind, bool blend,
-                                                        bool depth_write, bool depth_test, bool cull, bool flip) {
+                                                        bool depth_write, bool depth_test, bool cull, bool flip,
+                                                        bool colour_write, bool yield_depth) {
   VkDevice device = core->device;
   VkShaderModule mods[2]{};
   for (int i = 0; i < 2; ++i) {
@@ -405,6 +410,13 @@ Result<VkPipeline> SceneRenderer::State::createPipeline(const char* name, std::s
   // Counter-clockwise from outside in the world; a mirrored view turns that clockwise.
   rs.frontFace = flip ? VK_FRONT_FACE_CLOCKWISE : VK_FRONT_FACE_COUNTER_CLOCKWISE;
   rs.lineWidth = 1.0f;
+  // A surface that yields its depth loses to one of the scene's at the same depth: the ghost at the
+  // student's own pose must not paint over the student's tool.
+  if (yield_depth) {
+    rs.depthBiasEnable = VK_TRUE;
+    rs.depthBiasConstantFactor = 8.0f;
+    rs.depthBiasSlopeFactor = 1.0f;
+  }
   VkPipelineMultisampleStateCreateInfo ms{};
   ms.sType = VK_STRUCTURE_TYPE_PIPELINE_MULTISAMPLE_STATE_CREATE_INFO;
   ms.rasterizationSamples = VK_SAMPLE_COUNT_1_BIT;
@@ -414,7 +426,9 @@ Result<VkPipeline> SceneRenderer::State::createPipeline(const char* name, std::s
   ds.depthWriteEnable = depth_write ? VK_TRUE : VK_FALSE;
   ds.depthCompareOp = VK_COMPARE_OP_LESS_OR_EQUAL;
   VkPipelineColorBlendAttachmentState cb{};
-  cb.colorWriteMask = VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT | VK_COLOR_COMPONENT_A_BIT;
+  cb.colorWriteMask = colour_write ? VK_COLOR_COMPONENT_R_BIT | VK_COLOR_COMPONENT_G_BIT | VK_COLOR_COMPONENT_B_BIT |
+                                         VK_COLOR_COMPONENT_A_BIT
+                                   : 0;
   if (blend) {
     cb.blendEnable = VK_TRUE;
     cb.srcColorBlendFactor = VK_BLEND_FACTOR_SRC_ALPHA;
@@ -480,6 +494,12 @@ Status SceneRenderer::State::createPipelines() {
     p = createPipeline("mirror glass", glass_vert, mirror_frag, 3, false, true, true, true, flip);
     if (!p) return p.error();
     pipes.glass[i] = *p;
+    p = createPipeline("ghost depth", tool_vert, surface_frag, 2, false, true, true, true, flip, false, true);
+    if (!p) return p.error();
+    pipes.ghost_depth[i] = *p;
+    p = createPipeline("ghost tool", tool_vert, surface_frag, 2, true, false, true, true, flip, true, true);
+    if (!p) return p.error();
+    pipes.ghost[i] = *p;
   }
   auto p = createPipeline("overlay", overlay_vert, overlay_frag, 0, false, false, false, false, false);
   if (!p) return p.error();
@@ -755,6 +775,25 @@ void SceneRenderer::State::drawTools(VkCommandBuffer cmd, const FrameState& fram
   if (with_mirror && frame.mirror_shown) drawTool(cmd, tools.at(kMirrorName), pipe, toGlm(frame.mirror), options.mirror_rim);
 }
 
+void SceneRenderer::State::drawGhost(VkCommandBuffer cmd, const FrameState& frame, bool with_mirror, bool flip) {
+  const bool mirror = with_mirror && frame.ghost_mirror_shown;
+  if ((!frame.ghost_drill_shown && !mirror) || !(frame.ghost_opacity > 0.0f)) return;
+  TissueLook look = options.ghost;
+  look.alpha = std::clamp(double(frame.ghost_opacity), 0.0, 1.0);
+  // The colour pass keeps the fragments at the depth its depth pass wrote (less or equal): both run
+  // the same vertex shader on the same vertices, so they compute the same positions. (`invariant
+  // gl_Position` would say so in GLSL, but glslang puts it on a struct member, which the
+  // validation layers warn about.)
+  for (const VkPipeline pipe : {pipes.ghost_depth[flip ? 1 : 0], pipes.ghost[flip ? 1 : 0]}) {
+    if (frame.ghost_drill_shown) {
+      const glm::mat4 model = toGlm(frame.ghost_drill);
+      drawTool(cmd, tools.at(frame.ghost_bur), pipe, model, look);
+      if (frame.ghost_handpiece_shown) drawTool(cmd, tools.at(kHandpieceName), pipe, model, look);
+    }
+    if (mirror) drawTool(cmd, tools.at(kMirrorName), pipe, toGlm(frame.ghost_mirror), look);
+  }
+}
+
 Status SceneRenderer::recordFrame(VkCommandBuffer cmd, const RenderImage& target, const ToothSurfaces& tooth,
                                   const FrameState& frame, const std::function<void(VkCommandBuffer)>& in_pass) {
   State& s = *state_;
@@ -762,6 +801,8 @@ Status SceneRenderer::recordFrame(VkCommandBuffer cmd, const RenderImage& target
     return makeError(kWhere, "target format " + std::to_string(int(target.format)) + " differs from the renderer's " +
                                  std::to_string(int(s.colour_format)));
   if (frame.drill_shown && !s.tools.contains(frame.bur)) return makeError(kWhere, "unknown bur '" + frame.bur + "'");
+  if (frame.ghost_drill_shown && !s.tools.contains(frame.ghost_bur))
+    return makeError(kWhere, "unknown ghost bur '" + frame.ghost_bur + "'");
   if (target.extent.width == 0 || target.extent.height == 0) return makeError(kWhere, "target has no pixels");
   auto tgt = s.target(target);
   if (!tgt) return tgt.error();
@@ -835,6 +876,7 @@ Status SceneRenderer::recordFrame(VkCommandBuffer cmd, const RenderImage& target
     if (draw_tooth) s.drawTooth(cmd, tooth, frame, false, flip);
     s.drawTools(cmd, frame, false, flip);
     if (draw_tooth) s.drawTooth(cmd, tooth, frame, true, flip);
+    s.drawGhost(cmd, frame, false, flip);
     vkCmdEndRenderPass(cmd);
   }
   s.mirror_drawn = mirror_pass;
@@ -850,6 +892,7 @@ Status SceneRenderer::recordFrame(VkCommandBuffer cmd, const RenderImage& target
     s.drawTool(cmd, s.glass, s.pipes.glass[flip ? 1 : 0], toGlm(frame.mirror), s.options.mirror_rim);
   }
   if (draw_tooth) s.drawTooth(cmd, tooth, frame, true, flip);
+  s.drawGhost(cmd, frame, true, flip);
   if (frame.overlay_shown && s.overlay && frame.overlay_rect.width > 0 && frame.overlay_rect.height > 0) {
     const float w = float(target.extent.width), h = float(target.extent.height);
     const PixelRect& r = frame.overlay_rect;

@@ -13,8 +13,12 @@
 //      everything behind the glass discarded;
 //   2. the main pass into the target: opaque tissues and the tools (depth written), the mirror's
 //      face (the mirror image, projectively mapped), the translucent tissues (blended, depth
-//      tested, not written, back faces culled), the overlay picture, then the caller's in-pass
-//      callback (the parameter window).
+//      tested, not written, back faces culled), the ghost tools (see below), the overlay picture,
+//      then the caller's in-pass callback (the parameter window).
+// The ghost tools come after all of the scene, in both passes: first their depth alone (so that
+// where the handpiece covers the bur's shank only the nearest surface shows), then their colour,
+// blended, where that depth is nearest. Nothing of the scene is drawn after them, so their depth
+// hides nothing; the overlay and the panel do not test depth.
 // The render pass is the same for a swapchain image and an offscreen image except its final
 // layout, so headless frames equal windowed ones for the same state and colour format.
 #pragma once
@@ -77,6 +81,16 @@ struct FrameState {
   bool mirror_shown = false;
   Pose mirror;                                       // the mirror's tool frame: face z = 0, normal +Z [mm]
 
+  // The professional's ghost: another session's tools, drawn translucent in options.ghost's tint
+  // after everything opaque, so that they never hide the student's own tools or the tooth.
+  bool ghost_drill_shown = false;
+  Pose ghost_drill;                                  // the ghost bur's tool frame [mm]
+  std::string ghost_bur = kDefaultBur;               // a toolCatalog() bur name
+  bool ghost_handpiece_shown = true;                 // the ghost's turbine, sharing its bur's frame
+  bool ghost_mirror_shown = false;
+  Pose ghost_mirror;                                 // the ghost mirror's tool frame [mm]
+  float ghost_opacity = 0.4f;                        // [0..1]
+
   bool overlay_shown = false;                        // draws the setOverlayImage picture into overlay_rect
   PixelRect overlay_rect;
 };
@@ -89,6 +103,9 @@ struct SceneRendererOptions {
   // The bur's diffuse colour at the device's maximum force; it blends from steel toward this.
   std::array<float, 3> hot_diffuse{0.90f, 0.10f, 0.06f};
   std::array<float, 3> mirror_tint{0.92f, 0.93f, 0.95f};  // the glass's reflectance per channel [0..1]
+  // The ghost's pale blue: no tissue or steel is blue, so it reads as "not a real tool" at a glance
+  // (its opacity is FrameState::ghost_opacity, not this alpha).
+  TissueLook ghost{0.22, 0.32, 0.48, 0.40, 0.58, 0.85, 0.35, 0.38, 0.45, 1.0, 24.0};
 };
 
 // ---- 2. the renderer ---------------------------------------------------------------------------------

@@ -2,7 +2,7 @@
 //
 // Contents
 //   1. Sizes and the force gauge (the shared widgets are in panel_widgets.h)
-//   2. Pages and their sections: tissues, tools (bur, turbine, sound), view (surface), presets (and
+//   2. Pages and their sections: tissues, tools (bur, turbine, sound), view (surface, ghost), presets (and
 //      advanced), score; the run's buttons above them (the Task page is task_page.cpp)
 //   3. drawParamPanel, the score picture window beside the tooth, drawOverlay
 //   4. applyPresetActions
@@ -218,6 +218,28 @@ void viewPage(const Frame& f) {
   }
   ImGui::EndDisabled();
   ImGui::Text("%d voxels per side", 1 << std::clamp(s.level, kMinLevel, kMaxLevel));
+}
+
+// The professional's ghost: shown or not, and how it moves. The app loads its session when the box
+// is first ticked, so that a run which never shows it never reads it.
+void ghostSection(const Frame& f) {
+  UiState& s = f.state;
+  ImGui::Spacing();
+  ImGui::TextDisabled("the professional's ghost");
+  ImGui::BeginDisabled(!s.ghost_available);
+  ImGui::Checkbox("show the ghost", &s.ghost_shown);
+  f.record("ghost");
+  ImGui::TextUnformatted("follows");
+  ImGui::SameLine();
+  if (ImGui::RadioButton("task time", !s.ghost_nearest)) s.ghost_nearest = false;
+  f.record("ghost.follow.time");
+  ImGui::SameLine();
+  if (ImGui::RadioButton("nearest to the bur", s.ghost_nearest)) s.ghost_nearest = true;
+  f.record("ghost.follow.nearest");
+  double opacity = s.ghost_opacity;
+  if (sliderDouble(f, "ghost.opacity", "ghost opacity", opacity, 0.1, 0.9, "%.2f")) s.ghost_opacity = float(opacity);
+  ImGui::EndDisabled();
+  if (!s.ghost_source.empty()) ImGui::TextWrapped("%s", s.ghost_source.c_str());
 }
 
 // Start, Stop, Reset and Score with the run's state: above the pages, so that every page has them.
@@ -438,7 +460,10 @@ PanelActions drawParamPanel(UiState& state, WidgetRects* rects) {
         burSection(f);
         soundSection(f);
       });
-      page(f, "view", "View", [&] { viewPage(f); });
+      page(f, "view", "View", [&] {
+        viewPage(f);
+        ghostSection(f);
+      });
       page(f, "presets", "Presets", [&] {
         presetSection(f);
         advancedSection(f);

@@ -113,6 +113,12 @@ struct UiState {
   SoundControls sound;                     // volume and mute edited here; output set by the app
   std::string status;                      // last error or notice, one line ("preset 'soft' saved")
   PixelRect keep_clear;                    // where the tooth is on screen: the score picture stays off it; empty: anywhere
+  // The professional's ghost (View page): a session's tools drawn translucent beside the student's.
+  bool ghost_available = false;            // set by the app: --ghost was given, or the task has a recorded ideal
+  bool ghost_shown = false;                // the checkbox
+  bool ghost_nearest = false;              // false: the ghost follows the task time; true: it stands nearest the bur
+  float ghost_opacity = 0.4f;              // [0.1, 0.9]
+  std::string ghost_source;                // set by the app: the session the ghost shows, or why none
 };
 
 // ---- 2. actions --------------------------------------------------------------------------------------
@@ -143,7 +149,8 @@ struct PanelActions {
 // colour pickers are "looks.<tissue>.ambient", ".diffuse", ".specular"), "tab.<tissue>", "bur",
 // "bur.cutting_ability", "turbine.speed", "turbine.max_rpm", "view.normal_neighbours.<8|64|216>",
 // "level", "tooth", "tooth_path", "open_tooth", "task", "teacher", "record_ideal", "start", "stop",
-// "reset", "score", "preset", "load", "save_name", "save", the pages' tabs "page.<task|tissues|tools|
+// "reset", "score", "preset", "load", "save_name", "save", "ghost", "ghost.follow.<time|nearest>",
+// "ghost.opacity", the pages' tabs "page.<task|tissues|tools|
 // view|presets|score>", the advanced section's header "section.advanced", the pickers' open lists'
 // entries "tooth.item.<i>" and "task.item.<i>", and beside each slider its value, "value.<the
 // slider's key>".

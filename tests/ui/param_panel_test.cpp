@@ -525,6 +525,27 @@ TEST_F(PanelTest, TheScorePictureStaysOffTheTooth) {
 
 // In a 1280 x 800 window every page of the panel fits without scrolling, with every section open
 // and a score shown, and each slider's value stands beside its track, inside the window.
+// The ghost's box and follow choice (View page): disabled while the app has no ghost to show; then
+// the box shows it and the radio buttons pick how it moves, and none of it is a tactile or visual
+// parameter.
+TEST_F(PanelTest, GhostBoxAndFollowChoiceNeedAGhostToShow) {
+  frame();
+  showPage("page.view");
+  click(centre("ghost"));
+  EXPECT_FALSE(state_.ghost_shown) << "the box is disabled without a ghost";
+  state_.ghost_available = true;
+  frame();
+  Click c = click(centre("ghost"));
+  EXPECT_TRUE(state_.ghost_shown);
+  EXPECT_FALSE(c.press.params_changed || c.release.params_changed);
+  click(centre("ghost.follow.nearest"));
+  EXPECT_TRUE(state_.ghost_nearest);
+  click(centre("ghost.follow.time"));
+  EXPECT_FALSE(state_.ghost_nearest);
+  click(centre("ghost"));
+  EXPECT_FALSE(state_.ghost_shown);
+}
+
 class SmallPanelTest : public PanelTest {
  protected:
   float displayHeight() const override { return kSmallDisplayH; }

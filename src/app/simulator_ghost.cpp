@@ -1,0 +1,65 @@
+// The simulator's ghost: the professional's session read at set-up (--ghost) or when the panel first shows the task's ideal, followed each frame, and posed in the frame the renderer draws.
+#include "app/simulator_state.h"
+
+namespace dentsim::app {
+
+std::string Simulator::ghostSource() const {
+  if (!o_.ghost.empty()) return o_.ghost;
+  // A teacher's "Record as ideal" keeps the session beside the task: the ideal to compare with.
+  if (task_ && task_->ideal && task_->ideal->kind == IdealKind::Session) return task_->ideal->path;
+  return "";
+}
+
+Status Simulator::setUpGhost() {
+  const std::optional<GhostFollow> follow = parseGhostFollow(o_.ghost_follow);
+  if (!follow) return makeError("--ghost-follow", "\"" + o_.ghost_follow + "\" is not time or nearest");
+  ui_.ghost_nearest = *follow == GhostFollow::Nearest;
+  if (o_.ghost.empty()) return Ok{};
+  // Asked for by name, a session that does not read ends the run before anything opens.
+  auto g = Ghost::load(o_.ghost, params_.point_shell);
+  if (!g) return g.error();
+  ghost_ = std::move(*g);
+  if (const std::string w = ghost_->toothWarning(initial_); !w.empty()) note("warning: " + w);
+  ui_.ghost_shown = true;
+  ui_.ghost_source = "ghost: " + o_.ghost;
+  return Ok{};
+}
+
+void Simulator::restartGhost() {
+  ghost_t0_ = segments_.loopTime();
+  if (ghost_) ghost_->restart();
+}
+
+void Simulator::followGhost(const HapticState& state) {
+  const std::string source = ghostSource();
+  ui_.ghost_available = !source.empty();
+  if (source.empty() || !ui_.ghost_shown) return;
+  if (!ghost_ || ghost_->source() != source) {
+    ghost_.reset();
+    if (source == ghost_failed_) {
+      ui_.ghost_shown = false;
+      return;
+    }
+    auto g = Ghost::load(source, params_.point_shell);
+    if (!g) {
+      ghost_failed_ = source;
+      ui_.ghost_shown = false;
+      note("no ghost: " + g.message());
+      ui_.ghost_source = "no ghost: " + g.message();
+      return;
+    }
+    ghost_ = std::move(*g);
+    if (const std::string w = ghost_->toothWarning(initial_); !w.empty()) note("warning: " + w);
+    ui_.ghost_source = "ghost: the task's ideal, " + source;
+  }
+  if (ui_.ghost_nearest)
+    ghost_->followNearest(state.tools[size_t(PenRole::Drill)].tool, drill_tool_->grip_local);
+  else
+    ghost_->followTime(segments_.loopTime() - ghost_t0_);
+}
+
+void Simulator::showGhost(render::FrameState& fs) const {
+  if (ghost_ && ui_.ghost_shown && ghost_->source() == ghostSource()) ghost_->show(fs, ui_.ghost_opacity);
+}
+
+}  // namespace dentsim::app
