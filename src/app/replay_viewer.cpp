@@ -111,9 +111,9 @@ Status ReplayViewer::setUp() {
   panel_.duration_s = cursor_->duration();
   panel_.steps = cursor_->steps();
   panel_.threshold_n = o_.force_threshold_n;
-  std::printf("replaying %s in a window: %zu steps (%s); %s\n", o_.title.c_str(), cursor_->size(),
-              ui::replayClock(cursor_->duration()).c_str(), painter_->context().device().name.c_str());
-  std::fflush(stdout);
+  // On stderr, so that stdout stays the one JSON object under --json.
+  std::fprintf(stderr, "replaying %s in a window: %zu steps (%s); %s\n", o_.title.c_str(), cursor_->size(),
+               ui::replayClock(cursor_->duration()).c_str(), painter_->context().device().name.c_str());
   return Ok{};
 }
 
