@@ -229,11 +229,8 @@ Result<int> ReplayViewer::run(bool outputs_pending) {
   while (result && !quit_) result = frame();
   (void)painter_->context().waitIdle();  // teardown: a failure here changes nothing the user keeps
   if (!result) return result.error();
-  gpu::Context& ctx = painter_->context();
   // With validation on (DENTSIM_VALIDATION=1, as in the tests), any error fails the replay.
-  if (ctx.validationEnabled() && ctx.validationErrorCount() > 0)
-    return makeError("gpu", std::to_string(ctx.validationErrorCount()) + " Vulkan validation errors; the last: " +
-                                ctx.lastValidationMessage());
+  if (Status st = painter_->context().validationStatus(); !st) return st.error();
   if (!ended_) {
     std::printf("the window closed at %s of %s, before the end\n", ui::replayClock(cursor_->time()).c_str(),
                 ui::replayClock(cursor_->duration()).c_str());

@@ -399,10 +399,7 @@ Result<SimulatorOutcome> Simulator::run() {
   (void)painter_->context().waitIdle();  // teardown: a failure here changes nothing the user keeps
   if (!result) return result.error();
   // With validation on (DENTSIM_VALIDATION=1, as in the tests), any error fails the run.
-  gpu::Context& ctx = painter_->context();
-  if (ctx.validationEnabled() && ctx.validationErrorCount() > 0)
-    return makeError("gpu", std::to_string(ctx.validationErrorCount()) + " Vulkan validation errors; the last: " +
-                                ctx.lastValidationMessage());
+  if (Status st = painter_->context().validationStatus(); !st) return st.error();
   if (!o_.out.empty() && !final_saved_) {
     if (Status st = saveTooth(outPath("final.dvol"), view_); !st) return st.error();
     out_.written.push_back(outPath("final.dvol"));

@@ -469,6 +469,11 @@ std::string Context::lastValidationMessage() const {
   std::lock_guard lock(core_->validation_state.mutex);
   return core_->validation_state.last_message;
 }
+Status Context::validationStatus() const {
+  const uint32_t errors = validationErrorCount();
+  if (errors == 0) return Ok{};
+  return makeError("gpu", std::to_string(errors) + " Vulkan validation errors; the last: " + lastValidationMessage());
+}
 size_t Context::collectRetired() { return core_->collect(); }
 
 Status Context::waitIdle() {

@@ -126,6 +126,9 @@ class Context {
   uint32_t validationErrorCount() const;
   uint32_t validationWarningCount() const;
   std::string lastValidationMessage() const;
+  // An error naming how many validation errors were seen and the last one; Ok when none was (or
+  // validation is off). What a run under DENTSIM_VALIDATION=1 ends on.
+  Status validationStatus() const;
 
   // Frees retired handles whose submissions have finished; returns how many entries remain queued.
   size_t collectRetired();

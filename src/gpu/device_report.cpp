@@ -159,10 +159,7 @@ Status printDeviceReport(std::ostream& out, const ContextOptions& options, bool 
     out << "\n";
   }
   if (!equal) return makeError("gpu", "self-test failed: GPU material counts differ from the CPU reference");
-  if (ctx->validationErrorCount() > 0)
-    return makeError("gpu", std::to_string(ctx->validationErrorCount()) +
-                                " validation errors; last: " + ctx->lastValidationMessage());
-  return Ok{};
+  return ctx->validationStatus();
 }
 
 }  // namespace dentsim::gpu
