@@ -102,12 +102,18 @@ Result<GuidePath> parseGuideJson(const std::string& text, const std::string& whe
                     num("search_s", 0.0, true, 3600.0, &g.settings.search_s),
                     num("spacing_s", 1e-4, false, 1.0, &g.spacing_s)})
     if (!st) return st.error();
+  if (g.settings.search_s / g.spacing_s > double(kMaxGuideSearchPoints))
+    return makeError(w, "search_s: " + std::to_string(g.settings.search_s) + " s would search more than " +
+                            std::to_string(kMaxGuideSearchPoints) + " points a step");
   const auto start = j.find("start_index");
   if (start == j.end() || !start->is_number_unsigned()) return makeError(w, "start_index: expected a whole number >= 0");
   g.start_index = start->get<size_t>();
   const auto pts = j.find("points");
   if (pts == j.end() || !pts->is_array() || pts->empty())
     return makeError(w, "points: expected a non-empty array of [x, y, z]");
+  if (pts->size() > kMaxGuidePoints)
+    return makeError(w, "points: " + std::to_string(pts->size()) + " points; a guide follows at most " +
+                            std::to_string(kMaxGuidePoints) + " (an hour of the professional's session)");
   g.points.reserve(pts->size());
   for (size_t i = 0; i < pts->size(); ++i) {
     const Json& p = (*pts)[i];

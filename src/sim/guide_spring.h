@@ -24,6 +24,13 @@
 
 namespace dentsim {
 
+// What a guide may hold, so that a session's header cannot make the 1 kHz step slow: its search
+// covers at most kMaxGuideSearchPoints points a step (20 s of the professional's at 100 a second),
+// and its path at most kMaxGuidePoints (an hour), which also keeps the header under the session
+// reader's 16 MiB.
+inline constexpr size_t kMaxGuideSearchPoints = 2000;
+inline constexpr size_t kMaxGuidePoints = 360000;
+
 struct GuideSettings {
   double stiffness_n_per_mm = 1.0;  // the spring toward the path [N/mm]; > 0
   double max_force_n = 2.0;         // the guide's own cap, under the device's [N]; > 0

@@ -3,8 +3,6 @@
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
-
 #include "io/pen_playback.h"
 #include "sim/builtin_tooth.h"
 #include "sim/novice_paths.h"
@@ -13,11 +11,10 @@
 #include "sim/session_run.h"
 #include "sim/yielding_hand.h"
 #include "volume/volume_hash.h"
+#include "test_support.h"
 
 namespace dentsim {
 namespace {
-
-namespace fs = std::filesystem;
 
 // A straight path along +x: point i at (0.1 i, 0, 0) mm, 0.01 s apart, 100 points. The spring's end
 // is 5 points (0.05 s) ahead of the nearest.
@@ -88,7 +85,8 @@ TEST(GuideSpring, HeaderJsonProblemsNameTheFieldInOneLine) {
                         {"\"max_force_n\":2.0", "\"max_force_n\":\"2\"", "max_force_n"},
                         {"\"start_index\":0", "\"start_index\":100", "start_index"},
                         {"\"points\":[[0.0,0.0,0.0]", "\"points\":[[0.0,0.0]", "points[0]"},
-                        {"\"source\":\"pro.dses\",", "", "source"}};
+                        {"\"source\":\"pro.dses\",", "", "source"},
+                        {"\"search_s\":1.0", "\"search_s\":3000.0", "search_s"}};
   for (const Case& c : cases) {
     std::string text = good;
     const size_t at = text.find(c.from);
@@ -101,6 +99,12 @@ TEST(GuideSpring, HeaderJsonProblemsNameTheFieldInOneLine) {
     EXPECT_EQ(parsed.message().find('\n'), std::string::npos);
   }
   EXPECT_FALSE(parseGuideJson("[1, 2]", "s.dses"));
+  // A path longer than an hour is refused before the step would have to search it.
+  GuidePath huge = straightGuide();
+  huge.points.assign(kMaxGuidePoints + 1, Vec3{});
+  auto refused = parseGuideJson(guideJson(huge), "s.dses");
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.message().find("points: 360001 points"), std::string::npos) << refused.message();
 }
 
 // A pen that stays at the origin.
@@ -150,18 +154,6 @@ PenPath shortGroove() {
   return path->path;
 }
 
-struct Scratch {
-  fs::path dir = fs::temp_directory_path() /
-                 ("dentsim_guide_test_" + std::to_string(::getpid()) + "_" +
-                  ::testing::UnitTest::GetInstance()->current_test_info()->name());
-  Scratch() {
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  ~Scratch() { fs::remove_all(dir); }
-  std::string file(const std::string& name) const { return (dir / name).string(); }
-};
-
 SessionInfo info() {
   SessionInfo i;
   i.created_utc = "2026-11-27T10:00:00Z";
@@ -172,7 +164,7 @@ SessionInfo info() {
 }
 
 TEST(GuidedSession, ReplaysToTheSameVoxelsAndForcesFromItsHeaderAlone) {
-  Scratch scratch;
+  test::TempDir scratch;
   const SimParams params = defaultSimParams();
   // The professional: the groove as scripted.
   ToothVolume pro_tooth = molar7();
