@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,12 @@ class TempDir {
  private:
   std::filesystem::path path_;
 };
+
+// A whole file's bytes; empty when it does not read.
+inline std::vector<uint8_t> readBytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
 
 // Runs the dentsim binary with `args`; returns its exit code and what it printed (stdout+stderr).
 struct CommandResult {

@@ -13,19 +13,16 @@
 #include <nlohmann/json.hpp>
 
 #include "io/session_file.h"
+#include "test_json.h"
 #include "test_support.h"
 
 namespace dentsim {
 namespace {
 
+using test::readJson;
 using test::TempDir;
 
 using test::haveXvfb;
-
-nlohmann::json readJson(const std::string& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in, nullptr, false);
-}
 
 // A fast preset: the scripted paths at level 7 take a second or two of loop time.
 std::string writeFastPreset(const TempDir& dir) {

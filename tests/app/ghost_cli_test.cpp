@@ -14,22 +14,15 @@
 #include "io/session_file.h"
 #include "sim/pro_path.h"
 #include "sim/tool_library.h"
+#include "test_json.h"
 #include "test_support.h"
 
 namespace dentsim {
 namespace {
 
+using test::readBytes;
+using test::readJson;
 using test::TempDir;
-
-std::vector<uint8_t> readBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-nlohmann::json readJson(const std::string& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in, nullptr, false);
-}
 
 test::CommandResult runGpu(const std::string& args) {
   const test::NoLeakCheckForGpuChild no_leak_check;

@@ -8,26 +8,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "test_json.h"
 #include "test_support.h"
 
 namespace dentsim {
 namespace {
 
+using test::readJson;
+using test::readJsonLines;
 using test::runDentsim;
 using test::TempDir;
-
-nlohmann::json readJson(const std::string& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in, nullptr, false);
-}
-
-std::vector<nlohmann::json> readJsonLines(const std::string& path) {
-  std::vector<nlohmann::json> out;
-  std::ifstream in(path);
-  for (std::string line; std::getline(in, line);)
-    if (!line.empty()) out.push_back(nlohmann::json::parse(line));
-  return out;
-}
 
 const std::string kGuidedIri = "https://dentsim.invalid/xapi/extensions/guided";
 
@@ -74,7 +64,7 @@ TEST(GuideCli, AGuidedStudentScoresCloserToTheIdealAndItsSessionReplaysExactly) 
   // The guided session replays to the recorded voxels with every recorded force, from its file alone.
   const auto replay = runDentsim("replay --headless --json " + dir.file("guided/session.dses"));
   ASSERT_EQ(replay.exit_code, 0) << replay.output;
-  const nlohmann::json r = nlohmann::json::parse(replay.output.substr(replay.output.find('{')), nullptr, false);
+  const nlohmann::json r = test::printedJson(replay.output);
   ASSERT_TRUE(r.is_object()) << replay.output;
   EXPECT_TRUE(r["matches_recording"].get<bool>());
   EXPECT_EQ(r["force_mismatches"], 0);

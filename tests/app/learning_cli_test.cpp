@@ -19,25 +19,19 @@
 #include <nlohmann/json.hpp>
 
 #include "free_port.h"
+#include "test_json.h"
 #include "test_support.h"
 
 namespace dentsim {
 namespace {
 
+using test::readJsonLines;
 namespace fs = std::filesystem;
 using test::freePort;
 using test::runCommand;
 using test::TempDir;
 
 const fs::path kToolsDir = fs::path(DENTSIM_SOURCE_DIR) / "tests" / "xapi";
-
-std::vector<nlohmann::json> readJsonLines(const std::string& path) {
-  std::vector<nlohmann::json> out;
-  std::ifstream in(path);
-  for (std::string line; std::getline(in, line);)
-    if (!line.empty()) out.push_back(nlohmann::json::parse(line));
-  return out;
-}
 
 // The stand-in LRS, started on a free port and stopped at scope exit.
 class Recorder {

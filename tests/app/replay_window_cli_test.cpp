@@ -16,13 +16,9 @@
 namespace dentsim {
 namespace {
 
+using test::readBytes;
 using test::runDentsim;
 using test::TempDir;
-
-std::vector<uint8_t> readBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 
 double reportTotal(const std::string& path) {
   std::ifstream in(path);

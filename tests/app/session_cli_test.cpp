@@ -12,32 +12,19 @@
 
 #include "io/session_file.h"
 #include "io/wav_file.h"
+#include "test_json.h"
 #include "test_support.h"
 #include "volume/tooth_file.h"
 
 namespace dentsim {
 namespace {
 
+using test::readBytes;
+using test::readJson;
+using test::printedJson;
 using test::runDentsim;
 using test::TempDir;
 using test::writeBytes;
-
-std::vector<uint8_t> readBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-nlohmann::json readJson(const std::string& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in, nullptr, false);
-}
-
-// The last JSON object a command printed (the commands print nothing after it).
-nlohmann::json printedJson(const std::string& output) {
-  const size_t start = output.find('{');
-  if (start == std::string::npos) return nlohmann::json();
-  return nlohmann::json::parse(output.substr(start), nullptr, false);
-}
 
 // One demo for the whole suite: the molar at level 7 with a preset that cuts ten times faster and
 // spaces the shell points wider, and no mirror, so the scripted removal takes about a second,

@@ -11,20 +11,17 @@
 
 #include "io/png_file.h"
 #include "io/session_file.h"
+#include "test_json.h"
 #include "test_support.h"
 
 namespace dentsim {
 namespace {
 
+using test::readJson;
 using test::runDentsim;
 using test::TempDir;
 
 using test::haveXvfb;
-
-nlohmann::json readJson(const std::string& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in, nullptr, false);
-}
 
 // Tissue as the default looks shade it: lit enamel and dentin are light and warm (red above blue),
 // caries brown (warm, darker). The background, the steel and the ImGui panel are neutral or cool.

@@ -19,25 +19,18 @@
 
 #include "io/dvol_file.h"
 #include "io/png_file.h"
+#include "test_json.h"
 #include "test_support.h"
 
 namespace dentsim {
 namespace {
 
+using test::readBytes;
+using test::readJson;
 using test::runDentsim;
 using test::TempDir;
 
 const std::filesystem::path kFixture = std::filesystem::path(DENTSIM_SOURCE_DIR) / "tests/golden/level7_demo";
-
-std::vector<uint8_t> readBytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-nlohmann::json readJson(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in, nullptr, false);
-}
 
 // The session is kept zstd-compressed (24.7 MB raw, 3.5 MB packed); the test unpacks it into `out`.
 ::testing::AssertionResult unpackSession(const std::string& out) {

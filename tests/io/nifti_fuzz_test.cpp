@@ -11,6 +11,7 @@
 namespace dentsim {
 namespace {
 
+using test::readBytes;
 LabelImage seedImage() {
   LabelImage im;
   im.dims = {6, 5, 4};
@@ -19,11 +20,6 @@ LabelImage seedImage() {
   im.labels.resize(120);
   for (size_t i = 0; i < im.labels.size(); ++i) im.labels[i] = Label(i % 4);
   return im;
-}
-
-std::vector<uint8_t> readBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 // One random change: flip bits, overwrite a byte with a boundary value, insert or delete a run, or cut

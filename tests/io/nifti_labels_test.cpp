@@ -12,6 +12,7 @@
 namespace dentsim {
 namespace {
 
+using test::readBytes;
 // 5 x 4 x 3 = 60 voxels, counted by hand: a 2x2x1 block of 3 (4 voxels), one voxel of 1, and the
 // row j=3,k=2 of label 2 (5 voxels); the other 50 are 0.
 LabelImage smallImage() {
@@ -28,10 +29,6 @@ LabelImage smallImage() {
   return im;
 }
 
-std::vector<uint8_t> readBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
 template <class T>
 void poke(std::vector<uint8_t>& bytes, size_t offset, T value) {
   std::memcpy(bytes.data() + offset, &value, sizeof(T));
