@@ -30,6 +30,7 @@
 #include "io/atomic_file.h"
 #include "io/pen_playback.h"
 #include "sim/edit_channel.h"
+#include "sim/guide_spring.h"
 #include "sim/haptic_loop.h"
 #include "sim/idle_latency.h"
 #include "sim/sim_params.h"
@@ -137,6 +138,19 @@ double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
+// A guide along the bench's own path (its drill grip every 10 ms, as a professional's session
+// gives one): the guided run measures what the guide's search and spring add to a step.
+GuidePath guideAlong(const PenPath& path) {
+  GuidePath g;
+  ScriptedPen pen(path, PenRole::Drill);
+  const double end = pen.endTime();
+  for (int k = 0; double(k) * g.spacing_s <= end; ++k) {
+    PenReading r;
+    if (pen.read(double(k) * g.spacing_s, &r)) g.points.push_back(r.grip.position);
+  }
+  return g;
+}
+
 struct ReplayedRun {
   StepTimeSummary times;
   StepLoad load;
@@ -149,13 +163,19 @@ struct ReplayedRun {
 // began, idle in between as the loop's thread is (a step that overruns starts the next at once).
 // A paced run holds the thread's request on idle CPUs (idle_latency_us), as the thread does.
 ReplayedRun replaySteps(BrickVolume& volume, const VolumeFrame& frame, const SimParams& params, const ToolModel& tool,
-                        const PenPath& path, uint64_t steps, int64_t period_ns, int32_t idle_latency_us) {
+                        const PenPath& path, uint64_t steps, int64_t period_ns, int32_t idle_latency_us,
+                        const GuidePath* guide = nullptr) {
   const IdleLatencyRequest idle(period_ns > 0 ? idle_latency_us : -1);
   EditChannel edits;
   ScriptedPen pen(path, PenRole::Drill);
   HapticLoop loop(volume, frame, params, tool, nullptr, &edits);
   loop.attach(PenRole::Drill, &pen);
   loop.placeTool(PenRole::Drill, path.samples.front().pose);
+  std::optional<GuideSpring> spring;
+  if (guide) {
+    spring.emplace(*guide);
+    loop.setGuide(&*spring);
+  }
   StepTimes times;
   LoadSums sums;
   std::vector<uint64_t> sink;
@@ -331,6 +351,7 @@ Result<HapticBenchRow> runHapticBench(int level, const VolumeMaker& make_volume,
     // Paced last: it cuts a copy, and the back-to-back run the untouched volume itself.
     std::optional<BrickVolume> paced_volume;
     if (s.after_idle) paced_volume = *pristine;
+    BrickVolume guided_volume = *pristine;
     const ReplayedRun back_to_back =
         replaySteps(*pristine, tooth->frame, params, *tool, path->path, row.thread.steps, 0, -1);
     row.has_step_only = true;
@@ -341,6 +362,14 @@ Result<HapticBenchRow> runHapticBench(int level, const VolumeMaker& make_volume,
     char line[256];
     std::snprintf(line, sizeof line, "level %d step only: p50 %.1f us, p99 %.1f us, max %.1f us, mean %.1f us", level,
                   row.step_only.p50_us, row.step_only.p99_us, row.step_only.max_us, row.step_only.mean_us);
+    say(line);
+    const GuidePath guide = guideAlong(path->path);
+    const ReplayedRun guided =
+        replaySteps(guided_volume, tooth->frame, params, *tool, path->path, row.thread.steps, 0, -1, &guide);
+    row.step_only_guided = guided.times;
+    std::snprintf(line, sizeof line, "level %d step only, guided: p50 %.1f us, p99 %.1f us, max %.1f us, mean %.1f us",
+                  level, row.step_only_guided.p50_us, row.step_only_guided.p99_us, row.step_only_guided.max_us,
+                  row.step_only_guided.mean_us);
     say(line);
     if (paced_volume) {
       const auto period_ns = int64_t(std::llround(1e9 / rate));
@@ -396,6 +425,7 @@ nlohmann::json hapticReportJson(const HapticReportInfo& info, const std::vector<
     nlohmann::json step_only = nullptr;
     if (r.has_step_only)
       step_only = {{"times", timesJson(r.step_only)},
+                   {"guided_times", timesJson(r.step_only_guided)},
                    {"load", loadJson(r.step_only_load)},
                    {"removed_mm3", r.step_only_removed_mm3},
                    {"voxels_changed", r.step_only_voxels_changed}};
@@ -515,7 +545,11 @@ std::string hapticRowsTable(const std::vector<HapticBenchRow>& rows, const Hapti
         << fmt("%.0f", r.step_only_load.points_mean) << ", " << r.step_only_load.points_max << " | "
         << fmt("%.0f", r.step_only_load.clear_mean) << " | "
         << fmt("%.0f", r.step_only_load.contacts_mean) << ", " << r.step_only_load.contacts_max << " | "
-        << fmt("%.3f", r.step_only_removed_mm3) << " | " << count(r.step_only_voxels_changed) << " | - | - |\n";
+        << fmt("%.3f", r.step_only_removed_mm3) << " | " << count(r.step_only_voxels_changed) << " | - | - |\n"
+        << "| " << r.level << " | " << fmt("%.4f", r.voxel_mm) << " | step only, guided | " << count(r.step_only_guided.steps)
+        << " | - | " << fmt("%.1f", r.step_only_guided.p50_us) << " | " << fmt("%.1f", r.step_only_guided.p99_us) << " | "
+        << fmt("%.1f", r.step_only_guided.max_us) << " | " << fmt("%.1f", r.step_only_guided.mean_us)
+        << " | - | - | - | - | - | - | - |\n";
     if (r.has_after_idle)  // the same steps as step only: their load is that run's
       o << "| " << r.level << " | " << fmt("%.4f", r.voxel_mm) << " | after idle | " << count(r.after_idle.steps)
         << " | - | " << fmt("%.1f", r.after_idle.p50_us) << " | " << fmt("%.1f", r.after_idle.p99_us) << " | "

@@ -101,6 +101,7 @@ struct HapticBenchRow {
   // The same steps on the caller's thread, back to back, no deadlines.
   bool has_step_only = false;
   StepTimeSummary step_only;
+  StepTimeSummary step_only_guided;   // the same with a guide along the path (sim/guide_spring.h)
   StepLoad step_only_load;
   double step_only_removed_mm3 = 0.0;
   uint64_t step_only_voxels_changed = 0;
