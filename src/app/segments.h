@@ -78,8 +78,9 @@ class Segments {
   void holdTimeAtLeast(double t) { t0_ = std::max(t0_, t); }
 
  private:
-  std::unique_ptr<HapticLoop> loop_;
+  // Declared before the loop, so that it outlives a loop whose thread may still be stepping.
   std::optional<GuideSpring> guide_;  // the current or last segment's; the loop points at it
+  std::unique_ptr<HapticLoop> loop_;
   std::unique_ptr<SessionRecorder> recorder_;
   std::string session_path_;       // the session being recorded; empty when none
   std::string last_session_path_;  // the current or last segment's session file
