@@ -82,7 +82,11 @@ SafetyLayer::Output SafetyLayer::output(int64_t now_ns) {
   }
   const int64_t watchdog_ns = static_cast<int64_t>(params_.watchdog_ms * 1e6);
   // Read without the channel's own staleness: the watchdog decides here, from the stamp.
-  const ForceOutput::Command c = channel_.current(now_ns, INT64_MAX / 2);
+  ForceOutput::Command c = channel_.current(now_ns, INT64_MAX / 2);
+  if (c.busy)
+    c = last_read_;  // being replaced right now: the previous command stands until it can be read
+  else if (!c.stale)
+    last_read_ = c;
   const int64_t fresh_since = c.stale ? enabled_at_ns_ : std::max(c.stamp_ns, enabled_at_ns_);
   if (now_ns - fresh_since > watchdog_ns) {
     faulted_.store(true, std::memory_order_release);

@@ -63,6 +63,8 @@ class SafetyLayer {
   // True once the watchdog has fired, until disable() + enable().
   bool faulted() const { return faulted_.load(std::memory_order_acquire); }
   const SafetyParams& params() const { return params_; }
+  // Tests only: output() finds the haptic thread's command mid-publish until released.
+  void holdCommandForTest(bool held) { channel_.holdPublishForTest(held); }
 
  private:
   SafetyParams params_;
@@ -77,6 +79,10 @@ class SafetyLayer {
   bool armed_ = false;
   int64_t enabled_at_ns_ = 0;  // the first output() after enable(): the watchdog counts from here or the latest command
   int64_t armed_at_ns_ = 0;
+  // The newest command output() managed to read. A command found mid-publish (the haptic thread
+  // preempted inside command()) is judged by this one instead: its stamp still ages, so the
+  // watchdog fires exactly when the newest readable command is too old, never earlier.
+  ForceOutput::Command last_read_;
 };
 
 // Process-wide stop: once requested (by a signal handler or at exit) every SafetyLayer outputs zero.

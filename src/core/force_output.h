@@ -21,17 +21,27 @@ class ForceOutput {
     Wrench wrench;           // what to send: the published wrench, or zero when stale
     int64_t stamp_ns = 0;    // when the loop published it (steady clock) [ns]
     bool stale = true;       // nothing published, or older than the limit: wrench is zero
+    // A publish was in progress on every try (the writer was preempted inside it): nothing could be
+    // read, so stale is set too. Not "nothing was ever published": a reader that judges age keeps
+    // the last command it did read.
+    bool busy = false;
   };
 
   // Writer (the haptic loop).
   void publish(const Wrench& w, int64_t stamp_ns) { latest_.store(Stamped{w, stamp_ns}); }
+
+  // Tests only: readers find a publish in progress until released (SeqLock::holdMidStoreForTest).
+  void holdPublishForTest(bool held) { latest_.holdMidStoreForTest(held); }
 
   // Readers (device threads, tests): the command for time now_ns. A writer that keeps the lock busy
   // reads as nothing published: zero force rather than a spin.
   Command current(int64_t now_ns, int64_t stale_after_ns) const {
     Command c;
     Stamped s;
-    if (!latest_.load(&s)) return c;
+    if (!latest_.load(&s)) {
+      c.busy = latest_.stored();
+      return c;
+    }
     c.stamp_ns = s.stamp_ns;
     c.stale = now_ns - s.stamp_ns > stale_after_ns;
     if (!c.stale) c.wrench = s.wrench;

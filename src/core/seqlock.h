@@ -32,8 +32,10 @@ class SeqLock {
   }
 
   // Readers, any thread: copies the latest value into *out. False when nothing was stored yet, or
-  // when a writer was mid-store on every one of `tries` attempts: a writer is never preempted for
-  // long inside store(), and a real-time reader prefers "no value" to spinning.
+  // when a writer was mid-store on every one of `tries` attempts. A real-time reader prefers "no
+  // value" to spinning, but a writer can be preempted inside store() for a whole time slice on a
+  // loaded machine, so a reader must tell the two apart (stored()) and not treat a busy value as
+  // none at all.
   bool load(T* out, int tries = 64) const {
     assert(out != nullptr && tries > 0);
     for (int attempt = 0; attempt < tries; ++attempt) {
@@ -48,6 +50,13 @@ class SeqLock {
       return true;
     }
     return false;
+  }
+
+  // Tests only: leaves the sequence odd, as a writer preempted halfway through store() does, until
+  // called again with false. Readers then fail every try, which a loaded machine really produces.
+  void holdMidStoreForTest(bool held) {
+    const uint64_t s = seq_.load(std::memory_order_acquire);
+    if (((s & 1) != 0) != held) seq_.store(s + 1, std::memory_order_release);
   }
 
   // True once store() has run (a store may still be in progress).

@@ -122,6 +122,29 @@ TEST(SafetyLayer, WatchdogZeroesWithin3msAndLatches) {
   EXPECT_EQ(s.output(t + 7 * kMs).gate, SafetyGate::Pass);
 }
 
+// The haptic thread preempted inside command() (its sequence lock left odd: what a loaded machine
+// did to DeviceSafety.WatchdogOnAnOutputThread) must not look like "nothing commanded since
+// enabling": the command read before stands, and the watchdog counts from its stamp.
+TEST(SafetyLayer, ACommandCaughtMidPublishKeepsThePreviousOneAndItsStamp) {
+  SafetyLayer s;
+  s.setLimits(10.0, 0.0);
+  s.enable();
+  ASSERT_EQ(s.output(0).gate, SafetyGate::Disarmed);  // the watchdog's clock starts here
+  s.command(Wrench{{0, 0, 0.2}, {}}, 10 * kMs);
+  ASSERT_EQ(s.output(10 * kMs).gate, SafetyGate::Pass);
+  s.holdCommandForTest(true);
+  const SafetyLayer::Output held = s.output(11 * kMs);
+  EXPECT_EQ(held.gate, SafetyGate::Pass) << gateName(held.gate);
+  EXPECT_EQ(held.wrench.force, (Vec3{0, 0, 0.2}));
+  EXPECT_EQ(s.output(13 * kMs).gate, SafetyGate::Pass);
+  // Still unreadable 3 ms after the last command read: that one is stale, so zero and latched.
+  EXPECT_EQ(s.output(13 * kMs + 1).gate, SafetyGate::Watchdog);
+  s.holdCommandForTest(false);
+  s.command(Wrench{{0, 0, 0.2}, {}}, 14 * kMs);
+  EXPECT_EQ(s.output(14 * kMs).gate, SafetyGate::Watchdog);
+  EXPECT_TRUE(s.faulted());
+}
+
 TEST(SafetyLayer, EnabledButNeverCommandedFaultsAfterTheWatchdog) {
   SafetyLayer s;
   s.setLimits(10.0, 0.0);
