@@ -83,6 +83,15 @@ int finishReplay(const ReplayCliOptions& o, const SessionRecording& session, con
   j["matches_recording"] = outcome.recorded_hash_matches;
   j["removed_mm3"] = outcome.removed_mm3;
   j["force_mismatches"] = outcome.force_mismatches;
+  // What happened to the pens' devices while it was recorded: which pen failed, when and why.
+  nlohmann::json device_events = nlohmann::json::array();
+  for (const SessionDeviceEvent& e : session.devices)
+    device_events.push_back({{"step", e.step},
+                             {"t_s", double(e.step) / session.info.rate_hz},
+                             {"pen", std::string(penRoleName(PenRole(e.pen)))},
+                             {"state", e.state},
+                             {"reason", e.reason}});
+  j["device_events"] = device_events;
   std::optional<SessionScore> score;
   const std::string task_name = o.task.empty() ? session.info.task : o.task;
   std::optional<Task> task;
@@ -116,6 +125,10 @@ int finishReplay(const ReplayCliOptions& o, const SessionRecording& session, con
     else
       std::printf("\n");
     std::printf("removed %.4f mm^3\n", outcome.removed_mm3);
+    for (const SessionDeviceEvent& e : session.devices)
+      std::printf("at %.3f s the %s pen's device was %s%s%s\n", double(e.step) / session.info.rate_hz,
+                  std::string(penRoleName(PenRole(e.pen))).c_str(), e.state.c_str(), e.reason.empty() ? "" : ": ",
+                  e.reason.c_str());
     if (score) std::printf("%s\n", score->summary.c_str());
   }
   std::fflush(stdout);

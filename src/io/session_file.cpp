@@ -47,7 +47,7 @@ constexpr size_t kHeaderHashBytes = 8;  // XXH64 of the header text [B]
 constexpr size_t kFrameBytes = 8;       // kind, three zero bytes, payload length [B]
 constexpr size_t kRecordHashBytes = 4;  // XXH32 of frame and payload [B]
 
-enum RecordKind : uint8_t { kStepRecord = 1, kParamsRecord = 2, kGapRecord = 3, kEndRecord = 4 };
+enum RecordKind : uint8_t { kStepRecord = 1, kParamsRecord = 2, kGapRecord = 3, kEndRecord = 4, kDeviceRecord = 5 };
 
 constexpr size_t kPenCount = 2;
 constexpr size_t kStepFixedBytes = 8 + 8 + 4 + 1;            // step, wall_ns, params_serial, pens
@@ -56,6 +56,8 @@ constexpr size_t kStepOutputBytes = kPenCount * (3 * 8 + 4); // force_n and cont
 constexpr size_t kParamsFixedBytes = 4 + 8;                  // serial, from_step
 constexpr size_t kGapBytes = 8 + 8;                          // first_step, steps
 constexpr size_t kEndFixedBytes = 8 + 2 + 2;                 // steps and the two string lengths
+constexpr size_t kDeviceFixedBytes = 8 + 1 + 2 + 2;          // step, pen and the two string lengths
+constexpr size_t kMaxDeviceStateBytes = 32;
 constexpr size_t kHashHexDigits = 16;
 constexpr size_t kMaxReasonBytes = 200;
 constexpr uint8_t kPenBits = 0b11;
@@ -395,6 +397,19 @@ void encodeGap(std::vector<uint8_t>& p, const SessionGap& gap) {
   append<uint64_t>(p, gap.steps);
 }
 
+void encodeDevice(std::vector<uint8_t>& p, const SessionDeviceEvent& event) {
+  constexpr size_t kMaxString = 0xffff;  // 16-bit lengths; the reader refuses long ones anyway
+  const std::string_view state = std::string_view(event.state).substr(0, kMaxString);
+  const std::string_view reason = std::string_view(event.reason).substr(0, kMaxString);
+  p.clear();
+  append<uint64_t>(p, event.step);
+  append<uint8_t>(p, event.pen);
+  append<uint16_t>(p, uint16_t(state.size()));
+  appendBytes(p, state);
+  append<uint16_t>(p, uint16_t(reason.size()));
+  appendBytes(p, reason);
+}
+
 void encodeEnd(std::vector<uint8_t>& p, const SessionEnd& end) {
   // Lengths are 16 bits; longer strings (which the reader refuses anyway) are cut to fit.
   constexpr size_t kMaxString = 0xffff;
@@ -453,6 +468,7 @@ class SessionParser {
         case kParamsRecord: problem = readParams(payload); break;
         case kGapRecord: problem = readGap(payload); break;
         case kEndRecord: problem = readEnd(payload); break;
+        case kDeviceRecord: problem = readDevice(payload); break;
         default: problem = "unknown record kind " + std::to_string(in_[pos_]);
       }
       if (problem) return fail(*problem);
@@ -468,6 +484,7 @@ class SessionParser {
 
   std::optional<Error> readHeader();
   std::optional<std::string> readStep(std::span<const uint8_t> payload);
+  std::optional<std::string> readDevice(std::span<const uint8_t> payload);
   std::optional<std::string> readPen(Cursor& c, size_t r, SessionPenReading& pen);
   std::optional<std::string> readParams(std::span<const uint8_t> payload);
   std::optional<std::string> readGap(std::span<const uint8_t> payload);
@@ -669,6 +686,37 @@ std::optional<std::string> SessionParser::readGap(std::span<const uint8_t> paylo
   return std::nullopt;
 }
 
+// A device event does not move the step anchor: it says when, relative to the steps, and nothing more.
+std::optional<std::string> SessionParser::readDevice(std::span<const uint8_t> payload) {
+  const auto bad_length = [&] {
+    return "device payload of " + std::to_string(payload.size()) + " bytes does not match its string lengths";
+  };
+  if (payload.size() < kDeviceFixedBytes) return bad_length();
+  Cursor c(payload);
+  SessionDeviceEvent e;
+  e.step = c.next<uint64_t>();
+  e.pen = c.next<uint8_t>();
+  const uint16_t state_bytes = c.next<uint16_t>();
+  if (c.left() < size_t(state_bytes) + 2) return bad_length();
+  e.state.assign(c.text(state_bytes));
+  const uint16_t reason_bytes = c.next<uint16_t>();
+  if (c.left() != reason_bytes) return bad_length();
+  e.reason.assign(c.text(reason_bytes));
+  const std::string what = "device event at step " + std::to_string(e.step);
+  if (e.step >= kStepIndexEnd) return what + ": step index beyond 2^63 - 1";
+  if (e.pen > 1) return what + ": pen " + std::to_string(e.pen) + " (expected 0, the drill, or 1, the mirror)";
+  if (e.state.empty() || e.state.size() > kMaxDeviceStateBytes || !isPrintableAscii(e.state))
+    return what + ": state " + quoteToken(e.state) + " is not a short printable word";
+  if (e.reason.size() > kMaxReasonBytes)
+    return what + ": reason of " + std::to_string(e.reason.size()) + " bytes is longer than " +
+           std::to_string(kMaxReasonBytes);
+  if (!isPrintableAscii(e.reason)) return what + ": reason " + quoteToken(e.reason) + " is not printable ASCII";
+  if (!rec_.devices.empty() && e.step < rec_.devices.back().step)
+    return what + " comes after one at step " + std::to_string(rec_.devices.back().step);
+  rec_.devices.push_back(std::move(e));
+  return std::nullopt;
+}
+
 std::optional<std::string> SessionParser::readEnd(std::span<const uint8_t> payload) {
   const auto bad_length = [&] {
     return "end payload of " + std::to_string(payload.size()) + " bytes does not match its string lengths";
@@ -771,6 +819,11 @@ void SessionWriter::add(const SessionGap& gap) {
   addRecord(kGapRecord, scratch_);
 }
 
+void SessionWriter::add(const SessionDeviceEvent& event) {
+  encodeDevice(scratch_, event);
+  addRecord(kDeviceRecord, scratch_);
+}
+
 Status SessionWriter::flush() {
   if (!file_) return makeError(path_, "no session file is open");
   if (!error_.empty()) return makeError(part_path_, error_);
@@ -840,12 +893,23 @@ std::vector<uint8_t> encodeSession(const SessionRecording& recording) {
       }
     }
   };
+  // Device events go just before the first step they came before (and after that step's
+  // parameter set), the rest at the end.
+  size_t next_device = 0;
+  const auto emitDevices = [&](uint64_t before, bool all) {
+    while (next_device < recording.devices.size() && (all || recording.devices[next_device].step <= before)) {
+      encodeDevice(payload, recording.devices[next_device++]);
+      appendRecord(out, kDeviceRecord, payload);
+    }
+  };
   for (const SessionStep& s : recording.steps) {
     emitDue(s.step, false);
+    emitDevices(s.step, false);
     encodeStep(payload, s);
     appendRecord(out, kStepRecord, payload);
   }
   emitDue(0, true);
+  emitDevices(0, true);
   if (recording.end) {
     encodeEnd(payload, *recording.end);
     appendRecord(out, kEndRecord, payload);

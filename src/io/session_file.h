@@ -81,6 +81,16 @@ struct SessionGap {
   uint64_t steps = 0;
 };
 
+// A pen's device changing state during the session: a fault, an unplug, its return. Recorded so
+// that a review says which pen failed and when; replay does not use it (the steps already hold
+// what the loop read).
+struct SessionDeviceEvent {
+  uint64_t step = 0;            // the first step run after the change was seen
+  uint8_t pen = 0;              // PenRole: drill 0, mirror 1
+  std::string state;            // the device's new state ("fault", "disconnected", "ready", ...)
+  std::string reason;           // its reason, printable ASCII, at most 200 bytes
+};
+
 // How the session ended, when it ended cleanly.
 struct SessionEnd {
   uint64_t steps = 0;           // steps run
@@ -93,6 +103,7 @@ struct SessionRecording {
   std::vector<SessionStep> steps;
   std::vector<SessionParams> params;  // by serial, serial 1 first
   std::vector<SessionGap> gaps;
+  std::vector<SessionDeviceEvent> devices;  // in step order
   std::optional<SessionEnd> end;      // absent: the recording stopped without its end record
   // Set when the file ends inside a record (a crash mid-write): what was read is kept, and this
   // says what was dropped ("session.dses: cut off at byte 123456 inside record 789; read 788 steps").
@@ -132,6 +143,7 @@ class SessionWriter {
   void add(const SessionStep& step);
   void add(const SessionParams& params);
   void add(const SessionGap& gap);
+  void add(const SessionDeviceEvent& event);
   Status flush();
   Status sync();
   // Writes the end record, flushes, syncs, closes and renames the file to its final name.

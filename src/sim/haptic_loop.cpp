@@ -83,7 +83,7 @@ void HapticLoop::record(const std::array<PenReading, 2>& readings, int64_t now_n
     dropped_records_.fetch_add(1, std::memory_order_relaxed);
     return;
   }
-  r->step = step_;
+  r->step = step_.load(std::memory_order_relaxed);
   r->wall_ns = now_ns;
   r->params_serial = active_serial_;
   r->pens = 0;
@@ -109,7 +109,7 @@ void HapticLoop::record(const std::array<PenReading, 2>& readings, int64_t now_n
 // ---- the step -----------------------------------------------------------------------------------------
 
 const StepReport& HapticLoop::step() {
-  if (hook_ != nullptr) hook_(step_, hook_user_);
+  if (hook_ != nullptr) hook_(step_.load(std::memory_order_relaxed), hook_user_);
   if (params_.fresh()) activate(params_.read());
   const SimParams& p = *active_params_;
   const double dt = 1.0 / p.device.rate_hz;
@@ -143,7 +143,7 @@ const StepReport& HapticLoop::step() {
   report_.speed = report_.stepped[0] ? std::clamp(readings[0].pedal, 0.0, 1.0) : 0.0;
   if (report_.stepped[0] && tools_[0]->cuts && report_.speed > 0) {
     report_.cut = cutter_.cut(volume_, field_, report_.tools[0].contacts, p, drill_ability_,
-                              report_.speed, dt, step_, edits_);
+                              report_.speed, dt, step_.load(std::memory_order_relaxed), edits_);
   }
 
   // 4. Command the forces: a pen without a reading this step gets zero.
@@ -166,7 +166,7 @@ const StepReport& HapticLoop::step() {
     ts.points_clear = report_.stepped[r] ? report_.tools[r].stats.points_clear : 0;
   }
   if (record_ != nullptr) record(readings, now);
-  totals_.step = ++step_;
+  totals_.step = step_.fetch_add(1, std::memory_order_release) + 1;
   totals_.t_s = t + dt;
   totals_.pedal = report_.speed;
   totals_.guide_n = report_.guide_n;

@@ -154,7 +154,8 @@ class HapticLoop {
   const LoopCounters& counters() const { return counters_; }
   // The step-time histogram of the thread's steps (read after stop()).
   const StepTimes& stepTimes() const { return times_; }
-  uint64_t stepsRun() const { return step_; }
+  // Any thread: the steps run so far (the index of the next step).
+  uint64_t stepsRun() const { return step_.load(std::memory_order_acquire); }
   // Only while the thread is stopped. Default 0: idle CPUs poll instead of sleeping (see idle_latency.h).
   void setIdleLatencyUs(int32_t us) { idle_latency_us_ = us; }
   int32_t idleLatencyUs() const { return idle_latency_us_; }
@@ -201,7 +202,7 @@ class HapticLoop {
   StepReport report_;
   LoopCounters counters_;
   StepTimes times_;
-  uint64_t step_ = 0;
+  std::atomic<uint64_t> step_{0};  // atomic only so that other threads may ask stepsRun()
   std::thread thread_;
   std::atomic<bool> stop_requested_{false};
   int32_t idle_latency_us_ = 0;

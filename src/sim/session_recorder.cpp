@@ -1,6 +1,7 @@
 // SessionRecorder: the writing thread between the loop's ring and the session file.
 #include "sim/session_recorder.h"
 
+#include <algorithm>
 #include <chrono>
 #include <system_error>
 
@@ -50,6 +51,27 @@ void SessionRecorder::setParams(const SimParams& params, std::string json) {
   pending_params_[serial] = std::move(json);
 }
 
+void SessionRecorder::noteDevice(PenRole pen, const std::string& state, const std::string& reason) {
+  if (loop_ == nullptr) return;
+  SessionDeviceEvent e;
+  e.step = loop_->stepsRun();
+  e.pen = uint8_t(pen);
+  e.state = state;
+  // The file keeps printable ASCII of at most 200 bytes: a device's own words are cut to fit.
+  for (char c : reason)
+    if (e.reason.size() < 200) e.reason.push_back(c >= 0x20 && c < 0x7f ? c : '?');
+  std::lock_guard<std::mutex> lock(devices_mutex_);
+  if (!pending_devices_.empty()) e.step = std::max(e.step, pending_devices_.back().step);
+  pending_devices_.push_back(std::move(e));
+}
+
+void SessionRecorder::writeDevices(uint64_t up_to_step, bool all) {
+  std::lock_guard<std::mutex> lock(devices_mutex_);
+  size_t n = 0;
+  while (n < pending_devices_.size() && (all || pending_devices_[n].step <= up_to_step)) writer_.add(pending_devices_[n++]);
+  pending_devices_.erase(pending_devices_.begin(), pending_devices_.begin() + long(n));
+}
+
 void SessionRecorder::drain() {
   while (const SessionStep* s = ring_.front()) {
     if (have_step_ && s->step != next_step_) {
@@ -81,6 +103,7 @@ void SessionRecorder::drain() {
       loop_serial_ = s->params_serial;
       writer_.add(SessionParams{++file_serial_, s->step, std::move(json)});
     }
+    writeDevices(s->step, false);
     SessionStep out = *s;
     ring_.pop();
     out.wall_ns -= start_ns_;
@@ -123,6 +146,7 @@ Status SessionRecorder::finish(const SessionEnd& end) {
     writer_.add(SessionGap{next_step_, run - next_step_});
     steps_lost_.fetch_add(run - next_step_, std::memory_order_relaxed);
   }
+  writeDevices(0, true);
   if (Status st = writer_.finish(end); !st) return st;
   if (!error_.empty()) return makeError(writer_.partPath(), error_);
   return Ok{};

@@ -13,6 +13,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "core/result.h"
 #include "core/spsc_ring.h"
@@ -39,6 +40,9 @@ class SessionRecorder {
   // The same, recorded as `params_json`: the whole preset's text (ui::presetJson), whose tactile
   // sections are `params`.
   void setParams(const SimParams& params, std::string params_json);
+  // A pen's device changed state (any thread; the app calls it from its frame loop): recorded
+  // before the next step the loop runs, so the file says which pen failed and when.
+  void noteDevice(PenRole pen, const std::string& state, const std::string& reason);
   // After the loop has stopped: writes what is left and the end record, and renames the file.
   // Returns the first write error of the session, if any.
   Status finish(const SessionEnd& end);
@@ -49,6 +53,7 @@ class SessionRecorder {
  private:
   void run();
   void drain();
+  void writeDevices(uint64_t up_to_step, bool all);
 
   SpscRing<SessionStep> ring_;
   SessionWriter writer_;
@@ -61,6 +66,8 @@ class SessionRecorder {
   std::map<uint32_t, std::string> pending_params_;
   uint32_t loop_serial_ = 0;   // the loop's serial of the set in force
   uint32_t file_serial_ = 0;   // its serial in the file (1, 2, ... as they come into force)
+  std::mutex devices_mutex_;
+  std::vector<SessionDeviceEvent> pending_devices_;  // in step order, until written
   bool have_step_ = false;
   uint64_t next_step_ = 0;     // the step expected next
   std::atomic<uint64_t> steps_written_{0};

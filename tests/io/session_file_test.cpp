@@ -209,13 +209,13 @@ void putRecord(std::vector<uint8_t>& out, uint8_t kind, const std::vector<uint8_
 
 // The header text encodeSession writes for the test info, as a JSON tree to edit.
 nlohmann::ordered_json headerJson() {
-  const std::vector<uint8_t> bytes = encodeSession(SessionRecording{testInfo(), {}, {}, {}, {}, {}});
+  const std::vector<uint8_t> bytes = encodeSession(SessionRecording{testInfo(), {}, {}, {}, {}, {}, {}});
   uint32_t length = 0;
   std::memcpy(&length, bytes.data() + 12, 4);
   return nlohmann::ordered_json::parse(bytes.begin() + 16, bytes.begin() + 16 + length);
 }
 
-std::vector<uint8_t> headerOnly() { return encodeSession(SessionRecording{testInfo(), {}, {}, {}, {}, {}}); }
+std::vector<uint8_t> headerOnly() { return encodeSession(SessionRecording{testInfo(), {}, {}, {}, {}, {}, {}}); }
 
 // Byte offsets of each record (and, last, the end of the file).
 std::vector<size_t> recordStarts(const std::vector<uint8_t>& bytes) {
@@ -695,6 +695,82 @@ TEST(SessionFileTest, RefusesAnUnknownRecordKind) {
   std::vector<uint8_t> bytes = encodeSteps({step(5)});
   putRecord(bytes, 9, {1, 2, 3});
   expectError(parse(bytes), kWhere + ": " + recordAt(bytes, 2) + ": unknown record kind 9");
+}
+
+std::vector<uint8_t> devicePayload(uint64_t step, uint8_t pen, const std::string& state, const std::string& reason) {
+  std::vector<uint8_t> p;
+  put<uint64_t>(p, step);
+  put<uint8_t>(p, pen);
+  put<uint16_t>(p, uint16_t(state.size()));
+  p.insert(p.end(), state.begin(), state.end());
+  put<uint16_t>(p, uint16_t(reason.size()));
+  p.insert(p.end(), reason.begin(), reason.end());
+  return p;
+}
+
+// A pen's device failing mid-session and coming back: read back as written, in step order, by the
+// writer and by encodeSession alike, and never in the way of the steps around it.
+TEST(SessionFileTest, DeviceEventsRoundTripBetweenTheStepsTheyCameBefore) {
+  SessionRecording r;
+  r.info = testInfo();
+  for (uint64_t k = 10; k < 15; ++k) r.steps.push_back(step(k));
+  r.devices.push_back({12, 1, "fault", "HDAPI servo loop: communication error (HD error 0x0302, internal 7)"});
+  r.devices.push_back({12, 0, "fault", ""});
+  r.devices.push_back({40, 1, "ready", ""});  // after the last step: written at the end
+  r.end = SessionEnd{5, "0123456789abcdef", "stopped"};
+  const std::vector<uint8_t> bytes = encodeSession(r);
+  const Result<SessionRecording> back = parse(bytes);
+  ASSERT_TRUE(back.ok()) << back.message();
+  ASSERT_EQ(back->devices.size(), 3u);
+  for (size_t i = 0; i < 3; ++i) {
+    EXPECT_EQ(back->devices[i].step, r.devices[i].step);
+    EXPECT_EQ(back->devices[i].pen, r.devices[i].pen);
+    EXPECT_EQ(back->devices[i].state, r.devices[i].state);
+    EXPECT_EQ(back->devices[i].reason, r.devices[i].reason);
+  }
+  EXPECT_EQ(back->steps.size(), 5u);
+  EXPECT_EQ(encodeSession(*back), bytes);
+  // Records: header, step 10, step 11, the two events, step 12 ...: the events come just before step 12.
+  const std::vector<size_t> starts = recordStarts(bytes);
+  EXPECT_EQ(bytes[starts[2]], 5);
+  EXPECT_EQ(bytes[starts[3]], 5);
+  EXPECT_EQ(bytes[starts[4]], 1);
+  // The writer, given the same calls in that order, writes the same bytes.
+  test::TempDir dir;
+  const std::string path = dir.file("d.dses");
+  SessionWriter w;
+  ASSERT_TRUE(w.open(path, r.info).ok());
+  w.add(r.steps[0]);
+  w.add(r.steps[1]);
+  w.add(r.devices[0]);
+  w.add(r.devices[1]);
+  for (size_t k = 2; k < 5; ++k) w.add(r.steps[k]);
+  w.add(r.devices[2]);
+  ASSERT_TRUE(w.finish(*r.end).ok());
+  EXPECT_EQ(fileBytes(path), bytes);
+}
+
+TEST(SessionFileTest, RefusesDeviceEventsThatAreMalformedOrOutOfOrder) {
+  const auto with = [](const std::vector<std::vector<uint8_t>>& payloads) {
+    std::vector<uint8_t> bytes = encodeSteps({step(5), step(6)});
+    for (const auto& p : payloads) putRecord(bytes, 5, p);
+    return bytes;
+  };
+  auto bytes = with({devicePayload(6, 2, "fault", "")});
+  expectError(parse(bytes), kWhere + ": " + recordAt(bytes, 3) +
+                                ": device event at step 6: pen 2 (expected 0, the drill, or 1, the mirror)");
+  bytes = with({devicePayload(6, 0, "", "")});
+  expectError(parse(bytes), kWhere + ": " + recordAt(bytes, 3) +
+                                ": device event at step 6: state \"\" is not a short printable word");
+  bytes = with({devicePayload(6, 0, "fault", "a\nb")});
+  EXPECT_FALSE(parse(bytes).ok());
+  bytes = with({devicePayload(6, 0, "fault", ""), devicePayload(5, 1, "fault", "")});
+  expectError(parse(bytes), kWhere + ": " + recordAt(bytes, 4) + ": device event at step 5 comes after one at step 6");
+  std::vector<uint8_t> cut = devicePayload(6, 0, "fault", "why");
+  cut.pop_back();
+  bytes = with({cut});
+  expectError(parse(bytes), kWhere + ": " + recordAt(bytes, 3) +
+                                ": device payload of 20 bytes does not match its string lengths");
 }
 
 TEST(SessionFileTest, RefusesNonZeroReservedBytes) {

@@ -52,7 +52,7 @@ SessionStep seedStep(uint64_t k, uint8_t pens, uint32_t params_serial) {
   return s;
 }
 
-// Steps 3..6 with both pens, drill only and none; parameter sets; a gap; the end record.
+// Steps 3..6 with both pens, drill only and none; parameter sets; a gap; device events; the end record.
 SessionRecording seedRecording() {
   SessionRecording r;
   SessionInfo& info = r.info;
@@ -71,6 +71,7 @@ SessionRecording seedRecording() {
   r.steps = {seedStep(3, 0b11, 0), seedStep(4, 0b01, 1), seedStep(5, 0b00, 1), seedStep(9, 0b10, 2)};
   r.params = {{1, 4, R"({"k": 0.2})"}, {2, 6, R"({"k": 0.3})"}};
   r.gaps = {{6, 3}};
+  r.devices = {{4, 1, "fault", "HDAPI servo loop: communication error"}, {12, 1, "ready", ""}};
   r.end = SessionEnd{10, "fedcba9876543210", "completed"};
   return r;
 }
@@ -214,12 +215,22 @@ void checkOutcome(const Result<SessionRecording>& r, int iteration, int* accepte
       ASSERT_TRUE(pen.pedal >= 0 && pen.pedal <= 1) << "iteration " << iteration;
     }
   }
+  for (size_t i = 0; i < rec.devices.size(); ++i) {
+    const SessionDeviceEvent& e = rec.devices[i];
+    ASSERT_LE(e.pen, 1) << "iteration " << iteration;
+    ASSERT_FALSE(e.state.empty()) << "iteration " << iteration;
+    ASSERT_LE(e.reason.size(), 200u) << "iteration " << iteration;
+    if (i > 0) {
+      ASSERT_GE(e.step, rec.devices[i - 1].step) << "iteration " << iteration;
+    }
+  }
   // What was read encodes to a file that reads back the same, and encodes to the same bytes again.
   const std::vector<uint8_t> bytes = encodeSession(rec);
   const Result<SessionRecording> again = parseSession(bytes, kWhere, fuzzLimits());
   ASSERT_TRUE(again.ok()) << "iteration " << iteration << ": " << again.message();
   ASSERT_TRUE(again->truncation_warning.empty()) << again->truncation_warning;
   ASSERT_EQ(again->steps.size(), rec.steps.size()) << "iteration " << iteration;
+  ASSERT_EQ(again->devices.size(), rec.devices.size()) << "iteration " << iteration;
   for (size_t i = 0; i < rec.steps.size(); ++i)
     ASSERT_EQ(bits(again->steps[i].reading[0].grip.rotation.w), bits(rec.steps[i].reading[0].grip.rotation.w));
   ASSERT_EQ(again->info.params_json, rec.info.params_json) << "iteration " << iteration;
