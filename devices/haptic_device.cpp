@@ -29,6 +29,8 @@ void HapticDevice::setState(DeviceState s, std::string reason) {
   }
   // Leaving Enabled for any reason stops the force before anyone sees the new state.
   if (s != DeviceState::Enabled) safety_.disable();
+  // A fault also stops the other pen of the same student (SafetyGroup).
+  if (s == DeviceState::Fault) safety_.haltGroup();
   state_.store(s, std::memory_order_release);
 }
 

@@ -94,6 +94,8 @@ class HapticDevice {
   void command(const Wrench& wrench, int64_t now_ns) { safety_.command(wrench, now_ns); }
 
   const SafetyLayer& safety() const { return safety_; }
+  // Control thread, before enabling: the pens of one student stand or fall together (SafetyGroup).
+  void joinSafetyGroup(SafetyGroup* group, int member) { safety_.joinGroup(group, member); }
 
  protected:
   void setState(DeviceState s, std::string reason = {});

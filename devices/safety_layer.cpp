@@ -39,6 +39,7 @@ const char* gateName(SafetyGate g) {
     case SafetyGate::Disarmed: return "waiting for a small first command";
     case SafetyGate::Watchdog: return "watchdog";
     case SafetyGate::Stopping: return "stopping";
+    case SafetyGate::OtherPen: return "the other pen faulted";
   }
   return "?";
 }
@@ -70,6 +71,10 @@ SafetyLayer::Output SafetyLayer::output(int64_t now_ns) {
     out.gate = SafetyGate::NotEnabled;
     return out;
   }
+  if (group_ != nullptr && group_->halted()) {
+    out.gate = SafetyGate::OtherPen;
+    return out;
+  }
   const uint32_t serial = enable_serial_.load(std::memory_order_acquire);
   if (serial != seen_serial_) {  // a fresh enable(): disarm and restart the watchdog's clock
     seen_serial_ = serial;
@@ -90,6 +95,7 @@ SafetyLayer::Output SafetyLayer::output(int64_t now_ns) {
   const int64_t fresh_since = c.stale ? enabled_at_ns_ : std::max(c.stamp_ns, enabled_at_ns_);
   if (now_ns - fresh_since > watchdog_ns) {
     faulted_.store(true, std::memory_order_release);
+    haltGroup();
     out.gate = SafetyGate::Watchdog;
     return out;
   }

@@ -37,8 +37,34 @@ enum class SafetyGate : uint8_t {
   Disarmed,    // enabled, but no small command yet
   Watchdog,    // no fresh command within watchdog_ms: latched fault
   Stopping,    // the process was asked to stop (signal, exit)
+  OtherPen,    // another pen of the same student faulted (SafetyGroup): zero until the group is cleared
 };
 const char* gateName(SafetyGate g);
+
+// The pens of one student: a fault on any of them (its watchdog, or its backend's error) zeroes
+// every pen of the group from their next output() on, because the two hands work together: a
+// drill that keeps pushing while the mirror hand has lost its pen is not a state to practise in.
+// The group stays halted until clear() (the app clears it when a new segment starts). Lock-free:
+// halt() may come from any pen's output thread, and from a signal-free servo callback.
+class SafetyGroup {
+ public:
+  // Marks the group halted; the first member to halt it is remembered.
+  void halt(int member) {
+    int none = -1;
+    first_.compare_exchange_strong(none, member, std::memory_order_acq_rel);
+    halted_.store(true, std::memory_order_release);
+  }
+  bool halted() const { return halted_.load(std::memory_order_acquire); }
+  int firstFault() const { return first_.load(std::memory_order_acquire); }  // -1: none
+  void clear() {
+    halted_.store(false, std::memory_order_release);
+    first_.store(-1, std::memory_order_release);
+  }
+
+ private:
+  std::atomic<bool> halted_{false};
+  std::atomic<int> first_{-1};
+};
 
 class SafetyLayer {
  public:
@@ -48,6 +74,15 @@ class SafetyLayer {
   void setLimits(double max_force_n, double max_torque_n_mm);
   void enable();    // arms the ramp anew and clears a latched watchdog fault
   void disable();   // zero from the next output() on
+  // Control thread, before forces flow: this layer's pen is `member` of `group` (which outlives it).
+  void joinGroup(SafetyGroup* group, int member) {
+    group_ = group;
+    member_ = member;
+  }
+  // Any thread: this pen failed; every pen of its group (if any) gives zero from its next output().
+  void haltGroup() {
+    if (group_ != nullptr) group_->halt(member_);
+  }
   bool enabled() const { return enabled_.load(std::memory_order_acquire); }
 
   // Haptic thread: the wrench the loop wants rendered (device frame), stamped with now_ns.
@@ -83,6 +118,8 @@ class SafetyLayer {
   // preempted inside command()) is judged by this one instead: its stamp still ages, so the
   // watchdog fires exactly when the newest readable command is too old, never earlier.
   ForceOutput::Command last_read_;
+  SafetyGroup* group_ = nullptr;
+  int member_ = -1;
 };
 
 // Process-wide stop: once requested (by a signal handler or at exit) every SafetyLayer outputs zero.

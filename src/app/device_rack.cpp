@@ -61,6 +61,7 @@ Status DeviceRack::open(const PenPath* script, bool with_mirror, const RackPlace
       devices_[r] = std::move(*made);
     }
     devices::HapticDevice& device = *devices_[r];
+    device.joinSafetyGroup(&hands_, int(r));
     if (Status st = device.open(); !st) return makeError(where, st.message());
     shown_state_[r] = device.state();
     if (device.state() != devices::DeviceState::Ready)
@@ -79,6 +80,9 @@ Status DeviceRack::open(const PenPath* script, bool with_mirror, const RackPlace
 }
 
 void DeviceRack::enable() {
+  // A new segment: a pen that faulted in the last one no longer holds the other at zero.
+  hands_.clear();
+  hands_told_ = false;
   for (auto& d : devices_) {
     if (!d) continue;
     if (d->state() == devices::DeviceState::Fault) d->disable();  // a watchdog fault clears on a new segment
@@ -103,7 +107,7 @@ bool DeviceRack::service(bool loop_running) {
     if (!d) continue;
     d->service();
     // A pen back from an unplug (replugged and homed) takes force again while the loop runs.
-    if (loop_running && d->state() == devices::DeviceState::Ready)
+    if (loop_running && !hands_.halted() && d->state() == devices::DeviceState::Ready)
       if (Status st = d->enable(); !st) note_(st.message());
     const devices::DeviceState now = d->state();
     // Ready and Enabled are the usual states; a pen leaving them or coming back is news.
@@ -111,8 +115,15 @@ bool DeviceRack::service(bool loop_running) {
       const std::string why = d->reason();
       note_(std::string(penRoleName(PenRole(r))) + " pen " + d->name() + ": " + devices::stateName(now) +
             (why.empty() ? "" : " (" + why + ")"));
+      if (pen_change_) pen_change_(PenRole(r), devices::stateName(now), why);
     }
     shown_state_[r] = now;
+  }
+  if (hands_.halted() && !hands_told_ && devices_[0] && devices_[1]) {
+    const int first = hands_.firstFault();
+    if (first == 0 || first == 1)
+      note_(std::string(penRoleName(PenRole(first))) + " pen failed: both pens' forces are zero until the next segment");
+    hands_told_ = true;
   }
   if (pedal_) {
     pedal_->service();

@@ -43,6 +43,8 @@ struct RackPlacement {
 class DeviceRack {
  public:
   using Note = std::function<void(const std::string&)>;  // tells the user (terminal and status line)
+  // A pen's device changed state: which pen, its new state's name and the reason (for the session).
+  using PenChange = std::function<void(PenRole, const std::string& state, const std::string& reason)>;
   DeviceRack(DeviceRackOptions options, Note note) : o_(std::move(options)), note_(std::move(note)) {}
   DeviceRack(const DeviceRack&) = delete;
   DeviceRack& operator=(const DeviceRack&) = delete;
@@ -59,17 +61,26 @@ class DeviceRack {
   bool hasPedal() const { return pedal_ != nullptr; }
   bool hasVirtualPen() const { return virtual_[0] || virtual_[1]; }
 
+  // Where pen state changes go besides the note (the app records them in the session).
+  void onPenChange(PenChange sink) { pen_change_ = std::move(sink); }
+
   // Force on at a segment's start (the watchdog counts from here), off before its loop stops.
   void enable();
   void disable();
   // Every frame: reconnections, and a pen or the pedal changing state is news. `loop_running`:
-  // a pen back from an unplug takes force again. Returns true when a signal asked every pen for zero force.
+  // a pen back from an unplug takes force again, unless the other pen faulted in this segment
+  // (both pens stay at zero until the next segment: the student's hands work together). Returns true when a signal asked every pen for zero force.
   bool service(bool loop_running);
   void close();  // once, at the run's end
 
  private:
   DeviceRackOptions o_;
   Note note_;
+  PenChange pen_change_;
+  // The two pens are one student's hands: a fault on either zeroes both (devices::SafetyGroup).
+  // Declared before the devices, whose safety layers point at it.
+  devices::SafetyGroup hands_;
+  bool hands_told_ = false;  // the "both pens at zero" line was shown for this halt
   std::array<std::unique_ptr<devices::HapticDevice>, 2> devices_;
   std::array<std::unique_ptr<devices::DevicePen>, 2> pens_;
   std::array<devices::VirtualPen*, 2> virtual_{};  // into devices_, where a pen is virtual

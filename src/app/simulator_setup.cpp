@@ -9,6 +9,7 @@
 #include "eval/cut_score.h"
 #include "sim/course_paths.h"
 #include "sim/novice_paths.h"
+#include "sim/session_recorder.h"
 #include "sim/pen_script.h"
 #include "sim/scripted_paths.h"
 #include "sim/builtin_tooth.h"
@@ -182,6 +183,10 @@ Status Simulator::setUp() {
     if (guide_->source_tooth_hash != volumeHashHex(initial_.voxels, initial_.frame))
       note("warning: --guide " + o_.guide + " was recorded on another tooth (" + guide_->source_tooth_hash + ")");
   }
+  // A pen failing, leaving or coming back goes into the session being recorded, if any.
+  rack_.onPenChange([this](PenRole pen, const std::string& state, const std::string& why) {
+    if (SessionRecorder* recorder = segments_.recorder()) recorder->noteDevice(pen, state, why);
+  });
   if (Status st = rack_.open(script_ ? &*script_ : nullptr, mirror_tool_.has_value(), at, params_.device, lockstep_); !st)
     return st;
   if (rack_.hasVirtualPen()) {

@@ -154,6 +154,55 @@ TEST(SafetyLayer, EnabledButNeverCommandedFaultsAfterTheWatchdog) {
   EXPECT_EQ(s.output(103 * kMs + 1).gate, SafetyGate::Watchdog);
 }
 
+// Two pens of one student: the drill's watchdog fires, and the mirror, still commanded and
+// fresh, gives zero from its next output on; clearing the group (a new segment) lets it through.
+TEST(SafetyLayer, AFaultOnOnePenOfAGroupZeroesTheOtherUntilTheGroupIsCleared) {
+  SafetyGroup hands;
+  SafetyLayer drill, mirror;
+  drill.joinGroup(&hands, 0);
+  mirror.joinGroup(&hands, 1);
+  int64_t t = 0;
+  arm(drill, &t);
+  arm(mirror, &t);
+  drill.command(Wrench{{0, 0, 0.2}, {}}, t);
+  mirror.command(Wrench{{0.1, 0, 0}, {}}, t);
+  EXPECT_EQ(drill.output(t).gate, SafetyGate::Pass);
+  EXPECT_EQ(mirror.output(t).gate, SafetyGate::Pass);
+  // The drill's loop stalls; the mirror's keeps commanding.
+  mirror.command(Wrench{{0.1, 0, 0}, {}}, t + 4 * kMs);
+  EXPECT_EQ(drill.output(t + 4 * kMs).gate, SafetyGate::Watchdog);
+  const SafetyLayer::Output held = mirror.output(t + 4 * kMs);
+  EXPECT_EQ(held.gate, SafetyGate::OtherPen);
+  EXPECT_EQ(held.wrench.force, Vec3{});
+  EXPECT_FALSE(mirror.faulted()) << "held, not faulted: it did nothing wrong";
+  EXPECT_EQ(hands.firstFault(), 0);
+  // A backend's own fault halts the group the same way (HapticDevice::setState(Fault)).
+  hands.clear();
+  EXPECT_EQ(mirror.output(t + 4 * kMs).gate, SafetyGate::Pass);
+  mirror.haltGroup();
+  EXPECT_EQ(hands.firstFault(), 1);
+  EXPECT_EQ(mirror.output(t + 4 * kMs).gate, SafetyGate::OtherPen);
+}
+
+TEST(DeviceSafety, ADeviceGoingToFaultHaltsItsGroup) {
+  SafetyGroup hands;
+  test::FakePen drill, mirror;
+  drill.joinSafetyGroup(&hands, 0);
+  mirror.joinSafetyGroup(&hands, 1);
+  ASSERT_TRUE(drill.open().ok() && mirror.open().ok());
+  ASSERT_TRUE(drill.enable().ok() && mirror.enable().ok());
+  drill.command(Wrench{{0, 0, 0.2}, {}}, 0);
+  mirror.command(Wrench{{0, 0, 0.2}, {}}, 0);
+  EXPECT_EQ(drill.sendToMotors(0).gate, SafetyGate::Pass);
+  EXPECT_EQ(mirror.sendToMotors(0).gate, SafetyGate::Pass);
+  // The drill's watchdog: the device goes to Fault, and the mirror's next packet is zero.
+  mirror.command(Wrench{{0, 0, 0.2}, {}}, 4 * kMs);
+  EXPECT_EQ(drill.sendToMotors(4 * kMs).gate, SafetyGate::Watchdog);
+  EXPECT_EQ(drill.state(), DeviceState::Fault);
+  EXPECT_EQ(mirror.sendToMotors(4 * kMs).wrench.force, Vec3{});
+  EXPECT_EQ(mirror.state(), DeviceState::Enabled);
+}
+
 TEST(SafetyLayer, DisableGivesZeroAtOnce) {
   int64_t t = 0;
   SafetyLayer s;
