@@ -2,6 +2,8 @@
 #include "sim/tool_library.h"
 
 #include <algorithm>
+#include <mutex>
+#include <vector>
 
 #include "model/builtin_assets.h"
 #include "model/tool_generator.h"
@@ -28,7 +30,9 @@ Result<ToolModel> makeToolModel(const std::string& name, const TriangleMesh& mes
   return tool;
 }
 
-Result<ToolModel> loadToolModel(const std::string& name, const PointShellParams& spacing) {
+namespace {
+
+Result<ToolModel> buildToolModel(const std::string& name, const PointShellParams& spacing) {
   for (const ToolSpec& spec : toolCatalog()) {
     if (name != spec.name) continue;
     const bool bur = spec.kind == ToolKind::RoundBur || spec.kind == ToolKind::FissureBur;
@@ -42,6 +46,39 @@ Result<ToolModel> loadToolModel(const std::string& name, const PointShellParams&
     return makeToolModel(name, *mesh, 0.0, kMirrorGripLocal, mirror_spacing);
   }
   return makeError(name, "no such built-in tool (see assets/tools/tools.json)");
+}
+
+// Built tools by name and spacing. A point shell takes a second or more to build and is always the
+// same for the same name and spacing, so a replay, a ghost or the next segment reuses the first one.
+// Bounded: a session uses two or three tools, a picker a few more.
+struct CachedTool {
+  std::string name;
+  PointShellParams spacing;
+  ToolModel model;
+};
+constexpr size_t kMaxCachedTools = 8;
+std::mutex g_tools_mutex;
+std::vector<CachedTool> g_tools;
+
+bool sameSpacing(const PointShellParams& a, const PointShellParams& b) {
+  return a.head_spacing_mm == b.head_spacing_mm && a.shank_spacing_mm == b.shank_spacing_mm &&
+         a.mirror_spacing_mm == b.mirror_spacing_mm;
+}
+
+}  // namespace
+
+Result<ToolModel> loadToolModel(const std::string& name, const PointShellParams& spacing) {
+  {
+    std::lock_guard lock(g_tools_mutex);
+    for (const CachedTool& c : g_tools)
+      if (c.name == name && sameSpacing(c.spacing, spacing)) return c.model;
+  }
+  auto built = buildToolModel(name, spacing);
+  if (!built) return built;
+  std::lock_guard lock(g_tools_mutex);
+  if (g_tools.size() >= kMaxCachedTools) g_tools.erase(g_tools.begin());
+  g_tools.push_back(CachedTool{name, spacing, *built});
+  return built;
 }
 
 }  // namespace dentsim
