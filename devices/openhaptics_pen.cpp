@@ -1,7 +1,7 @@
-// OpenHaptics plug-in: loads the vendor's HDAPI with dlopen, runs the 1 kHz servo callback, and keeps the pen's state.
+// OpenHaptics plug-in: loads the vendor's HDAPI with dlopen, runs one 1 kHz servo callback for every open pen, and keeps each pen's state.
 //
-// Sections: 1. HDAPI declarations  2. the loaded library  3. the pen: open, servo callback, read,
-// service, close  4. enumeration and the factory.
+// Sections: 1. HDAPI declarations  2. the loaded library  3. the shared scheduler and the pen: open,
+// servo frame, read, service, close  4. enumeration and the factory.
 //
 // The build never needs OpenHaptics: the handful of HDAPI types, values and entry points used here
 // are declared below from the OpenHaptics HDAPI reference (its headers hd.h, hdScheduler.h and
@@ -9,6 +9,7 @@
 // newtons, as dentsim does; torques are in mN m, which is exactly N mm.
 #include "devices/openhaptics_pen.h"
 
+#include <dirent.h>
 #include <dlfcn.h>
 
 #include <algorithm>
@@ -19,6 +20,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
+#include <memory>
+#include <mutex>
 #include <thread>
 
 #include "core/seqlock.h"
@@ -162,7 +166,53 @@ std::string calibrationAdvice(int supported) {
   return "not calibrated: move the stylus through its whole workspace";
 }
 
-// ---- 3. the pen ----
+// ---- 3. the scheduler every open pen shares, and the pen ----
+
+class OpenHapticsPen;
+
+// HDAPI has one scheduler per process, and one current device. dentsim's pens therefore share one
+// HdServo while any is open: the library, the scheduler, and one servo callback that serves every
+// open pen in turn, each made current and inside its own begin/end frame (as the vendor's
+// dual-device examples do). A control thread only addresses a device while the scheduler is
+// stopped, so it never switches the current device under the servo thread; every stop is preceded
+// by a pass of zero-force frames, so no pen is left pushing when the scheduler stops.
+class HdServo {
+ public:
+  // The one for `library_path`, loading it when no pen is open. Another library while pens from
+  // one are open is an error: a process cannot hold two HDAPIs.
+  static Result<std::shared_ptr<HdServo>> acquire(const std::string& library_path);
+  explicit HdServo(std::unique_ptr<HdLibrary> lib) : lib_(std::move(lib)) {}
+  ~HdServo();
+  HdServo(const HdServo&) = delete;
+  HdServo& operator=(const HdServo&) = delete;
+
+  HdLibrary& lib() { return *lib_; }
+  // Control thread: stops the scheduler (zero frames first), runs `init`, which may address the
+  // new pen's device, then serves `pen` too and starts the scheduler again. On an error the pen is
+  // not served, and the other pens run on.
+  Status attach(OpenHapticsPen* pen, const std::function<Status()>& init);
+  // Control thread: the same stop, then `pen` is served no more and `release` may address its
+  // device; the scheduler starts again when other pens are left.
+  void detach(OpenHapticsPen* pen, const std::function<void()>& release);
+
+ private:
+  static hd::HDCallbackCode callback(void* self);
+  void pause();   // zero frames for every pen, then stop; control_ held
+  Status resume();  // start when any pen is served; control_ held
+
+  static constexpr size_t kMaxPens = 4;  // drill and mirror, and room for a teacher's pair
+  std::unique_ptr<HdLibrary> lib_;
+  std::mutex control_;  // attach and detach, from any control thread
+  std::array<std::atomic<OpenHapticsPen*>, kMaxPens> pens_{};
+  std::atomic<bool> zero_all_{false};  // the servo callback sends zero to every pen
+  std::atomic<long> passes_{0};        // servo callback passes completed
+  bool running_ = false;               // control_ held
+  bool scheduled_ = false;
+  hd::HDSchedulerHandle handle_ = 0;
+};
+
+std::mutex g_servo_mutex;
+std::weak_ptr<HdServo> g_servo;  // alive while any pen holds it
 
 class OpenHapticsPen final : public HapticDevice {
  public:
@@ -180,24 +230,23 @@ class OpenHapticsPen final : public HapticDevice {
   void service() override;
   bool read(double t_s, DeviceReading* out) override;
 
+  // Servo thread, from HdServo's callback: one frame for this pen (zero force when `zero`).
+  void servoFrame(bool zero);
+
  private:
-  static hd::HDCallbackCode servoCallback(void* self) { return static_cast<OpenHapticsPen*>(self)->servo(); }
-  hd::HDCallbackCode servo();
-  hd::HDCallbackCode servoFault(const hd::ErrorInfo& error, bool in_frame);
+  void servoFault(const hd::ErrorInfo& error, bool in_frame);
   Status fail(DeviceState state, const std::string& why);
   bool servoStoppedOnFault();
+  Status initDevice();
   Status readSpec();
   void shutDown();
 
   std::string device_name_;
   OpenHapticsOptions options_;
   DeviceSpec spec_;
-  std::unique_ptr<HdLibrary> lib_;  // set while open; the servo callback uses it
+  std::shared_ptr<HdServo> servo_;  // set while open
+  HdLibrary* lib_ = nullptr;        // servo_'s library, for the servo thread
   hd::HHD device_ = hd::kInvalidHandle;
-  hd::HDSchedulerHandle servo_handle_ = 0;
-  // HDAPI has one scheduler per process: stopped only by the pen that started it. (Two pens from
-  // one process would need a shared owner for it; dentsim opens one OpenHaptics pen at a time.)
-  bool scheduler_started_ = false;
   bool renders_torque_ = false;
   int calibration_styles_ = 0;
 
@@ -205,13 +254,103 @@ class OpenHapticsPen final : public HapticDevice {
   SeqLock<DeviceReading> reading_;  // the servo callback's latest sample, for read()
   std::atomic<long> frames_{0};               // servo frames completed
   std::atomic<bool> calibrated_{false};
-  std::atomic<bool> servo_running_{false};    // the callback is scheduled and has not returned DONE
-  // others -> servo thread
-  std::atomic<bool> stop_requested_{false};   // close(): send one zero frame and finish
+  std::atomic<bool> servo_running_{false};    // served and not stopped by a fault
   char fault_text_[256] = {};                 // why it stopped; written before servo_running_ goes false
   // servo thread only
   long calibration_countdown_ = 0;
 };
+
+// ---- the shared scheduler ----
+
+Result<std::shared_ptr<HdServo>> HdServo::acquire(const std::string& library_path) {
+  std::lock_guard lock(g_servo_mutex);
+  if (auto servo = g_servo.lock()) {
+    if (servo->lib().path != library_path)
+      return Error{"OpenHaptics library " + library_path + ": pens from " + servo->lib().path +
+                   " are open in this dentsim, and one process holds one HDAPI"};
+    return servo;
+  }
+  auto lib = loadHdLibrary(library_path);
+  if (!lib) return lib.error();
+  (*lib)->drainErrors();  // errors left over from earlier use of the library
+  auto servo = std::make_shared<HdServo>(std::move(*lib));
+  g_servo = servo;
+  return servo;
+}
+
+HdServo::~HdServo() {
+  std::lock_guard lock(control_);
+  pause();
+  if (scheduled_) lib_->hdUnschedule(handle_);
+  lib_->drainErrors();
+}
+
+hd::HDCallbackCode HdServo::callback(void* self) {
+  HdServo& s = *static_cast<HdServo*>(self);
+  const bool zero = s.zero_all_.load(std::memory_order_acquire);
+  for (auto& slot : s.pens_)
+    if (OpenHapticsPen* pen = slot.load(std::memory_order_acquire)) pen->servoFrame(zero);
+  s.passes_.fetch_add(1, std::memory_order_acq_rel);
+  return hd::kCallbackContinue;
+}
+
+void HdServo::pause() {
+  if (!running_) return;
+  // Two whole passes of zero frames (the first may have begun before the flag): every served pen's
+  // motors read zero before the scheduler stops. Bounded: a stalled scheduler is stopped anyway.
+  zero_all_.store(true, std::memory_order_release);
+  const long target = passes_.load(std::memory_order_acquire) + 2;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(kLastFrameTimeoutMs);
+  while (passes_.load(std::memory_order_acquire) < target && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  lib_->hdStopScheduler();
+  running_ = false;
+  zero_all_.store(false, std::memory_order_release);
+}
+
+Status HdServo::resume() {
+  bool any = false;
+  for (auto& slot : pens_) any = any || slot.load(std::memory_order_acquire) != nullptr;
+  if (!any) return Ok{};
+  if (!scheduled_) {
+    handle_ = lib_->hdScheduleAsynchronous(&HdServo::callback, this, hd::kMaxSchedulerPriority);
+    scheduled_ = true;
+  }
+  lib_->hdStartScheduler();
+  running_ = true;
+  if (std::string e = lib_->takeError("starting the HDAPI servo loop"); !e.empty()) return Error{e};
+  return Ok{};
+}
+
+Status HdServo::attach(OpenHapticsPen* pen, const std::function<Status()>& init) {
+  std::lock_guard lock(control_);
+  pause();
+  Status st = init();
+  if (st) {
+    auto free_slot = std::find_if(pens_.begin(), pens_.end(), [](const auto& s) { return s.load() == nullptr; });
+    if (free_slot == pens_.end()) st = Error{"more OpenHaptics pens than dentsim serves at once (4)"};
+    else free_slot->store(pen, std::memory_order_release);
+  }
+  Status started = resume();
+  if (!st) return st;
+  if (!started) {
+    for (auto& slot : pens_)
+      if (slot.load() == pen) slot.store(nullptr, std::memory_order_release);
+    return started;
+  }
+  return Ok{};
+}
+
+void HdServo::detach(OpenHapticsPen* pen, const std::function<void()>& release) {
+  std::lock_guard lock(control_);
+  pause();
+  for (auto& slot : pens_)
+    if (slot.load() == pen) slot.store(nullptr, std::memory_order_release);
+  release();
+  (void)resume();  // an error starting again shows in the other pens' first frames
+}
+
+// ---- the pen ----
 
 Status OpenHapticsPen::fail(DeviceState state, const std::string& why) {
   setState(state, why);
@@ -220,22 +359,14 @@ Status OpenHapticsPen::fail(DeviceState state, const std::string& why) {
 
 // After a control-thread state change: if the servo loop has ended on an error meanwhile, its Fault wins.
 bool OpenHapticsPen::servoStoppedOnFault() {
-  if (lib_ == nullptr || servo_running_.load(std::memory_order_acquire) || fault_text_[0] == '\0') return false;
+  if (servo_ == nullptr || servo_running_.load(std::memory_order_acquire) || fault_text_[0] == '\0') return false;
   if (state() != DeviceState::Fault) setState(DeviceState::Fault, fault_text_);
   return true;
 }
 
-Status OpenHapticsPen::open() {
-  if (lib_ != nullptr) {
-    if (servo_running_.load(std::memory_order_acquire)) return Ok{};  // open and running: state says how
-    shutDown();  // its servo loop ended on a fault: start over
-  }
-  auto lib = loadHdLibrary(libraryPath(options_));
-  if (!lib) return fail(DeviceState::Disconnected, lib.message());
-  lib_ = std::move(*lib);
+// Inside HdServo::attach, scheduler stopped: the device by its configuration name, its spec, force on.
+Status OpenHapticsPen::initDevice() {
   HdLibrary& l = *lib_;
-  l.drainErrors();  // errors left over from earlier use of the library
-
   // "Default" is HD_DEFAULT_DEVICE: the pen Touch Setup marks as the default.
   const char* config = device_name_ == "Default" ? hd::kDefaultDevice : device_name_.c_str();
   device_ = l.hdInitDevice(config);
@@ -244,30 +375,39 @@ Status OpenHapticsPen::open() {
     const std::string why = init_error.empty() ? "hdInitDevice(\"" + device_name_ + "\") failed" : init_error;
     if (device_ != hd::kInvalidHandle) l.hdDisableDevice(device_);
     device_ = hd::kInvalidHandle;
-    lib_.reset();
-    return fail(DeviceState::Disconnected, why);
+    l.drainErrors();
+    return Error{why};
   }
   l.hdMakeCurrentDevice(device_);
   if (Status s = readSpec(); !s) {
-    shutDown();
-    return fail(DeviceState::Disconnected, s.message());
+    l.hdDisableDevice(device_);
+    device_ = hd::kInvalidHandle;
+    l.drainErrors();
+    return s;
   }
   safetyLayer().setLimits(spec_.max_force_n, spec_.max_torque_n_mm);
-
   // Forces go out only through the safety layer; the device's own clamp is a second line.
   l.hdEnable(hd::kForceOutput);
   l.hdEnable(hd::kMaxForceClamping);
-  stop_requested_.store(false, std::memory_order_release);
   fault_text_[0] = '\0';
   calibration_countdown_ = 0;
-  const long frames_before = frames_.load(std::memory_order_acquire);
   servo_running_.store(true, std::memory_order_release);
-  servo_handle_ = l.hdScheduleAsynchronous(&OpenHapticsPen::servoCallback, this, hd::kMaxSchedulerPriority);
-  l.hdStartScheduler();
-  scheduler_started_ = true;
-  if (std::string e = l.takeError("starting the HDAPI servo loop"); !e.empty()) {
+  return Ok{};
+}
+
+Status OpenHapticsPen::open() {
+  if (servo_ != nullptr) {
+    if (servo_running_.load(std::memory_order_acquire)) return Ok{};  // open and running: state says how
+    shutDown();  // its servo loop ended on a fault: start over
+  }
+  auto servo = HdServo::acquire(libraryPath(options_));
+  if (!servo) return fail(DeviceState::Disconnected, servo.message());
+  servo_ = std::move(*servo);
+  lib_ = &servo_->lib();
+  const long frames_before = frames_.load(std::memory_order_acquire);
+  if (Status st = servo_->attach(this, [this] { return initDevice(); }); !st) {
     shutDown();
-    return fail(DeviceState::Disconnected, e);
+    return fail(DeviceState::Disconnected, st.message());
   }
 
   // Wait (bounded) for the first frame, so that the state below is the pen's, not a guess.
@@ -289,7 +429,6 @@ Status OpenHapticsPen::open() {
   if (servoStoppedOnFault()) return makeError(name(), reason());
   return Ok{};
 }
-
 Status OpenHapticsPen::readSpec() {
   HdLibrary& l = *lib_;
   const char* model = l.hdGetString(hd::kDeviceModelType);
@@ -326,9 +465,10 @@ Status OpenHapticsPen::readSpec() {
   return Ok{};
 }
 
-// The servo callback, on HDAPI's scheduler thread at about 1 kHz: sample, then send output(). It
+// One servo frame, on HDAPI's scheduler thread at about 1 kHz: sample, then send output(). It
 // never allocates or blocks on the steady path; only the one-time fault path below builds a reason.
-hd::HDCallbackCode OpenHapticsPen::servo() {
+void OpenHapticsPen::servoFrame(bool zero) {
+  if (!servo_running_.load(std::memory_order_acquire)) return;  // stopped on a fault: served no more
   HdLibrary& l = *lib_;
   l.hdMakeCurrentDevice(device_);
   if (calibration_countdown_-- <= 0) {
@@ -366,9 +506,11 @@ hd::HDCallbackCode OpenHapticsPen::servo() {
   r.stamp_ns = now_ns;
   reading_.store(r);
 
-  const bool stopping = stop_requested_.load(std::memory_order_acquire);
-  // The only force source: the safety layer's answer (zero unless enabled, armed and fresh).
-  const Wrench w = stopping ? Wrench{} : output(now_ns).wrench;
+  // The only force source: the safety layer's answer (zero unless enabled, armed and fresh, and
+  // zero while the other pen of the student is down). Asked even when the scheduler is about to
+  // stop, so that the watchdog keeps counting.
+  const Wrench asked = output(now_ns).wrench;
+  const Wrench w = zero ? Wrench{} : asked;
   const double force[3] = {w.force.x, w.force.y, w.force.z};
   l.hdSetDoublev(hd::kCurrentForce, force);
   if (renders_torque_) {
@@ -378,17 +520,14 @@ hd::HDCallbackCode OpenHapticsPen::servo() {
   l.hdEndFrame(device_);
   if (const hd::ErrorInfo e = l.hdGetError(); e.errorCode != hd::kSuccess) return servoFault(e, false);
   frames_.fetch_add(1, std::memory_order_acq_rel);
-  if (stopping) {
-    servo_running_.store(false, std::memory_order_release);
-    return hd::kCallbackDone;
-  }
-  return hd::kCallbackContinue;
 }
 
-// Any HD error in the servo loop: zero force (in this frame if one is open, else in one more),
-// force output off, Fault with HDAPI's words, and the callback ends. Reopening is the way back.
-hd::HDCallbackCode OpenHapticsPen::servoFault(const hd::ErrorInfo& error, bool in_frame) {
+// Any HD error in this pen's frame: the other pens of the student are told first (their next frame,
+// in this same pass where they come after this one, is zero), then this pen gets a zero frame,
+// force output off, Fault with HDAPI's words, and it is served no more. Reopening is the way back.
+void OpenHapticsPen::servoFault(const hd::ErrorInfo& error, bool in_frame) {
   HdLibrary& l = *lib_;
+  safetyLayer().haltGroup();
   safetyLayer().disable();
   const double zero[3] = {0, 0, 0};
   if (!in_frame) l.hdBeginFrame(device_);
@@ -404,9 +543,8 @@ hd::HDCallbackCode OpenHapticsPen::servoFault(const hd::ErrorInfo& error, bool i
   // Stopped before Fault is set: a control thread that sets a state after seeing the loop still
   // running is overwritten by this Fault, and one that sees it stopped sets Fault itself.
   servo_running_.store(false, std::memory_order_release);
-  // The servo loop ends here, so this one allocation (the reason string) is off its steady path.
+  // This pen's frames end here, so this one allocation (the reason string) is off its steady path.
   setState(DeviceState::Fault, fault_text_);
-  return hd::kCallbackDone;
 }
 
 bool OpenHapticsPen::read(double /*t_s*/, DeviceReading* out) {
@@ -425,33 +563,27 @@ void OpenHapticsPen::service() {
   }
 }
 
-// Stops the servo loop (after one zero-force frame when it still runs) and releases everything.
+// Zero force, out of the shared servo callback (the scheduler stops for the moment, after zero
+// frames for every pen, and runs on for the others), the device released.
 void OpenHapticsPen::shutDown() {
-  if (lib_ == nullptr) return;
-  HdLibrary& l = *lib_;
+  if (servo_ == nullptr) return;
   safetyLayer().disable();
-  if (servo_running_.load(std::memory_order_acquire)) {
-    stop_requested_.store(true, std::memory_order_release);
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(kLastFrameTimeoutMs);
-    while (servo_running_.load(std::memory_order_acquire) && std::chrono::steady_clock::now() < deadline)
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  }
-  if (scheduler_started_) l.hdStopScheduler();
-  scheduler_started_ = false;
-  // A callback that never answered is still scheduled: take it out before the library goes.
-  if (servo_running_.exchange(false, std::memory_order_acq_rel)) l.hdUnschedule(servo_handle_);
-  if (device_ != hd::kInvalidHandle) {
+  servo_->detach(this, [this] {
+    if (device_ == hd::kInvalidHandle) return;
+    HdLibrary& l = *lib_;
     l.hdMakeCurrentDevice(device_);
     l.hdDisable(hd::kForceOutput);
     l.hdDisableDevice(device_);
-  }
-  l.drainErrors();
+    l.drainErrors();
+  });
+  servo_running_.store(false, std::memory_order_release);
   device_ = hd::kInvalidHandle;
-  lib_.reset();  // dlclose
+  lib_ = nullptr;
+  servo_.reset();  // the last pen's: the scheduler is unscheduled and the library closed
 }
 
 void OpenHapticsPen::close() {
-  const bool was_open = lib_ != nullptr;
+  const bool was_open = servo_ != nullptr;
   shutDown();
   if (was_open || state() != DeviceState::Disconnected) setState(DeviceState::Disconnected, "closed");
 }
@@ -460,43 +592,87 @@ void OpenHapticsPen::close() {
 
 // ---- 4. enumeration and the factory ----
 
+std::vector<std::string> configuredOpenHapticsNames() {
+  // Touch Setup saves one NAME.config per pen in $GTDD_HOME/config (the driver's install guides set
+  // GTDD_HOME to /usr/share/3DSystems); "Default Device" is the one HD_DEFAULT_DEVICE opens.
+  const char* home = std::getenv("GTDD_HOME");
+  const std::string dir = std::string(home != nullptr && *home != '\0' ? home : "/usr/share/3DSystems") + "/config";
+  std::vector<std::string> names;
+  if (DIR* d = opendir(dir.c_str())) {
+    while (const dirent* e = readdir(d)) {
+      const std::string file = e->d_name;
+      const std::string ext = ".config";
+      if (file.size() <= ext.size() || file.compare(file.size() - ext.size(), ext.size(), ext) != 0) continue;
+      const std::string name = file.substr(0, file.size() - ext.size());
+      names.push_back(name == "Default Device" ? "Default" : name);
+    }
+    closedir(d);
+  }
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
 std::vector<DeviceEntry> enumerateOpenHaptics(const OpenHapticsOptions& options) {
   const std::string path = libraryPath(options);
-  DeviceEntry entry;
-  entry.name = "openhaptics:Default";
-  entry.kind = "pen";
-  entry.model = "OpenHaptics pen";
-  entry.location = path;
+  std::vector<std::string> names = configuredOpenHapticsNames();
+  if (names.empty()) names.push_back("Default");  // no configuration folder: what HD_DEFAULT_DEVICE finds
+  std::vector<DeviceEntry> entries;
+  for (const std::string& name : names) {
+    DeviceEntry entry;
+    entry.name = "openhaptics:" + name;
+    entry.kind = "pen";
+    entry.model = "OpenHaptics pen";
+    entry.location = path;
+    entries.push_back(entry);
+  }
   auto lib = loadHdLibrary(path);
   if (!lib) {
-    entry.state = DeviceState::Disconnected;
-    entry.reason = lib.message();
-    return {entry};
+    for (DeviceEntry& e : entries) {
+      e.state = DeviceState::Disconnected;
+      e.reason = lib.message();
+    }
+    return entries;
   }
-  // HDAPI cannot list its configurations; the default one is probed by opening it briefly. A pen
-  // that is in use elsewhere answers with an error, which becomes the reason.
+  {
+    std::lock_guard lock(g_servo_mutex);
+    if (!g_servo.expired()) {
+      // Probing would address devices under the running servo loop: say so instead.
+      for (DeviceEntry& e : entries) {
+        e.state = DeviceState::Disconnected;
+        e.reason = "not probed: OpenHaptics pens are open in this dentsim";
+      }
+      return entries;
+    }
+  }
+  // HDAPI cannot list its pens; each configured one is probed by opening it briefly. A pen that is
+  // in use elsewhere, or unplugged, answers with an error, which becomes the reason.
   HdLibrary& l = **lib;
   l.drainErrors();
-  const hd::HHD device = l.hdInitDevice(hd::kDefaultDevice);
-  const std::string error = l.takeError("hdInitDevice(\"Default\")");
-  if (device == hd::kInvalidHandle || !error.empty()) {
-    if (device != hd::kInvalidHandle) l.hdDisableDevice(device);
-    entry.state = DeviceState::Disconnected;
-    entry.reason = error.empty() ? "hdInitDevice(\"Default\") failed" : error;
-    return {entry};
+  for (size_t i = 0; i < entries.size(); ++i) {
+    DeviceEntry& entry = entries[i];
+    const std::string& name = names[i];
+    const hd::HHD device = l.hdInitDevice(name == "Default" ? hd::kDefaultDevice : name.c_str());
+    const std::string error = l.takeError("hdInitDevice(\"" + name + "\")");
+    if (device == hd::kInvalidHandle || !error.empty()) {
+      if (device != hd::kInvalidHandle) l.hdDisableDevice(device);
+      entry.state = DeviceState::Disconnected;
+      entry.reason = error.empty() ? "hdInitDevice(\"" + name + "\") failed" : error;
+      l.drainErrors();
+      continue;
+    }
+    l.hdMakeCurrentDevice(device);
+    if (const char* model = l.hdGetString(hd::kDeviceModelType); model != nullptr && *model != '\0') entry.model = model;
+    if (const char* serial = l.hdGetString(hd::kDeviceSerialNumber); serial != nullptr && *serial != '\0')
+      entry.location = path + " (serial " + serial + ")";
+    int styles = 0;
+    l.hdGetIntegerv(hd::kCalibrationStyle, &styles);
+    const hd::HDenum calibration = l.hdCheckCalibration();
+    entry.state = calibration == hd::kCalibrationNeedsManualInput ? DeviceState::NeedsHoming : DeviceState::Ready;
+    if (entry.state == DeviceState::NeedsHoming) entry.reason = calibrationAdvice(styles);
+    l.hdDisableDevice(device);
+    l.drainErrors();
   }
-  l.hdMakeCurrentDevice(device);
-  if (const char* model = l.hdGetString(hd::kDeviceModelType); model != nullptr && *model != '\0') entry.model = model;
-  if (const char* serial = l.hdGetString(hd::kDeviceSerialNumber); serial != nullptr && *serial != '\0')
-    entry.location = path + " (serial " + serial + ")";
-  int styles = 0;
-  l.hdGetIntegerv(hd::kCalibrationStyle, &styles);
-  const hd::HDenum calibration = l.hdCheckCalibration();
-  entry.state = calibration == hd::kCalibrationNeedsManualInput ? DeviceState::NeedsHoming : DeviceState::Ready;
-  if (entry.state == DeviceState::NeedsHoming) entry.reason = calibrationAdvice(styles);
-  l.hdDisableDevice(device);
-  l.drainErrors();
-  return {entry};
+  return entries;
 }
 
 std::unique_ptr<HapticDevice> makeOpenHapticsPen(const std::string& device_name, const OpenHapticsOptions& options) {

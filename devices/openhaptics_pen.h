@@ -17,8 +17,13 @@ struct OpenHapticsOptions {
   SafetyParams safety;
 };
 
-// The configured pens HDAPI can open ("openhaptics:Default", ...). Without the library, one entry
-// saying it is not installed (or none when there is nothing to say).
+// The names of the configured pens: one per NAME.config in $GTDD_HOME/config (default
+// /usr/share/3DSystems/config), "Default Device" given as "Default"; sorted. Empty: no folder.
+std::vector<std::string> configuredOpenHapticsNames();
+
+// Every configured pen HDAPI can open ("openhaptics:Left", "openhaptics:Right", ...; only
+// "openhaptics:Default" without a configuration folder), each probed briefly for its model,
+// serial and calibration. Without the library, the same entries saying it is not installed.
 std::vector<DeviceEntry> enumerateOpenHaptics(const OpenHapticsOptions& options = {});
 
 // The pen HDAPI knows by `device_name` ("Default" is HD_DEFAULT_DEVICE), not opened yet.

@@ -1,6 +1,7 @@
 // The simulator window end to end: under Xvfb on lavapipe, `dentsim run` plays the demo path and its screenshots show the tooth, the bur, the mirror's reflection and the parameter window; the cut changes the tooth; headless frames equal windowed ones; two pens at once, one a hardware backend.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -220,6 +221,84 @@ TEST_F(WindowCli, TwoPensAtOnceAHardwareDrillAndAVirtualMirror) {
     EXPECT_EQ(s.reading[0].grip, drill) << "step " << s.step << ": the fake pen holds still";
     EXPECT_EQ(s.reading[0].pedal, 0.0);
   }
+}
+
+// The paper's pair: the drill and the mirror each on an OpenHaptics pen ("Left" and "Right", as
+// Touch Setup names them), both served by the fake HDAPI's one scheduler. Once the session is
+// being recorded, the mirror's device fails (SIGUSR1 to dentsim, which the fake turns into an HD
+// error on the mirror's next frame); once dentsim has said so, Ctrl-C ends the run. The run says
+// which pen failed and that both forces are zero, records the failure in the session, and
+// replays exactly; the fake saw no force after its scheduler stopped and no pen left pushing.
+// Every wait is for an event, bounded (60 s each), never a guess at how long something takes.
+TEST_F(WindowCli, TwoOpenHapticsPensAndAFaultOnTheMirrorPen) {
+  TempDir dir;
+  std::filesystem::create_directories(dir.path() / "gtdd" / "config");
+  for (const char* name : {"Left", "Right"})
+    std::ofstream(dir.path() / "gtdd" / "config" / (std::string(name) + ".config")) << "[fake]\n";
+  const std::string log = dir.file("fake_hd.log");
+  const std::string env = std::string("DENTSIM_OPENHAPTICS_LIB=") + DENTSIM_FAKE_HD_LIB + " GTDD_HOME=" +
+                          (dir.path() / "gtdd").string() + " DENTSIM_FAKE_HD_LOG=" + log + " ";
+  const auto list = test::runCommand(env + DENTSIM_BINARY + " devices --json");
+  ASSERT_EQ(list.exit_code, 0) << list.output;
+  const nlohmann::json devices = nlohmann::json::parse(list.output, nullptr, false);
+  ASSERT_TRUE(devices.is_array()) << list.output;
+  int ready = 0;
+  for (const auto& d : devices)
+    if (d["name"] == "openhaptics:Left" || d["name"] == "openhaptics:Right") ready += d["state"] == "ready" ? 1 : 0;
+  EXPECT_EQ(ready, 2) << list.output;
+  std::filesystem::remove(log);  // the listing's own probe
+
+  const std::string out = dir.file("pens");
+  const std::string said = dir.file("run.txt");
+  const test::NoLeakCheckForGpuChild no_leak_check;
+  const auto r = test::runCommand(
+      env + "DENTSIM_FAKE_HD_FAULT=Right@signal DENTSIM_VALIDATION=1 xvfb-run -a -s '-screen 0 1280x800x24' sh -c '" +
+      std::string(DENTSIM_BINARY) + " run --level 6 --params " + writeFastPreset(dir) +
+      " --drill openhaptics:Left --mirror openhaptics:Right --exit-after 120 --no-ui --width 640 --height 400 --out " +
+      out + " >" + said + " 2>&1 & pid=$!; part=" + out + "/session.dses.part; " +
+      R"(n=0; while [ $n -lt 1200 ] && ! { [ -f $part ] && [ $(stat -c %s $part) -gt 100000 ]; }; do sleep 0.05; n=$((n+1)); done; )"
+      R"(kill -USR1 $pid; )"
+      "n=0; while [ $n -lt 1200 ] && ! grep -q \"openhaptics:Right: fault\" " + said + "; do sleep 0.05; n=$((n+1)); done; " +
+      "kill -INT $pid; wait $pid; s=$?; cat " + said + "; exit $s'");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("mirror pen openhaptics:Right: fault"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("communication error"), std::string::npos) << r.output;
+  // Which pen the line names is the first to fail: the mirror, unless a loaded machine stalled the
+  // loop past the drill's 3 ms watchdog first, which is as much a fault and zeroes both the same way.
+  EXPECT_NE(r.output.find(" pen failed: both pens' forces are zero"), std::string::npos) << r.output;
+  auto session = readSessionFile(out + "/session.dses");
+  ASSERT_TRUE(session.ok()) << session.message() << "\n" << r.output;
+  ASSERT_GE(session->steps.size(), 300u);
+  for (const SessionStep& s : session->steps) ASSERT_TRUE(s.hasReading(0) && s.hasReading(1)) << "step " << s.step;
+  const auto mirror_fault = std::find_if(session->devices.begin(), session->devices.end(), [](const auto& e) {
+    return e.pen == 1 && e.state == "fault" && e.reason.find("communication error") != std::string::npos;
+  });
+  ASSERT_NE(mirror_fault, session->devices.end()) << r.output;
+  const auto replay = runDentsim("replay " + out + "/session.dses --headless --json");
+  ASSERT_EQ(replay.exit_code, 0) << replay.output;
+  const nlohmann::json replayed = test::printedJson(replay.output);
+  EXPECT_EQ(replayed.value("matches_recording", false), true) << replay.output;
+  EXPECT_EQ(replayed.value("force_mismatches", -1), 0) << replay.output;
+  ASSERT_TRUE(replayed.contains("device_events")) << replay.output;
+  bool replay_names_it = false;
+  for (const auto& e : replayed["device_events"]) replay_names_it |= e["pen"] == "mirror" && e["state"] == "fault";
+  EXPECT_TRUE(replay_names_it) << replay.output;
+
+  // The fake's account of the run: one line per pen at each scheduler stop and at unloading.
+  std::ifstream in(log);
+  std::string line;
+  int unload_lines = 0;
+  while (std::getline(in, line)) {
+    EXPECT_NE(line.find("sent_after_stop=0 "), std::string::npos) << line;
+    EXPECT_NE(line.find("stopped_pushing=0 "), std::string::npos) << line;
+    EXPECT_NE(line.find("misuse=0"), std::string::npos) << line;
+    if (line.rfind("unload Right ", 0) == 0) {
+      ++unload_lines;
+      EXPECT_EQ(line.find("error_tick=-1"), std::string::npos) << "the fault was never raised: " << line;
+    }
+    if (line.rfind("unload Left ", 0) == 0) ++unload_lines;
+  }
+  EXPECT_EQ(unload_lines, 2);
 }
 #endif
 

@@ -10,6 +10,8 @@
 #include <functional>
 #include <thread>
 
+#include "devices/fake_hd/fake_hd_controls.h"
+
 namespace dentsim::devices {
 namespace {
 
@@ -17,16 +19,6 @@ using Clock = std::chrono::steady_clock;
 
 int64_t nowNs() {
   return std::chrono::duration_cast<std::chrono::nanoseconds>(Clock::now().time_since_epoch()).count();
-}
-
-// Polls `done` every 0.2 ms until it holds or `limit_ms` passes; true when it held.
-bool waitFor(const std::function<bool()>& done, double limit_ms = 2000) {
-  const auto deadline = Clock::now() + std::chrono::microseconds(static_cast<int64_t>(limit_ms * 1000));
-  while (Clock::now() < deadline) {
-    if (done()) return true;
-    std::this_thread::sleep_for(std::chrono::microseconds(200));
-  }
-  return done();
 }
 
 // ---- without the library ----
@@ -69,70 +61,23 @@ TEST(OpenHapticsPen, LibraryWithoutHdapiNamesTheMissingSymbol) {
 
 // ---- against the fake HDAPI ----
 
-#ifdef DENTSIM_FAKE_HD_LIB
-constexpr const char* kFakeLibrary = DENTSIM_FAKE_HD_LIB;
-#else
-constexpr const char* kFakeLibrary = nullptr;
-#endif
-
-// The fake's test controls (tests/devices/fake_hd/fake_hd.cpp), resolved from the same library the pen loads.
-struct FakeHd {
-  void* handle = nullptr;
-  void (*reset)() = nullptr;
-  void (*setPose)(const double*, const double*, const double*, const double*) = nullptr;
-  void (*setButtons)(int) = nullptr;
-  void (*setCalibration)(unsigned int, int) = nullptr;
-  int (*calibrationUpdates)(unsigned int*) = nullptr;
-  void (*setTorqueOutput)(double) = nullptr;
-  void (*injectError)(unsigned int, int) = nullptr;
-  long (*sent)(double*, double*) = nullptr;
-  int (*schedulerRunning)() = nullptr;
-  int (*scheduledCallbacks)() = nullptr;
-  int (*deviceInitialized)() = nullptr;
-  int (*forceOutputEnabled)() = nullptr;
-
-  template <class F>
-  void get(const char* symbol, F* fn) {
-    *fn = reinterpret_cast<F>(dlsym(handle, symbol));
-    ASSERT_NE(*fn, nullptr) << symbol;
-  }
-
-  Vec3 force() const {
-    double f[3];
-    sent(f, nullptr);
-    return {f[0], f[1], f[2]};
-  }
-  long frames() const { return sent(nullptr, nullptr); }
-};
-
-// HDAPI facts the tests speak in (hdDefines.h of the HDAPI reference).
-constexpr unsigned kCalibrationNeedsUpdate = 0x5001;
-constexpr unsigned kCalibrationNeedsManualInput = 0x5002;
-constexpr int kCalibrationAuto = 1 << 1;
-constexpr int kCalibrationInkwell = 1 << 2;
-constexpr unsigned kCommError = 0x0302;
-constexpr double kTouchMaxForceN = 3.3;  // what the fake reports as HD_NOMINAL_MAX_FORCE
+using test::FakeHd;
+using test::waitFor;
+constexpr unsigned kCalibrationNeedsUpdate = test::kHdCalibrationNeedsUpdate;
+constexpr unsigned kCalibrationNeedsManualInput = test::kHdCalibrationNeedsManualInput;
+constexpr int kCalibrationAuto = test::kHdCalibrationAuto;
+constexpr int kCalibrationInkwell = test::kHdCalibrationInkwell;
+constexpr unsigned kCommError = test::kHdCommError;
+constexpr double kTouchMaxForceN = test::kFakeTouchMaxForceN;
 
 class OpenHapticsFake : public ::testing::Test {
  protected:
   void SetUp() override {
-    if (kFakeLibrary == nullptr) GTEST_SKIP() << "the fake HDAPI library was not built (DENTSIM_FAKE_HD_LIB unset)";
-    fake_.handle = dlopen(kFakeLibrary, RTLD_NOW | RTLD_LOCAL);
-    ASSERT_NE(fake_.handle, nullptr) << dlerror();
-    fake_.get("fakeHdReset", &fake_.reset);
-    fake_.get("fakeHdSetPose", &fake_.setPose);
-    fake_.get("fakeHdSetButtons", &fake_.setButtons);
-    fake_.get("fakeHdSetCalibration", &fake_.setCalibration);
-    fake_.get("fakeHdCalibrationUpdates", &fake_.calibrationUpdates);
-    fake_.get("fakeHdSetTorqueOutput", &fake_.setTorqueOutput);
-    fake_.get("fakeHdInjectError", &fake_.injectError);
-    fake_.get("fakeHdSent", &fake_.sent);
-    fake_.get("fakeHdSchedulerRunning", &fake_.schedulerRunning);
-    fake_.get("fakeHdScheduledCallbacks", &fake_.scheduledCallbacks);
-    fake_.get("fakeHdDeviceInitialized", &fake_.deviceInitialized);
-    fake_.get("fakeHdForceOutputEnabled", &fake_.forceOutputEnabled);
+    if (test::kFakeHdLibrary == nullptr) GTEST_SKIP() << "the fake HDAPI library was not built (DENTSIM_FAKE_HD_LIB unset)";
+    fake_.load();
+    if (HasFatalFailure()) return;
     fake_.reset();
-    options_.library = kFakeLibrary;
+    options_.library = test::kFakeHdLibrary;
     // Generous watchdog and a short ramp: the test's command thread shares two busy cores.
     options_.safety.watchdog_ms = 200;
     options_.safety.ramp_s = 0.05;
@@ -140,10 +85,7 @@ class OpenHapticsFake : public ::testing::Test {
   void TearDown() override {
     stopCommanding();
     pen_.reset();
-    if (fake_.handle != nullptr) {
-      if (fake_.reset != nullptr) fake_.reset();
-      dlclose(fake_.handle);
-    }
+    fake_.unload();
   }
 
   void openPen(const std::string& device = "Default") {
@@ -316,17 +258,21 @@ TEST_F(OpenHapticsFake, InjectedHdErrorFaultsWithZeroForceAndStopsTheLoop) {
   EXPECT_NE(pen_->reason().find("0x0302"), std::string::npos) << pen_->reason();
   EXPECT_EQ(fake_.force(), Vec3{});
   EXPECT_EQ(fake_.forceOutputEnabled(), 0);
-  // The callback returned HD_CALLBACK_DONE: no more frames, the command thread notwithstanding.
+  // The pen is served no more: no more frames, the command thread notwithstanding. The shared
+  // servo callback stays scheduled (it would serve another pen) until the pen is closed.
   const long frames = fake_.frames();
   std::this_thread::sleep_for(std::chrono::milliseconds(20));
   EXPECT_EQ(fake_.frames(), frames);
-  EXPECT_EQ(fake_.scheduledCallbacks(), 0);
+  EXPECT_EQ(fake_.scheduledCallbacks(), 1);
   // An HD fault is not cleared by disable(); enable() refuses; read() has nothing.
   pen_->disable();
   EXPECT_EQ(pen_->state(), DeviceState::Fault);
   EXPECT_FALSE(pen_->enable().ok());
   DeviceReading r;
   EXPECT_FALSE(pen_->read(0.0, &r));
+  pen_->close();
+  EXPECT_EQ(fake_.scheduledCallbacks(), 0);
+  EXPECT_EQ(fake_.schedulerRunning(), 0);
 }
 
 TEST_F(OpenHapticsFake, CalibrationNeedingTheUserIsNeedsHoming) {
