@@ -29,6 +29,7 @@
 #include <optional>
 #include <thread>
 
+#include "core/permission_advice.h"
 #include "core/steady_clock.h"
 #include "core/triple_buffer.h"
 #include "devices/falcon_kinematics.h"
@@ -100,10 +101,6 @@ UsbLocation locationOf(libusb_device* d) {
   const int n = libusb_get_port_numbers(d, l.ports.data(), static_cast<int>(l.ports.size()));
   l.port_count = n > 0 ? n : 0;
   return l;
-}
-
-std::string permissionReason(const std::string& node) {
-  return "permission denied on " + node + ": install devices/70-dentsim.rules into /etc/udev/rules.d and replug";
 }
 
 // ---- 2. Transport -----------------------------------------------------------------------------
@@ -346,7 +343,7 @@ class FalconDevice final : public HapticDevice {
     if (rc != 0) {
       handle_ = nullptr;
       teardownContext();
-      const std::string why = rc == LIBUSB_ERROR_ACCESS ? permissionReason(location_.node())
+      const std::string why = rc == LIBUSB_ERROR_ACCESS ? permissionAdvice(location_.node())
                                                         : std::string("cannot open: ") + libusb_error_name(rc);
       setState(DeviceState::Disconnected, why);
       return makeError(where, why);
@@ -615,7 +612,7 @@ std::vector<DeviceEntry> enumerateFalcons() {
     const int rc = libusb_open(found[i].device, &h);
     if (rc == LIBUSB_ERROR_ACCESS) {
       e.state = DeviceState::Disconnected;
-      e.reason = permissionReason(found[i].location.node());
+      e.reason = permissionAdvice(found[i].location.node());
     } else if (rc != 0) {
       e.state = DeviceState::Disconnected;
       e.reason = std::string("cannot open: ") + libusb_error_name(rc);

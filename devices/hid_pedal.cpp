@@ -19,6 +19,7 @@
 #include <cstring>
 #include <thread>
 
+#include "core/permission_advice.h"
 #include "io/parse_guard.h"
 
 namespace dentsim::devices {
@@ -269,11 +270,6 @@ std::vector<Candidate> pedalCandidates(HidTransport& transport) {
 
 std::string locationOf(const HidDeviceInfo& info) {
   return info.path + " (" + hex4(info.vendor_id) + ":" + hex4(info.product_id) + ")";
-}
-
-std::string permissionAdvice(const std::string& path) {
-  return "permission denied on " + path +
-         ": install devices/70-dentsim.rules into /etc/udev/rules.d (see the file), then replug the pedal";
 }
 
 }  // namespace

@@ -10,6 +10,7 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   libglfw3-dev libglm-dev libimgui-dev libopenal-dev libusb-1.0-0-dev libhidapi-dev
   umockdev libumockdev-dev
+  util-linux  # setpriv: the permission tests run dentsim as the user nobody
   xvfb xauth
   libgtest-dev libgmock-dev
   libnifti2-dev zlib1g-dev libzstd-dev libxxhash-dev

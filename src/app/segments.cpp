@@ -80,6 +80,11 @@ Status Segments::start(ToothVolume& tooth, const SegmentSetup& setup, std::vecto
 Status Segments::end(const std::string& reason, const ToothVolume& tooth, std::vector<std::string>* written) {
   if (!loop_) return Ok{};
   loop_->stop();
+  // The thread's request is read only after it stopped; every segment would say the same, so once.
+  if (loop_->idleLatencyDenied() && !idle_latency_denial_seen_) {
+    idle_latency_denial_seen_ = true;
+    idle_latency_denial_ = loop_->idleLatencyNote();
+  }
   t0_ = loopTime();
   steps_done_ += loop_->stepsRun();
   last_state_ = loop_->latest();

@@ -9,6 +9,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/pen_source.h"
@@ -76,6 +77,9 @@ class Segments {
   void stepTo(double t);
   // Stopped and headless, loop time follows the frames.
   void holdTimeAtLeast(double t) { t0_ = std::max(t0_, t); }
+  // The permission line of the first segment whose loop thread was refused the idle-latency request
+  // (IdleLatencyRequest::note), once: empty before that and after it was taken.
+  std::string takeIdleLatencyDenial() { return std::exchange(idle_latency_denial_, std::string()); }
 
  private:
   // Declared before the loop, so that it outlives a loop whose thread may still be stepping.
@@ -93,6 +97,8 @@ class Segments {
   int count_ = 0;
   uint64_t steps_done_ = 0;
   double removed_done_mm3_ = 0.0;
+  std::string idle_latency_denial_;  // not yet taken
+  bool idle_latency_denial_seen_ = false;
   double t0_ = 0.0;  // loop time at the current segment's start [s]
 };
 

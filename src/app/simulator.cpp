@@ -86,6 +86,7 @@ Status Simulator::endSegment(const std::string& reason) {
   // Zero force before the loop stops commanding it (else every pen would latch a watchdog fault).
   rack_.disable();
   Status result = segments_.end(reason, cut_, &out_.written);
+  if (std::string denial = segments_.takeIdleLatencyDenial(); !denial.empty()) note("dentsim: " + denial);
   // The loop's last edits reach the frame loop's copy before the next loop starts.
   segments_.drainEdits(view_.voxels, &pending_dirty_);
   if (painter_)

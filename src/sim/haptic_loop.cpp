@@ -210,6 +210,7 @@ void HapticLoop::run() {
   const IdleLatencyRequest idle(idle_latency_us_);
   idle_latency_note_ = idle.note();
   idle_latency_held_ = idle.held();
+  idle_latency_denied_ = idle.denied();
 
   auto period_ns = [&] { return int64_t(std::llround(1e9 / active_params_->device.rate_hz)); };
   int64_t deadline = steadyNowNs();

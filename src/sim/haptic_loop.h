@@ -162,6 +162,7 @@ class HapticLoop {
   // What the last run got from that request (IdleLatencyRequest::note; read after stop()).
   const std::string& idleLatencyNote() const { return idle_latency_note_; }
   bool idleLatencyHeld() const { return idle_latency_held_; }
+  bool idleLatencyDenied() const { return idle_latency_denied_; }  // the file may not be opened (the udev rule)
   double dt() const { return 1.0 / active_params_->device.rate_hz; }
   ToolProxy* proxy(PenRole role) { return proxies_[size_t(role)].get(); }
 
@@ -208,6 +209,7 @@ class HapticLoop {
   int32_t idle_latency_us_ = 0;
   std::string idle_latency_note_ = "not requested";
   bool idle_latency_held_ = false;
+  bool idle_latency_denied_ = false;
   void (*hook_)(uint64_t, void*) = nullptr;
   void* hook_user_ = nullptr;
 };

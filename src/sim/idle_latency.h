@@ -29,12 +29,17 @@ class IdleLatencyRequest {
   IdleLatencyRequest& operator=(const IdleLatencyRequest&) = delete;
 
   bool held() const { return fd_ >= 0; }
-  // One line for reports: what is held, or why not ("/dev/cpu_dma_latency: Permission denied").
+  // The file exists but this user may not open it: what the udev rule fixes.
+  bool denied() const { return denied_; }
+  // One line for reports: what is held, or why not. A file that exists but may not be opened gets
+  // the permission line that names the udev rule (core/permission_advice.h) and says the request is
+  // optional; any other failure says "PATH: REASON" ("/dev/cpu_dma_latency: No such file or directory").
   const std::string& note() const { return note_; }
 
  private:
   void release();
   int fd_ = -1;
+  bool denied_ = false;
   std::string note_ = "not requested";
 };
 

@@ -1,4 +1,4 @@
-// IdleLatencyRequest: the request reaches the file as one 32-bit integer and lasts while it is held; failures are reported, not thrown; the haptic loop holds it while its thread runs.
+// IdleLatencyRequest: the request reaches the file as one 32-bit integer and lasts while it is held; failures are reported, not thrown, and a file the user may not open names the udev rule; the haptic loop holds it while its thread runs.
 #include "sim/idle_latency.h"
 
 #include <fcntl.h>
@@ -15,10 +15,12 @@
 #include <utility>
 #include <vector>
 
+#include "core/permission_advice.h"
 #include "sim/haptic_loop.h"
 #include "sim/tool_library.h"
 #include "sim_fixtures.h"
 #include "test_support.h"
+#include "unprivileged.h"
 
 namespace dentsim {
 namespace {
@@ -63,6 +65,7 @@ TEST(IdleLatencyRequest, FailuresNameTheFileAndTheReason) {
   const IdleLatencyRequest request(0, missing);
   EXPECT_FALSE(request.held());
   EXPECT_EQ(request.note(), missing + ": No such file or directory");
+  EXPECT_FALSE(request.denied());  // no rule makes a missing file appear
 
   // A negative bound asks for nothing and touches nothing.
   const std::filesystem::path file = dir.path() / "untouched";
@@ -71,6 +74,29 @@ TEST(IdleLatencyRequest, FailuresNameTheFileAndTheReason) {
   EXPECT_FALSE(none.held());
   EXPECT_EQ(none.note(), "not requested");
   EXPECT_TRUE(bytesOf(file).empty());
+}
+
+TEST(IdleLatencyRequest, AFileTheUserMayNotOpenGetsThePermissionLineAndIsOptional) {
+  if (const std::string why = test::whyNotNobody(); !why.empty()) GTEST_SKIP() << why;
+  // Root's 0600 file, as /dev/cpu_dma_latency is without the rule; nobody asks for the request.
+  const test::TempDir dir;
+  test::letEveryoneIn(dir.path());
+  const std::filesystem::path file = dir.path() / "cpu_dma_latency";
+  std::ofstream(file).close();
+  std::filesystem::permissions(file, std::filesystem::perms::owner_read | std::filesystem::perms::owner_write,
+                               std::filesystem::perm_options::replace);
+  const std::string got = test::inChildAsNobody([&] {
+    const IdleLatencyRequest request(0, file.string());
+    return std::string(request.held() ? "held " : "") + (request.denied() ? "denied " : "") + request.note();
+  });
+  EXPECT_EQ(got, "denied " + permissionAdvice(file.string(), RuleTakesEffect::Trigger) +
+                     "; optional: the loop runs without it, with slower steps after idle");
+  EXPECT_TRUE(bytesOf(file).empty());  // nothing was written
+
+  // Root may open it: the same request is held, and nothing is denied.
+  const IdleLatencyRequest as_root(0, file.string());
+  EXPECT_TRUE(as_root.held()) << as_root.note();
+  EXPECT_FALSE(as_root.denied());
 }
 
 // Whether `path` opens with `flags`: the oracle for whether a request can be held. access() is not
