@@ -28,6 +28,7 @@
 #include "core/seqlock.h"
 #include "core/steady_clock.h"
 #include "devices/hdapi_abi.h"
+#include "devices/touch_serial.h"
 
 namespace dentsim::devices {
 namespace {
@@ -372,10 +373,13 @@ Status OpenHapticsPen::initDevice() {
   device_ = l.hdInitDevice(config);
   const std::string init_error = l.takeError("hdInitDevice(\"" + device_name_ + "\")");
   if (device_ == hd::kInvalidHandle || !init_error.empty()) {
-    const std::string why = init_error.empty() ? "hdInitDevice(\"" + device_name_ + "\") failed" : init_error;
+    std::string why = init_error.empty() ? "hdInitDevice(\"" + device_name_ + "\") failed" : init_error;
     if (device_ != hd::kInvalidHandle) l.hdDisableDevice(device_);
     device_ = hd::kInvalidHandle;
     l.drainErrors();
+    // HDAPI does not say why; a Touch's serial node closed to this user is the usual reason.
+    if (const std::string denied = touchSerialPermissionProblem(options_.sysfs_root, options_.dev_root); !denied.empty())
+      why = denied + " (" + why + ")";
     return Error{why};
   }
   l.hdMakeCurrentDevice(device_);
@@ -657,6 +661,8 @@ std::vector<DeviceEntry> enumerateOpenHaptics(const OpenHapticsOptions& options)
       if (device != hd::kInvalidHandle) l.hdDisableDevice(device);
       entry.state = DeviceState::Disconnected;
       entry.reason = error.empty() ? "hdInitDevice(\"" + name + "\") failed" : error;
+      if (const std::string denied = touchSerialPermissionProblem(options.sysfs_root, options.dev_root); !denied.empty())
+        entry.reason = denied + " (" + entry.reason + ")";
       l.drainErrors();
       continue;
     }

@@ -15,6 +15,10 @@ struct OpenHapticsOptions {
   // dynamic loader's usual search. dentsim's build never needs it.
   std::string library;
   SafetyParams safety;
+  // Where a failed open looks for a Touch's serial node the user may not open (touch_serial.h);
+  // the tests point them at a fake tree.
+  std::string sysfs_root = "/sys";
+  std::string dev_root = "/dev";
 };
 
 // The names of the configured pens: one per NAME.config in $GTDD_HOME/config (default

@@ -11,6 +11,8 @@
 #include <thread>
 
 #include "devices/fake_hd/fake_hd_controls.h"
+#include "devices/fake_sysfs.h"
+#include "unprivileged.h"
 
 namespace dentsim::devices {
 namespace {
@@ -273,6 +275,33 @@ TEST_F(OpenHapticsFake, InjectedHdErrorFaultsWithZeroForceAndStopsTheLoop) {
   pen_->close();
   EXPECT_EQ(fake_.scheduledCallbacks(), 0);
   EXPECT_EQ(fake_.schedulerRunning(), 0);
+}
+
+// A pen HDAPI cannot open while a Touch's serial node is closed to the user: the one line names
+// the node and the udev rule, and keeps HDAPI's own words. Checked as the user nobody in a forked
+// child (the tests run as root, whom every mode lets in), against a fake sysfs tree.
+TEST_F(OpenHapticsFake, AnOpenThatFailsOnAClosedTouchNodeNamesTheUdevRule) {
+  if (const std::string why = dentsim::test::whyNotNobody(); !why.empty()) GTEST_SKIP() << why;
+  dentsim::test::FakeSys sys;
+  sys.addUsbTty("ttyACM0", "2988", 1);
+  const auto node = sys.addNode("ttyACM0", std::filesystem::perms::owner_read | std::filesystem::perms::owner_write);
+  options_.sysfs_root = sys.sys().string();
+  options_.dev_root = sys.dev().string();
+  // "Missing" names no configured pen, so hdInitDevice fails as it does for a pen it cannot reach.
+  const std::string line = dentsim::test::inChildAsNobody([&] {
+    auto pen = makeOpenHapticsPen("Missing", options_);
+    const Status s = pen->open();
+    return s.ok() ? std::string("opened") : s.message();
+  });
+  EXPECT_EQ(line.rfind("openhaptics:Missing: permission denied on " + node.string() + ": install devices/70-dentsim.rules", 0),
+            0u) << line;
+  EXPECT_NE(line.find("hdInitDevice(\"Missing\")"), std::string::npos) << line;
+  EXPECT_EQ(line.find('\n'), std::string::npos) << line;
+  // As root the node opens, so the line is HDAPI's alone.
+  auto pen = makeOpenHapticsPen("Missing", options_);
+  const Status s = pen->open();
+  ASSERT_FALSE(s.ok());
+  EXPECT_EQ(s.message().find("permission denied"), std::string::npos) << s.message();
 }
 
 TEST_F(OpenHapticsFake, CalibrationNeedingTheUserIsNeedsHoming) {

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/permission_advice.h"
+#include "devices/fake_sysfs.h"
 #include "test_support.h"
 #include "unprivileged.h"
 
@@ -17,47 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A sysfs tree and a /dev under one temporary folder, laid out as the kernel lays them out: each
-// tty's folder sits under its USB interface, under its USB device (the one with idVendor), and
-// class/tty/NAME links to it.
-class FakeSys {
- public:
-  FakeSys() {
-    test::letEveryoneIn(dir_.path());
-    fs::create_directories(sys() / "class" / "tty");
-    fs::create_directories(dev());
-  }
-  fs::path sys() const { return dir_.path() / "sys"; }
-  fs::path dev() const { return dir_.path() / "dev"; }
-
-  // A CDC ACM tty NAME on a USB device with this vendor id, at USB port `port` of bus 1.
-  void addUsbTty(const std::string& name, const std::string& vendor_hex, int port) {
-    const fs::path usb = sys() / "devices/pci0000:00/0000:00:14.0/usb1" / ("1-" + std::to_string(port));
-    fs::create_directories(usb);
-    std::ofstream(usb / "idVendor") << vendor_hex << "\n";
-    std::ofstream(usb / "idProduct") << "0302\n";
-    addTty(name, usb / ("1-" + std::to_string(port) + ":1.0") / "tty" / name);
-  }
-  // A tty with no USB ancestor, as a UART's: devices/platform/serial8250/tty/NAME.
-  void addPlatformTty(const std::string& name) { addTty(name, sys() / "devices/platform/serial8250/tty" / name); }
-
-  // The node /dev/NAME as a plain file with `mode`: access() judges it as it judges a device node.
-  fs::path addNode(const std::string& name, fs::perms mode) {
-    const fs::path node = dev() / name;
-    std::ofstream(node).close();
-    fs::permissions(node, mode, fs::perm_options::replace);
-    return node;
-  }
-
- private:
-  void addTty(const std::string& name, const fs::path& folder) {
-    fs::create_directories(folder);
-    std::ofstream(folder / "dev") << "166:0\n";
-    // Relative, as the kernel's: class/tty/NAME -> ../../devices/...
-    fs::create_directory_symlink(fs::relative(folder, sys() / "class" / "tty"), sys() / "class" / "tty" / name);
-  }
-  test::TempDir dir_;
-};
+using test::FakeSys;
 
 TEST(TouchSerial, FindsTheTtysOfTouchPensByTheirUsbVendorInNaturalOrder) {
   FakeSys fake;
