@@ -109,6 +109,18 @@ class Cursor {
     return s;
   }
   size_t left() const { return bytes_.size() - at_; }
+  // The payload's last two fields, each a u16 length and its bytes, which must use up the rest
+  // exactly (the end and device records close this way). False when they do not.
+  bool lastTwoTexts(std::string* first, std::string* second) {
+    if (left() < 2) return false;
+    const uint16_t first_bytes = next<uint16_t>();
+    if (left() < size_t(first_bytes) + 2) return false;
+    first->assign(text(first_bytes));
+    const uint16_t second_bytes = next<uint16_t>();
+    if (left() != second_bytes) return false;
+    second->assign(text(second_bytes));
+    return true;
+  }
 
  private:
   std::span<const uint8_t> bytes_;
@@ -696,12 +708,7 @@ std::optional<std::string> SessionParser::readDevice(std::span<const uint8_t> pa
   SessionDeviceEvent e;
   e.step = c.next<uint64_t>();
   e.pen = c.next<uint8_t>();
-  const uint16_t state_bytes = c.next<uint16_t>();
-  if (c.left() < size_t(state_bytes) + 2) return bad_length();
-  e.state.assign(c.text(state_bytes));
-  const uint16_t reason_bytes = c.next<uint16_t>();
-  if (c.left() != reason_bytes) return bad_length();
-  e.reason.assign(c.text(reason_bytes));
+  if (!c.lastTwoTexts(&e.state, &e.reason)) return bad_length();
   const std::string what = "device event at step " + std::to_string(e.step);
   if (e.step >= kStepIndexEnd) return what + ": step index beyond 2^63 - 1";
   if (e.pen > 1) return what + ": pen " + std::to_string(e.pen) + " (expected 0, the drill, or 1, the mirror)";
@@ -725,12 +732,7 @@ std::optional<std::string> SessionParser::readEnd(std::span<const uint8_t> paylo
   Cursor c(payload);
   SessionEnd e;
   e.steps = c.next<uint64_t>();
-  const uint16_t hash_bytes = c.next<uint16_t>();
-  if (c.left() < size_t(hash_bytes) + 2) return bad_length();
-  e.final_hash.assign(c.text(hash_bytes));
-  const uint16_t reason_bytes = c.next<uint16_t>();
-  if (c.left() != reason_bytes) return bad_length();
-  e.reason.assign(c.text(reason_bytes));
+  if (!c.lastTwoTexts(&e.final_hash, &e.reason)) return bad_length();
   if (!isLowerHex(e.final_hash, kHashHexDigits))
     return "end: final hash " + quoteToken(e.final_hash) + " is not 16 lower-case hex digits";
   if (e.reason.size() > kMaxReasonBytes)
