@@ -279,50 +279,62 @@ TEST(DeviceSafety, ZeroWhileNotHomedAndOnDisableAndClose) {
 // A real output thread at about 2 kHz beside a commanding thread that then stops. Judged by the
 // command stamps (a loaded machine may stall either thread): every force sent had a command at most
 // 3 ms old, the zero came only once the newest command was older than that, and it latched a Fault.
+// Both threads run at once on two cores, so each side also notes when its call returned: a command
+// counts as seen by an output only if command() had returned before the output began, and as able
+// to have passed one only if it was stamped before the output returned. No slack is guessed.
 TEST(DeviceSafety, WatchdogOnAnOutputThread) {
   test::FakePen pen;
   ASSERT_TRUE(pen.open().ok());
   ASSERT_TRUE(pen.enable().ok());
   std::atomic<bool> stop{false};
-  std::vector<std::pair<int64_t, SafetyLayer::Output>> log;
+  struct Sent {
+    int64_t begun, returned;  // steady clock around sendToMotors() [ns]
+    SafetyLayer::Output output;
+  };
+  std::vector<Sent> log;
   std::thread io([&] {
     while (!stop) {
       const int64_t now = steadyNowNs();
-      log.emplace_back(now, pen.sendToMotors(now));
+      const SafetyLayer::Output o = pen.sendToMotors(now);
+      log.push_back({now, steadyNowNs(), o});
       std::this_thread::sleep_for(std::chrono::microseconds(500));
     }
   });
-  std::vector<int64_t> commands;
+  struct Commanded {
+    int64_t stamp, returned;  // the command's stamp and when command() returned [ns]
+  };
+  std::vector<Commanded> commands;
   for (int k = 0; k < 50; ++k) {
     const int64_t now = steadyNowNs();
     pen.command(Wrench{{0, 0, 0.2}, {}}, now);
-    commands.push_back(now);
+    commands.push_back({now, steadyNowNs()});
     std::this_thread::sleep_for(std::chrono::microseconds(500));
   }
-  const int64_t give_up = steadyNowNs() + 2'000 * kMs;
+  // Only bounds how long a watchdog that never fires takes to fail the test.
+  const int64_t give_up = steadyNowNs() + 10'000 * kMs;
   while (pen.state() != DeviceState::Fault && steadyNowNs() < give_up) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   stop = true;
   io.join();
   ASSERT_EQ(pen.state(), DeviceState::Fault);
-  const auto newest_before = [&](int64_t t) {
+  // The newest stamp among the commands that pass `counts`, or INT64_MIN when none does.
+  const auto newest = [&](auto counts) {
     int64_t s = INT64_MIN;
-    for (int64_t c : commands) {
-      if (c <= t) s = c;
+    for (const Commanded& c : commands) {
+      if (counts(c)) s = std::max(s, c.stamp);
     }
     return s;
   };
-  constexpr int64_t kPublishSlack = 200'000;  // a command is stamped just before it is published
   bool seen_zero = false;
-  for (const auto& [t, o] : log) {
-    if (o.gate == SafetyGate::Pass) {
+  for (const Sent& e : log) {
+    if (e.output.gate == SafetyGate::Pass) {
       ASSERT_FALSE(seen_zero) << "force out again after the watchdog";
-      EXPECT_LE(t - newest_before(t), 3 * kMs);
-    } else if (o.gate == SafetyGate::Watchdog) {
+      EXPECT_LE(e.begun - newest([&](const Commanded& c) { return c.stamp <= e.returned; }), 3 * kMs);
+    } else if (e.output.gate == SafetyGate::Watchdog) {
       if (!seen_zero) {
-        EXPECT_GT(t - newest_before(t), 3 * kMs - kPublishSlack);
+        EXPECT_GT(e.begun - newest([&](const Commanded& c) { return c.returned <= e.begun; }), 3 * kMs);
       }
       seen_zero = true;
-      EXPECT_EQ(o.wrench.force, Vec3{});
+      EXPECT_EQ(e.output.wrench.force, Vec3{});
     }
   }
   EXPECT_TRUE(seen_zero);
