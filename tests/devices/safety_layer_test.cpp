@@ -145,6 +145,26 @@ TEST(SafetyLayer, ACommandCaughtMidPublishKeepsThePreviousOneAndItsStamp) {
   EXPECT_TRUE(s.faulted());
 }
 
+// The watchdog counts from enabling (the first output after enable()) when the newest command is
+// older than that; even then a command older than the watchdog never goes out, it gives zero.
+TEST(SafetyLayer, ACommandFromBeforeEnablingNeverGoesOutOlderThanTheWatchdog) {
+  SafetyLayer s;
+  s.setLimits(10.0, 0.0);
+  s.enable();
+  s.command(Wrench{{0, 0, 0.2}, {}}, 0);
+  // The output side runs first 2 ms later: the command is 2 ms old and passes (and arms).
+  ASSERT_EQ(s.output(2 * kMs).gate, SafetyGate::Pass);
+  EXPECT_EQ(s.output(3 * kMs).gate, SafetyGate::Pass);
+  // 3 ms and a nanosecond old: zero, though the watchdog has counted only 1 ms since enabling.
+  const SafetyLayer::Output old_command = s.output(3 * kMs + 1);
+  EXPECT_EQ(old_command.gate, SafetyGate::Disarmed) << gateName(old_command.gate);
+  EXPECT_EQ(old_command.wrench.force, Vec3{});
+  EXPECT_FALSE(s.faulted());
+  // 3 ms after enabling with nothing newer: the watchdog fires and latches.
+  EXPECT_EQ(s.output(5 * kMs + 1).gate, SafetyGate::Watchdog);
+  EXPECT_TRUE(s.faulted());
+}
+
 TEST(SafetyLayer, EnabledButNeverCommandedFaultsAfterTheWatchdog) {
   SafetyLayer s;
   s.setLimits(10.0, 0.0);
