@@ -41,7 +41,9 @@ class Recorder {
     const auto r = runCommand("python3 " + (kToolsDir / "lrs_recorder.py").string() + " --port-file " + port_file + " --log " + log_ +
                               (refuse ? " --refuse" : "") + " >/dev/null 2>&1 & echo $!");
     pid_ = std::atoi(r.output.c_str());
-    for (int i = 0; i < 100 && !fs::exists(port_file); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    // Python's start-up takes a fraction of a second, but a loaded machine can stretch it to
+    // seconds: up to 60 s, which only a recorder that never comes up waits out.
+    for (int i = 0; i < 1200 && !fs::exists(port_file); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
     std::ifstream(port_file) >> port_;
   }
   ~Recorder() {

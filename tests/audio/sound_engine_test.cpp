@@ -410,10 +410,12 @@ TEST(SoundEngine, LivePlaybackKeepsTheQueueFilled) {
   if (e.silent()) GTEST_SKIP() << "OpenAL's null backend did not open: " << e.notice();
   EXPECT_FALSE(e.offline());
   SoundInput in = steady(30000.0);
+  // The clock starts before the first update: the device may start playing as soon as that update
+  // queues sound, and a thread preempted just after it would otherwise not count what was played.
+  const auto begun = std::chrono::steady_clock::now();
   e.update(in);
   const uint64_t target = uint64_t(std::ceil(0.08 * 48000));
   EXPECT_EQ(e.framesRendered(), target);
-  const auto begun = std::chrono::steady_clock::now();
   for (int k = 1; k <= 30; ++k) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
     in.t_s = k * 0.01;

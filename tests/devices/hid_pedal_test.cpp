@@ -194,9 +194,11 @@ HidDeviceInfo deviceInfo(const std::string& path, uint16_t vid, uint16_t pid, co
   return info;
 }
 
-// Polls until pred() holds or the deadline passes; the reader thread needs no fixed sleeps.
+// Polls until pred() holds or the deadline passes; the reader thread needs no fixed sleeps. The
+// deadline only bounds how long a failure takes to show: a loaded machine may leave the reader
+// unscheduled for a long while, so it is far longer than any read here takes.
 template <class Pred>
-bool eventually(Pred pred, std::chrono::milliseconds deadline = 2000ms) {
+bool eventually(Pred pred, std::chrono::milliseconds deadline = 10s) {
   const auto end = std::chrono::steady_clock::now() + deadline;
   while (!pred()) {
     if (std::chrono::steady_clock::now() > end) return false;
@@ -535,19 +537,20 @@ TEST(HidPedal, ShortSplitAndOversizedReportsAreIgnored) {
 TEST(HidPedal, UnplugStopsAtOnceAndReplugRecovers) {
   auto transport = std::make_shared<FakeTransport>();
   auto hid = transport->add(deviceInfo("/dev/hidraw4", 0x1234, 0x0003, "Foot Pedal"));
-  const int read_timeout_ms = 100;
-  auto pedal = makePedal("1234:0003,axis=1:8:0:255", transport, {read_timeout_ms, 0});
+  auto pedal = makePedal("1234:0003,axis=1:8:0:255", transport);
   ASSERT_TRUE(pedal->open().ok()) << pedal->reason();
   hid->push({0, 255});
   ASSERT_TRUE(eventually([&] { return hid->readerIdle(); }));
   ASSERT_EQ(pedal->value(), 1.0);
 
-  // The fake wakes a waiting read on unplug, as poll() does on a hidraw node that goes away.
-  const auto unplugged_at = std::chrono::steady_clock::now();
+  // The fake wakes a waiting read on unplug, as poll() does on a hidraw node that goes away. The
+  // reader is held inside a read that never times out, so the unplug can only be seen through that
+  // read waking: judged by the event, not by a stopwatch that a loaded machine would break.
+  hid->hold(true);
+  ASSERT_TRUE(eventually([&] { return hid->readerHeld(); }));
   hid->unplug();
   ASSERT_TRUE(eventually([&] { return pedal->state() == DeviceState::Disconnected; }));
-  const auto seen_after = std::chrono::steady_clock::now() - unplugged_at;
-  EXPECT_LT(seen_after, std::chrono::milliseconds(read_timeout_ms));
+  hid->hold(false);
   EXPECT_EQ(pedal->value(), 0.0);
   EXPECT_NE(pedal->reason().find("/dev/hidraw4"), std::string::npos) << pedal->reason();
   EXPECT_NE(pedal->reason().find("unplugged"), std::string::npos) << pedal->reason();
@@ -659,7 +662,9 @@ TEST(HidPedal, ValueNeverBlocksWhileTheReaderIsInARead) {
     for (int i = 0; i < 10'000; ++i) other += pedal->value() != 102.0 / 255.0;
     return other;
   });
-  const bool finished = reads.wait_for(2s) == std::future_status::ready;
+  // 10 000 lock-free loads take microseconds; a blocking value() never ends while the read is held,
+  // so the generous wait tells the two apart even on a loaded machine.
+  const bool finished = reads.wait_for(10s) == std::future_status::ready;
   EXPECT_TRUE(hid->readerHeld());  // the reader was inside its read all along
   hid->hold(false);                // lets a blocked value() go, so a failure ends rather than hangs
   ASSERT_TRUE(finished) << "value() blocked behind the reader";

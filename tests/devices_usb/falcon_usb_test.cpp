@@ -45,8 +45,10 @@ const std::string kHomingCommand = "<AAAAAAAAAAAAJA>";  // red (8) | homing (1) 
 const std::string kHomedCommand = "<AAAAAAAAAAAACA>";   // green (2) -> 'C'
 const std::string kZeroCommand = "<AAAAAAAAAAAAAA>";
 
+// Polls done() until it holds or `seconds` pass. The limit only bounds how long a failure takes to
+// show, so it is far longer than the I/O thread needs even when a loaded machine starves it.
 template <class F>
-bool waitFor(F done, double seconds = 3.0) {
+bool waitFor(F done, double seconds = 20.0) {
   const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
   while (std::chrono::steady_clock::now() < end) {
     if (done()) return true;
@@ -175,10 +177,11 @@ TEST_F(FalconUsb, LoadsFirmwareThenHomesThenRunsTheLoop) {
   EXPECT_NEAR(r.pose.position.y, p.y, 1e-6);
   EXPECT_NEAR(r.pose.position.z, p.z, 1e-6);
 
-  // Steady loop: one command per status packet; the fake answers at once, so well over 500 Hz.
+  // Steady loop: one command per status packet, so the commands keep coming. Counted, not timed:
+  // how fast they come depends on the machine (a loaded one may stall the I/O thread for a while),
+  // which is the benchmark's business; a loop that stopped never sends the next hundred.
   const size_t before = fake.commandCount();
-  std::this_thread::sleep_for(std::chrono::milliseconds(200));
-  EXPECT_GT(fake.commandCount() - before, 100u);
+  EXPECT_TRUE(waitFor([&] { return fake.commandCount() - before > 100; })) << fake.commandCount() - before;
 
   // Enabled: a small force (under the 0.5 N arming limit) goes out as the kinematics' motor words.
   ASSERT_TRUE(pen_->enable().ok());

@@ -204,6 +204,9 @@ TEST(ForceOutput, AForceOlderThanTheLimitReadsAsZero) {
 
 // The loop's thread, stalled for 30 ms mid-session while a device thread polls the force: the
 // device must never be handed a force older than 2 ms, and it must see the zero during the stall.
+// The polling lasts until the loop is well past the stall and forces were seen, not a fixed 0.4 s:
+// a loaded machine without real-time priority can wake the loop late for every step, so that it
+// reached step 150 only after 0.4 s (seen under stress). 30 s only bounds a loop that never gets there.
 TEST(HapticLoop, AStallSetsTheForceToZeroWithinTwoMilliseconds) {
   Block b = flatBlock(Material::Enamel);
   const ToolModel bur = sphereBur(kR, 0.03, {0, 0, kR});
@@ -232,18 +235,20 @@ TEST(HapticLoop, AStallSetsTheForceToZeroWithinTwoMilliseconds) {
   std::vector<Poll> polls;
   polls.reserve(1 << 20);
   ASSERT_TRUE(loop.start().ok());
-  const int64_t t_end = steadyNowNs() + 400'000'000;  // 0.4 s of polling
-  while (steadyNowNs() < t_end && polls.size() < polls.capacity()) {
+  const int64_t t_end = steadyNowNs() + 30'000'000'000;
+  size_t pressing = 0;
+  while (steadyNowNs() < t_end && polls.size() < polls.capacity() &&
+         !(stall.stalled.load() && loop.latest().step >= 400 && pressing > 10)) {
     const int64_t now = steadyNowNs();
     const ForceOutput::Command c = loop.forceOutput(PenRole::Drill).current(now, stale_ns);
     polls.push_back({now, c.stamp_ns, norm(c.wrench.force)});
+    if (polls.back().force > 0.5) ++pressing;
     std::this_thread::sleep_for(std::chrono::microseconds(100));
   }
   loop.stop();
   ASSERT_TRUE(stall.stalled.load());
-  size_t pressing = 0, zero_in_stall = 0;
+  size_t zero_in_stall = 0;
   for (const Poll& p : polls) {
-    if (p.force > 0.5) ++pressing;
     const int64_t age = p.now - p.stamp;
     if (age > 2'000'000) {
       EXPECT_EQ(p.force, 0.0) << "a force " << age / 1000 << " us old reached the device";
