@@ -88,10 +88,21 @@ SafetyLayer::Output SafetyLayer::output(int64_t now_ns) {
   const int64_t watchdog_ns = static_cast<int64_t>(params_.watchdog_ms * 1e6);
   // Read without the channel's own staleness: the watchdog decides here, from the stamp.
   ForceOutput::Command c = channel_.current(now_ns, INT64_MAX / 2);
-  if (c.busy)
-    c = last_read_;  // being replaced right now: the previous command stands until it can be read
-  else if (!c.stale)
+  bool unread_newer = false;  // a newer command was published than the one this side last read
+  if (c.busy) {
+    // Being replaced right now: the previous command stands until it can be read. If the loop
+    // published others since this side last read one, the newest complete stamp says how fresh
+    // the loop is (so the watchdog does not fire early), but its force is not at hand: zero.
+    c = last_read_;
+    const int64_t published = channel_.lastStamp();
+    if (published > c.stamp_ns && published != INT64_MIN) {
+      c.stamp_ns = published;
+      c.stale = false;
+      unread_newer = true;
+    }
+  } else if (!c.stale) {
     last_read_ = c;
+  }
   const int64_t fresh_since = c.stale ? enabled_at_ns_ : std::max(c.stamp_ns, enabled_at_ns_);
   if (now_ns - fresh_since > watchdog_ns) {
     faulted_.store(true, std::memory_order_release);
@@ -106,6 +117,10 @@ SafetyLayer::Output SafetyLayer::output(int64_t now_ns) {
   // load: a 3.5 ms old command passed).
   if (c.stale || now_ns - c.stamp_ns > watchdog_ns) {
     out.gate = SafetyGate::Disarmed;
+    return out;
+  }
+  if (unread_newer) {  // fresh, but unreadable for this one output: zero force, no fault
+    out.gate = SafetyGate::Pass;
     return out;
   }
   Wrench w = c.wrench;

@@ -115,8 +115,9 @@ class SafetyLayer {
   int64_t enabled_at_ns_ = 0;  // the first output() after enable(): the watchdog counts from here or the latest command
   int64_t armed_at_ns_ = 0;
   // The newest command output() managed to read. A command found mid-publish (the haptic thread
-  // preempted inside command()) is judged by this one instead: its stamp still ages, so the
-  // watchdog fires exactly when the newest readable command is too old, never earlier.
+  // preempted inside command()) is judged by this one instead, or by the newest complete publish's
+  // stamp where that is newer (with zero force for that output): the watchdog fires when the loop
+  // really has published nothing for too long, never earlier.
   ForceOutput::Command last_read_;
   SafetyGroup* group_ = nullptr;
   int member_ = -1;

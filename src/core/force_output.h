@@ -8,6 +8,7 @@
 // core because both sides use it: sim publishes, devices/ reads.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 
 #include "core/rigid.h"
@@ -28,7 +29,13 @@ class ForceOutput {
   };
 
   // Writer (the haptic loop).
-  void publish(const Wrench& w, int64_t stamp_ns) { latest_.store(Stamped{w, stamp_ns}); }
+  void publish(const Wrench& w, int64_t stamp_ns) {
+    latest_.store(Stamped{w, stamp_ns});
+    last_stamp_.store(stamp_ns, std::memory_order_release);
+  }
+  // Any thread: the stamp of the newest publish that has completed (INT64_MIN before any). Read
+  // when the value itself is busy: a reader that judges age then knows how fresh the loop is.
+  int64_t lastStamp() const { return last_stamp_.load(std::memory_order_acquire); }
 
   // Tests only: readers find a publish in progress until released (SeqLock::holdMidStoreForTest).
   void holdPublishForTest(bool held) { latest_.holdMidStoreForTest(held); }
@@ -54,6 +61,7 @@ class ForceOutput {
     int64_t stamp_ns = 0;    // steady clock [ns]
   };
   SeqLock<Stamped> latest_;
+  std::atomic<int64_t> last_stamp_{INT64_MIN};
 };
 
 }  // namespace dentsim

@@ -165,6 +165,28 @@ TEST(SafetyLayer, ACommandFromBeforeEnablingNeverGoesOutOlderThanTheWatchdog) {
   EXPECT_TRUE(s.faulted());
 }
 
+// The same, when the loop published a newer command that this side never read before the next
+// publish was caught halfway: the newest complete stamp keeps the watchdog from firing early, and
+// that one output is zero (the unread command's force is not at hand); the watchdog still fires
+// once the loop really has published nothing complete for 3 ms.
+TEST(SafetyLayer, AnUnreadNewerCommandKeepsTheWatchdogQuietWithZeroForce) {
+  SafetyLayer s;
+  s.setLimits(10.0, 0.0);
+  s.enable();
+  ASSERT_EQ(s.output(0).gate, SafetyGate::Disarmed);
+  s.command(Wrench{{0, 0, 0.2}, {}}, 10 * kMs);
+  ASSERT_EQ(s.output(10 * kMs).gate, SafetyGate::Pass);
+  s.command(Wrench{{0, 0, 0.3}, {}}, 12 * kMs);  // published, never read by this side
+  s.holdCommandForTest(true);                     // the next publish caught halfway
+  const SafetyLayer::Output held = s.output(13 * kMs + 500'000);  // 3.5 ms after the last read
+  EXPECT_EQ(held.gate, SafetyGate::Pass) << gateName(held.gate);
+  EXPECT_EQ(held.wrench.force, Vec3{});
+  EXPECT_FALSE(s.faulted());
+  EXPECT_EQ(s.output(15 * kMs).gate, SafetyGate::Pass);
+  EXPECT_EQ(s.output(15 * kMs + 1).gate, SafetyGate::Watchdog);
+  s.holdCommandForTest(false);
+}
+
 TEST(SafetyLayer, EnabledButNeverCommandedFaultsAfterTheWatchdog) {
   SafetyLayer s;
   s.setLimits(10.0, 0.0);
