@@ -11,6 +11,7 @@ packages=(
   libglfw3-dev libglm-dev libimgui-dev libopenal-dev libusb-1.0-0-dev libhidapi-dev
   umockdev libumockdev-dev
   util-linux  # setpriv: the permission tests run dentsim as the user nobody
+  stress-ng   # scripts/stress-tests.sh: the tests that depend on timing, under full CPU load
   xvfb xauth
   libgtest-dev libgmock-dev
   libnifti2-dev zlib1g-dev libzstd-dev libxxhash-dev
