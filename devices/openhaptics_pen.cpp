@@ -259,6 +259,9 @@ class OpenHapticsPen final : public HapticDevice {
   char fault_text_[256] = {};                 // why it stopped; written before servo_running_ goes false
   // servo thread only
   long calibration_countdown_ = 0;
+  // read()'s thread only: the newest sample it got, for a read that finds the servo mid-store
+  DeviceReading last_reading_;
+  bool have_last_reading_ = false;
 };
 
 // ---- the shared scheduler ----
@@ -553,7 +556,16 @@ void OpenHapticsPen::servoFault(const hd::ErrorInfo& error, bool in_frame) {
 
 bool OpenHapticsPen::read(double /*t_s*/, DeviceReading* out) {
   if (!tracking(state())) return false;
-  return reading_.load(out);
+  if (reading_.load(out)) {
+    last_reading_ = *out;
+    have_last_reading_ = true;
+    return true;
+  }
+  // The servo thread is inside its store (preempted there on a loaded machine): the previous
+  // sample, a servo frame older, stands, rather than a pen that seems to vanish for a step.
+  if (!have_last_reading_) return false;
+  *out = last_reading_;
+  return true;
 }
 
 void OpenHapticsPen::service() {

@@ -354,9 +354,9 @@ TEST_F(OpenHapticsPair, ATwoPenSessionRecordsAndReplaysToTheSameVolumeAndAMirror
     // The first servo frames after the move: each proxy starts on its pen's first reading.
     const long frames = fake_.frames();
     ASSERT_TRUE(waitFor([&] { return fake_.frames() >= frames + 2; }));
-    ASSERT_TRUE(drill.read(0.0, &first));
+    ASSERT_TRUE(waitFor([&] { return drill.read(0.0, &first); }));
     loop.placeTool(PenRole::Drill, first.grip);
-    ASSERT_TRUE(mirror.read(0.0, &first));
+    ASSERT_TRUE(waitFor([&] { return mirror.read(0.0, &first); }));
     loop.placeTool(PenRole::Mirror, first.grip);
     SessionInfo info;
     info.created_utc = "2026-11-27T10:00:00Z";

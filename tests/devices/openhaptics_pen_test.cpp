@@ -150,7 +150,8 @@ TEST_F(OpenHapticsFake, OpenReadsSpecAndPose) {
   waitFrames();
 
   DeviceReading r;
-  ASSERT_TRUE(pen_->read(0.0, &r));
+  // read() never waits: a read that meets the servo thread mid-store gives the previous sample.
+  ASSERT_TRUE(waitFor([&] { return pen_->read(0.0, &r) && r.pose.position.x == 12.5; }));
   EXPECT_NEAR(r.pose.position.x, 12.5, 1e-9);
   EXPECT_NEAR(r.pose.position.y, -3.25, 1e-9);
   EXPECT_NEAR(r.pose.position.z, 40, 1e-9);
@@ -173,7 +174,7 @@ TEST_F(OpenHapticsFake, OpenReadsSpecAndPose) {
   fake_.setPose(moved, velocity, angular, nullptr);
   fake_.setButtons(0b01);
   waitFrames();
-  ASSERT_TRUE(pen_->read(0.0, &r));
+  ASSERT_TRUE(waitFor([&] { return pen_->read(0.0, &r) && r.pose.position.x == -7; }));
   EXPECT_NEAR(r.pose.position.x, -7, 1e-9);
   EXPECT_EQ(r.buttons, 0b01u);
   EXPECT_EQ(fake_.force(), Vec3{});  // Ready: nothing goes out
@@ -322,7 +323,7 @@ TEST_F(OpenHapticsFake, CalibrationNeedingTheUserIsNeedsHoming) {
     pen_->service();
     return pen_->state() == DeviceState::Ready;
   }));
-  EXPECT_TRUE(pen_->read(0.0, &r));
+  EXPECT_TRUE(waitFor([&] { return pen_->read(0.0, &r); }));
 }
 
 TEST_F(OpenHapticsFake, CalibrationNeedingAnUpdateIsUpdatedAutomatically) {
