@@ -718,6 +718,8 @@ std::optional<std::string> SessionParser::readDevice(std::span<const uint8_t> pa
     return what + ": reason of " + std::to_string(e.reason.size()) + " bytes is longer than " +
            std::to_string(kMaxReasonBytes);
   if (!isPrintableAscii(e.reason)) return what + ": reason " + quoteToken(e.reason) + " is not printable ASCII";
+  if (rec_.devices.size() >= limits_.max_device_events)
+    return "more than " + std::to_string(limits_.max_device_events) + " device events, the limit for one session";
   if (!rec_.devices.empty() && e.step < rec_.devices.back().step)
     return what + " comes after one at step " + std::to_string(rec_.devices.back().step);
   rec_.devices.push_back(std::move(e));

@@ -113,6 +113,7 @@ struct SessionRecording {
 struct SessionReadLimits {
   uint64_t max_bytes = uint64_t{16} << 30;      // refuse files larger than this
   uint64_t max_steps = 200'000'000;             // about 55 hours at 1 kHz
+  uint64_t max_device_events = 100'000;         // pen state changes; a real session has a handful
   uint32_t max_header_bytes = 16u << 20;
   uint32_t max_record_bytes = 16u << 20;
 };

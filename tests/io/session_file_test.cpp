@@ -766,6 +766,11 @@ TEST(SessionFileTest, RefusesDeviceEventsThatAreMalformedOrOutOfOrder) {
   EXPECT_FALSE(parse(bytes).ok());
   bytes = with({devicePayload(6, 0, "fault", ""), devicePayload(5, 1, "fault", "")});
   expectError(parse(bytes), kWhere + ": " + recordAt(bytes, 4) + ": device event at step 5 comes after one at step 6");
+  bytes = with({devicePayload(6, 0, "fault", ""), devicePayload(6, 1, "fault", "")});
+  SessionReadLimits one;
+  one.max_device_events = 1;
+  expectError(parseSession(bytes, kWhere, one),
+              kWhere + ": " + recordAt(bytes, 4) + ": more than 1 device events, the limit for one session");
   std::vector<uint8_t> cut = devicePayload(6, 0, "fault", "why");
   cut.pop_back();
   bytes = with({cut});
