@@ -1,7 +1,7 @@
 // voxelize_common.glsl: push constants and the buffers (set 0) every voxelizer kernel binds.
 //
 // Include after brick_layout.h and voxelize_layout.h. All voxelizer kernels declare the same
-// bindings 0..12 so that the host binds one list for each of them.
+// bindings 0..13 so that the host binds one list for each of them.
 #ifndef DENTSIM_VOXELIZE_COMMON_GLSL
 #define DENTSIM_VOXELIZE_COMMON_GLSL
 
@@ -20,6 +20,7 @@ layout(std430, set = 0, binding = DS_VOX_BINDING_CHUNKS) buffer Chunks { uint ch
 layout(std430, set = 0, binding = DS_VOX_BINDING_PACKED) buffer Packed { uint packedEntries[]; };
 layout(std430, set = 0, binding = DS_VOX_BINDING_SCANSUMS) buffer ScanSums { uint scanSums[]; };
 layout(std430, set = 0, binding = DS_VOX_BINDING_DONORS) buffer Donors { uint donors[]; };
+layout(std430, set = 0, binding = DS_VOX_BINDING_RASTER) readonly buffer RasterItems { uint rasterItems[]; };
 
 // Counter words.
 #define DS_VOX_COUNTER_BRICKS 0

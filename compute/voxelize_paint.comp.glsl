@@ -1,7 +1,8 @@
 // voxelize_paint.comp.glsl: walks the sorted hits of a column of bricks and writes its brick entries and dense bricks.
 //
-// One workgroup per brick column (8 x 8 voxel columns, the whole grid height); each invocation owns
-// one voxel column and its S x S rays. Only brick columns under the footprint are visited: the host
+// One workgroup per brick column (8 x 8 voxel columns) and segment of DS_VOX_PAINT_SEGMENT bricks
+// up it; each invocation owns one voxel column and its S x S rays. A segment first steps its rays
+// past the hits below it, adding up their windings, so it starts as the bricks below left it. Only brick columns under the footprint are visited: the host
 // has filled every entry with the empty tile beforehand. The group moves up the column brick by brick. Where no ray
 // has a hit before the next brick boundary and every ray is in the same material, the bricks up to
 // the next hit are uniform and written as tiles in one step, which is how empty space and the solid
@@ -80,7 +81,7 @@ void writeEntry(uint bx, uint by, uint bz, uint chunkDim, uint entry) {
   blockEntries[bandChunkIndex(bx, by, bz, chunkDim) * DS_CHUNK_BRICKS + local] = entry;
 }
 
-void paintColumn(uint bx, uint by) {
+void paintColumn(uint bx, uint by, uint bzBegin, uint bzEnd) {
   uint brickDim = 1u << (params.level - DS_BRICK_LOG2);
   uint chunkDim = max(1u, brickDim >> DS_CHUNK_LOG2);
   uint lane = gl_LocalInvocationID.x;
@@ -117,8 +118,25 @@ void paintColumn(uint bx, uint by) {
     }
   }
 
-  uint bz = 0u;
-  while (bz < brickDim) {
+  // The hits below the segment only turn the windings; the bricks below are another group's.
+  uint zStart = bzBegin * DS_BRICK_DIM * unit;
+  for (uint s = 0u; s < MAX_RAYS; ++s) {
+    uint skip = rayFilter[s];
+    while (rayNext[s] < rayEnd[s] && voxKeyDepth(hits[rayNext[s]]) < zStart) {
+      uint k = hits[rayNext[s]];
+      if (((skip >> voxKeyLayer(k)) & 1u) == 0u) rayWinding[s] = voxWindingStep(rayWinding[s], k);
+      rayNext[s] += 1u;
+    }
+    uint layerPlusOne = (skip >> 4u) & 7u;
+    while (layerPlusOne != 0u && borrowNext[s] < borrowEnd[s] && voxKeyDepth(hits[borrowNext[s]]) < zStart) {
+      uint k = hits[borrowNext[s]];
+      if (voxKeyLayer(k) == layerPlusOne - 1u) rayWinding[s] = voxWindingStep(rayWinding[s], k);
+      borrowNext[s] += 1u;
+    }
+  }
+
+  uint bz = bzBegin;
+  while (bz < bzEnd) {
     uint minKey = DS_VOX_NO_HIT;
     uint present = 0u;
     for (uint s = 0u; s < rays; ++s) {
@@ -136,7 +154,7 @@ void paintColumn(uint bx, uint by) {
     barrier();
     uint nextKey = groupMinKey;
     uint groupPresent = groupMaterials;
-    uint eventBrick = nextKey == DS_VOX_NO_HIT ? brickDim : voxKeyDepth(nextKey) / (unit * DS_BRICK_DIM);
+    uint eventBrick = nextKey == DS_VOX_NO_HIT ? bzEnd : min(bzEnd, voxKeyDepth(nextKey) / (unit * DS_BRICK_DIM));
     if (bitCount(groupPresent) == 1 && eventBrick > bz) {
       uint m = uint(findLSB(groupPresent));
       uint tile = DS_ENTRY_UNIFORM | (m == 0u ? 0u : makeVoxel(m, DS_FILL_FULL));
@@ -211,7 +229,12 @@ void paintColumn(uint bx, uint by) {
 }
 
 void main() {
-  uint column = params.firstItem + gl_WorkGroupID.x;
-  if (column >= params.itemLimit) return;  // the whole group leaves together
-  paintColumn(params.paintColumn0 + column % params.paintColumns, params.brickRow0 + column / params.paintColumns);
+  uint item = params.firstItem + gl_WorkGroupID.x;
+  if (item >= params.itemLimit) return;  // the whole group leaves together
+  uint brickDim = 1u << (params.level - DS_BRICK_LOG2);
+  uint segments = (brickDim + DS_VOX_PAINT_SEGMENT - 1u) / DS_VOX_PAINT_SEGMENT;
+  uint column = item / segments;
+  uint bzBegin = (item % segments) * DS_VOX_PAINT_SEGMENT;
+  paintColumn(params.paintColumn0 + column % params.paintColumns, params.brickRow0 + column / params.paintColumns,
+              bzBegin, min(brickDim, bzBegin + DS_VOX_PAINT_SEGMENT));
 }

@@ -3,6 +3,8 @@
 // Per band (a slab of chunk rows, the whole grid when it fits):
 //   submission 1: count hits per ray (raster MODE 0), then the three scan phases -> offsets
 //   submission 2: store hits (raster MODE 1), sort each ray, find donors, paint bricks, pack chunks
+// The raster passes take a triangle a tile of rays at a time and the paint pass a column a segment
+// of bricks at a time, to stay within lavapipe's loop budget per invocation (voxelize_layout.h).
 // The hit total read back between the two sizes the hit buffer exactly. A brick pool that overflows
 // is grown and the band painted again; a band whose rays, hits or blocks exceed one binding is split.
 #include "gpu/gpu_voxelizer.h"
@@ -57,14 +59,15 @@ Result<Pipelines> makePipelines(Context& ctx, uint32_t subsamples) {
   return p;
 }
 
-// Runs `items` items of a pass: one invocation per item, or with `per_group` one workgroup per item.
+// Runs items [first, first + items) of a pass: one invocation per item, or with `per_group` one
+// workgroup per item.
 Status runPass(Commands& cmds, ComputePipeline& pipe, std::span<Buffer* const> bindings, VoxelizeParams params,
-               uint64_t items, bool per_group) {
+               uint64_t items, bool per_group, uint64_t first = 0) {
   if (items == 0) return Ok{};
   const uint64_t local = pipe.localSize()[0];
-  params.itemLimit = uint32_t(items);
+  params.itemLimit = uint32_t(first + items);
   for (const DispatchRange& part : pipe.split(per_group ? items * local : items)) {
-    params.firstItem = uint32_t(per_group ? part.first / local : part.first);
+    params.firstItem = uint32_t(first + (per_group ? part.first / local : part.first));
     if (auto s = pipe.dispatch(cmds, bindings, params, part.groups); !s) return s;
   }
   return Ok{};
@@ -80,6 +83,41 @@ Status downloadWords(Context& ctx, Buffer& b, std::vector<T>& out, size_t count)
   out.resize(count);
   if (count == 0) return Ok{};
   return b.download(ctx, std::as_writable_bytes(std::span<T>(out)));
+}
+
+// Raster items: each triangle's footprint cut into tiles of DS_VOX_RASTER_TILE rays a side, as
+// (triangle, tile x | tile y << 16), ordered by tile row so a band takes a contiguous run. The span
+// is the kernel's own (voxRaySpan), so an item never misses a ray the kernel would test.
+struct RasterItems {
+  std::vector<uint32_t> words;         // 2 per item
+  std::vector<uint32_t> first_of_row;  // item index where each tile row starts, one past the end last
+};
+
+RasterItems rasterItems(const RaySetup& setup) {
+  const uint32_t tile = DS_VOX_RASTER_TILE;
+  const uint32_t rows = (setup.ray_y1 + tile - 1) / tile;
+  std::vector<std::vector<uint32_t>> by_row(rows);
+  for (size_t t = 0; t < setup.triangle_layer.size(); ++t) {
+    const float* c = &setup.corners[t * 9];
+    uint32_t x0, x1, y0, y1;
+    layout::voxRaySpan(std::min({c[0], c[3], c[6]}), std::max({c[0], c[3], c[6]}), setup.ray_x1, x0, x1);
+    layout::voxRaySpan(std::min({c[1], c[4], c[7]}), std::max({c[1], c[4], c[7]}), setup.ray_y1, y0, y1);
+    x0 = std::max(x0, setup.ray_x0);
+    y0 = std::max(y0, setup.ray_y0);
+    if (x0 >= x1 || y0 >= y1) continue;
+    for (uint32_t ty = y0 / tile; ty <= (y1 - 1) / tile; ++ty)
+      for (uint32_t tx = x0 / tile; tx <= (x1 - 1) / tile; ++tx) {
+        by_row[ty].push_back(uint32_t(t));
+        by_row[ty].push_back(tx | (ty << 16));
+      }
+  }
+  RasterItems items;
+  for (const auto& row : by_row) {
+    items.first_of_row.push_back(uint32_t(items.words.size() / 2));
+    items.words.insert(items.words.end(), row.begin(), row.end());
+  }
+  items.first_of_row.push_back(uint32_t(items.words.size() / 2));
+  return items;
 }
 
 }  // namespace
@@ -116,6 +154,14 @@ Result<BrickVolume> voxelizeGpu(Context& ctx, const RaySetup& setup, const Voxel
     if (auto s = corners.buffer->upload(ctx, std::as_bytes(std::span(setup.corners))); !s) return s.error();
     if (auto s = tri_layer.buffer->upload(ctx, std::as_bytes(std::span(setup.triangle_layer))); !s) return s.error();
   }
+  const RasterItems raster = rasterItems(setup);
+  GrowingBuffer raster_items{{}, MemoryKind::DeviceLocal, "voxelize raster items"};
+  if (raster.words.size() * 4 > max_binding)
+    return makeError(where, std::to_string(raster.words.size() / 2) + " raster tiles exceed one storage binding (" +
+                                formatBytes(max_binding) + "); decimate the meshes");
+  if (auto s = raster_items.ensure(ctx, raster.words.size() * 4); !s) return makeError(where, s.message());
+  if (!raster.words.empty())
+    if (auto s = raster_items.buffer->upload(ctx, std::as_bytes(std::span(raster.words))); !s) return s.error();
   tm.upload_ms = msSince(t_upload);
 
   GrowingBuffer counts{{}, MemoryKind::DeviceLocal, "voxelize counts"};
@@ -195,6 +241,12 @@ Result<BrickVolume> voxelizeGpu(Context& ctx, const RaySetup& setup, const Voxel
       continue;
     }
     p.scanCount = uint32_t(rays);
+    // The raster items whose tile rows meet the band's rays.
+    const uint32_t tile = DS_VOX_RASTER_TILE;
+    const size_t tile_rows = raster.first_of_row.size() - 1;
+    const uint32_t item0 = raster.first_of_row[std::min<size_t>(p.rayY0 / tile, tile_rows)];
+    const uint32_t item1 = raster.first_of_row[std::min<size_t>((p.rayY1 + tile - 1) / tile, tile_rows)];
+
     const uint64_t scan_blocks = (rays + DS_VOX_SCAN_BLOCK - 1) / DS_VOX_SCAN_BLOCK;
     for (auto [buf, bytes] : {std::pair{&counts, rays * 4}, {&offsets, (rays + 1) * 4}, {&leaky, rays * 4},
                               {&donors, rays * 4}, {&blocks, block_bytes}, {&chunk_out, band_chunk_count * 4},
@@ -220,6 +272,7 @@ Result<BrickVolume> voxelizeGpu(Context& ctx, const RaySetup& setup, const Voxel
       b[DS_VOX_BINDING_PACKED] = &*packed.buffer;
       b[DS_VOX_BINDING_SCANSUMS] = &*scan_sums.buffer;
       b[DS_VOX_BINDING_DONORS] = &*donors.buffer;
+      b[DS_VOX_BINDING_RASTER] = &*raster_items.buffer;
       return b;
     };
 
@@ -232,7 +285,7 @@ Result<BrickVolume> voxelizeGpu(Context& ctx, const RaySetup& setup, const Voxel
       fillZero(cmds, *counts.buffer, rays * 4);
       cmds.barrier();
       if (rays > 0) {
-        if (auto s = runPass(cmds, *pipes->count, b, p, triangles, false); !s) return s;
+        if (auto s = runPass(cmds, *pipes->count, b, p, item1 - item0, false, item0); !s) return s;
         if (auto s = runPass(cmds, *pipes->scan_reduce, b, p, scan_blocks, true); !s) return s;
         if (auto s = runPass(cmds, *pipes->scan_blocks, b, p, 1, true); !s) return s;
         if (auto s = runPass(cmds, *pipes->scan_apply, b, p, scan_blocks, true); !s) return s;
@@ -267,7 +320,8 @@ Result<BrickVolume> voxelizeGpu(Context& ctx, const RaySetup& setup, const Voxel
     paint.paintColumns = std::max(1u, col1 - col0);
     paint.brickRow0 = row0;
     paint.brickRows = row1 > row0 && col1 > col0 ? row1 - row0 : 0;
-    const uint64_t columns = uint64_t(paint.paintColumns) * paint.brickRows;
+    const uint64_t segments = (brick_dim + DS_VOX_PAINT_SEGMENT - 1) / DS_VOX_PAINT_SEGMENT;
+    const uint64_t columns = uint64_t(paint.paintColumns) * paint.brickRows * segments;  // workgroups
     bool stored = false;
     uint64_t dense = 0, live_blocks = 0;
     for (int attempt = 0; attempt < 2; ++attempt) {
@@ -277,7 +331,7 @@ Result<BrickVolume> voxelizeGpu(Context& ctx, const RaySetup& setup, const Voxel
         auto b = bindings();
         if (stamps) stamps->begin(cmds, 1);
         if (!stored && rays > 0) {
-          if (auto s = runPass(cmds, *pipes->scatter, b, p, triangles, false); !s) return s;
+          if (auto s = runPass(cmds, *pipes->scatter, b, p, item1 - item0, false, item0); !s) return s;
           if (auto s = runPass(cmds, *pipes->sort, b, p, rays, false); !s) return s;
           if (auto s = runPass(cmds, *pipes->donor, b, p, rays, false); !s) return s;
         }

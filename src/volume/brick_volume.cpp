@@ -190,6 +190,26 @@ void BrickVolume::setBrickUniform(BrickCoord c, Voxel v) {
   *entry = tile(v);
 }
 
+std::optional<Voxel> BrickVolume::chunkTile(uint32_t cx, uint32_t cy, uint32_t cz) const {
+  const uint32_t centry = chunks_[chunkIndex(cx, cy, cz)];
+  if (!isTile(centry)) return std::nullopt;
+  return tileValue(centry);
+}
+
+void BrickVolume::setChunkUniform(uint32_t cx, uint32_t cy, uint32_t cz, Voxel v) {
+  assert(validVoxel(v) && cx < chunk_dim_ && cy < chunk_dim_ && cz < chunk_dim_);
+  uint32_t& centry = chunks_[chunkIndex(cx, cy, cz)];
+  if (!isTile(centry)) {
+    const uint32_t block = entryIndex(centry);
+    for (uint32_t i = 0; i < DS_CHUNK_BRICKS; ++i) {
+      const uint32_t e = blocks_[size_t(block) * DS_CHUNK_BRICKS + i];
+      if (!isTile(e)) freeBrick(entryIndex(e));
+    }
+    free_blocks_.push_back(block);
+  }
+  centry = tile(v);
+}
+
 void BrickVolume::forEachBrick(const std::function<void(const BrickView&)>& fn) const {
   const uint32_t bd = brickDim();
   for (uint32_t z = 0; z < bd; ++z)
@@ -381,21 +401,32 @@ MaterialTotals BrickVolume::materialTotals() const {
 
 bool BrickVolume::operator==(const BrickVolume& other) const {
   if (level_ != other.level_) return false;
+  // Chunk by chunk: two chunk tiles compare in one step, which is most of a large grid.
   const uint32_t bd = brickDim();
-  for (uint32_t z = 0; z < bd; ++z)
-    for (uint32_t y = 0; y < bd; ++y)
-      for (uint32_t x = 0; x < bd; ++x) {
-        const BrickView a = brick({x, y, z});
-        const BrickView b = other.brick({x, y, z});
-        if (a.uniform && b.uniform) {
-          if (a.value != b.value) return false;
+  const uint32_t span = std::min<uint32_t>(bd, DS_CHUNK_DIM);
+  for (uint32_t cz = 0; cz < chunk_dim_; ++cz)
+    for (uint32_t cy = 0; cy < chunk_dim_; ++cy)
+      for (uint32_t cx = 0; cx < chunk_dim_; ++cx) {
+        const std::optional<Voxel> ta = chunkTile(cx, cy, cz), tb = other.chunkTile(cx, cy, cz);
+        if (ta && tb) {
+          if (*ta != *tb) return false;
           continue;
         }
-        for (uint32_t i = 0; i < DS_BRICK_VOXELS; ++i) {
-          const Voxel va = a.uniform ? a.value : a.voxels[i];
-          const Voxel vb = b.uniform ? b.value : b.voxels[i];
-          if (va != vb) return false;
-        }
+        for (uint32_t z = cz * span; z < cz * span + span; ++z)
+          for (uint32_t y = cy * span; y < cy * span + span; ++y)
+            for (uint32_t x = cx * span; x < cx * span + span; ++x) {
+              const BrickView a = brick({x, y, z});
+              const BrickView b = other.brick({x, y, z});
+              if (a.uniform && b.uniform) {
+                if (a.value != b.value) return false;
+                continue;
+              }
+              for (uint32_t i = 0; i < DS_BRICK_VOXELS; ++i) {
+                const Voxel va = a.uniform ? a.value : a.voxels[i];
+                const Voxel vb = b.uniform ? b.value : b.voxels[i];
+                if (va != vb) return false;
+              }
+            }
       }
   return true;
 }

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -100,6 +101,11 @@ class BrickVolume {
   void setBrick(BrickCoord c, const Voxel* voxels);
   // Sets a whole brick to one value (a tile).
   void setBrickUniform(BrickCoord c, Voxel v);
+  // The value of chunk (cx,cy,cz) when it is a tile (one value throughout); nullopt when it has bricks.
+  std::optional<Voxel> chunkTile(uint32_t cx, uint32_t cy, uint32_t cz) const;
+  // Sets a whole chunk (8^3 bricks) to one value (a chunk tile), freeing its block and bricks:
+  // how importers fill a solid interior without touching its bricks one by one.
+  void setChunkUniform(uint32_t cx, uint32_t cy, uint32_t cz, Voxel v);
 
   // Calls fn for every dense brick, in storage-independent order (z, then y, then x).
   void forEachDenseBrick(const std::function<void(const BrickView&)>& fn) const;

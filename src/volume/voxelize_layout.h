@@ -47,7 +47,17 @@ using std::floor;
 #define DS_VOX_BINDING_PACKED 10    // uint[512 per live block]: blocks packed by the chunk pass
 #define DS_VOX_BINDING_SCANSUMS 11  // uint per scan block
 #define DS_VOX_BINDING_DONORS 12    // uint per ray: the ray a leaky ray borrows from (see below)
-#define DS_VOX_BINDING_COUNT 13
+#define DS_VOX_BINDING_RASTER 13    // uint[2 per raster item]: triangle, tile (x | y << 16)
+#define DS_VOX_BINDING_COUNT 14
+
+// Work a kernel invocation may do. lavapipe (Mesa's llvmpipe, as in Debian 12) ends every loop of
+// an invocation once all its loops together have run 65535 iterations, silently: a large
+// triangle's rays past that point got no hit, and a long column's last bricks were painted
+// wrongly (at level 12, voxels with a fill but no tissue). So the raster pass takes a triangle a
+// tile of rays at a time, and the paint pass a column a segment of bricks at a time, each well
+// under that budget on any device.
+#define DS_VOX_RASTER_TILE 32u    // rays per side of one raster item's tile
+#define DS_VOX_PAINT_SEGMENT 32u  // bricks of a column one paint workgroup visits
 
 // Donor word of a ray: 0 when the ray is balanced; else the valid flag in bit 29, the borrowed
 // layer in bits 27..28 and the donor ray's band index in bits 0..26 (all ones: borrow nothing).
@@ -197,13 +207,16 @@ DS_VFN uint voxVoxelFromCoverage(uint cov1, uint cov2, uint cov3, uint cov4, uin
   uint fill = (total * DS_FILL_FULL + full / 2u) / full;
   if (fill == 0u) return 0u;
   uint threshold = dither * total + total / 2u;  // below 64 * total < 2^32
-  uint cumulative = 0u;
-  uint chosen = 0u;
-  for (uint i = 0u; i < 4u && chosen == 0u; ++i) {
-    uint m = (DS_VOX_PRIORITY_ORDER >> (4u * i)) & 15u;
-    cumulative += m == 1u ? cov1 : m == 2u ? cov2 : m == 3u ? cov3 : cov4;
-    if (64u * cumulative > threshold) chosen = m;
-  }
+  // The first tissue in DS_VOX_PRIORITY_ORDER (enamel, dentin, caries, pulp) whose cumulative share
+  // passes the threshold; pulp, the last, always does (64 * total > 63.5 * total). Straight-line
+  // rather than a loop, which on lavapipe would spend the invocation's loop budget (see above).
+  uint upToEnamel = cov1;
+  uint upToDentin = upToEnamel + cov2;
+  uint upToCaries = upToDentin + cov4;
+  uint chosen = 64u * upToEnamel > threshold   ? DS_MAT_ENAMEL
+                : 64u * upToDentin > threshold ? DS_MAT_DENTIN
+                : 64u * upToCaries > threshold ? DS_MAT_CARIES
+                                               : DS_MAT_PULP;
   return makeVoxel(chosen, fill > DS_FILL_FULL ? DS_FILL_FULL : fill);
 }
 
