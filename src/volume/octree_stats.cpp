@@ -1,7 +1,10 @@
 // Octree node counts: brick states bottom-up, then a top-down walk over nodes whose parents are mix.
 #include "volume/octree_stats.h"
 
+#include <algorithm>
 #include <array>
+#include <bit>
+#include <optional>
 
 namespace dentsim {
 namespace {
@@ -76,33 +79,37 @@ void countInsideBrick(const BrickPyramid& p, size_t depth, std::vector<OctreeLev
   }
 }
 
-}  // namespace
-
-OctreeCounts octreeNodeCounts(const BrickVolume& volume) {
-  const int L = volume.level();
-  const size_t brick_depth = size_t(L) - DS_BRICK_LOG2;
-  OctreeCounts result;
-  result.levels.resize(size_t(L) + 1);
-
-  // Bottom-up: the state of every brick, then of every coarser cube up to the root.
-  std::vector<std::vector<State>> states(brick_depth + 1);
-  const uint32_t bd = volume.brickDim();
-  states[brick_depth].resize(size_t(bd) * bd * bd);
-  volume.forEachBrick([&](const BrickView& b) {
-    const size_t i = b.coord.x + size_t(bd) * (b.coord.y + size_t(bd) * b.coord.z);
-    states[brick_depth][i] = b.uniform ? (voxelSolid(b.value) ? kBlack : kWhite) : pyramidOf(b.voxels).l3;
-  });
-  for (size_t d = brick_depth; d > 0; --d) {
-    const size_t side = size_t{1} << (d - 1);
-    states[d - 1].resize(side * side * side);
-    reduceLevel(states[d].data(), uint32_t(side * 2), states[d - 1].data());
+// The states of one chunk's bricks and of the cubes above them up to the chunk: local[k] has side
+// 2^k, local[0] being the chunk and the last level its bricks.
+std::vector<std::vector<State>> chunkPyramid(const BrickVolume& volume, uint32_t cx, uint32_t cy, uint32_t cz,
+                                             uint32_t span, size_t span_log) {
+  std::vector<std::vector<State>> local(span_log + 1);
+  local[span_log].resize(size_t(span) * span * span);
+  for (uint32_t z = 0; z < span; ++z)
+    for (uint32_t y = 0; y < span; ++y)
+      for (uint32_t x = 0; x < span; ++x) {
+        const BrickView b = volume.brick({cx * span + x, cy * span + y, cz * span + z});
+        local[span_log][x + span * (y + span * z)] =
+            b.uniform ? (voxelSolid(b.value) ? kBlack : kWhite) : pyramidOf(b.voxels).l3;
+      }
+  for (size_t k = span_log; k > 0; --k) {
+    const size_t side = size_t{1} << (k - 1);
+    local[k - 1].resize(side * side * side);
+    reduceLevel(local[k].data(), uint32_t(side * 2), local[k - 1].data());
   }
+  return local;
+}
 
-  // Top-down: a node exists when its parent exists and is mix.
+// Top-down over a pyramid of cubes (states[d] has side 2^d, states[0] one cube at level depth0 of
+// `levels`): a node exists when its parent is mix. The root is counted unless its caller did;
+// `leaf` counts what lies below a mix node of the last level.
+template <class Leaf>
+void countDown(const std::vector<std::vector<State>>& states, size_t depth0, bool count_root,
+               std::vector<OctreeLevelCounts>& levels, Leaf&& leaf) {
   std::vector<uint8_t> exists{1}, next;
-  for (size_t d = 0; d <= brick_depth; ++d) {
+  for (size_t d = 0; d < states.size(); ++d) {
     const uint32_t side = 1u << d;
-    const bool last = d == brick_depth;
+    const bool last = d + 1 == states.size();
     if (!last) next.assign(size_t(side) * 8 * side * side, 0);
     for (uint32_t z = 0; z < side; ++z)
       for (uint32_t y = 0; y < side; ++y)
@@ -110,10 +117,10 @@ OctreeCounts octreeNodeCounts(const BrickVolume& volume) {
           const size_t i = x + size_t(side) * (y + size_t(side) * z);
           if (!exists[i]) continue;
           const State s = states[d][i];
-          count(result.levels[d], s);
+          if (d > 0 || count_root) count(levels[depth0 + d], s);
           if (s != kMix) continue;
           if (last) {
-            countInsideBrick(pyramidOf(volume.brick({x, y, z}).voxels), d, result.levels);
+            leaf(x, y, z, depth0 + d);
             continue;
           }
           const uint32_t fine = side * 2;
@@ -124,6 +131,46 @@ OctreeCounts octreeNodeCounts(const BrickVolume& volume) {
         }
     exists.swap(next);
   }
+}
+
+}  // namespace
+
+// Works chunk by chunk, so that memory and time follow the chunks and the bricks the surface
+// crosses, not the grid: at level 13 the grid has 2^30 bricks, but a chunk that is a tile costs one
+// read. Chunk states go bottom-up to the root; below a mix chunk, its bricks' states, then the
+// voxels of its mix bricks.
+OctreeCounts octreeNodeCounts(const BrickVolume& volume) {
+  const int L = volume.level();
+  const uint32_t bd = volume.brickDim();
+  const uint32_t span = std::min<uint32_t>(bd, DS_CHUNK_DIM);  // a chunk's bricks per side inside the grid
+  const uint32_t cd = bd / span;                                // chunks per side
+  const size_t span_log = size_t(std::countr_zero(span));
+  const size_t chunk_depth = size_t(L) - DS_BRICK_LOG2 - span_log;
+  OctreeCounts result;
+  result.levels.resize(size_t(L) + 1);
+
+  std::vector<std::vector<State>> states(chunk_depth + 1);
+  states[chunk_depth].resize(size_t(cd) * cd * cd);
+  for (uint32_t z = 0; z < cd; ++z)
+    for (uint32_t y = 0; y < cd; ++y)
+      for (uint32_t x = 0; x < cd; ++x) {
+        const std::optional<Voxel> tile = volume.chunkTile(x, y, z);
+        states[chunk_depth][x + size_t(cd) * (y + size_t(cd) * z)] =
+            tile ? (voxelSolid(*tile) ? kBlack : kWhite) : chunkPyramid(volume, x, y, z, span, span_log)[0][0];
+      }
+  for (size_t d = chunk_depth; d > 0; --d) {
+    const size_t side = size_t{1} << (d - 1);
+    states[d - 1].resize(side * side * side);
+    reduceLevel(states[d].data(), uint32_t(side * 2), states[d - 1].data());
+  }
+
+  countDown(states, 0, true, result.levels, [&](uint32_t cx, uint32_t cy, uint32_t cz, size_t chunk_level) {
+    countDown(chunkPyramid(volume, cx, cy, cz, span, span_log), chunk_level, false, result.levels,
+              [&](uint32_t x, uint32_t y, uint32_t z, size_t brick_level) {
+                const BrickView b = volume.brick({cx * span + x, cy * span + y, cz * span + z});
+                countInsideBrick(pyramidOf(b.voxels), brick_level, result.levels);
+              });
+  });
   return result;
 }
 

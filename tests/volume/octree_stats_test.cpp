@@ -67,7 +67,7 @@ TEST(OctreeStats, SolidMeansAtLeastHalfFull) {
 }
 
 TEST(OctreeStats, MatchesBruteForceOnRandomBlobs) {
-  for (int level : {3, 5, 7}) {
+  for (int level : {3, 5, 7, 8}) {
     BrickVolume v(level);
     std::mt19937 rng{static_cast<uint32_t>(level)};
     const uint32_t n = v.dim();
@@ -86,6 +86,29 @@ TEST(OctreeStats, MatchesBruteForceOnRandomBlobs) {
     SCOPED_TRACE("level " + std::to_string(level));
     expectLevels(octreeNodeCounts(v), want);
   }
+}
+
+TEST(OctreeStats, ARodThroughALevel13GridCountsByHand) {
+  // One row of full voxels along x through a level-13 grid (8192^3 voxels, 2^30 bricks). Each mix
+  // node has 8 children, 2 along the rod and 6 beside it: at levels 1..12 the rod's 2^d nodes are
+  // mix and 3 * 2^d are white; at level 13 the rod is 2^13 black voxels beside 3 * 2^13 white ones.
+  // Counting chunk by chunk touches the rod's 128 chunks, not the grid (the whole grid's brick
+  // states would take 1 GiB).
+  BrickVolume v(13);
+  for (uint32_t x = 0; x < v.dim(); ++x) v.setVoxel(x, 4000, 77, makeVoxel(Material::Dentin, DS_FILL_FULL));
+  v.compact();
+  const OctreeCounts c = octreeNodeCounts(v);
+  ASSERT_EQ(c.levels.size(), 14u);
+  EXPECT_EQ(c.levels[0].mix, 1u);
+  for (size_t d = 1; d <= 12; ++d) {
+    SCOPED_TRACE("level " + std::to_string(d));
+    EXPECT_EQ(c.levels[d].mix, uint64_t{1} << d);
+    EXPECT_EQ(c.levels[d].white, uint64_t{3} << d);
+    EXPECT_EQ(c.levels[d].black, 0u);
+  }
+  EXPECT_EQ(c.levels[13].black, uint64_t{1} << 13);
+  EXPECT_EQ(c.levels[13].white, uint64_t{3} << 13);
+  EXPECT_EQ(c.levels[13].mix, 0u);
 }
 
 }  // namespace
