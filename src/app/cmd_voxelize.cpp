@@ -20,6 +20,7 @@
 #include "volume/tissue_table.h"
 #include "volume/tooth_file.h"
 #include "volume/tooth_frame.h"
+#include "volume/voxelize_plan.h"
 
 namespace dentsim::app {
 namespace {
@@ -47,7 +48,15 @@ struct VoxelizeOptions {
   // The tooth's frame, in the input's coordinates; empty: found (crown) or not known (mesial, buccal)
   std::vector<double> crown_axis, mesial_axis, buccal_axis;
   bool keep_orientation = false;  // record the frame but do not turn the grid
+  bool force = false;             // run a job larger than the machine's free memory all the same
 };
+
+// Says what the job will cost before it starts, and refuses one beyond the free memory unless --force.
+Status planJob(const dentsim::VoxelizeCost& cost, bool force) {
+  std::printf("plan: %s\n", describeCost(cost).c_str());
+  std::fflush(stdout);
+  return checkAffordable(cost, availableMemoryBytes(), force, "voxelize");
+}
 
 Result<ToothAxesHint> axesHint(const VoxelizeOptions& o) {
   ToothAxesHint hint;
@@ -228,14 +237,18 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
   std::optional<Result<BrickVolume>> voxels;
   std::string engine = "CPU reference";
   gpu::VoxelizeTiming timing;
-  const auto t0 = std::chrono::steady_clock::now();
+  std::optional<gpu::Context> gpu_context;
   if (!o.cpu) {
     auto ctx = openGpuOrFallBack(o.device, "voxelizing on the CPU");
     if (!ctx) return fail(ctx.message());
-    if (*ctx) {
-      voxels.emplace(gpu::voxelizeGpu(**ctx, *setup, vo, &timing, progress));
-      engine = "GPU (" + (*ctx)->device().name + ")";
-    }
+    gpu_context = std::move(ctx).value();
+  }
+  const bool on_gpu = gpu_context.has_value();
+  if (Status planned = planJob(estimateMeshVoxelize(*setup, on_gpu), o.force); !planned) return fail(planned.message());
+  const auto t0 = std::chrono::steady_clock::now();
+  if (on_gpu) {
+    voxels.emplace(gpu::voxelizeGpu(*gpu_context, *setup, vo, &timing, progress));
+    engine = "GPU (" + gpu_context->device().name + ")";
   }
   if (!voxels) voxels.emplace(voxelizeCpu(*setup, vo, progress));
   if (!*voxels) return fail(voxels->message());
@@ -289,6 +302,7 @@ int runVoxelize(const VoxelizeOptions& o) {
     import.seal_mm = o.seal_mm;
   }
   import.min_piece_voxels = o.min_piece;
+  import.approve = [&o](const dentsim::VoxelizeCost& cost) { return planJob(cost, o.force); };
 
   Result<LabelImage> image = readNiftiLabels(o.labels);
   if (!image) return fail(image.message());
@@ -370,6 +384,8 @@ void addVoxelizeCommand(CLI::App& root, Action& action) {
       ->expected(3);
   cmd->add_flag("--keep-orientation", opts->keep_orientation,
                 "Record the tooth's frame but do not turn the grid to stand the crown up");
+  cmd->add_flag("--force", opts->force,
+                "Run a job whose estimated memory exceeds what this machine has free (the plan line says both)");
   cmd->add_option("-o,--output", opts->output, "Output volume (.dvol)")->required();
   cmd->callback([opts, &action] { action = [opts] { return runVoxelize(*opts); }; });
 }

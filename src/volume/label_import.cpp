@@ -379,8 +379,57 @@ std::vector<int32_t> sampleTable(const Resampling& rs, size_t axis, int32_t sour
   return table;
 }
 
+// The source indices that the samples of target voxels [i0, i1] along one axis read: their
+// lowest and highest, and whether any falls outside the source.
+struct SampleSpan {
+  int32_t lo = std::numeric_limits<int32_t>::max(), hi = -1;
+  bool outside = false;
+};
+
+SampleSpan sampleSpan(const std::vector<int32_t>& table, int n, int64_t i0, int64_t i1) {
+  SampleSpan span;
+  for (int64_t t = i0 * n; t < (i1 + 1) * n; ++t) {
+    const int32_t k = table[size_t(t)];
+    if (k < 0) {
+      span.outside = true;
+      continue;
+    }
+    span.lo = std::min(span.lo, k);
+    span.hi = std::max(span.hi, k);
+  }
+  return span;
+}
+
+// What every sample of a box of target voxels reads, when it is all one thing: the one voxel all
+// of them become (a full voxel of one tissue, or empty), or nothing when they differ. A box whose
+// source indices hold one tissue and no sample outside the source resamples to that tissue, full;
+// one whose source indices are all empty resamples to empty. Checking the source box costs its
+// source voxels once, so the whole import stays linear in the source and in the output's bricks.
+std::optional<Voxel> uniformBox(const std::vector<uint8_t>& codes, const std::array<int32_t, 3>& dims,
+                                const std::array<SampleSpan, 3>& span) {
+  bool any_sample = true, outside = false;
+  for (const SampleSpan& a : span) {
+    any_sample = any_sample && a.hi >= 0;
+    outside = outside || a.outside;
+  }
+  if (!any_sample) return Voxel(0);  // every sample lies outside the source
+  const int64_t sy = dims[0], sz = int64_t{dims[0]} * dims[1];
+  const uint8_t first = codes[size_t(span[0].lo + sy * span[1].lo + sz * span[2].lo)];
+  const uint32_t kind = first == 0 ? 0u : 1u + layout::voxelMaterial(first);
+  for (int32_t k = span[2].lo; k <= span[2].hi; ++k)
+    for (int32_t j = span[1].lo; j <= span[1].hi; ++j) {
+      const uint8_t* row = &codes[size_t(sy * j + sz * k)];
+      for (int32_t i = span[0].lo; i <= span[0].hi; ++i)
+        if ((row[i] == 0 ? 0u : 1u + layout::voxelMaterial(row[i])) != kind) return std::nullopt;
+    }
+  if (kind == 0) return Voxel(0);
+  if (outside) return std::nullopt;  // partly outside: a partial fill, sampled voxel by voxel
+  return makeVoxel(static_cast<Material>(kind - 1), DS_FILL_FULL);
+}
+
 Status placeResampled(const std::vector<uint8_t>& codes, const std::array<int32_t, 3>& dims,
-                      const Resampling& rs, BrickVolume& volume, const Stage& stage, const std::string& where) {
+                      const Resampling& rs, BrickVolume& volume, const Stage& stage, const std::string& where,
+                      bool uniform_shortcuts, uint64_t* sampled_voxels) {
   std::array<std::vector<int32_t>, 3> table;
   std::array<int64_t, 3> first{}, last{};  // target voxels with at least one sample inside the source
   const int64_t dim = int64_t{1} << rs.level;
@@ -399,54 +448,114 @@ Status placeResampled(const std::vector<uint8_t>& codes, const std::array<int32_
   const int nxs = rs.samples[0], nys = rs.samples[1], nzs = rs.samples[2];
   const int total = nxs * nys * nzs;
   const int64_t sy = dims[0], sz = int64_t{dims[0]} * dims[1];
+  // Target voxel (i,j,k) from its n^3 point samples: the most frequent solid tissue, filled by the
+  // solid share.
+  auto sampleVoxel = [&](int64_t i, int64_t j, int64_t k) -> Voxel {
+    std::array<int, DS_MATERIAL_COUNT> count{};
+    int solid = 0;
+    for (int s = 0; s < nzs; ++s) {
+      const int32_t zk = table[2][size_t(k * nzs + s)];
+      if (zk < 0) continue;
+      for (int t = 0; t < nys; ++t) {
+        const int32_t yj = table[1][size_t(j * nys + t)];
+        if (yj < 0) continue;
+        const uint8_t* row = &codes[size_t(sy * yj + sz * zk)];
+        for (int u = 0; u < nxs; ++u) {
+          const int32_t xi = table[0][size_t(i * nxs + u)];
+          if (xi < 0) continue;
+          const uint8_t c = row[xi];
+          if (c == 0) continue;
+          ++solid;
+          ++count[layout::voxelMaterial(c)];
+        }
+      }
+    }
+    if (solid == 0) return 0;
+    uint32_t best = 0;
+    for (uint32_t m = 1; m < DS_MATERIAL_COUNT; ++m)
+      if (count[m] > count[best] || (count[m] == count[best] && count[m] > 0 && tieRank(m) > tieRank(best))) best = m;
+    const uint32_t fill = std::max(1u, uint32_t(std::lround(double(DS_FILL_FULL) * solid / double(total))));
+    return makeVoxel(static_cast<Material>(best), fill);
+  };
+  // The source span of each brick and each chunk along each axis, so that a box's check reads it
+  // in three look-ups.
+  constexpr int64_t kChunkVoxels = int64_t{DS_BRICK_DIM} * DS_CHUNK_DIM;
+  std::array<std::vector<SampleSpan>, 3> brick_span, chunk_span;
+  for (size_t a = 0; a < 3; ++a) {
+    for (int64_t b = 0; b * DS_BRICK_DIM < dim; ++b)
+      brick_span[a].push_back(sampleSpan(table[a], rs.samples[a], b * DS_BRICK_DIM, b * DS_BRICK_DIM + DS_BRICK_DIM - 1));
+    for (int64_t c = 0; c * kChunkVoxels < dim; ++c)
+      chunk_span[a].push_back(
+          sampleSpan(table[a], rs.samples[a], c * kChunkVoxels, std::min(dim, (c + 1) * kChunkVoxels) - 1));
+  }
+
   std::array<Voxel, DS_BRICK_VOXELS> buf{};
+  auto placeBrick = [&](uint32_t bx, uint32_t by, uint32_t bz) {
+    if (uniform_shortcuts) {
+      if (auto v = uniformBox(codes, dims, {brick_span[0][bx], brick_span[1][by], brick_span[2][bz]})) {
+        if (*v != 0) volume.setBrickUniform(BrickCoord{bx, by, bz}, *v);
+        return;
+      }
+    }
+    bool any = false;
+    *sampled_voxels += DS_BRICK_VOXELS;
+    for (uint32_t lz = 0; lz < 8; ++lz)
+      for (uint32_t ly = 0; ly < 8; ++ly)
+        for (uint32_t lx = 0; lx < 8; ++lx) {
+          const Voxel v = sampleVoxel(int64_t(bx) * 8 + lx, int64_t(by) * 8 + ly, int64_t(bz) * 8 + lz);
+          buf[layout::brickCoordToOffset(lx, ly, lz)] = v;
+          any = any || v != 0;
+        }
+    if (any) volume.setBrick(BrickCoord{bx, by, bz}, buf.data());
+  };
   const uint32_t b0[3] = {uint32_t(first[0] / 8), uint32_t(first[1] / 8), uint32_t(first[2] / 8)};
   const uint32_t b1[3] = {uint32_t(last[0] / 8), uint32_t(last[1] / 8), uint32_t(last[2] / 8)};
-  for (uint32_t bz = b0[2]; bz <= b1[2]; ++bz) {
-    for (uint32_t by = b0[1]; by <= b1[1]; ++by)
-      for (uint32_t bx = b0[0]; bx <= b1[0]; ++bx) {
-        bool any = false;
-        for (uint32_t lz = 0; lz < 8; ++lz)
-          for (uint32_t ly = 0; ly < 8; ++ly)
-            for (uint32_t lx = 0; lx < 8; ++lx) {
-              const int64_t i = int64_t(bx) * 8 + lx, j = int64_t(by) * 8 + ly, k = int64_t(bz) * 8 + lz;
-              std::array<int, DS_MATERIAL_COUNT> count{};
-              int solid = 0;
-              for (int s = 0; s < nzs; ++s) {
-                const int32_t zk = table[2][size_t(k * nzs + s)];
-                if (zk < 0) continue;
-                for (int t = 0; t < nys; ++t) {
-                  const int32_t yj = table[1][size_t(j * nys + t)];
-                  if (yj < 0) continue;
-                  const uint8_t* row = &codes[size_t(sy * yj + sz * zk)];
-                  for (int u = 0; u < nxs; ++u) {
-                    const int32_t xi = table[0][size_t(i * nxs + u)];
-                    if (xi < 0) continue;
-                    const uint8_t c = row[xi];
-                    if (c == 0) continue;
-                    ++solid;
-                    ++count[layout::voxelMaterial(c)];
-                  }
-                }
-              }
-              Voxel v = 0;
-              if (solid > 0) {
-                uint32_t best = 0;
-                for (uint32_t m = 1; m < DS_MATERIAL_COUNT; ++m)
-                  if (count[m] > count[best] || (count[m] == count[best] && count[m] > 0 && tieRank(m) > tieRank(best)))
-                    best = m;
-                const uint32_t fill =
-                    std::max(1u, uint32_t(std::lround(double(DS_FILL_FULL) * solid / double(total))));
-                v = makeVoxel(static_cast<Material>(best), fill);
-                any = true;
-              }
-              buf[layout::brickCoordToOffset(lx, ly, lz)] = v;
-            }
-        if (any) volume.setBrick(BrickCoord{bx, by, bz}, buf.data());
+  // Chunk by chunk: a chunk whose samples all read one tissue (or nothing) is one tile, the
+  // solid interior and the empty space around the tooth; only the others go brick by brick.
+  const uint32_t c0[3] = {b0[0] / DS_CHUNK_DIM, b0[1] / DS_CHUNK_DIM, b0[2] / DS_CHUNK_DIM};
+  const uint32_t c1[3] = {b1[0] / DS_CHUNK_DIM, b1[1] / DS_CHUNK_DIM, b1[2] / DS_CHUNK_DIM};
+  const bool whole_chunks = dim >= kChunkVoxels;  // below that a chunk reaches past the grid
+  for (uint32_t cz = c0[2]; cz <= c1[2]; ++cz) {
+    for (uint32_t cy = c0[1]; cy <= c1[1]; ++cy)
+      for (uint32_t cx = c0[0]; cx <= c1[0]; ++cx) {
+        if (uniform_shortcuts && whole_chunks) {
+          if (auto v = uniformBox(codes, dims, {chunk_span[0][cx], chunk_span[1][cy], chunk_span[2][cz]})) {
+            if (*v != 0) volume.setChunkUniform(cx, cy, cz, *v);
+            continue;
+          }
+        }
+        for (uint32_t bz = std::max(b0[2], cz * DS_CHUNK_DIM); bz <= std::min(b1[2], cz * DS_CHUNK_DIM + DS_CHUNK_DIM - 1); ++bz)
+          for (uint32_t by = std::max(b0[1], cy * DS_CHUNK_DIM); by <= std::min(b1[1], cy * DS_CHUNK_DIM + DS_CHUNK_DIM - 1); ++by)
+            for (uint32_t bx = std::max(b0[0], cx * DS_CHUNK_DIM); bx <= std::min(b1[0], cx * DS_CHUNK_DIM + DS_CHUNK_DIM - 1); ++bx)
+              placeBrick(bx, by, bz);
       }
-    if (!stage.report(double(bz - b0[2] + 1) / double(b1[2] - b0[2] + 1))) return cancelled(where);
+    if (!stage.report(double(cz - c0[2] + 1) / double(c1[2] - c0[2] + 1))) return cancelled(where);
   }
   return Ok{};
+}
+
+// Area [mm^2] of the faces between source voxels of different tissues, and of tissue faces on the
+// image's border: the surface that resampling turns into dense bricks.
+double tissueSurfaceMm2(const std::vector<uint8_t>& codes, const std::array<int32_t, 3>& dims,
+                        const std::array<double, 3>& pitch) {
+  const int64_t nx = dims[0], ny = dims[1], nz = dims[2];
+  auto kind = [&](int64_t i) { return codes[size_t(i)] == 0 ? 0u : 1u + layout::voxelMaterial(codes[size_t(i)]); };
+  const std::array<int64_t, 3> step{1, nx, nx * ny};
+  const std::array<double, 3> face{pitch[1] * pitch[2], pitch[0] * pitch[2], pitch[0] * pitch[1]};
+  std::array<uint64_t, 3> count{};
+  for (int64_t z = 0; z < nz; ++z)
+    for (int64_t y = 0; y < ny; ++y)
+      for (int64_t x = 0; x < nx; ++x) {
+        const int64_t i = x + nx * (y + ny * z);
+        const uint32_t k = kind(i);
+        const std::array<int64_t, 3> at{x, y, z};
+        for (size_t a = 0; a < 3; ++a) {
+          const bool last = at[a] + 1 == dims[a];
+          if (last ? k != 0 : kind(i + step[a]) != k) ++count[a];
+          if (at[a] == 0 && k != 0) ++count[a];
+        }
+      }
+  return double(count[0]) * face[0] + double(count[1]) * face[1] + double(count[2]) * face[2];
 }
 
 // ---- 7. import helpers ----------------------------------------------------------------------
@@ -611,9 +720,16 @@ Result<ToothVolume> importLabels(const LabelImage& image, const LabelImportOptio
     } else {
       rs.voxel_mm = *options.voxel_mm;
       rs.level = levelFor(extent / rs.voxel_mm + 4.0);
-      if (rs.level > DS_MAX_LEVEL)
-        return makeError(where, "voxel size " + std::to_string(rs.voxel_mm) + " mm needs a grid beyond level " +
-                                    std::to_string(DS_MAX_LEVEL));
+      if (rs.level > DS_MAX_LEVEL) {
+        std::ostringstream msg;  // shortest form: a hostile 1e-300 must not print 300 digits
+        msg << "voxel size " << rs.voxel_mm << " mm needs a grid beyond level " << DS_MAX_LEVEL;
+        return makeError(where, msg.str());
+      }
+    }
+    if (options.approve) {
+      const double faces = tissueSurfaceMm2(*codes, image.dims, pitch) / (rs.voxel_mm * rs.voxel_mm);
+      if (Status s = options.approve(estimateLabelImport(rs.level, faces, uint64_t(image.voxelCount()))); !s)
+        return s.error();
     }
     const double grid = double(int64_t{1} << rs.level);
     for (size_t a = 0; a < 3; ++a) {
@@ -623,7 +739,8 @@ Result<ToothVolume> importLabels(const LabelImage& image, const LabelImportOptio
       rs.low[a] = centre - 0.5 * grid * rs.ratio[a];
     }
     tooth.voxels = BrickVolume(rs.level);
-    if (Status s = placeResampled(*codes, image.dims, rs, tooth.voxels, place, where); !s) return s.error();
+    if (Status s = placeResampled(*codes, image.dims, rs, tooth.voxels, place, where, options.uniform_shortcuts,
+                                   &out.sampled_voxels); !s) return s.error();
     tooth.frame.level = rs.level;
     tooth.frame.voxel_mm = rs.voxel_mm;
     tooth.frame.origin_mm = {0, 0, 0};

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -16,6 +17,7 @@
 #include "core/result.h"
 #include "io/nifti_labels.h"
 #include "volume/brick_volume.h"
+#include "volume/voxelize_plan.h"
 
 namespace dentsim {
 
@@ -38,6 +40,12 @@ struct LabelImportOptions {
   double seal_mm = 0.0;                     // closing radius for fill_enclosed; 0: plain flood [mm]
   int64_t min_piece_voxels = 0;             // relabel pieces smaller than this [source voxels]; 0: off
   std::string where;                        // names the source in errors (the file path)
+  // Resampling fills a chunk or brick whose samples all read one tissue (or none) as one tile
+  // without sampling its voxels. false: every voxel sampled, the reference the tests hold it to.
+  bool uniform_shortcuts = true;
+  // Resampling only: called with the import's estimated cost once the level is known and before
+  // any target voxel is made; an error from it ends the import (a job too large for the machine).
+  std::function<Status(const VoxelizeCost&)> approve;
 };
 
 // What the small-piece clean-up relabelled. Arrays are indexed by Material code (0 empty .. 4 caries).
@@ -49,6 +57,9 @@ struct PieceCleanup {
 
 struct LabelImportReport {
   PieceCleanup cleanup;  // all zero when min_piece_voxels is 0
+  // Resampling only: target voxels sampled one by one. The rest were filled as whole chunk or
+  // brick tiles, so this grows with the surface's bricks, not with the grid.
+  uint64_t sampled_voxels = 0;
 };
 
 // Builds a tooth from labels.
