@@ -20,6 +20,7 @@
 #include "io/nifti_labels.h"
 #include "io/pen_path_file.h"
 #include "io/ply_file.h"
+#include "io/session_file.h"
 #include "io/stl_file.h"
 #include "io/wav_file.h"
 #include "test_support.h"
@@ -48,6 +49,7 @@ std::vector<Reader> readers() {
       {"nifti", [](const std::string& p) { return messageOf(readNiftiLabels(p)); }},
       {"wav", [](const std::string& p) { return messageOf(readWav(p)); }},
       {"pen path", [](const std::string& p) { return messageOf(loadPenPath(p)); }},
+      {"session", [](const std::string& p) { return messageOf(readSessionFile(p)); }},
   };
 }
 
@@ -82,7 +84,8 @@ void expectEveryReaderRefuses(const std::string& path, const std::string& proble
 
 TEST(HostileInput, AFifoIsRefusedByEveryReaderWithoutBlocking) {
   test::TempDir dir;
-  for (const char* name : {"pipe.stl", "pipe.nii", "pipe.dvol"}) {
+  // The FIFOs given as an STL, a .dvol and a .dses blocked for ever.
+  for (const char* name : {"pipe.stl", "pipe.nii", "pipe.dvol", "pipe.dses"}) {
     const std::string fifo = dir.file(name);
     ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
     expectEveryReaderRefuses(fifo, "not a regular file (a FIFO)");

@@ -378,6 +378,19 @@ TEST_F(NiftiLabelsTest, LabelsOverTheBudgetAreRefusedBeforeTheyAreRead) {
   expectError(r, p, "exceeds the limit of 100 bytes (the input budget; raise it with --max-input-mb N, in MiB)");
 }
 
+// A .nii.gz of `header` then `noise_bytes` of incompressible bytes, so that the file is as large as a
+// real bomb of zeros would be (deflate's best ratio is about 1032:1) without inflating gigabytes.
+void writeGzipBomb(const std::string& path, const std::vector<uint8_t>& header, size_t noise_bytes) {
+  gzFile gz = gzopen(path.c_str(), "wb1");
+  ASSERT_NE(gz, nullptr);
+  gzwrite(gz, header.data(), unsigned(header.size()));
+  std::mt19937 rng(27);
+  std::vector<uint8_t> noise(noise_bytes);
+  for (uint8_t& b : noise) b = uint8_t(rng());
+  gzwrite(gz, noise.data(), unsigned(noise.size()));
+  gzclose(gz);
+}
+
 TEST_F(NiftiLabelsTest, AGzipBombIsRefusedFromItsHeader) {
   // The 1 MB .nii.gz: a header claiming 1024^3 uint8 voxels, then a megabyte of compressed
   // data. Before, it cost 3.1 GB; now its 2 GiB of labels are refused before a voxel is read.
@@ -385,16 +398,18 @@ TEST_F(NiftiLabelsTest, AGzipBombIsRefusedFromItsHeader) {
   header.resize(kHeaderAndExt);
   for (int i = 1; i <= 3; ++i) poke<int16_t>(header, kDim + 2 * size_t(i), 1024);
   const std::string p = dir.file("bomb.nii.gz");
-  gzFile gz = gzopen(p.c_str(), "wb1");
-  ASSERT_NE(gz, nullptr);
-  gzwrite(gz, header.data(), unsigned(header.size()));
-  std::mt19937 rng(27);
-  std::vector<uint8_t> noise(size_t{1} << 20);
-  for (uint8_t& b : noise) b = uint8_t(rng());  // incompressible: the file stays above a megabyte
-  gzwrite(gz, noise.data(), unsigned(noise.size()));
-  gzclose(gz);
+  writeGzipBomb(p, header, size_t{1} << 20);
   expectError(readNiftiLabels(p), p,
               "labels of 1073741824 voxels (2147483648 bytes) exceeds the limit of 536870912 bytes (the input budget; "
+              "raise it with --max-input-mb N, in MiB)");
+  // The int32 one (it cost 6.2 GB): 1024 x 1024 x 512 int32 is 2 GiB stored, 1 GiB of labels.
+  poke<int16_t>(header, kDim + 6, 512);
+  poke<int16_t>(header, kDatatype, 8);  // DT_INT32
+  poke<int16_t>(header, kBitpix, 32);
+  const std::string p32 = dir.file("bomb32.nii.gz");
+  writeGzipBomb(p32, header, size_t{2} << 20);
+  expectError(readNiftiLabels(p32), p32,
+              "labels of 536870912 voxels (1073741824 bytes) exceeds the limit of 536870912 bytes (the input budget; "
               "raise it with --max-input-mb N, in MiB)");
 }
 
