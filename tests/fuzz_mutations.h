@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <iterator>
@@ -43,6 +44,26 @@ inline bool mutateBytesGeneric(std::vector<uint8_t>& bytes, std::mt19937& rng) {
       return true;
     default:
       return false;
+  }
+}
+
+// Puts the magic bytes of another format (io/file_kind.h) at the start of `bytes`: the files a
+// careless user hands a reader (a PLY as STL, a .nii.gz as .dvol). NIfTI's magic sits at byte 344,
+// so that one grows the input to a whole header.
+inline void overwriteWithForeignMagic(std::vector<uint8_t>& bytes, std::mt19937& rng) {
+  static const std::vector<std::vector<uint8_t>> kMagics = {
+      {'p', 'l', 'y', '\n'},        {0x1f, 0x8b, 0x08},           {0x28, 0xb5, 0x2f, 0xfd},
+      {'D', 'E', 'N', 'T', 'S', 'I', 'M', 'V'}, {'D', 'S', 'E', 'S', 'S', 'I', 'O', 'N'},
+      {'R', 'I', 'F', 'F', 0, 0, 0, 0, 'W', 'A', 'V', 'E'},  {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'},
+      {0x5c, 0x01, 0x00, 0x00},      // NIfTI-1 sizeof_hdr 348, little-endian; "n+1" follows at 344
+  };
+  const std::vector<uint8_t>& magic = kMagics[pick(rng, std::size(kMagics))];
+  if (bytes.size() < magic.size()) bytes.resize(magic.size());
+  std::copy(magic.begin(), magic.end(), bytes.begin());
+  if (magic[0] == 0x5c) {
+    if (bytes.size() < 352) bytes.resize(352);
+    const uint8_t n1[4] = {'n', '+', '1', 0};
+    std::copy(std::begin(n1), std::end(n1), bytes.begin() + 344);
   }
 }
 

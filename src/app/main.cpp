@@ -5,6 +5,7 @@
 #include <new>
 
 #include "app/commands.h"
+#include "io/input_budget.h"
 
 namespace dentsim::app {
 
@@ -20,6 +21,12 @@ int main(int argc, char** argv) {
   CLI::App root{"dentsim: dental surgery simulator (voxel tooth, haptic drilling, automatic scoring)"};
   root.require_subcommand(1);
   root.set_version_flag("--version", std::string("dentsim ") + DENTSIM_VERSION);
+  // One budget for every input a command reads (io/input_budget.h); raised for real large data.
+  uint64_t max_input_mb = dentsim::kDefaultInputBudgetBytes >> 20;
+  root.add_option(dentsim::kInputBudgetFlag, max_input_mb,
+                  "Most memory one input may take once read or decompressed [MiB] (default " +
+                      std::to_string(max_input_mb) + "); raise it for real large data")
+      ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 20));
   Action action;
   addGpuCommand(root, action);
   addVoxelizeCommand(root, action);
@@ -41,6 +48,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return root.exit(e);
   }
+  dentsim::setInputBudget({max_input_mb << 20});
   // Errors the environment can cause come back as Result; these catches only keep a bug or an
   // exhausted memory from ending in an abort without a message.
   try {

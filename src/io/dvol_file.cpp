@@ -1,14 +1,19 @@
 // .dvol reading and writing: fixed little-endian header, zstd payload, XXH64 checksums, atomic replace.
 #include "io/dvol_file.h"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <memory>
+#include <sstream>
 
 #include <xxhash.h>
 #include <zstd.h>
 
 #include "io/atomic_file.h"
+#include "io/file_kind.h"
+#include "io/input_budget.h"
 
 namespace dentsim {
 namespace {
@@ -42,6 +47,54 @@ constexpr int minLevel = 3, maxLevel = 13;  // the brick layout's DS_MIN_LEVEL .
 uint64_t chunkEntriesFor(int level) {
   const uint64_t side = level > 6 ? uint64_t{1} << (level - 6) : 1;
   return side * side * side;
+}
+
+// A number for a message: at most 10 significant digits, so that 1e300 prints as 1e+300.
+std::string num(double v) {
+  std::ostringstream os;
+  os.precision(10);
+  os << v;
+  return os.str();
+}
+
+// The grid-to-scanner matrix is refused when its 3 x 3 part is singular: its determinant, relative
+// to the product of its column lengths, measures how far the columns are from lying in one plane
+// (1 for right angles, 0 for flat), and export would write a placement no reader can invert.
+bool singularFrame(const std::array<double, 12>& m) {
+  const double det = m[0] * (m[5] * m[10] - m[6] * m[9]) - m[1] * (m[4] * m[10] - m[6] * m[8]) +
+                     m[2] * (m[4] * m[9] - m[5] * m[8]);
+  double lengths = 1.0;
+  for (int c = 0; c < 3; ++c) lengths *= std::sqrt(m[c] * m[c] + m[4 + c] * m[4 + c] + m[8 + c] * m[8 + c]);
+  return !(lengths > 0.0) || !(std::abs(det) > 1e-9 * lengths);
+}
+
+// Inflates one zstd frame straight into the three word arrays, in order, and stops at their end:
+// nothing is allocated beyond what the header's counts allow, and a frame that would inflate past
+// them is refused at that point, whatever size it declares.
+Status inflateInto(std::span<const uint8_t> packed, std::initializer_list<std::vector<uint32_t>*> arrays,
+                   const std::string& where) {
+  std::unique_ptr<ZSTD_DCtx, decltype(&ZSTD_freeDCtx)> dctx(ZSTD_createDCtx(), &ZSTD_freeDCtx);
+  if (!dctx) return makeError(where, "out of memory for the decompressor");
+  ZSTD_inBuffer in{packed.data(), packed.size(), 0};
+  size_t last = 1;  // ZSTD_decompressStream's hint: 0 once the frame is complete
+  for (std::vector<uint32_t>* words : arrays) {
+    ZSTD_outBuffer out{words->data(), words->size() * sizeof(uint32_t), 0};
+    while (out.pos < out.size) {
+      const size_t before_in = in.pos, before_out = out.pos;
+      last = ZSTD_decompressStream(dctx.get(), &out, &in);
+      if (ZSTD_isError(last))
+        return makeError(where, std::string("compressed payload is corrupt (") + ZSTD_getErrorName(last) + ")");
+      if (in.pos == before_in && out.pos == before_out)
+        return makeError(where, "compressed payload is corrupt (it ends before the size the header gives)");
+    }
+  }
+  // Every array is full: the frame must end here, with no byte left over.
+  uint8_t spare = 0;
+  ZSTD_outBuffer probe{&spare, 1, 0};
+  if (last != 0) last = ZSTD_decompressStream(dctx.get(), &probe, &in);
+  if (ZSTD_isError(last) || last != 0 || probe.pos != 0 || in.pos != in.size)
+    return makeError(where, "compressed payload is corrupt (it inflates past the size the header gives)");
+  return Ok{};
 }
 
 // A unit vector (norm within 1e-6 of 1), made exactly unit.
@@ -151,11 +204,16 @@ Status writeVolumeFile(const std::string& path, const VolumeFileData& data) {
 }
 
 Result<VolumeFileData> parseVolumeFile(std::span<const uint8_t> in, const std::string& where, uint64_t max_raw_bytes) {
-  if (in.size() < kHeaderBytesV1)
-    return makeError(where, in.size() >= sizeof(kMagic) && std::memcmp(in.data(), kMagic, sizeof(kMagic)) == 0
-                                ? "truncated header (" + std::to_string(in.size()) + " bytes)"
-                                : "not a dentsim volume file (too short)");
-  if (std::memcmp(in.data(), kMagic, sizeof(kMagic)) != 0) return makeError(where, "not a dentsim volume file (bad magic)");
+  if (in.size() < kHeaderBytesV1) {
+    if (in.size() >= sizeof(kMagic) && std::memcmp(in.data(), kMagic, sizeof(kMagic)) == 0)
+      return makeError(where, "truncated header (" + std::to_string(in.size()) + " bytes)");
+    if (auto other = refuseOtherKind(in, FileKind::Dvol, where, "a dentsim volume (.dvol)")) return *other;
+    return makeError(where, "not a dentsim volume file (too short)");
+  }
+  if (std::memcmp(in.data(), kMagic, sizeof(kMagic)) != 0) {
+    if (auto other = refuseOtherKind(in, FileKind::Dvol, where, "a dentsim volume (.dvol)")) return *other;
+    return makeError(where, "not a dentsim volume file (bad magic)");
+  }
   if (get<uint64_t>(in, kHeaderHashAt) != XXH64(in.data(), kHeaderHashAt, 0))
     return makeError(where, "header checksum mismatch: the file is corrupt");
   const uint32_t version = get<uint32_t>(in, kVersionAt);
@@ -179,8 +237,9 @@ Result<VolumeFileData> parseVolumeFile(std::span<const uint8_t> in, const std::s
   if (f.level < minLevel || f.level > maxLevel)
     return makeError(where, "grid level " + std::to_string(f.level) + " outside 3..13");
   f.voxel_mm = get<double>(in, kVoxelAt);
-  if (!std::isfinite(f.voxel_mm) || f.voxel_mm <= 0.0 || f.voxel_mm > 100.0)
-    return makeError(where, "voxel size " + std::to_string(f.voxel_mm) + " mm is not in (0, 100]");
+  if (!(f.voxel_mm >= kMinVoxelMm && f.voxel_mm <= kMaxVoxelMm))
+    return makeError(where, "voxel size " + num(f.voxel_mm) + " mm is outside " + num(kMinVoxelMm) + " .. " +
+                                num(kMaxVoxelMm) + " mm");
   bool finite = true;
   for (int i = 0; i < 3; ++i) {
     f.origin_mm[i] = get<double>(in, kOriginAt + 8 * i);
@@ -193,6 +252,8 @@ Result<VolumeFileData> parseVolumeFile(std::span<const uint8_t> in, const std::s
     finite = finite && std::isfinite(f.scanner_from_grid[i]);
   }
   if (!finite) return makeError(where, "origin or scanner matrix is not finite");
+  if (singularFrame(f.scanner_from_grid))
+    return makeError(where, "scanner matrix is singular (its axes are zero or lie in one plane)");
   const int64_t dim = f.dim();
   for (int i = 0; i < 3; ++i) {
     const int64_t lo = f.source_offset[i], n = f.source_dims[i];
@@ -206,33 +267,36 @@ Result<VolumeFileData> parseVolumeFile(std::span<const uint8_t> in, const std::s
   if (chunk_words != chunkEntriesFor(f.level))
     return makeError(where, "chunk table size does not match level " + std::to_string(f.level));
   if (block_words % 512 != 0 || brick_words % 128 != 0) return makeError(where, "index or brick pool is not whole");
-  // Each count is checked alone first so that the sum cannot overflow.
+  // Each count is checked alone first so that the sum cannot overflow; all of it before anything is
+  // allocated.
   const uint64_t limit_words = max_raw_bytes / 4;
-  if (block_words > limit_words || brick_words > limit_words || chunk_words + block_words + brick_words > limit_words)
-    return makeError(where, "payload exceeds the limit of " + std::to_string(max_raw_bytes) + " bytes");
+  if (block_words > limit_words || brick_words > limit_words || chunk_words + block_words + brick_words > limit_words) {
+    const uint64_t claimed = block_words > limit_words || brick_words > limit_words
+                                 ? std::max(block_words, brick_words) * 4
+                                 : (chunk_words + block_words + brick_words) * 4;
+    return makeError(where, limitExceeded("payload of " + std::to_string(claimed) + " bytes", max_raw_bytes));
+  }
   const uint64_t raw_bytes = (chunk_words + block_words + brick_words) * 4;
   if (packed != in.size() - header_bytes)
     return makeError(where, in.size() - header_bytes < packed
                                 ? "truncated: payload has " + std::to_string(in.size() - header_bytes) + " of " +
                                       std::to_string(packed) + " bytes"
                                 : "unexpected bytes after the payload");
+  // The frame's own size (absent or wrong in a forged one) must be what the counts say.
   const unsigned long long declared = ZSTD_getFrameContentSize(in.data() + header_bytes, packed);
   if (declared != raw_bytes) return makeError(where, "compressed payload is corrupt (size mismatch)");
 
-  std::vector<uint8_t> raw(raw_bytes);
-  const size_t got = ZSTD_decompress(raw.data(), raw.size(), in.data() + header_bytes, packed);
-  if (ZSTD_isError(got) || got != raw_bytes)
-    return makeError(where, std::string("compressed payload is corrupt (") +
-                                (ZSTD_isError(got) ? ZSTD_getErrorName(got) : "short") + ")");
-  if (XXH64(raw.data(), raw.size(), 0) != get<uint64_t>(in, kPayloadHashAt))
+  d.chunks.resize(chunk_words);
+  d.blocks.resize(block_words);
+  d.bricks.resize(brick_words);
+  if (Status s = inflateInto(in.subspan(header_bytes, packed), {&d.chunks, &d.blocks, &d.bricks}, where); !s)
+    return s.error();
+  std::unique_ptr<XXH64_state_t, decltype(&XXH64_freeState)> hash(XXH64_createState(), &XXH64_freeState);
+  XXH64_reset(hash.get(), 0);
+  for (const auto* words : {&d.chunks, &d.blocks, &d.bricks})
+    XXH64_update(hash.get(), words->data(), words->size() * sizeof(uint32_t));
+  if (XXH64_digest(hash.get()) != get<uint64_t>(in, kPayloadHashAt))
     return makeError(where, "payload checksum mismatch: the file is corrupt");
-
-  size_t at = 0;
-  for (auto [words, count] : {std::pair{&d.chunks, chunk_words}, {&d.blocks, block_words}, {&d.bricks, brick_words}}) {
-    words->resize(count);
-    if (count) std::memcpy(words->data(), raw.data() + at, count * 4);
-    at += count * 4;
-  }
   return d;
 }
 

@@ -14,11 +14,14 @@
 
 #include "core/result.h"
 #include "core/volume_frame.h"
+#include "io/input_budget.h"
 
 namespace dentsim {
 
 inline constexpr uint32_t kVolumeFileVersion = 2;  // 2 adds the tooth frame; version 1 files load with the default frame
-inline constexpr uint64_t kVolumeFileDefaultMaxBytes = uint64_t{8} << 30;  // raw payload limit [B]
+// Voxel edges a file may give [mm]: 1 nm up to 10 cm. Below, the grid of even level 13 spans less
+// than a cell; above, one voxel is larger than any tooth or jaw.
+inline constexpr double kMinVoxelMm = 1e-6, kMaxVoxelMm = 100.0;
 
 struct VolumeFileData {
   VolumeFrame frame;               // grid placement
@@ -29,13 +32,16 @@ struct VolumeFileData {
 
 // Writes atomically; an error names the path.
 Status writeVolumeFile(const std::string& path, const VolumeFileData& data);
-// Reads and checks magic, version, sizes, limits and checksums; the payload must not inflate
-// past max_raw_bytes. Every error is one line naming the path and the problem.
-Result<VolumeFileData> readVolumeFile(const std::string& path,
-                                      uint64_t max_raw_bytes = kVolumeFileDefaultMaxBytes);
+// Reads and checks magic (naming the real format of another kind of file), version, sizes,
+// limits, frame (voxel size within kMinVoxelMm..kMaxVoxelMm, a finite non-singular matrix) and
+// checksums. The raw payload the header's counts give must fit max_raw_bytes (by default the input
+// budget, io/input_budget.h) before anything is allocated, and the zstd frame is inflated straight
+// into the arrays with a hard stop at that size, so a small file never costs more than its counts
+// allow. Every error is one line naming the path and the problem.
+Result<VolumeFileData> readVolumeFile(const std::string& path, uint64_t max_raw_bytes = inputBudget().max_bytes);
 // The same checks on bytes in memory (the fuzz tests call this); `where` names the source.
 Result<VolumeFileData> parseVolumeFile(std::span<const uint8_t> bytes, const std::string& where,
-                                       uint64_t max_raw_bytes = kVolumeFileDefaultMaxBytes);
+                                       uint64_t max_raw_bytes = inputBudget().max_bytes);
 // Serialises to bytes (what writeVolumeFile writes).
 std::vector<uint8_t> encodeVolumeFile(const VolumeFileData& data);
 

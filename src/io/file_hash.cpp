@@ -9,9 +9,13 @@
 
 #include <xxhash.h>
 
+#include "io/atomic_file.h"
+
 namespace dentsim {
 
 Result<uint64_t> fileHash(const std::string& path) {
+  // fopen of a FIFO would wait for a writer.
+  if (Status regular = requireRegularFile(path); !regular) return regular.error();
   std::unique_ptr<FILE, int (*)(FILE*)> file(std::fopen(path.c_str(), "rb"), &std::fclose);
   if (!file) return makeError(path, std::strerror(errno));
   std::unique_ptr<XXH3_state_t, decltype(&XXH3_freeState)> state(XXH3_createState(), &XXH3_freeState);

@@ -12,6 +12,7 @@
 
 #include <nifti2_io.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -21,6 +22,8 @@
 #include <sstream>
 
 #include "io/atomic_file.h"
+#include "io/file_kind.h"
+#include "io/input_budget.h"
 
 namespace dentsim {
 namespace {
@@ -211,50 +214,89 @@ Result<CheckedHeader> checkHeader(const HeaderInfo& h, const std::string& path, 
 
 // ---- 3. voxel conversion --------------------------------------------------------------------
 
+// A slab of `n` stored voxels starting at voxel `first`, converted into out[first ..]. Returns how
+// many were not 0.
 template <class T>
-Result<Ok> convertInts(const void* data, size_t n, std::vector<Label>& out, const std::string& path) {
+Result<size_t> convertInts(const void* data, size_t first, size_t n, std::vector<Label>& out, const std::string& path) {
   const T* src = static_cast<const T*>(data);
+  size_t nonzero = 0;
   for (size_t i = 0; i < n; ++i) {
     const T v = src[i];
-    if constexpr (std::is_same_v<T, Label>) {
-      out[i] = v;
-    } else {
+    if constexpr (!std::is_same_v<T, Label>) {
       if (int64_t(v) < std::numeric_limits<Label>::min() || int64_t(v) > std::numeric_limits<Label>::max())
-        return makeError(path, "label " + std::to_string(int64_t(v)) + " at voxel " + std::to_string(i) +
+        return makeError(path, "label " + std::to_string(int64_t(v)) + " at voxel " + std::to_string(first + i) +
                                    " does not fit the 16-bit label range");
-      out[i] = static_cast<Label>(v);
     }
+    out[first + i] = static_cast<Label>(v);
+    nonzero += v != 0;
   }
-  return Ok{};
+  return nonzero;
 }
 
 template <class T>
-Result<Ok> convertFloats(const void* data, size_t n, std::vector<Label>& out, const std::string& path) {
+Result<size_t> convertFloats(const void* data, size_t first, size_t n, std::vector<Label>& out, const std::string& path) {
   const T* src = static_cast<const T*>(data);
+  size_t nonzero = 0;
   for (size_t i = 0; i < n; ++i) {
-    const T v = src[i];
+    T v = src[i];
+    if (!std::isfinite(v)) v = 0;  // as libnifti's own loader does: NaN and infinity read as 0
     if (!(v >= T(std::numeric_limits<Label>::min()) && v <= T(std::numeric_limits<Label>::max())) ||
         std::trunc(v) != v)
       return makeError(path, "floating-point labels must be whole numbers in the 16-bit range; voxel " +
-                                 std::to_string(i) + " holds " + num(double(v)));
-    out[i] = static_cast<Label>(v);
+                                 std::to_string(first + i) + " holds " + num(double(v)));
+    out[first + i] = static_cast<Label>(v);
+    nonzero += v != 0;
   }
-  return Ok{};
+  return nonzero;
 }
 
-Result<Ok> convertVoxels(const nifti_image& nim, std::vector<Label>& out, const std::string& path) {
-  const size_t n = out.size();
-  switch (nim.datatype) {
-    case DT_UINT8: return convertInts<uint8_t>(nim.data, n, out, path);
-    case DT_INT8: return convertInts<int8_t>(nim.data, n, out, path);
-    case DT_INT16: return convertInts<int16_t>(nim.data, n, out, path);
-    case DT_UINT16: return convertInts<uint16_t>(nim.data, n, out, path);
-    case DT_INT32: return convertInts<int32_t>(nim.data, n, out, path);
-    case DT_UINT32: return convertInts<uint32_t>(nim.data, n, out, path);
-    case DT_FLOAT32: return convertFloats<float>(nim.data, n, out, path);
-    case DT_FLOAT64: return convertFloats<double>(nim.data, n, out, path);
-    default: return makeError(path, "unsupported datatype " + datatypeName(nim.datatype));
+Result<size_t> convertSlab(int datatype, const void* data, size_t first, size_t n, std::vector<Label>& out,
+                           const std::string& path) {
+  switch (datatype) {
+    case DT_UINT8: return convertInts<uint8_t>(data, first, n, out, path);
+    case DT_INT8: return convertInts<int8_t>(data, first, n, out, path);
+    case DT_INT16: return convertInts<int16_t>(data, first, n, out, path);
+    case DT_UINT16: return convertInts<uint16_t>(data, first, n, out, path);
+    case DT_INT32: return convertInts<int32_t>(data, first, n, out, path);
+    case DT_UINT32: return convertInts<uint32_t>(data, first, n, out, path);
+    case DT_FLOAT32: return convertFloats<float>(data, first, n, out, path);
+    case DT_FLOAT64: return convertFloats<double>(data, first, n, out, path);
+    default: return makeError(path, "unsupported datatype " + datatypeName(datatype));
   }
+}
+
+// Streams the voxels from the file into `out` one slab at a time, so that memory is the labels
+// alone: an int32 file never needs its whole stored data in memory beside them. A short read means
+// the file (or its compressed stream) ended early. Returns how many labels are not 0.
+Result<size_t> readVoxels(const nifti_image& nim, bool gz, uint64_t data_bytes, std::vector<Label>& out,
+                          const std::string& path) {
+  const auto truncated = [&] {
+    return makeError(path, std::string("truncated or corrupt") + (gz ? " compressed" : "") +
+                               " voxel data: could not read the " + std::to_string(data_bytes) +
+                               " bytes the header promises");
+  };
+  znzFile fp = znzopen(nim.iname, "rb", gz ? 1 : 0);
+  if (znz_isnull(fp)) return makeError(path, "cannot open the voxel data");
+  const struct Closer {
+    znzFile& f;
+    ~Closer() { znzclose(f); }
+  } closer{fp};
+  if (znzseek(fp, znz_off_t(nim.iname_offset), SEEK_SET) < 0) return truncated();
+  const size_t bpv = size_t(nim.nbyper);
+  constexpr size_t kSlabBytes = size_t{1} << 20;  // 1 MiB, a whole number of voxels of any type [B]
+  std::vector<uint8_t> slab(kSlabBytes);
+  const bool swap = nim.byteorder != nifti_short_order() && bpv > 1;
+  size_t nonzero = 0;
+  for (size_t first = 0; first < out.size();) {
+    const size_t n = std::min(out.size() - first, kSlabBytes / bpv);
+    if (znzread(slab.data(), 1, n * bpv, fp) != n * bpv) return truncated();
+    if (swap) nifti_swap_Nbytes(int64_t(n), int(bpv), slab.data());
+    Result<size_t> converted = convertSlab(nim.datatype, slab.data(), first, n, out, path);
+    if (!converted) return converted.error();
+    nonzero += *converted;
+    first += n;
+  }
+  return nonzero;
 }
 
 }  // namespace
@@ -264,14 +306,20 @@ Result<Ok> convertVoxels(const nifti_image& nim, std::vector<Label>& out, const 
 Result<LabelImage> readNiftiLabels(const std::string& path, const NiftiReadLimits& limits) {
   silenceNifti();
   // libnifti would quietly try sibling names ("a.nii" -> "a.nii.gz"), so the exact path is checked first.
-  struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) return makeError(path, std::string("cannot open: ") + std::strerror(errno));
-  if (!S_ISREG(st.st_mode)) return makeError(path, "not a regular file");
-  if (st.st_size == 0) return makeError(path, "empty file, not a NIfTI image");
-  if (!endsWith(path, ".nii") && !isGzipName(path))
-    return makeError(path, "not a NIfTI file name (expected .nii or .nii.gz)");
+  // libnifti opens the file itself, so a FIFO or a device is refused here, before it can block.
+  Result<uint64_t> size = regularFileSize(path);
+  if (!size) return size.error();
+  if (*size == 0) return makeError(path, "empty file, not a NIfTI image");
   const bool gz = isGzipName(path);
-  const uint64_t file_bytes = uint64_t(st.st_size);
+  if (!endsWith(path, ".nii") && !gz) {
+    // A mesh or a volume named on the wrong option says what it is.
+    Result<std::vector<uint8_t>> head = readFileHead(path, kFileKindHeadBytes);
+    if (head)
+      if (auto other = refuseOtherKind(*head, FileKind::Nifti1, path, "a NIfTI label volume (.nii or .nii.gz)"))
+        return *other;
+    return makeError(path, "not a NIfTI file name (expected .nii or .nii.gz)");
+  }
+  const uint64_t file_bytes = *size;
 
   // 1. The raw header alone, checked before anything is allocated for voxels.
   int version = 0;
@@ -279,6 +327,10 @@ Result<LabelImage> readNiftiLabels(const std::string& path, const NiftiReadLimit
   if (!raw || (version != 1 && version != 2)) {
     if (startsLikeNifti(path, gz))
       return makeError(path, "truncated or corrupt header (it starts like NIfTI but cannot be read whole)");
+    Result<std::vector<uint8_t>> head = readFileHead(path, kFileKindHeadBytes);
+    if (head)
+      if (auto other = refuseOtherKind(*head, gz ? FileKind::Gzip : FileKind::Nifti1, path, "a NIfTI label volume"))
+        return *other;
     return makeError(path, "not a NIfTI file (no valid NIfTI-1 or NIfTI-2 header)");
   }
   const HeaderInfo info = headerInfo(raw.get(), version);
@@ -302,16 +354,19 @@ Result<LabelImage> readNiftiLabels(const std::string& path, const NiftiReadLimit
       nim->nbyper != checked->bytes_per_voxel)
     return makeError(path, "inconsistent NIfTI header (libnifti reads other dimensions or datatype)");
 
-  // 3. The voxels: a short read means the file (or its compressed stream) ended early.
-  if (nifti_image_load(nim.get()) != 0 || nim->data == nullptr)
-    return makeError(path, std::string("truncated or corrupt") + (gz ? " compressed" : "") +
-                               " voxel data: could not read the " + std::to_string(checked->data_bytes) +
-                               " bytes the header promises");
+  // 3. The voxels, streamed into the labels: the labels are what stays in memory, so they are what
+  // the input budget bounds (checked before they are allocated).
+  const uint64_t label_bytes = uint64_t(checked->voxels) * sizeof(Label);
+  if (label_bytes > limits.max_label_bytes)
+    return makeError(path, limitExceeded("labels of " + std::to_string(checked->voxels) + " voxels (" +
+                                             std::to_string(label_bytes) + " bytes)",
+                                         limits.max_label_bytes));
   LabelImage image;
   image.dims = checked->dims;
   image.labels.resize(size_t(checked->voxels));
-  if (Result<Ok> converted = convertVoxels(*nim, image.labels, path); !converted) return converted.error();
-  nifti_image_unload(nim.get());  // frees the raw voxels before the matrix work below
+  Result<size_t> nonzero = readVoxels(*nim, gz, checked->data_bytes, image.labels, path);
+  if (!nonzero) return nonzero.error();
+  if (*nonzero == 0) return makeError(path, "holds no tooth: every voxel is 0");
 
   // 4. Geometry in mm: pitch from pixdim, placement from sform, else qform, else the pitch alone.
   const double unit = mmPerUnit(info.xyzt_units);

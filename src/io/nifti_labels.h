@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/result.h"
+#include "io/input_budget.h"
 
 namespace dentsim {
 
@@ -39,12 +40,16 @@ struct LabelImage {
 struct NiftiReadLimits {
   int64_t max_voxels = int64_t{1} << 30;    // 1024^3 voxels
   uint64_t max_bytes = uint64_t{4} << 30;   // voxel data as stored in the file [B]
+  // The labels in memory (2 bytes a voxel), the only full-size copy the reader makes [B]; by
+  // default the input budget (io/input_budget.h), raised with --max-input-mb.
+  uint64_t max_label_bytes = inputBudget().max_bytes;
 };
 
 // ---- 2. Entry points ------------------------------------------------------------------------
 // Reads a 3D label image from a .nii or .nii.gz file (NIfTI-1 or NIfTI-2, either byte order).
-// Every error is one line "PATH: problem" (missing file, not a NIfTI file, truncated, unsupported
-// datatype, oversized or wrong dimensionality, scaled data, labels out of range).
+// Every error is one line "PATH: problem" (missing file, not a regular file, not a NIfTI file or
+// another known kind named, truncated, unsupported datatype, oversized or wrong dimensionality, over
+// the input budget, scaled data, labels out of range, no label at all).
 Result<LabelImage> readNiftiLabels(const std::string& path, const NiftiReadLimits& limits = {});
 
 // Writes `image` as NIfTI-1 with uint8 labels (every label must be in 0..255), gzip-compressed when
@@ -72,5 +77,10 @@ Status writeNiftiLabels(const std::string& path, const LabelImage& image);
 //   allocating); a gzip file whose stored size could not possibly inflate to them (deflate
 //   compresses at most about 1032:1) is refused before allocating too, and any short read while
 //   inflating is reported as truncated.
+// - Only a regular file is opened (a FIFO or a device is refused before libnifti can block on it).
+// - The labels (2 bytes a voxel) must fit limits.max_label_bytes, checked from the header before
+//   they are allocated; the voxels are then streamed from the file in 1 MiB slabs, so memory is
+//   the labels alone whatever the stored type, and a gzip bomb costs no more than its labels.
+// - At least one voxel must hold a label other than 0: a volume of zeros "holds no tooth".
 
 }  // namespace dentsim

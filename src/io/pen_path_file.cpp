@@ -25,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/atomic_file.h"
+#include "io/file_kind.h"
 #include "io/parse_guard.h"
 
 namespace dentsim {
@@ -629,6 +630,8 @@ Result<PenPath> parsePenPathJson(std::string_view text, const std::string& where
 Result<PenPath> loadPenPath(const std::string& path, const PenPathReadLimits& limits) {
   Result<std::vector<uint8_t>> bytes = readFileBytes(path, kMaxPenPathFileBytes);
   if (!bytes) return bytes.error();
+  // A pen path is text, so any format known by its magic bytes is the wrong file.
+  if (auto other = refuseOtherKind(*bytes, FileKind::Unknown, path, "a pen path (CSV or JSON)")) return *other;
   const std::string_view text(reinterpret_cast<const char*>(bytes->data()), bytes->size());
   return looksLikeJson(path, text) ? parsePenPathJson(text, path, limits) : parsePenPathCsv(text, path, limits);
 }

@@ -21,6 +21,8 @@
 #include <new>
 
 #include "io/atomic_file.h"
+#include "io/file_kind.h"
+#include "io/input_budget.h"
 #include "io/parse_guard.h"
 
 namespace dentsim {
@@ -180,6 +182,7 @@ class HeaderParser {
 
   Result<Header> parse() {
     if (bytes_.empty()) return makeError(where_, "empty file, not a PLY");
+    if (auto other = refuseOtherKind(bytes_, FileKind::Ply, where_, "a PLY mesh")) return *other;
     if (!nextLine()) return makeError(where_, "not a PLY file (no \"ply\" line)");
     if (line_ != "ply") return makeError(where_, "not a PLY file (the first line is " + quote(line_) + ", not \"ply\")");
     bool format_seen = false;
@@ -551,7 +554,7 @@ Result<PlyMesh> readPly(const std::string& path, const PlyReadLimits& limits) {
   constexpr uint64_t kMaxBytesPerTriangle = 128;
   const uint64_t max_bytes = kMaxHeaderBytes + std::min(limits.max_vertices, kMaxIndexable) * kMaxBytesPerVertex +
                              std::min(limits.max_triangles, kMaxIndexable) * kMaxBytesPerTriangle;
-  Result<std::vector<uint8_t>> bytes = readFileBytes(path, max_bytes);
+  Result<std::vector<uint8_t>> bytes = readFileBytes(path, std::min(max_bytes, inputBudget().max_bytes));
   if (!bytes) return bytes.error();
   return parsePly(*bytes, path, limits);
 }

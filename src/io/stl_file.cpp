@@ -20,6 +20,8 @@
 #include <new>
 
 #include "io/atomic_file.h"
+#include "io/file_kind.h"
+#include "io/input_budget.h"
 #include "io/parse_guard.h"
 
 namespace dentsim {
@@ -350,12 +352,37 @@ bool startsWithSolid(std::span<const uint8_t> bytes) {
 
 // What the size check says when a file is not binary: used on its own, or added to an ASCII error
 // when a file that starts with "solid" holds binary data.
-std::string binarySizeMismatch(std::span<const uint8_t> bytes) {
-  const uint64_t count = loadU32(bytes.data() + kHeaderBytes);
+// `head` holds at least the 84-byte preamble; `size` is the whole file's [B].
+std::string binarySizeMismatch(std::span<const uint8_t> head, uint64_t size) {
+  const uint64_t count = loadU32(head.data() + kHeaderBytes);
   const uint64_t expected = kPreambleBytes + kRecordBytes * count;
   return "binary STL header says " + std::to_string(count) + " triangles (" + std::to_string(expected) +
-         " bytes) but the file has " + std::to_string(bytes.size()) + " bytes" +
-         (expected > bytes.size() ? " (truncated?)" : " (trailing data?)");
+         " bytes) but the file has " + std::to_string(size) + " bytes" +
+         (expected > size ? " (truncated?)" : " (trailing data?)");
+}
+std::string binarySizeMismatch(std::span<const uint8_t> bytes) { return binarySizeMismatch(bytes, bytes.size()); }
+
+// What a file's first bytes and its size make it, decided before the whole file is read: binary
+// when its size is exactly 84 + 50 n for the count n (whatever its header says; the count is then
+// checked against the limit), ASCII when it starts with "solid"; otherwise an error that names the
+// real format of another kind of file (a PLY, a .nii.gz, a .dvol) or says what its size means.
+// `head` holds the file's first min(size, kFileKindHeadBytes) bytes or more.
+Result<StlFormat> classify(std::span<const uint8_t> head, uint64_t size, const std::string& where,
+                           const StlReadLimits& limits) {
+  if (size == 0) return makeError(where, "empty file, not an STL");
+  // The size decides first: many binary files begin their header with "solid".
+  if (size >= kPreambleBytes && kPreambleBytes + kRecordBytes * uint64_t(loadU32(head.data() + kHeaderBytes)) == size) {
+    const uint64_t count = loadU32(head.data() + kHeaderBytes);
+    if (count > effectiveLimit(limits)) return makeError(where, limitMessage(std::to_string(count), effectiveLimit(limits)));
+    return StlFormat::Binary;
+  }
+  if (startsWithSolid(head)) return StlFormat::Ascii;
+  if (auto other = refuseOtherKind(head, FileKind::Unknown, where, "an STL mesh")) return *other;
+  if (size < kPreambleBytes)
+    return makeError(where, "not an STL file: " + std::to_string(size) +
+                                " bytes is shorter than a binary STL header (84 bytes) and the text does not "
+                                "start with \"solid\"");
+  return makeError(where, binarySizeMismatch(head, size));
 }
 
 Result<StlMesh> parseAscii(std::span<const uint8_t> bytes, const std::string& where, const StlReadLimits& limits) {
@@ -389,18 +416,10 @@ Status finish(StlMesh& stl, const std::string& where) {
 }
 
 Result<StlMesh> parseUnchecked(std::span<const uint8_t> bytes, const std::string& where, const StlReadLimits& limits) {
-  if (bytes.empty()) return makeError(where, "empty file, not an STL");
-  // The size decides first: many binary files begin their header with "solid".
-  const bool binary = bytes.size() >= kPreambleBytes &&
-                      kPreambleBytes + kRecordBytes * uint64_t(loadU32(bytes.data() + kHeaderBytes)) == bytes.size();
-  if (!binary && !startsWithSolid(bytes)) {
-    if (bytes.size() < kPreambleBytes)
-      return makeError(where, "not an STL file: " + std::to_string(bytes.size()) +
-                                  " bytes is shorter than a binary STL header (84 bytes) and the text does not "
-                                  "start with \"solid\"");
-    return makeError(where, binarySizeMismatch(bytes));
-  }
-  Result<StlMesh> parsed = binary ? parseBinary(bytes, where, limits) : parseAscii(bytes, where, limits);
+  Result<StlFormat> format = classify(bytes, bytes.size(), where, limits);
+  if (!format) return format.error();
+  Result<StlMesh> parsed =
+      *format == StlFormat::Binary ? parseBinary(bytes, where, limits) : parseAscii(bytes, where, limits);
   if (!parsed) return parsed;
   if (Status s = finish(*parsed, where); !s) return s.error();
   return parsed;
@@ -414,10 +433,18 @@ Result<StlMesh> parseStl(std::span<const uint8_t> bytes, const std::string& wher
 
 Result<StlMesh> readStl(const std::string& path, const StlReadLimits& limits) {
   // ASCII spends about 250 bytes per facet, and verbose exporters more; the triangle limit itself is
-  // checked while parsing.
+  // checked while parsing. The input budget bounds the bytes read whatever the limit allows.
   constexpr uint64_t kMaxAsciiBytesPerTriangle = 512;
-  const uint64_t max_bytes = kPreambleBytes + std::min(limits.max_triangles, kMaxIndexableTriangles) *
-                                                  kMaxAsciiBytesPerTriangle;
+  const uint64_t max_bytes = std::min(kPreambleBytes + std::min(limits.max_triangles, kMaxIndexableTriangles) *
+                                                           kMaxAsciiBytesPerTriangle,
+                                      inputBudget().max_bytes);
+  // The head and the size decide the format, and a binary file's count is checked, before the
+  // whole file is read: a file that claims 20 million triangles, or is really a PLY, costs nothing.
+  Result<uint64_t> size = regularFileSize(path);
+  if (!size) return size.error();
+  Result<std::vector<uint8_t>> head = readFileHead(path, kFileKindHeadBytes);
+  if (!head) return head.error();
+  if (Result<StlFormat> format = classify(*head, *size, path, limits); !format) return format.error();
   Result<std::vector<uint8_t>> bytes = readFileBytes(path, max_bytes);
   if (!bytes) return bytes.error();
   return parseStl(*bytes, path, limits);

@@ -41,40 +41,83 @@ std::string jsonExceptionText(const std::exception& e) {
     if (u < 0x20 || u == 0x7f) c = ' ';
     else if (u >= 0x80) c = '?';
   }
+  // Its "last read" is the whole token, which for an unclosed string is the rest of the file.
+  constexpr size_t kMaxShown = 200;
+  if (what.size() > kMaxShown) what = what.substr(0, kMaxShown) + "...";
   return what;
 }
 
+namespace {
+
+// The open objects and arrays during a parse: one shared stack whose key path is built only when a
+// message needs it, so that memory stays linear in the input at any depth.
+struct OpenValue {
+  bool is_object = false;
+  std::set<std::string> keys;  // keys seen so far (objects)
+  std::string last_key;        // the key whose value is being parsed (objects)
+};
+
+// The path of the value being parsed inside the open values [0, n): "a.b[]".
+std::string pathOf(const std::vector<OpenValue>& open, size_t n) {
+  std::string path;
+  for (size_t i = 0; i < n; ++i) path = open[i].is_object ? jsonChildPath(path, open[i].last_key) : path + "[]";
+  return path;
+}
+
+// Where nesting first goes deeper than kMaxJsonDepth, as "line L, column C", or empty. A scan of its
+// own, before nlohmann parses, so that a hostile file is refused in one linear pass over its bytes;
+// brackets inside strings do not count.
+std::string tooDeepAt(const std::string& text) {
+  int depth = 0;
+  size_t line = 1, column = 0;
+  bool in_string = false, escaped = false;
+  for (char c : text) {
+    ++column;
+    if (c == '\n') {
+      ++line;
+      column = 0;
+    }
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '{' || c == '[') {
+      if (++depth > kMaxJsonDepth) return "line " + std::to_string(line) + ", column " + std::to_string(column);
+    } else if (c == '}' || c == ']') {
+      --depth;
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
 bool parseStrictJson(const std::string& text, json* out, std::string* error) {
+  if (const std::string at = tooDeepAt(text); !at.empty()) {
+    *error = "invalid JSON: nested deeper than " + std::to_string(kMaxJsonDepth) + " levels at " + at;
+    return false;
+  }
   // nlohmann keeps the last of repeated keys silently; a preset edited by hand must not, so a parse
   // callback tracks the keys of each open object.
-  struct Frame {
-    std::string path;                   // the object's or array's path
-    bool is_object = false;
-    std::set<std::string> keys;         // keys seen so far (objects)
-    std::string last_key;               // the key whose value is being parsed (objects)
-  };
-  std::vector<Frame> frames;
+  std::vector<OpenValue> open;
   std::string duplicate;
   auto callback = [&](int /*depth*/, json::parse_event_t event, json& parsed) {
     switch (event) {
       case json::parse_event_t::object_start:
-      case json::parse_event_t::array_start: {
-        std::string path;
-        if (!frames.empty())
-          path = frames.back().is_object ? jsonChildPath(frames.back().path, frames.back().last_key)
-                                         : frames.back().path + "[]";
-        frames.push_back({std::move(path), event == json::parse_event_t::object_start, {}, {}});
+      case json::parse_event_t::array_start:
+        open.push_back({event == json::parse_event_t::object_start, {}, {}});
         break;
-      }
       case json::parse_event_t::object_end:
       case json::parse_event_t::array_end:
-        if (!frames.empty()) frames.pop_back();
+        if (!open.empty()) open.pop_back();
         break;
       case json::parse_event_t::key:
-        if (!frames.empty() && parsed.is_string()) {
-          Frame& f = frames.back();
-          f.last_key = parsed.get_ref<const std::string&>();
-          if (!f.keys.insert(f.last_key).second && duplicate.empty()) duplicate = jsonChildPath(f.path, f.last_key);
+        if (!open.empty() && parsed.is_string()) {
+          OpenValue& o = open.back();
+          o.last_key = parsed.get_ref<const std::string&>();
+          if (!o.keys.insert(o.last_key).second && duplicate.empty()) duplicate = pathOf(open, open.size());
         }
         break;
       case json::parse_event_t::value:
@@ -89,10 +132,9 @@ bool parseStrictJson(const std::string& text, json* out, std::string* error) {
     *error = "invalid JSON: " + jsonExceptionText(e);
     return false;
   } catch (const json::out_of_range& e) {
-    // A number literal beyond the double range ("1e999"): the open frames say whose value it was.
+    // A number literal beyond the double range ("1e999"): the open values say whose value it was.
     std::string path = "(top level)";
-    if (!frames.empty())
-      path = frames.back().is_object ? jsonChildPath(frames.back().path, frames.back().last_key) : frames.back().path + "[]";
+    if (!open.empty()) path = pathOf(open, open.size());
     *error = path + ": not a finite number (" + jsonExceptionText(e) + ")";
     return false;
   } catch (const json::exception& e) {

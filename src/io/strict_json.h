@@ -19,11 +19,16 @@ std::string quotedForMessage(const std::string& s);
 // "a.b" for a plain key, a."odd key" otherwise, so that every path stays on one line.
 std::string jsonChildPath(const std::string& path, const std::string& key);
 // nlohmann's message without its "[json.exception...] " tag, as one line of ASCII: its "last read"
-// quotes the input, which may hold control bytes or broken UTF-8.
+// quotes the input, which may hold control bytes or broken UTF-8; cut to 200 bytes, since that quote
+// may be the rest of the file.
 std::string jsonExceptionText(const std::exception& e);
-// Parses text to JSON. False with *error set for a syntax error ("invalid JSON: ..."), a number
-// beyond the double range ("<path>: not a finite number (...)") or a key repeated in one object
-// ("<path>: repeated key").
+// Objects and arrays nested deeper than this are refused: no preset or task nests past a few
+// levels, and a file nested 100 000 deep must cost a linear scan, not the parser's time and memory.
+inline constexpr int kMaxJsonDepth = 64;
+// Parses text to JSON. False with *error set for a syntax error ("invalid JSON: ..."), nesting past
+// kMaxJsonDepth ("invalid JSON: nested deeper than 64 levels at line L, column C"), a number beyond
+// the double range ("<path>: not a finite number (...)") or a key repeated in one object
+// ("<path>: repeated key"). Memory is linear in the input at any depth.
 bool parseStrictJson(const std::string& text, nlohmann::json* out, std::string* error);
 
 // The base of a schema check: keeps the first problem as "<path>: <problem>".

@@ -8,6 +8,8 @@
 #include <cstring>
 
 #include "io/atomic_file.h"
+#include "io/file_kind.h"
+#include "io/input_budget.h"
 #include "io/parse_guard.h"
 
 namespace dentsim {
@@ -129,7 +131,10 @@ Result<WavAudio> parseWavUnguarded(std::span<const uint8_t> bytes, const std::st
   const uint8_t* b = bytes.data();
   if (std::memcmp(b, "RIFX", 4) == 0) return makeError(where, "big-endian (RIFX) WAV files are not supported");
   if (std::memcmp(b, "RF64", 4) == 0) return makeError(where, "RF64 WAV files are not supported");
-  if (std::memcmp(b, "RIFF", 4) != 0) return makeError(where, "not a WAV file (no RIFF header)");
+  if (std::memcmp(b, "RIFF", 4) != 0) {
+    if (auto other = refuseOtherKind(bytes, FileKind::Wav, where, "a WAV sound")) return *other;
+    return makeError(where, "not a WAV file (no RIFF header)");
+  }
   if (std::memcmp(b + 8, "WAVE", 4) != 0) return makeError(where, "a RIFF file of type " + chunkName(b + 8) + ", not WAVE");
   const uint64_t riff_size = u32(b + 4);
   if (riff_size < 4) return makeError(where, "RIFF size of " + std::to_string(riff_size) + " bytes is too small");
@@ -202,7 +207,7 @@ Result<WavAudio> parseWav(std::span<const uint8_t> bytes, const std::string& whe
 }
 
 Result<WavAudio> readWav(const std::string& path, const WavReadLimits& limits) {
-  Result<std::vector<uint8_t>> bytes = readFileBytes(path, limits.max_bytes);
+  Result<std::vector<uint8_t>> bytes = readFileBytes(path, std::min(limits.max_bytes, inputBudget().max_bytes));
   if (!bytes.ok()) return bytes.error();
   return parseWav(*bytes, path, limits);
 }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <xxhash.h>
+#include <zstd.h>
 
 #include <cmath>
 #include <cstring>
@@ -12,6 +13,7 @@
 #include <random>
 
 #include "io/atomic_file.h"
+#include "io/input_budget.h"
 #include "test_support.h"
 
 namespace dentsim {
@@ -220,6 +222,140 @@ TEST(AtomicFile, ReadRefusesFilesOverTheLimit) {
   EXPECT_NE(r.message().find("exceeds the limit of 99 bytes"), std::string::npos);
   EXPECT_TRUE(readFileBytes(dir.file("big"), 100).ok());
   EXPECT_FALSE(readFileBytes(dir.path().string(), 100).ok());  // a directory
+}
+
+// ---- hostile payloads and frames ----------------------------------------------------------------
+
+// Offsets of the header fields these tests forge [B].
+constexpr size_t kLevelAt = 16, kVoxelAt = 24, kScannerAt = 80, kBrickWordsAt = 192, kPackedAt = 200, kHeader = 352;
+
+// Replaces the payload after the header and its size field, keeping the header checksum valid.
+std::vector<uint8_t> withPayload(std::vector<uint8_t> bytes, const std::vector<uint8_t>& payload) {
+  bytes.resize(kHeader);
+  bytes.insert(bytes.end(), payload.begin(), payload.end());
+  const uint64_t packed = payload.size();
+  std::memcpy(bytes.data() + kPackedAt, &packed, 8);
+  rehashHeader(bytes);
+  return bytes;
+}
+
+// The sample's raw payload: chunk, block and brick words back to back.
+std::vector<uint8_t> rawPayload(const VolumeFileData& d) {
+  std::vector<uint8_t> raw;
+  for (const auto* words : {&d.chunks, &d.blocks, &d.bricks}) {
+    const auto* b = reinterpret_cast<const uint8_t*>(words->data());
+    raw.insert(raw.end(), b, b + words->size() * 4);
+  }
+  return raw;
+}
+
+// `zeros` bytes of 0 as one zstd frame, compressed 1 MiB at a time so that the test never holds them.
+std::vector<uint8_t> zeroFrame(size_t zeros, bool declare_size) {
+  std::unique_ptr<ZSTD_CCtx, decltype(&ZSTD_freeCCtx)> cctx(ZSTD_createCCtx(), &ZSTD_freeCCtx);
+  ZSTD_CCtx_setParameter(cctx.get(), ZSTD_c_contentSizeFlag, declare_size ? 1 : 0);
+  if (declare_size) ZSTD_CCtx_setPledgedSrcSize(cctx.get(), zeros);
+  const std::vector<uint8_t> block(size_t{1} << 20, 0);
+  std::vector<uint8_t> out;
+  std::vector<uint8_t> buf(ZSTD_CStreamOutSize());
+  for (size_t done = 0; done < zeros || zeros == 0;) {
+    const size_t n = std::min(block.size(), zeros - done);
+    done += n;
+    ZSTD_inBuffer in{block.data(), n, 0};
+    const ZSTD_EndDirective mode = done == zeros ? ZSTD_e_end : ZSTD_e_continue;
+    for (;;) {
+      ZSTD_outBuffer o{buf.data(), buf.size(), 0};
+      const size_t left = ZSTD_compressStream2(cctx.get(), &o, &in, mode);
+      out.insert(out.end(), buf.begin(), buf.begin() + std::ptrdiff_t(o.pos));
+      if (mode == ZSTD_e_end ? left == 0 : in.pos == in.size) break;
+    }
+    if (zeros == 0) break;
+  }
+  return out;
+}
+
+TEST(DvolFile, ABombsCountsAreRefusedOnTheBudgetBeforeAnythingIsAllocated) {
+  // The 269 KB file: a level-13 header whose brick pool claims 7.9 GB. Before the budget it
+  // cost 7.6 GB; the counts alone now refuse it, naming the flag that would allow it.
+  std::vector<uint8_t> bytes = encodeVolumeFile(sample());
+  const int32_t level = 13;
+  std::memcpy(bytes.data() + kLevelAt, &level, 4);
+  const uint64_t chunk_words = uint64_t{128} * 128 * 128;
+  std::memcpy(bytes.data() + 176, &chunk_words, 8);
+  const uint64_t brick_words = uint64_t{7'900'000'000} / 512 * 128;
+  std::memcpy(bytes.data() + kBrickWordsAt, &brick_words, 8);
+  bytes = withPayload(bytes, std::vector<uint8_t>(269'000, 0));
+  const std::string m = parseVolumeFile(bytes, "bomb.dvol").message();
+  EXPECT_EQ(m, "bomb.dvol: payload of 7899999744 bytes exceeds the limit of 536870912 bytes (the input budget; "
+               "raise it with --max-input-mb N, in MiB)");
+}
+
+TEST(DvolFile, AFrameThatInflatesPastTheCountsIsStoppedThere) {
+  // The counts and the first frame are right; a second frame of 16 MiB of zeros follows. The reader
+  // fills the arrays the counts allow and stops at the first byte beyond them.
+  const VolumeFileData d = sample();
+  const std::vector<uint8_t> good = encodeVolumeFile(d);
+  std::vector<uint8_t> payload(good.begin() + kHeader, good.end());
+  const std::vector<uint8_t> extra = zeroFrame(size_t{16} << 20, true);
+  EXPECT_LT(extra.size(), 2000u);  // a bomb: 16 MiB in under 2 KB
+  payload.insert(payload.end(), extra.begin(), extra.end());
+  EXPECT_EQ(parseVolumeFile(withPayload(good, payload), "x").message(),
+            "x: compressed payload is corrupt (it inflates past the size the header gives)");
+}
+
+TEST(DvolFile, AFrameWithNoDeclaredSizeOrTooShortIsRefused) {
+  const VolumeFileData d = sample();
+  const std::vector<uint8_t> good = encodeVolumeFile(d);
+  const std::vector<uint8_t> raw = rawPayload(d);
+  std::unique_ptr<ZSTD_CCtx, decltype(&ZSTD_freeCCtx)> cctx(ZSTD_createCCtx(), &ZSTD_freeCCtx);
+  ZSTD_CCtx_setParameter(cctx.get(), ZSTD_c_contentSizeFlag, 0);
+  std::vector<uint8_t> unsized(ZSTD_compressBound(raw.size()));
+  unsized.resize(ZSTD_compress2(cctx.get(), unsized.data(), unsized.size(), raw.data(), raw.size()));
+  EXPECT_EQ(parseVolumeFile(withPayload(good, unsized), "x").message(), "x: compressed payload is corrupt (size mismatch)");
+  // A frame of zeros that declares the right size but is cut short ends before the counts are met.
+  std::vector<uint8_t> cut = zeroFrame(raw.size(), true);
+  cut.resize(cut.size() - 4);
+  EXPECT_EQ(parseVolumeFile(withPayload(good, cut), "x").message().rfind("x: compressed payload is corrupt (", 0), 0u);
+}
+
+TEST(DvolFile, AbsurdVoxelSizesAreRefusedInOneShortLine) {
+  const std::vector<uint8_t> good = encodeVolumeFile(sample());
+  const auto withVoxel = [&](double mm) {
+    std::vector<uint8_t> b = good;
+    std::memcpy(b.data() + kVoxelAt, &mm, 8);
+    rehashHeader(b);
+    auto r = parseVolumeFile(b, "x");
+    return r.ok() ? std::string() : r.message();
+  };
+  EXPECT_EQ(withVoxel(1e-300), "x: voxel size 1e-300 mm is outside 1e-06 .. 100 mm");
+  EXPECT_EQ(withVoxel(1e300), "x: voxel size 1e+300 mm is outside 1e-06 .. 100 mm");
+  EXPECT_EQ(withVoxel(0.0), "x: voxel size 0 mm is outside 1e-06 .. 100 mm");
+  EXPECT_EQ(withVoxel(-0.034), "x: voxel size -0.034 mm is outside 1e-06 .. 100 mm");
+  EXPECT_EQ(withVoxel(std::nan("")), "x: voxel size nan mm is outside 1e-06 .. 100 mm");
+  // The bounds themselves are sizes a file may give.
+  for (double mm : {1e-6, 100.0}) {
+    std::vector<uint8_t> b = good;
+    std::memcpy(b.data() + kVoxelAt, &mm, 8);
+    rehashHeader(b);
+    EXPECT_TRUE(parseVolumeFile(b, "x").ok()) << mm;
+  }
+}
+
+TEST(DvolFile, ASingularScannerMatrixIsRefused) {
+  const std::vector<uint8_t> good = encodeVolumeFile(sample());
+  const auto withScanner = [&](const std::array<double, 12>& m) {
+    std::vector<uint8_t> b = good;
+    std::memcpy(b.data() + kScannerAt, m.data(), 96);
+    rehashHeader(b);
+    auto r = parseVolumeFile(b, "x");
+    return r.ok() ? std::string() : r.message();
+  };
+  const std::string singular = "x: scanner matrix is singular (its axes are zero or lie in one plane)";
+  EXPECT_EQ(withScanner({}), singular);                                                // all zero
+  EXPECT_EQ(withScanner({0.1, 0, 0, 0, 0, 0.1, 0, 0, 0, 0, 0, 0}), singular);          // one axis zero
+  EXPECT_EQ(withScanner({0.1, 0.1, 0, 0, 0, 0, 0.1, 0, 0, 0, 0, 1}), singular);        // grid axes i and j the same
+  EXPECT_EQ(withScanner({0.1, 0, 0, 0, 0, 0.1, 0, 0, 0, 0, 0.1, std::nan("")}), "x: origin or scanner matrix is not finite");
+  // A flipped frame, as the CT files have, is fine.
+  EXPECT_TRUE(withScanner({-0.034, 0, 0, 1, 0, -0.034, 0, 2, 0, 0, 0.034, 3}).empty());
 }
 
 }  // namespace

@@ -6,7 +6,11 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <random>
 
+#include <zlib.h>
+
+#include "io/input_budget.h"
 #include "test_support.h"
 
 namespace dentsim {
@@ -307,6 +311,106 @@ TEST_F(NiftiLabelsTest, WideLabelsOutsideInt16AreRefused) {
   const std::string p = dir.file("wide.nii");
   test::writeBytes(p, bytes);
   expectError(readNiftiLabels(p), p, "label 40000");
+}
+
+TEST_F(NiftiLabelsTest, AVolumeOfZerosHoldsNoTooth) {
+  // Before, a volume of zeros became an empty tooth with exit 0.
+  LabelImage im = smallImage();
+  std::fill(im.labels.begin(), im.labels.end(), Label{0});
+  for (const char* name : {"zeros.nii", "zeros.nii.gz"}) {
+    const std::string p = dir.file(name);
+    ASSERT_TRUE(writeNiftiLabels(p, im).ok());
+    const Result<LabelImage> r = readNiftiLabels(p);
+    ASSERT_FALSE(r.ok());
+    EXPECT_EQ(r.message(), p + ": holds no tooth: every voxel is 0");
+  }
+}
+
+TEST_F(NiftiLabelsTest, IntegerLabelsStreamIntoInt16WithTheirValues) {
+  // An int32 file of the small image, its values written by hand: the reader converts it slab by
+  // slab, never holding the int32 copy whole.
+  std::vector<uint8_t> bytes = validBytes();
+  bytes.resize(kHeaderAndExt);
+  poke<int16_t>(bytes, kDatatype, 8);  // DT_INT32
+  poke<int16_t>(bytes, kBitpix, 32);
+  const LabelImage im = smallImage();
+  std::vector<int32_t> values(im.labels.begin(), im.labels.end());
+  values[59] = -7;
+  bytes.resize(kHeaderAndExt + 240);
+  std::memcpy(bytes.data() + kHeaderAndExt, values.data(), 240);
+  const std::string p = dir.file("int32.nii");
+  test::writeBytes(p, bytes);
+  const Result<LabelImage> r = readNiftiLabels(p);
+  ASSERT_TRUE(r.ok()) << r.message();
+  std::vector<Label> expected = im.labels;
+  expected[59] = -7;
+  EXPECT_EQ(r->labels, expected);
+}
+
+TEST_F(NiftiLabelsTest, VolumesLargerThanOneSlabReadWhole) {
+  // 128^3 = 2 MiB voxels, two of the reader's 1 MiB slabs: labels on both sides of the seam and at
+  // the ends survive, compressed or not.
+  LabelImage im;
+  im.dims = {128, 128, 128};
+  im.scanner_from_voxel = {0.1, 0, 0, 0, 0, 0.1, 0, 0, 0, 0, 0.1, 0};
+  im.pitch_mm = {0.1, 0.1, 0.1};
+  im.labels.assign(size_t(im.voxelCount()), 0);
+  for (size_t at : {size_t{0}, (size_t{1} << 20) - 1, size_t{1} << 20, (size_t{2} << 20) - 1}) im.labels[at] = 4;
+  for (const char* name : {"big.nii", "big.nii.gz"}) {
+    const std::string p = dir.file(name);
+    ASSERT_TRUE(writeNiftiLabels(p, im).ok());
+    const Result<LabelImage> r = readNiftiLabels(p);
+    ASSERT_TRUE(r.ok()) << r.message();
+    EXPECT_EQ(r->labels, im.labels) << name;
+  }
+}
+
+TEST_F(NiftiLabelsTest, LabelsOverTheBudgetAreRefusedBeforeTheyAreRead) {
+  const std::string p = dir.file("small.nii");
+  test::writeBytes(p, validBytes());
+  NiftiReadLimits limits;
+  limits.max_label_bytes = 119;  // 60 voxels of int16 take 120
+  expectError(readNiftiLabels(p, limits), p, "labels of 60 voxels (120 bytes) exceeds the limit of 119 bytes");
+  // The budget in force is what the default limits take, and the message names its flag.
+  setInputBudget({100});
+  const Result<LabelImage> r = readNiftiLabels(p);
+  setInputBudget({});
+  expectError(r, p, "exceeds the limit of 100 bytes (the input budget; raise it with --max-input-mb N, in MiB)");
+}
+
+// A .nii.gz of `header` then `noise_bytes` of incompressible bytes, so that the file is as large as a
+// real bomb of zeros would be (deflate's best ratio is about 1032:1) without inflating gigabytes.
+void writeGzipBomb(const std::string& path, const std::vector<uint8_t>& header, size_t noise_bytes) {
+  gzFile gz = gzopen(path.c_str(), "wb1");
+  ASSERT_NE(gz, nullptr);
+  gzwrite(gz, header.data(), unsigned(header.size()));
+  std::mt19937 rng(27);
+  std::vector<uint8_t> noise(noise_bytes);
+  for (uint8_t& b : noise) b = uint8_t(rng());
+  gzwrite(gz, noise.data(), unsigned(noise.size()));
+  gzclose(gz);
+}
+
+TEST_F(NiftiLabelsTest, AGzipBombIsRefusedFromItsHeader) {
+  // The 1 MB .nii.gz: a header claiming 1024^3 uint8 voxels, then a megabyte of compressed
+  // data. Before, it cost 3.1 GB; now its 2 GiB of labels are refused before a voxel is read.
+  std::vector<uint8_t> header = validBytes();
+  header.resize(kHeaderAndExt);
+  for (int i = 1; i <= 3; ++i) poke<int16_t>(header, kDim + 2 * size_t(i), 1024);
+  const std::string p = dir.file("bomb.nii.gz");
+  writeGzipBomb(p, header, size_t{1} << 20);
+  expectError(readNiftiLabels(p), p,
+              "labels of 1073741824 voxels (2147483648 bytes) exceeds the limit of 536870912 bytes (the input budget; "
+              "raise it with --max-input-mb N, in MiB)");
+  // The int32 one (it cost 6.2 GB): 1024 x 1024 x 512 int32 is 2 GiB stored, 1 GiB of labels.
+  poke<int16_t>(header, kDim + 6, 512);
+  poke<int16_t>(header, kDatatype, 8);  // DT_INT32
+  poke<int16_t>(header, kBitpix, 32);
+  const std::string p32 = dir.file("bomb32.nii.gz");
+  writeGzipBomb(p32, header, size_t{2} << 20);
+  expectError(readNiftiLabels(p32), p32,
+              "labels of 536870912 voxels (1073741824 bytes) exceeds the limit of 536870912 bytes (the input budget; "
+              "raise it with --max-input-mb N, in MiB)");
 }
 
 }  // namespace

@@ -76,6 +76,7 @@ size_t bodyStart(const std::vector<uint8_t>& bytes) {
 // tail, or write a non-finite float or an extreme integer into the body.
 void mutateBytes(std::vector<uint8_t>& bytes, std::mt19937& rng) {
   if (test::mutateBytesGeneric(bytes, rng)) return;
+  if (rng() % 8 == 0) return test::overwriteWithForeignMagic(bytes, rng);  // an STL, .nii.gz, .dvol ... as PLY
   // A 32-bit word in the body: NaN, infinities, huge, negative or out-of-range values.
   const size_t body = bodyStart(bytes);
   if (bytes.size() < body + 4) return;

@@ -57,6 +57,7 @@ using test::pick;
 // tail, or (for binary files) rewrite the triangle count at offset 80.
 void mutateBytes(std::vector<uint8_t>& bytes, std::mt19937& rng) {
   if (test::mutateBytesGeneric(bytes, rng)) return;
+  if (rng() % 8 == 0) return test::overwriteWithForeignMagic(bytes, rng);  // a PLY, .nii.gz, .dvol ... as STL
   switch (rng() % 2) {
     case 0: {  // a non-finite or huge float in a corner
       if (bytes.size() < 4) break;

@@ -107,6 +107,7 @@ void mutateWav(Bytes& bytes, const std::vector<size_t>& fields, std::mt19937& rn
   static const uint32_t kValues[] = {0, 1, 2, 3, 7, 8, 16, 22, 40, 0x7fff, 0x8000, 0xffff, 0x10000,
                                      0x7fffffff, 0x80000000, 0xfffffffe, 0xffffffff, 44100, 768001, 0xFFFE};
   const size_t at = fields[pick(rng, fields.size())];
+  if (rng() % 16 == 0) return test::overwriteWithForeignMagic(bytes, rng);  // a PNG, .dses ... as WAV
   if (rng() % 5 == 0) {  // rename a chunk: 'data' to 'fmt ' and the like
     static const char* const kIds[] = {"fmt ", "data", "LIST", "RIFF", "WAVE", "\0\0\0\0"};
     if (at >= 4 && at + 4 <= bytes.size()) std::memcpy(&bytes[at - 4], kIds[rng() % std::size(kIds)], 4);
