@@ -22,6 +22,10 @@ std::string formatNumber(double value) {
   return text;
 }
 
+void failInOneLine(CLI::App& root) {
+  root.failure_message([](const CLI::App*, const CLI::Error& e) { return "dentsim: " + std::string(e.what()) + "\n"; });
+}
+
 CLI::Validator finiteIn(double lo, double hi, const std::string& unit) {
   const std::string range = "[" + formatNumber(lo) + ", " + formatNumber(hi) + "]" + (unit.empty() ? "" : " " + unit);
   return CLI::Validator(

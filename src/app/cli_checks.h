@@ -14,6 +14,11 @@ namespace dentsim::app {
 // A number as users read it: %g, so 1e300 prints as 1e+300 and not as 301 digits.
 std::string formatNumber(double value);
 
+// Makes CLI11's parse errors (a refused number, an unknown option) print as every other error of
+// dentsim does: one line, "dentsim: --fps: ...", with CLI11's exit code (non-zero). Idempotent; each
+// command that adds checked options calls it on the root it is given.
+void failInOneLine(CLI::App& root);
+
 // A CLI11 check for a number option: it must parse, be finite (not nan, not inf) and lie in
 // [lo, hi]. The message names the range and its unit ("[s]", "[mm]"); the help shows the range.
 // One helper for every numeric option, so no command accepts a NaN that a range test lets through

@@ -27,8 +27,6 @@ Status checkRunOptions(const SimulatorOptions& o, const CLI::App& cmd) {
   const Status checks[] = {
       refuseOption(given("--pen-script") && o.demo_script, "--pen-script",
                    "--demo-script plays the task's own path; give one of the two"),
-      refuseOption(given("--level") && !o.tooth.empty(), "--level",
-                   "applies only to the built-in molar; the tooth " + o.tooth + " keeps its own grid"),
       refuseOption(given("--audio-out") && !o.sound, "--audio-out", "--no-sound makes no sound to write"),
       refuseOption((given("--turbine-wav") || given("--cutting-wav")) && !o.sound, "--turbine-wav/--cutting-wav",
                    "--no-sound plays no recording"),
@@ -88,6 +86,7 @@ void printOutcome(const SimulatorOutcome& r) {
 }  // namespace
 
 void addRunCommand(CLI::App& root, Action& action) {
+  failInOneLine(root);
   auto o = std::make_shared<SimulatorOptions>();
   auto learning = std::make_shared<LearningCliOptions>();
   auto overwrite = std::make_shared<bool>(false);

@@ -275,7 +275,7 @@ Status checkVoxelizeOptions(const VoxelizeOptions& o, const std::function<bool(c
                                  "sets the grid's voxel, --level its size; with STL layers give one of the two");
         !st)
       return st;
-  } else {
+  } else if (!o.labels.empty()) {
     for (const char* stl_only : {"--units", "--scale", "--subsamples", "--hole-radius", "--cpu", "--device"})
       if (Status st = refuseOption(given(stl_only), stl_only, "applies to STL layers; --labels has its own grid"); !st)
         return st;
@@ -344,6 +344,7 @@ int runVoxelize(const VoxelizeOptions& o) {
 }  // namespace
 
 void addVoxelizeCommand(CLI::App& root, Action& action) {
+  failInOneLine(root);
   auto opts = std::make_shared<VoxelizeOptions>();
   CLI::App* cmd = root.add_subcommand("voxelize", "Build a .dvol tooth from STL tissue layers or a segmented CT label volume");
   cmd->add_option("--enamel", opts->enamel, "Enamel surface (STL)");
