@@ -255,7 +255,7 @@ void addBenchCommand(CLI::App& root, Action& action) {
   voxelize->add_option("--levels", vopts->levels, "Octree levels")->delimiter(',')->check(CLI::Range(3, 12))
       ->capture_default_str();
   voxelize->add_option("--fractions", vopts->fractions, "Shares of the triangles to keep [%]")->delimiter(',')
-      ->check(CLI::Range(0.01, 100.0))->capture_default_str();
+      ->check(finiteIn(0.01, 100.0, "%"))->capture_default_str();
   voxelize->add_option("--repeat", vopts->repeat, "Timed runs per system; the median is reported")
       ->check(CLI::Range(1, 100))->capture_default_str();
   voxelize->add_option("--out", vopts->out, "Output folder")->capture_default_str();
