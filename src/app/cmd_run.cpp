@@ -39,6 +39,10 @@ Status checkRunOptions(const SimulatorOptions& o, const CLI::App& cmd) {
                    "is the hand holding a pen script; give --pen-script, --demo-script or --drill script:FILE"),
       refuseOption(given("--record-ideal-at-end") && !script, "--record-ideal-at-end",
                    "records when the pen script ends; give --pen-script or --demo-script"),
+      refuseOption(given("--score-at-end") && !script, "--score-at-end",
+                   "scores when the pen script ends; give --pen-script or --demo-script"),
+      refuseOption(given("--exit-at-end") && !script, "--exit-at-end",
+                   "quits when the pen script ends; give --pen-script or --demo-script"),
   };
   for (const Status& st : checks)
     if (!st) return st;

@@ -114,6 +114,8 @@ TEST_F(CarelessInputCli, AnOptionThatCannotApplyIsRefusedWithTheReason) {
       {"run --headless --demo-script --recorded-rpm 30000 --out " + never, "--recorded-rpm", "--turbine-wav"},
       {"run --headless --demo-script --guide-stiffness 2 --out " + never, "--guide-stiffness", "--guide"},
       {"run --headless --wander 1 --exit-after 1 --out " + never, "--wander", "pen script"},
+      {"run --headless --score-at-end --exit-after 1 --out " + never, "--score-at-end", "pen script ends"},
+      {"run --exit-at-end --exit-after 1 --out " + never, "--exit-at-end", "pen script ends"},
       {"demo --headless --stay --out " + never, "--stay", "--headless"},
       {"demo --headless --mirror round_bur_010 --out " + never, "--mirror", "not a mirror"},
       {"replay " + dir_.file("s.dses") + " --headless --speed 2", "--speed", "window"},
