@@ -7,6 +7,7 @@
 #include <sstream>
 #include <thread>
 
+#include "app/cli_checks.h"
 #include "app/commands.h"
 #include "app/frames_bench.h"
 #include "app/gpu_choice.h"
@@ -235,6 +236,7 @@ int runHapticBenchCommand(HapticBenchOptions o) {
 }  // namespace
 
 void addBenchCommand(CLI::App& root, Action& action) {
+  failInOneLine(root);
   CLI::App* bench = root.add_subcommand("bench", "Benchmarks recorded in docs/PERFORMANCE.md (JSON, Markdown, SVG)");
   bench->require_subcommand(1);
   auto opts = std::make_shared<MemoryBenchOptions>();
@@ -253,7 +255,7 @@ void addBenchCommand(CLI::App& root, Action& action) {
   voxelize->add_option("--levels", vopts->levels, "Octree levels")->delimiter(',')->check(CLI::Range(3, 12))
       ->capture_default_str();
   voxelize->add_option("--fractions", vopts->fractions, "Shares of the triangles to keep [%]")->delimiter(',')
-      ->check(CLI::Range(0.01, 100.0))->capture_default_str();
+      ->check(finiteIn(0.01, 100.0, "%"))->capture_default_str();
   voxelize->add_option("--repeat", vopts->repeat, "Timed runs per system; the median is reported")
       ->check(CLI::Range(1, 100))->capture_default_str();
   voxelize->add_option("--out", vopts->out, "Output folder")->capture_default_str();
@@ -298,7 +300,7 @@ void addBenchCommand(CLI::App& root, Action& action) {
                                                      "after-idle runs, missed deadlines, points per step)");
   haptic->add_option("--levels", hopts->levels, "Octree levels")->delimiter(',')->check(CLI::Range(5, 11))
       ->capture_default_str();
-  haptic->add_option("--laps", hopts->settings.path.laps, "Laps of the cavity outline")->check(CLI::Range(0.05, 20.0))
+  haptic->add_option("--laps", hopts->settings.path.laps, "Laps of the cavity outline")->check(finiteIn(0.05, 20.0, "laps"))
       ->capture_default_str();
   haptic->add_flag("--cpu-voxelize", hopts->cpu_voxelize, "Voxelize the molar with the CPU reference");
   haptic->add_flag("--no-step-only", hopts->no_step_only, "Skip the back-to-back run on the bench thread");
@@ -318,7 +320,9 @@ void addBenchCommand(CLI::App& root, Action& action) {
                                                      "several levels: re-mesh, tooth, tools, mirror pass, panel");
   frames->add_option("--levels", fopts->levels, "Octree levels")->delimiter(',')->check(CLI::Range(6, 11));
   frames->add_option("--frames", fopts->frames, "Frames drawn per level")->check(CLI::Range(4, 100000))->capture_default_str();
-  frames->add_option("--from", fopts->from_s, "Loop time of the first frame [s]")->capture_default_str();
+  frames->add_option("--from", fopts->from_s, "Loop time of the first frame [s]")
+      ->check(finiteIn(0.0, 24.0 * 3600.0, "s"))
+      ->capture_default_str();
   frames->add_option("--width", fopts->width, "Frame width [px]")->check(CLI::Range(64, 8192))->capture_default_str();
   frames->add_option("--height", fopts->height, "Frame height [px]")->check(CLI::Range(64, 8192))->capture_default_str();
   frames->add_flag("--window", fopts->window, "Draw into a window (needs a display) instead of offscreen");

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "app/cli_checks.h"
 #include "app/commands.h"
 #include "app/learning_cli.h"
 #include "app/mesh_output.h"
@@ -41,7 +42,20 @@ struct DemoOptions {
   bool sound = true;                 // the window plays it; headless, it goes to sound.wav
   std::string attempt = "expert";    // the careful removal, or one with a fault (sim/novice_paths.h)
   LearningCliOptions learning;       // the attempt's learning record, when a student is named
+  bool overwrite = false;            // replace a recording already in `out`
 };
+
+// Options that cannot apply together, each refused with the reason (checked after parsing).
+Status checkDemoOptions(const DemoOptions& o, const CLI::App& cmd) {
+  if (Status st = refuseOption(o.stay && o.headless, "--stay", "keeps a window open; --headless opens none"); !st) return st;
+  if (Status st = refuseOption(cmd.count("--exit-after") > 0 && o.stay, "--exit-after",
+                               "closes the window at a loop time; --stay keeps it open until you close it");
+      !st)
+    return st;
+  if (o.mirror != "none")
+    if (Status st = checkCatalogTool("--mirror", o.mirror, ToolUse::Mirror); !st) return st;
+  return Ok{};
+}
 
 // The final tooth as a mesh, beside the other files: what a reader opens in any 3-D viewer.
 int writeFinalMesh(const std::string& out, const ToothVolume& tooth) {
@@ -59,6 +73,8 @@ int runCpuDemo(const DemoOptions& o);
 int runDemo(const DemoOptions& o) {
   namespace fs = std::filesystem;
   if (Status st = checkLearningOptions(o.learning); !st) return fail(st.message());
+  if (Status st = checkOutputsAreNotInputs({o.params}, recordingOutputs(o.out)); !st) return fail(st.message());
+  if (Status st = checkRecordingFolder(o.out, o.overwrite); !st) return fail(st.message());
   std::error_code ec;
   fs::create_directories(o.out, ec);
   if (ec) return fail(o.out + ": cannot create the output folder: " + ec.message());
@@ -182,14 +198,18 @@ int runCpuDemo(const DemoOptions& o) {
 }  // namespace
 
 void addDemoCommand(CLI::App& root, Action& action) {
+  failInOneLine(root);
   auto o = std::make_shared<DemoOptions>();
   CLI::App* cmd = root.add_subcommand("demo", "Remove the built-in molar's caries with the scripted pen, record the session and score it");
-  cmd->add_option("--out", o->out, "Output folder")->capture_default_str();
+  cmd->add_option("--out", o->out, "Output folder; one that already holds a recording needs --overwrite")->capture_default_str();
+  cmd->add_flag("--overwrite", o->overwrite, "Replace the recording (session and teeth) already in the --out folder");
   cmd->add_option("--level", o->level, "Octree level of the molar")->check(CLI::Range(6, 11))->capture_default_str();
   cmd->add_flag("--headless", o->headless, "No window: frames go offscreen to PNG (also when no display answers)");
   cmd->add_flag("--realtime", o->realtime, "Without a Vulkan device: run the haptic loop at its rate on its real-time thread");
   cmd->add_option("--mirror", o->mirror, "The mirror held beside the tooth, or 'none'")->capture_default_str();
-  cmd->add_option("--exit-after", o->exit_after_s, "Windowed: close at this loop time [s] (default: a few seconds after the score)");
+  cmd->add_option("--exit-after", o->exit_after_s,
+                  "Windowed: close at this loop time, at most 24 h [s] (default: a few seconds after the score)")
+      ->check(finiteIn(0.0, 24.0 * 3600.0, "s"));
   cmd->add_flag("--stay", o->stay, "Windowed: keep the window open after the score until you close it");
   cmd->add_option("--width", o->width, "Window or frame width [px]")->check(CLI::Range(64, 8192))->capture_default_str();
   cmd->add_option("--height", o->height, "Window or frame height [px]")->check(CLI::Range(64, 8192))->capture_default_str();
@@ -199,7 +219,10 @@ void addDemoCommand(CLI::App& root, Action& action) {
       ->check(CLI::IsMember(attemptNameList()))
       ->capture_default_str();
   addLearningOptions(cmd, o->learning);
-  cmd->callback([o, &action] { action = [o] { return runDemo(*o); }; });
+  cmd->callback([o, cmd, &action] {
+    const Status usable = checkDemoOptions(*o, *cmd);
+    action = [o, usable] { return usable ? runDemo(*o) : fail(usable.message()); };
+  });
 }
 
 }  // namespace dentsim::app

@@ -3,6 +3,7 @@
 #include <memory>
 #include <string>
 
+#include "app/cli_checks.h"
 #include "app/commands.h"
 #include "io/nifti_labels.h"
 #include "volume/label_import.h"
@@ -17,10 +18,15 @@ struct ExportOptions {
 };
 
 int runExport(const ExportOptions& o) {
+  if (Status st = checkOutputsAreNotInputs({o.input}, {o.output}); !st) return fail(st.message());
   Result<ToothVolume> tooth = loadTooth(o.input);
   if (!tooth) return fail(tooth.message());
   const LabelImage image = exportLabels(*tooth);
-  if (Status written = writeNiftiLabels(o.output, image); !written) return fail(written.message());
+  if (Status written = writeNiftiLabels(o.output, image); !written) {
+    // The NIfTI writer cannot always tell why; the folder and the free space can.
+    const std::string why = whyCannotWrite(o.output, image.labels.size() + 352);
+    return fail(written.message() + (why.empty() ? "" : " (" + why + ")"));
+  }
   std::printf("%s: %d x %d x %d labels, voxel %.6g mm\n", o.output.c_str(), image.dims[0], image.dims[1],
               image.dims[2], image.pitch_mm[0]);
   return 0;

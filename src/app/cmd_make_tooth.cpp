@@ -4,6 +4,7 @@
 #include <memory>
 #include <system_error>
 
+#include "app/cli_checks.h"
 #include "app/commands.h"
 #include "io/atomic_file.h"
 #include "model/builtin_assets.h"
@@ -22,7 +23,6 @@ void printMesh(const char* what, const TriangleMesh& m) {
 }
 
 int runMakeTooth(const MakeToothOptions& o) {
-  if (!(o.grid_mm >= 0.05 && o.grid_mm <= 1.0)) return fail("make-tooth: --grid must lie in [0.05, 1] mm");
   MolarOptions mo;
   mo.grid_mm = o.grid_mm;
   const GeneratedAssets g = generateAssets(mo);
@@ -51,10 +51,13 @@ int runMakeTooth(const MakeToothOptions& o) {
 }  // namespace
 
 void addMakeToothCommand(CLI::App& root, Action& action) {
+  failInOneLine(root);
   auto opts = std::make_shared<MakeToothOptions>();
   CLI::App* cmd = root.add_subcommand("make-tooth", "Regenerate the built-in molar (4 STL layers) and tool meshes");
   cmd->add_option("--out", opts->out, "Assets folder to write teeth/ and tools/ into")->capture_default_str();
-  cmd->add_option("--grid", opts->grid_mm, "Lattice spacing of the molar [mm]")->capture_default_str();
+  cmd->add_option("--grid", opts->grid_mm, "Lattice spacing of the molar [mm]")
+      ->check(finiteIn(0.05, 1.0, "mm"))
+      ->capture_default_str();
   cmd->callback([opts, &action] { action = [opts] { return runMakeTooth(*opts); }; });
 }
 

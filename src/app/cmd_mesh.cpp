@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "app/cli_checks.h"
 #include "app/commands.h"
 #include "app/mesh_output.h"
 #include "app/gpu_choice.h"
@@ -62,6 +63,7 @@ int runMesh(const MeshOptions& o) {
   if (!o.tissue.empty() && (!parseMaterial(o.tissue, &so.tissue) || so.tissue == Material::Empty))
     return fail("--tissue: unknown tissue '" + o.tissue + "' (expected " + tissueNameList() + ")");
   if (o.interfaces && !o.tissue.empty()) return fail("--interfaces meshes every tissue; it excludes --tissue");
+  if (Status st = checkOutputsAreNotInputs({o.input}, {o.output}); !st) return fail(st.message());
   const std::string label = o.interfaces ? "each tissue" : o.tissue.empty() ? "all tissue" : materialName(so.tissue);
 
   Result<ToothVolume> tooth = loadTooth(o.input);

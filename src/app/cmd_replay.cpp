@@ -1,4 +1,6 @@
 // `dentsim replay SESSION [--headless] [--speed X] [--tooth X.dvol] [-o final.dvol] [--audio-out S.wav]`: replays a recorded session step for step, in a window where a display answers, checks it ends where the recording did, and can write its sound.
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -6,8 +8,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/cli_checks.h"
 #include "app/commands.h"
 #include "app/replay_viewer.h"
+#include "eval/beside_file.h"
 #include "eval/task_tooth.h"
 #include "eval/cut_score.h"
 #include "audio/sound_engine.h"
@@ -23,6 +27,8 @@
 
 namespace dentsim::app {
 namespace {
+
+constexpr double kMaxReplayS = 24.0 * 3600.0;  // the latest loop time a seek or a shot may name [s]
 
 struct ReplayCliOptions {
   std::string session;     // the .dses file
@@ -66,6 +72,35 @@ Result<std::unique_ptr<audio::SoundEngine>> replaySound(const std::string& audio
   return engine;
 }
 
+// The task the replay is scored against: --task as the user gave it, else the session's own, a
+// built-in name or a task file beside the session (a header never makes dentsim open a file
+// elsewhere, and a refused file is never read, so nothing of it is echoed).
+Result<Task> replayTask(const ReplayCliOptions& o, const SessionRecording& session) {
+  if (!o.task.empty()) return builtinTask(o.task);
+  const std::vector<std::string> names = builtinTaskNames();
+  const std::string& name = session.info.task;
+  if (name == "caries" || name == "cavity" || std::find(names.begin(), names.end(), name) != names.end())
+    return builtinTask(name);
+  auto beside = resolveBeside(o.session, name, "task");
+  if (!beside) return beside.error();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(*beside, ec))
+    return makeError(o.session, "task \"" + name + "\" is neither a built-in task nor a task file beside the session");
+  return builtinTask(*beside);
+}
+
+// Why a finished session replays to other voxels than it recorded: every record's checksum holds,
+// so its steps are the ones written; either they were written by another build (whose cut may
+// differ) or the file was rewritten after the recording, checksums and all.
+std::string mismatchReason(const SessionRecording& session) {
+  const std::string here = std::string("dentsim ") + DENTSIM_VERSION;
+  if (!session.info.program.empty() && session.info.program != here)
+    return "it was recorded by " + session.info.program + " and this is " + here +
+           ", whose cut may differ; replay it with that version";
+  return "its records' checksums hold, so the file was changed after it was recorded (its steps rewritten) or it "
+         "does not belong with this tooth; the recording and this file do not match";
+}
+
 // The replay's end, the same headless and in the window: warnings, the final volume, the score's
 // files, what is printed, and the exit code.
 int finishReplay(const ReplayCliOptions& o, const SessionRecording& session, const ToothVolume& initial,
@@ -93,11 +128,10 @@ int finishReplay(const ReplayCliOptions& o, const SessionRecording& session, con
                              {"reason", e.reason}});
   j["device_events"] = device_events;
   std::optional<SessionScore> score;
-  const std::string task_name = o.task.empty() ? session.info.task : o.task;
   std::optional<Task> task;
-  if (!task_name.empty()) {
+  if (!o.task.empty() || !session.info.task.empty()) {
     // The replay stands without a score: a task this build does not know only costs the score.
-    auto found = builtinTask(task_name);
+    auto found = replayTask(o, session);
     if (found) task = std::move(*found);
     else std::fprintf(stderr, "dentsim: warning: %s: not scored: %s\n", o.session.c_str(), found.message().c_str());
   }
@@ -135,14 +169,14 @@ int finishReplay(const ReplayCliOptions& o, const SessionRecording& session, con
   // A finished session that replays to other voxels is a broken promise, not a warning.
   if (session.end && !outcome.recorded_hash_matches && !o.allow_other_tooth && session.gaps.empty())
     return fail(o.session + ": the replay ended on " + outcome.final_hash + ", the recording on " +
-                session.end->final_hash + ": the replay is not deterministic");
+                session.end->final_hash + ": " + mismatchReason(session));
   return 0;
 }
 
 // The force over which a contact step counts as an error: the task's, else the default task's.
 double forceThreshold(const ReplayCliOptions& o, const SessionRecording& session) {
-  const std::string name = !o.task.empty() ? o.task : !session.info.task.empty() ? session.info.task : "caries";
-  if (auto task = builtinTask(name)) return task->force_error_n;
+  if (!o.task.empty() || !session.info.task.empty())
+    if (auto task = replayTask(o, session)) return task->force_error_n;
   // A task this build does not know costs the score, not the timeline's marks.
   auto fallback = builtinTask("caries");
   return fallback ? fallback->force_error_n : Task{}.force_error_n;
@@ -166,6 +200,8 @@ int runReplayWindow(const ReplayCliOptions& o, const SessionRecording& session, 
     } catch (const std::exception&) {
       return fail("--shot-at: \"" + o.shot_at[0] + "\" is not a number of seconds");
     }
+    if (!std::isfinite(vo.shot_at_s) || vo.shot_at_s < 0.0 || vo.shot_at_s > kMaxReplayS)
+      return fail("--shot-at: \"" + o.shot_at[0] + "\" is not a time in [0, " + formatNumber(kMaxReplayS) + "] s");
     vo.shot_png = o.shot_at[1];
   }
   vo.at_end = [&](const ReplayOutcome& outcome, ToothVolume& final_tooth) {
@@ -177,7 +213,31 @@ int runReplayWindow(const ReplayCliOptions& o, const SessionRecording& session, 
   return *rc;
 }
 
-int runReplay(const ReplayCliOptions& o) {
+// The session file a path names: a folder's session.dses. A recording that never finished left only
+// its ".part" file; the message offers it rather than saying only "no such file".
+Result<std::string> sessionPath(const std::string& given) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const std::string path = fs::is_directory(given, ec) ? (fs::path(given) / "session.dses").string() : given;
+  if (!fs::exists(path, ec) && fs::exists(path + ".part", ec))
+    return makeError(path, "does not exist, but " + path + ".part does: a recording that did not finish; replay it with "
+                           "`dentsim replay " + path + ".part`");
+  return path;
+}
+
+// The files the replay reads (the session, its tooth, a task file) are never among those it writes.
+Status checkReplayFiles(const ReplayCliOptions& o, const SessionRecording& session) {
+  std::string tooth = o.tooth;
+  if (tooth.empty() && !session.info.tooth_file.empty())
+    if (auto beside = resolveBeside(o.session, session.info.tooth_file, "tooth.file")) tooth = *beside;
+  const std::string shot = o.shot_at.size() == 2 ? o.shot_at[1] : "";
+  return checkOutputsAreNotInputs({o.session, tooth, o.task}, {o.output, o.report, o.png, o.audio_out, shot});
+}
+
+int runReplay(ReplayCliOptions o) {
+  auto path = sessionPath(o.session);
+  if (!path) return fail(path.message());
+  o.session = *path;
   if (!ui::replaySpeedIndex(o.speed)) {
     char speed[32];
     std::snprintf(speed, sizeof speed, "%g", o.speed);
@@ -185,6 +245,7 @@ int runReplay(const ReplayCliOptions& o) {
   }
   auto session = readSessionFile(o.session);
   if (!session) return fail(session.message());
+  if (Status st = checkReplayFiles(o, *session); !st) return fail(st.message());
   for (const std::string& w : {session->truncation_warning})
     if (!w.empty()) std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
   auto tooth = resolveSessionTooth(*session, o.session, o.tooth);
@@ -216,9 +277,13 @@ int runReplay(const ReplayCliOptions& o) {
 }  // namespace
 
 void addReplayCommand(CLI::App& root, Action& action) {
+  failInOneLine(root);
   auto o = std::make_shared<ReplayCliOptions>();
   CLI::App* cmd = root.add_subcommand("replay", "Replay a recorded session step for step, in a window where a display answers, and write the final volume");
-  cmd->add_option("session", o->session, "Session file (.dses)")->required();
+  cmd->add_option("session", o->session,
+                  "Session file (.dses), or a folder holding session.dses; a recording that did not finish is "
+                  "session.dses.part")
+      ->required();
   cmd->add_flag("--headless", o->headless, "No window: replay back to back and print the result (the default where no display answers)");
   cmd->add_option("--tooth", o->tooth, "Starting volume (.dvol); default: the tooth the session names");
   cmd->add_flag("--allow-other-tooth", o->allow_other_tooth, "Replay on a tooth whose hash differs from the session's");
@@ -231,13 +296,24 @@ void addReplayCommand(CLI::App& root, Action& action) {
   cmd->add_option("--speed", o->speed, "The window's playback speed: 0.25, 0.5, 1, 2, 4 or 8")->capture_default_str();
   cmd->add_flag("--exit-at-end", o->exit_at_end, "Close the window once the last step has played and the files are written");
   cmd->add_option("--seek-at", o->seek_at, "FROM TO: when the window's playhead first reaches FROM seconds, seek to TO seconds")
-      ->expected(2);
+      ->expected(2)
+      ->check(finiteIn(0.0, kMaxReplayS, "s"));
   cmd->add_option("--shot-at", o->shot_at, "SECONDS FILE.png: a screenshot of the window when the playhead reaches SECONDS")
       ->expected(2);
   cmd->add_option("--width", o->width, "Window width [px]")->check(CLI::Range(320, 8192))->capture_default_str();
   cmd->add_option("--height", o->height, "Window height [px]")->check(CLI::Range(240, 8192))->capture_default_str();
   cmd->add_option("--device", o->device, "Vulkan device for the window (index or name part); default: the best");
-  cmd->callback([o, &action] { action = [o] { return runReplay(*o); }; });
+  cmd->callback([o, cmd, &action] {
+    // The window's own options, refused where no window opens.
+    Status usable = Ok{};
+    const bool windowless = o->headless || !o->audio_out.empty();
+    for (const char* window_only : {"--speed", "--exit-at-end", "--seek-at", "--shot-at", "--width", "--height", "--device"})
+      if (usable)
+        usable = refuseOption(windowless && cmd->count(window_only) > 0, window_only,
+                              std::string("applies to the replay's window; ") +
+                                  (o->headless ? "--headless" : "--audio-out (rendered offline)") + " opens none");
+    action = [o, usable] { return usable ? runReplay(*o) : fail(usable.message()); };
+  });
 }
 
 }  // namespace dentsim::app

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "app/cli_checks.h"
 #include "app/commands.h"
 #include "eval/attempt_reader.h"
 #include "eval/class_report.h"
@@ -93,8 +94,7 @@ int runReport(const ReportCliOptions& o) {
       files.push_back(in);
     }
   }
-  for (const std::string& f : files)
-    if (sameFile(f, o.output)) return fail(o.output + ": the report would overwrite its input");
+  if (Status st = checkOutputsAreNotInputs(files, {o.output}); !st) return fail(st.message());
   AttemptReadOptions read_options;
   read_options.student = o.student;
   std::vector<ClassAttempt> attempts;

@@ -4,6 +4,7 @@
 #include <memory>
 #include <system_error>
 
+#include "app/cli_checks.h"
 #include "app/commands.h"
 #include "app/learning_cli.h"
 #include "app/simulator.h"
@@ -12,6 +13,66 @@
 
 namespace dentsim::app {
 namespace {
+
+// The ranges of the loop-time options: a run ends within a day of loop time, and a lockstep frame
+// holds between 1 ms and 1 s of it, so neither a frame nor the run can grow without bound.
+constexpr double kMaxLoopTimeS = 24.0 * 3600.0;  // [s]
+constexpr double kMinFrameEveryS = 0.0;          // 0: no frame pictures [s]
+constexpr double kMinFps = 1.0, kMaxFps = 1000.0;  // [frames/s]
+
+// Options that the chosen mode cannot use, each refused with the reason (checked after parsing).
+Status checkRunOptions(const SimulatorOptions& o, const CLI::App& cmd) {
+  auto given = [&](const char* name) { return cmd.count(name) > 0; };
+  const bool script = !o.pen_script.empty() || o.demo_script;
+  const Status checks[] = {
+      refuseOption(given("--pen-script") && o.demo_script, "--pen-script",
+                   "--demo-script plays the task's own path; give one of the two"),
+      refuseOption(given("--audio-out") && !o.sound, "--audio-out", "--no-sound makes no sound to write"),
+      refuseOption((given("--turbine-wav") || given("--cutting-wav")) && !o.sound, "--turbine-wav/--cutting-wav",
+                   "--no-sound plays no recording"),
+      refuseOption(given("--recorded-rpm") && o.turbine_wav.empty(), "--recorded-rpm",
+                   "is the speed of a --turbine-wav recording; none is given"),
+      refuseOption(given("--attempt") && !o.demo_script, "--attempt", "picks the scripted attempt of --demo-script"),
+      refuseOption(given("--guide-stiffness") && o.guide.empty(), "--guide-stiffness", "is the spring of --guide; none is given"),
+      refuseOption(given("--wander") && !script, "--wander", "moves a pen script's drill; give --pen-script or --demo-script"),
+      refuseOption(given("--hand-stiffness") && !script && o.devices.drill_pen.rfind("script:", 0) != 0, "--hand-stiffness",
+                   "is the hand holding a pen script; give --pen-script, --demo-script or --drill script:FILE"),
+      refuseOption(given("--record-ideal-at-end") && !script, "--record-ideal-at-end",
+                   "records when the pen script ends; give --pen-script or --demo-script"),
+      refuseOption(given("--score-at-end") && !script, "--score-at-end",
+                   "scores when the pen script ends; give --pen-script or --demo-script"),
+      refuseOption(given("--exit-at-end") && !script, "--exit-at-end",
+                   "quits when the pen script ends; give --pen-script or --demo-script"),
+  };
+  for (const Status& st : checks)
+    if (!st) return st;
+  if (!o.bur.empty())
+    if (Status st = checkCatalogTool("--bur", o.bur, ToolUse::Bur); !st) return st;
+  if (o.mirror_tool && !o.mirror_tool->empty())
+    if (Status st = checkCatalogTool("--mirror-tool", *o.mirror_tool, ToolUse::Mirror); !st) return st;
+  return Ok{};
+}
+
+// The file a pen's device reads, when it plays one ("script:FILE", "replay:FILE").
+std::string penFile(const std::string& pen) {
+  for (const char* prefix : {"script:", "replay:"})
+    if (pen.rfind(prefix, 0) == 0) return pen.substr(std::string(prefix).size());
+  return {};
+}
+
+// No file the run reads is one it writes, and an output folder's recording is kept unless --overwrite.
+Status checkRunFiles(const SimulatorOptions& o, bool overwrite) {
+  const std::vector<std::string> inputs = {o.tooth,       o.params,      o.task,
+                                           o.pen_script,  o.guide,       o.ghost,
+                                           o.turbine_wav, o.cutting_wav, o.devices.backends.falcon.firmware_path,
+                                           penFile(o.devices.drill_pen), penFile(o.devices.mirror_pen)};
+  std::vector<std::string> outputs = recordingOutputs(o.out);
+  outputs.push_back(o.audio_out);
+  if (Status st = checkOutputsAreNotInputs(inputs, outputs); !st) return st;
+  if (!o.out.empty())
+    if (Status st = checkRecordingFolder(o.out, overwrite); !st) return st;
+  return Ok{};
+}
 
 // What a run measured, for the terminal and docs/PERFORMANCE.md.
 void printOutcome(const SimulatorOutcome& r) {
@@ -29,8 +90,10 @@ void printOutcome(const SimulatorOutcome& r) {
 }  // namespace
 
 void addRunCommand(CLI::App& root, Action& action) {
+  failInOneLine(root);
   auto o = std::make_shared<SimulatorOptions>();
   auto learning = std::make_shared<LearningCliOptions>();
+  auto overwrite = std::make_shared<bool>(false);
   CLI::App* cmd = root.add_subcommand("run", "The simulator: drill a tooth with the mouse (or a pen script) in a window, or headless to PNG frames");
   cmd->add_option("--tooth", o->tooth, "Tooth file (.dvol); default: the task's tooth (the built-in molar for the built-in tasks)");
   cmd->add_option("--level", o->level, "Octree level of the built-in molar; default: the task's (9 for the built-in tasks)")
@@ -57,13 +120,13 @@ void addRunCommand(CLI::App& root, Action& action) {
       ->capture_default_str();
   cmd->add_option("--falcon-firmware", o->devices.backends.falcon.firmware_path, "The Novint Falcon's firmware file (you supply it)");
   cmd->add_option("--reach", o->devices.backends.reach_mm, "How much of the scene a hardware pen's workspace spans [mm]")
-      ->check(CLI::Range(1.0, 1000.0))->capture_default_str();
+      ->check(finiteIn(1.0, 1000.0, "mm"))->capture_default_str();
   cmd->add_option("--audio-out", o->audio_out, "Render the sound offline to this WAV file (headless too) instead of playing it");
   cmd->add_flag("!--no-sound", o->sound, "No sound at all");
   cmd->add_option("--turbine-wav", o->turbine_wav, "A turbine recording (WAV) to play instead of the synthesized whine");
   cmd->add_option("--cutting-wav", o->cutting_wav, "A cutting recording (WAV) to play instead of the synthesized noise");
   cmd->add_option("--recorded-rpm", o->recorded_rpm, "The turbine recording's speed [1/min]")
-      ->check(CLI::Range(100.0, 1e6))->capture_default_str();
+      ->check(finiteIn(100.0, 1e6, "1/min"))->capture_default_str();
   cmd->add_option("--pen-script", o->pen_script, "Pen path (CSV or JSON) that both pens play, instead of the mouse");
   cmd->add_flag("--demo-script", o->demo_script,
                 "Play the task's scripted preparation (caries removal or class I cavity), the mirror held beside the tooth");
@@ -73,24 +136,32 @@ void addRunCommand(CLI::App& root, Action& action) {
   cmd->add_option("--guide", o->guide,
                   "A professional's session (.dses): a spring pulls the drill toward its path (haptic guidance)");
   cmd->add_option("--guide-stiffness", o->guide_settings.stiffness_n_per_mm, "The guide's spring [N/mm]")
-      ->check(CLI::Range(0.01, 10.0))
+      ->check(finiteIn(0.01, 10.0, "N/mm"))
       ->capture_default_str();
   cmd->add_option_function<double>(
          "--hand-stiffness", [o](double k) { o->devices.script_hand = HandSettings{k, HandSettings{}.lag_s}; },
          "A pen script is held by a hand of this stiffness that gives way to the rendered force [N/mm]; default: rigid")
-      ->check(CLI::Range(0.05, 100.0));
+      ->check(finiteIn(0.05, 100.0, "N/mm"));
   cmd->add_option("--wander", o->wander_mm,
                   "The pen script's drill wanders sideways up to this far, off its path and back (a shaky hand) [mm]")
-      ->check(CLI::Range(0.0, 5.0));
+      ->check(finiteIn(0.0, 5.0, "mm"));
   cmd->add_flag("--headless", o->headless, "No window: frames go offscreen, to PNG (also when no display answers)");
   cmd->add_option("--width", o->width, "Window or frame width [px]")->check(CLI::Range(64, 8192))->capture_default_str();
   cmd->add_option("--height", o->height, "Window or frame height [px]")->check(CLI::Range(64, 8192))->capture_default_str();
-  cmd->add_option("--out", o->out, "Folder for the session, the teeth, screenshots and frames");
-  cmd->add_option("--shot", o->shots_s, "Loop time of a screenshot (shot-N.png with shot-N.json) [s]; repeatable");
-  cmd->add_option("--frame-every", o->frame_every_s, "Also write frame-N.png every so many seconds of loop time [s]");
-  cmd->add_option("--exit-after", o->exit_after_s, "Quit at this loop time [s]");
+  cmd->add_option("--out", o->out,
+                  "Folder for the session, the teeth, screenshots and frames; one that already holds a recording "
+                  "needs --overwrite");
+  cmd->add_flag("--overwrite", *overwrite, "Replace the recording (session and teeth) already in the --out folder");
+  cmd->add_option("--shot", o->shots_s, "Loop time of a screenshot (shot-N.png with shot-N.json) [s]; repeatable")
+      ->check(finiteIn(0.0, kMaxLoopTimeS, "s"));
+  cmd->add_option("--frame-every", o->frame_every_s, "Also write frame-N.png every so many seconds of loop time [s]")
+      ->check(finiteIn(kMinFrameEveryS, kMaxLoopTimeS, "s"));
+  cmd->add_option("--exit-after", o->exit_after_s, "Quit at this loop time, at most 24 h [s]")
+      ->check(finiteIn(0.0, kMaxLoopTimeS, "s"));
   cmd->add_flag("--lockstep", o->lockstep, "Step the haptic loop from the frame loop (reproducible frames; always when headless)");
-  cmd->add_option("--fps", o->fps, "Loop time per frame in lockstep [frames/s]")->capture_default_str();
+  cmd->add_option("--fps", o->fps, "Loop time per frame in lockstep [frames/s]")
+      ->check(finiteIn(kMinFps, kMaxFps, "frames/s"))
+      ->capture_default_str();
   cmd->add_option("--idle-latency-us", o->idle_latency_us,
                   "While the haptic thread runs, ask that idle CPUs wake within this many us "
                   "(/dev/cpu_dma_latency; costs power); -1: do not ask")
@@ -112,13 +183,16 @@ void addRunCommand(CLI::App& root, Action& action) {
       ->capture_default_str();
   // --course is the folder the pickers list, so the learning records' course id is --course-id here.
   addLearningOptions(cmd, *learning, "--course-id");
-  cmd->callback([o, learning, cmd, &action] {
+  cmd->callback([o, learning, overwrite, cmd, &action] {
     if (cmd->count("--course") == 0) {
       std::error_code ec;
       o->course = ui::defaultCourseFolder(std::filesystem::current_path(ec).string());
     }
     if (o->record_ideal_at_end && !o->teacher) throw CLI::ValidationError("--record-ideal-at-end", "needs --teacher");
-    action = [o, learning] {
+    const Status usable = checkRunOptions(*o, *cmd);
+    action = [o, learning, overwrite, usable] {
+      if (!usable) return fail(usable.message());
+      if (Status st = checkRunFiles(*o, *overwrite); !st) return fail(st.message());
       if (Status st = checkLearningOptions(*learning); !st) return fail(st.message());
       o->on_scored = [learning](const Task& task, const nlohmann::ordered_json& report, const std::string& session,
                                 const std::string& final_file) { recordAttemptOrWarn(*learning, task, report, session, final_file); };

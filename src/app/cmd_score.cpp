@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 
+#include "app/cli_checks.h"
 #include "app/commands.h"
 #include "app/learning_cli.h"
 #include "eval/cut_score.h"
@@ -23,6 +24,8 @@ struct ScoreCliOptions {
 };
 
 int runScore(const ScoreCliOptions& o) {
+  if (Status st = checkOutputsAreNotInputs({o.initial, o.final_, o.ideal, o.session, o.task}, {o.report, o.png}); !st)
+    return fail(st.message());
   auto task = builtinTask(o.task);
   if (!task) return fail(task.message());
   auto initial = loadTooth(o.initial);

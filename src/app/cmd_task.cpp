@@ -10,7 +10,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/cli_checks.h"
 #include "app/commands.h"
+#include "eval/beside_file.h"
 #include "eval/cut_score.h"
 #include "eval/task_ideal.h"
 #include "eval/task_tooth.h"
@@ -67,18 +69,28 @@ const KindDefaults* defaultsFor(const std::string& kind) {
   return nullptr;
 }
 
-// A path as the task file names it: relative to the task's folder when it can be.
-std::string relativeToTask(const std::string& path, const std::string& task_path) {
-  std::error_code ec;
-  const fs::path folder = fs::absolute(fs::path(task_path), ec).parent_path();
-  const fs::path rel = fs::relative(fs::absolute(path, ec), folder, ec);
-  return ec || rel.empty() ? fs::absolute(path, ec).string() : rel.generic_string();
+// A file as the task names it, relative to the task's folder; one from elsewhere is copied there
+// first, and the copy is said.
+Result<std::string> nameBesideOrFail(const char* flag, const std::string& path, const std::string& task_path) {
+  bool copied = false;
+  auto named = nameBeside(task_path, path, &copied);
+  if (!named) return makeError(flag, named.message());
+  if (copied)
+    std::printf("copied %s beside the task (%s): a task names only files in its own folder\n", path.c_str(),
+                (fs::path(task_path).parent_path() / *named).string().c_str());
+  return named;
 }
 
 int runTaskNew(const TaskNewOptions& o) {
   const KindDefaults* kind = defaultsFor(o.kind);
   if (!kind) return fail("--kind: \"" + o.kind + "\" is not one of caries, cavity, access");
-  if (sameFile(o.output, o.tooth)) return fail(o.output + ": the task would be written over its own tooth");
+  if (Status st = checkOutputsAreNotInputs({o.tooth, o.ideal_volume, o.ideal_session, o.ideal_final}, {o.output}); !st)
+    return fail(st.message());
+  if (!o.bur.empty())
+    if (Status st = checkCatalogTool("--bur", o.bur, ToolUse::Bur); !st) return fail(st.message());
+  if (o.mirror != "none")
+    if (Status st = checkCatalogTool("--mirror", o.mirror, ToolUse::Mirror); !st) return fail(st.message());
+  if (o.failure_s > 0 && o.kind != "caries") return fail("--failure-s applies to a caries task, not to " + o.kind);
   if (fs::exists(o.output) && !o.force) return fail(o.output + ": exists; give --force to replace it");
   const int ideals = !o.ideal_path.empty() + !o.ideal_volume.empty() + !o.ideal_session.empty();
   if (ideals > 1) return fail("give at most one of --ideal-path, --ideal-volume and --ideal-session");
@@ -109,7 +121,15 @@ int runTaskNew(const TaskNewOptions& o) {
   const std::string tooth_name = builtin ? "the built-in molar" : fs::path(o.tooth).stem().string();
   j["title"] = o.title.empty() ? std::string(kind->title) + " (" + tooth_name + ")" : o.title;
   j["instructions"] = o.instructions.empty() ? kind->instructions : o.instructions;
-  j["tooth"] = builtin ? o.tooth : relativeToTask(o.tooth, o.output);
+  // A task names files only in its own folder or below it (eval/beside_file.h): a tooth or ideal
+  // from elsewhere is copied there, so the course folder holds all it names.
+  if (builtin) {
+    j["tooth"] = o.tooth;
+  } else {
+    auto named = nameBesideOrFail("--tooth", o.tooth, o.output);
+    if (!named) return fail(named.message());
+    j["tooth"] = *named;
+  }
   if (builtin) j["level"] = o.level > 0 ? o.level : 9;
   j["tools"] = {{"drill", o.bur.empty() ? kind->bur : o.bur}};
   if (o.mirror != "none") j["tools"]["mirror"] = o.mirror;
@@ -133,7 +153,11 @@ int runTaskNew(const TaskNewOptions& o) {
   }
   j["leeway_mm"] = o.leeway_mm;
   if (!o.ideal_path.empty()) j["ideal"] = {{"kind", "builtin_path"}, {"path", o.ideal_path}};
-  else if (!o.ideal_volume.empty()) j["ideal"] = {{"kind", "volume"}, {"path", relativeToTask(o.ideal_volume, o.output)}};
+  else if (!o.ideal_volume.empty()) {
+    auto named = nameBesideOrFail("--ideal-volume", o.ideal_volume, o.output);
+    if (!named) return fail(named.message());
+    j["ideal"] = {{"kind", "volume"}, {"path", *named}};
+  }
   else if (kind->builtin_ideal) j["ideal"] = {{"kind", "builtin_path"}, {"path", kind->builtin_ideal}};
   if (!o.view.empty()) j["view"] = {{"camera", o.view}, {"elevation_deg", o.view_elevation_deg}, {"fixed", o.fixed_view}};
   const std::string text = j.dump(2) + "\n";
@@ -204,6 +228,8 @@ int runTaskCheck(const std::string& path) {
 }
 
 int runTaskSetIdeal(const std::string& task, const std::string& session, const std::string& final_tooth) {
+  // The task file is rewritten on purpose; the session and final tooth are read, never written.
+  if (Status st = checkOutputsAreNotInputs({session, final_tooth}, {task}); !st) return fail(st.message());
   auto record = setTaskIdeal(task, session, final_tooth);
   if (!record) return fail(record.message());
   std::printf("%s: the ideal is now %s (final tooth %s; tooth %s, final %s, session %s)\n", task.c_str(),
@@ -215,6 +241,7 @@ int runTaskSetIdeal(const std::string& task, const std::string& session, const s
 }  // namespace
 
 void addTaskCommand(CLI::App& root, Action& action) {
+  failInOneLine(root);
   CLI::App* cmd = root.add_subcommand("task", "Write, check and set the ideal of an exercise (a task file)");
   cmd->require_subcommand(1);
 
@@ -229,23 +256,32 @@ void addTaskCommand(CLI::App& root, Action& action) {
   make->add_option("--bur", n->bur, "The drill's bur (default by kind: round_bur_010, fissure_bur_010, round_bur_014)");
   make->add_option("--mirror", n->mirror, "The mirror, or none")->capture_default_str();
   make->add_option("--level", n->level, "The built-in molar's level (default 9)")->check(CLI::Range(DS_MIN_LEVEL, DS_MAX_LEVEL));
-  make->add_option("--target-s", n->target_s, "The time a good student needs [s] (default by kind: 300, 600, 600)");
-  make->add_option("--failure-s", n->failure_s, "Caries: the time that earns no time points [s] (default 900)");
-  make->add_option("--force-error-n", n->force_error_n, "A contact sample above this force is an error [N]")->capture_default_str();
-  make->add_option("--leeway-mm", n->leeway_mm, "Leeway around the target [mm]")->capture_default_str();
+  make->add_option("--target-s", n->target_s, "The time a good student needs [s] (default by kind: 300, 600, 600)")
+      ->check(finiteIn(1.0, 1e6, "s"));
+  make->add_option("--failure-s", n->failure_s, "Caries: the time that earns no time points [s] (default 900)")
+      ->check(finiteIn(1.0, 1e6, "s"));
+  make->add_option("--force-error-n", n->force_error_n, "A contact sample above this force is an error [N]")
+      ->check(finiteIn(0.01, 1000.0, "N"))
+      ->capture_default_str();
+  make->add_option("--leeway-mm", n->leeway_mm, "Leeway around the target [mm]")
+      ->check(finiteIn(0.0, 1.0, "mm"))
+      ->capture_default_str();
   make->add_option("--pass-mark", n->pass_mark, "The total that passes [points of 100]; -1: none, attempts are only completed")
-      ->check(CLI::Range(-1.0, 100.0))
+      ->check(finiteIn(-1.0, 100.0, "points"))
       ->capture_default_str();
   make->add_option("--insertion-axis", n->insertion_axis,
                    "The bur's axis x,y,z (default: the grid axis nearest the tooth's crown axis, +z once voxelize stood it up)")
       ->delimiter(',')
-      ->expected(3);
+      ->expected(3)
+      ->check(finiteIn(-1e6, 1e6, ""));
   make->add_option("--ideal-path", n->ideal_path, "The ideal is this built-in path");
   make->add_option("--ideal-volume", n->ideal_volume, "The ideal is this professional's final tooth (.dvol)");
   make->add_option("--ideal-session", n->ideal_session, "The ideal is this professional's session (.dses), as set-ideal");
   make->add_option("--ideal-final", n->ideal_final, "With --ideal-session: its final tooth (.dvol), saving the replay");
   make->add_option("--view", n->view, "The first view: occlusal, buccal, lingual, mesial or distal");
-  make->add_option("--view-elevation", n->view_elevation_deg, "The first view's elevation [deg]")->capture_default_str();
+  make->add_option("--view-elevation", n->view_elevation_deg, "The first view's elevation [deg]")
+      ->check(finiteIn(-89.0, 89.0, "deg"))
+      ->capture_default_str();
   make->add_flag("--fixed-view", n->fixed_view, "The student cannot turn the view (indirect vision: work in the mirror)");
   make->add_flag("--force", n->force, "Replace an existing task file");
   make->callback([n, &action] { action = [n] { return runTaskNew(*n); }; });

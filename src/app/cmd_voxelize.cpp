@@ -2,12 +2,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
 
+#include "app/cli_checks.h"
 #include "app/commands.h"
 #include "app/gpu_choice.h"
 #include "app/terminal_progress.h"
@@ -24,6 +26,9 @@
 
 namespace dentsim::app {
 namespace {
+
+// The voxel edges a tooth can have: a micro-CT's 1 um to a coarse 10 mm [mm].
+constexpr double kMinVoxelMm = 1e-3, kMaxVoxelMm = 10.0;
 
 struct VoxelizeOptions {
   // STL layers (one file per tissue) or a one-layer tooth
@@ -274,9 +279,33 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
   return 0;
 }
 
+// Options the chosen input cannot use, each refused with the reason; `given` says whether the user
+// gave an option (CLI::App::count()), since a default value looks the same as one given.
+Status checkVoxelizeOptions(const VoxelizeOptions& o, const std::function<bool(const char*)>& given) {
+  const bool meshes = !(o.enamel.empty() && o.dentin.empty() && o.pulp.empty() && o.caries.empty() && o.tooth.empty());
+  if (meshes) {
+    if (Status st = refuseOption(given("--voxel-size") && given("--level"), "--voxel-size",
+                                 "sets the grid's voxel, --level its size; with STL layers give one of the two");
+        !st)
+      return st;
+  } else if (!o.labels.empty()) {
+    for (const char* stl_only : {"--units", "--scale", "--subsamples", "--hole-radius", "--cpu", "--device"})
+      if (Status st = refuseOption(given(stl_only), stl_only, "applies to STL layers; --labels has its own grid"); !st)
+        return st;
+  }
+  if (Status st = refuseOption(given("--tooth-material") && o.tooth.empty(), "--tooth-material",
+                               "is the tissue of --tooth; no --tooth is given");
+      !st)
+    return st;
+  return refuseOption(given("--seal-mm") && o.fill_enclosed.empty(), "--seal-mm",
+                      "seals openings for --fill-enclosed; no --fill-enclosed is given");
+}
+
 int runVoxelize(const VoxelizeOptions& o) {
   const bool meshes = !(o.enamel.empty() && o.dentin.empty() && o.pulp.empty() && o.caries.empty() && o.tooth.empty());
   if (meshes && !o.labels.empty()) return fail("give either STL layers or --labels, not both");
+  if (Status st = checkOutputsAreNotInputs({o.enamel, o.dentin, o.pulp, o.caries, o.tooth, o.labels, o.frame_of}, {o.output}); !st)
+    return fail(st.message());
   if (meshes && (o.min_piece != 0 || !o.label_map.empty() || !o.fill_enclosed.empty()))
     return fail("--min-piece, --label-map and --fill-enclosed apply to --labels, not to STL layers");
   if (!meshes && o.labels.empty())
@@ -329,6 +358,7 @@ int runVoxelize(const VoxelizeOptions& o) {
 }  // namespace
 
 void addVoxelizeCommand(CLI::App& root, Action& action) {
+  failInOneLine(root);
   auto opts = std::make_shared<VoxelizeOptions>();
   CLI::App* cmd = root.add_subcommand("voxelize", "Build a .dvol tooth from STL tissue layers or a segmented CT label volume");
   cmd->add_option("--enamel", opts->enamel, "Enamel surface (STL)");
@@ -338,7 +368,9 @@ void addVoxelizeCommand(CLI::App& root, Action& action) {
   cmd->add_option("--tooth", opts->tooth, "A one-layer tooth (STL), filled with --tooth-material");
   cmd->add_option("--tooth-material", opts->tooth_material, "Tissue of --tooth")->capture_default_str();
   cmd->add_option("--units", opts->units, "Unit of the STL coordinates: mm, cm, m or um")->capture_default_str();
-  cmd->add_option("--scale", opts->scale, "Extra scale factor for the STL coordinates")->capture_default_str();
+  cmd->add_option("--scale", opts->scale, "Extra scale factor for the STL coordinates")
+      ->check(finiteIn(1e-6, 1e6, ""))
+      ->capture_default_str();
   cmd->add_option("--subsamples", opts->subsamples, "Rays per voxel side for the fill fraction (1-4)")
       ->check(CLI::Range(1, 4))
       ->capture_default_str();
@@ -352,7 +384,7 @@ void addVoxelizeCommand(CLI::App& root, Action& action) {
   cmd->add_option("--voxel-size", opts->voxel_size,
                   "STL: voxel edge of the output grid [mm]; labels: true voxel size of the label volume, when its "
                   "header is wrong")
-      ->check(CLI::PositiveNumber);
+      ->check(finiteIn(kMinVoxelMm, kMaxVoxelMm, "mm"));
   cmd->add_option("--level", opts->level, "Fit the tooth into a 2^N grid (STL default 9)")
       ->check(CLI::Range(DS_MIN_LEVEL, DS_MAX_LEVEL));
   // Checked in runVoxelizeMeshes rather than with CLI11's excludes(), so a clash is a one-line error.
@@ -364,7 +396,7 @@ void addVoxelizeCommand(CLI::App& root, Action& action) {
   cmd->add_option("--seal-mm", opts->seal_mm,
                   "With --fill-enclosed: seal openings (root canal apices) narrower than about twice this "
                   "radius before filling; 0 fills only fully closed space [mm]")
-      ->check(CLI::NonNegativeNumber)
+      ->check(finiteIn(0.0, 10.0, "mm"))
       ->capture_default_str();
   // Checked in runVoxelize rather than with a CLI11 range, so a negative value is a one-line error.
   cmd->add_option("--min-piece", opts->min_piece,
@@ -375,19 +407,25 @@ void addVoxelizeCommand(CLI::App& root, Action& action) {
                   "The tooth's crown direction x,y,z in the input's coordinates (default: found from where the enamel "
                   "sits against the roots)")
       ->delimiter(',')
-      ->expected(3);
+      ->expected(3)
+      ->check(finiteIn(-1e6, 1e6, ""));
   cmd->add_option("--mesial-axis", opts->mesial_axis, "The tooth's mesial direction x,y,z in the input's coordinates")
       ->delimiter(',')
-      ->expected(3);
+      ->expected(3)
+      ->check(finiteIn(-1e6, 1e6, ""));
   cmd->add_option("--buccal-axis", opts->buccal_axis, "The tooth's buccal direction x,y,z in the input's coordinates")
       ->delimiter(',')
-      ->expected(3);
+      ->expected(3)
+      ->check(finiteIn(-1e6, 1e6, ""));
   cmd->add_flag("--keep-orientation", opts->keep_orientation,
                 "Record the tooth's frame but do not turn the grid to stand the crown up");
   cmd->add_flag("--force", opts->force,
                 "Run a job whose estimated memory exceeds what this machine has free (the plan line says both)");
   cmd->add_option("-o,--output", opts->output, "Output volume (.dvol)")->required();
-  cmd->callback([opts, &action] { action = [opts] { return runVoxelize(*opts); }; });
+  cmd->callback([opts, cmd, &action] {
+    const Status usable = checkVoxelizeOptions(*opts, [cmd](const char* name) { return cmd->count(name) > 0; });
+    action = [opts, usable] { return usable ? runVoxelize(*opts) : fail(usable.message()); };
+  });
 }
 
 }  // namespace dentsim::app

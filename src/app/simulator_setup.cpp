@@ -160,6 +160,9 @@ Status Simulator::setUp() {
   task_source_ = o_.task;
   drill_name_ = o_.bur.empty() ? task_->drill_tool : o_.bur;
   tooth_file_ = !o_.tooth.empty() ? o_.tooth : task_->tooth == kBuiltinMolarTooth ? "" : task_->tooth;
+  // A level asked for only builds the built-in molar; a file (or a task's embedded tooth) keeps its grid.
+  if (o_.level != 0 && !tooth_file_.empty())
+    return makeError("--level", "applies only to the built-in molar; the tooth " + tooth_file_ + " keeps its own grid");
   if (o_.level == 0) o_.level = task_->level;  // the task's level, when none was asked for
   if (Status st = loadTooth(); !st) return st;
   if (Status st = loadDrill(); !st) return st;

@@ -1,12 +1,15 @@
 // Scoring a cut end to end: built-in tasks, the ideal a task names, scoreCut, and the report and picture files.
 #include "eval/cut_score.h"
 
+#include "eval/beside_file.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
 
+#include "eval/beside_file.h"
 #include "eval/score_image.h"
 #include "eval/scores.h"
 #include "eval/session_stats.h"
@@ -49,15 +52,23 @@ Result<Task> builtinTask(const std::string& name) {
     }
     auto task = loadTask(name);
     if (!task) return task;
-    // The tooth and an ideal file are named relative to the task file.
-    const std::filesystem::path folder = std::filesystem::path(name).parent_path();
-    if (task->tooth != kBuiltinMolarTooth && task->tooth.rfind(kAssetToothPrefix, 0) != 0 &&
-        std::filesystem::path(task->tooth).is_relative())
-      task->tooth = (folder / task->tooth).string();
-    if (task->ideal && task->ideal->kind != IdealKind::BuiltinPath && std::filesystem::path(task->ideal->path).is_relative())
-      task->ideal->path = (folder / task->ideal->path).string();
-    if (task->ideal && !task->ideal->final_path.empty() && std::filesystem::path(task->ideal->final_path).is_relative())
-      task->ideal->final_path = (folder / task->ideal->final_path).string();
+    // The tooth and an ideal's files lie beside the task file (in its folder or below): a task from
+    // another school cannot make dentsim open a file elsewhere.
+    if (task->tooth != kBuiltinMolarTooth && task->tooth.rfind(kAssetToothPrefix, 0) != 0) {
+      auto tooth = resolveBeside(name, task->tooth, "tooth");
+      if (!tooth) return tooth.error();
+      task->tooth = *tooth;
+    }
+    if (task->ideal && task->ideal->kind != IdealKind::BuiltinPath) {
+      auto ideal = resolveBeside(name, task->ideal->path, "ideal.path");
+      if (!ideal) return ideal.error();
+      task->ideal->path = *ideal;
+    }
+    if (task->ideal && !task->ideal->final_path.empty()) {
+      auto final_path = resolveBeside(name, task->ideal->final_path, "ideal.final");
+      if (!final_path) return final_path.error();
+      task->ideal->final_path = *final_path;
+    }
     return task;
   }
   const std::span<const uint8_t> bytes = builtinAssetBytes(file);

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "eval/beside_file.h"
 #include "eval/cut_score.h"
 #include "eval/task_tooth.h"
 #include "io/atomic_file.h"
@@ -21,19 +22,6 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr uint64_t kMaxTaskBytes = 1u << 20;
-
-// Copies `from` to `to` through a temporary sibling, so that `to` is whole or untouched.
-Status copyFileAtomic(const std::string& from, const std::string& to) {
-  if (sameFile(from, to)) return Ok{};
-  const std::string temp = temporarySibling(to);
-  std::error_code ec;
-  fs::copy_file(from, temp, fs::copy_options::overwrite_existing, ec);
-  if (ec) {
-    discardTemporary(temp);
-    return makeError(to, "cannot copy " + from + ": " + ec.message());
-  }
-  return commitTemporary(temp, to);
-}
 
 }  // namespace
 

@@ -2,6 +2,9 @@
 #include "eval/task_tooth.h"
 
 #include <filesystem>
+#include <system_error>
+
+#include "eval/beside_file.h"
 
 #include "model/builtin_assets.h"
 #include "sim/builtin_tooth.h"
@@ -36,8 +39,11 @@ Result<ToothVolume> resolveSessionTooth(const SessionRecording& session, const s
   if (!override_path.empty()) return loadTooth(override_path);
   const SessionInfo& info = session.info;
   if (!info.tooth_file.empty()) {
-    const fs::path beside = fs::path(session_path).parent_path() / info.tooth_file;
-    if (fs::exists(beside)) return loadTooth(beside.string());
+    // Only a file beside the session: a header naming /etc/passwd or ../../x is refused unread.
+    auto beside = resolveBeside(session_path, info.tooth_file, "tooth.file");
+    if (!beside) return beside.error();
+    std::error_code ec;
+    if (fs::exists(*beside, ec)) return loadTooth(*beside);
   }
   if (const int level = builtinToothLevel(info.tooth_source); level > 0) return builtinMolarTooth(level);
   return makeError(session_path, "cannot find the session's tooth (file \"" + info.tooth_file + "\", source \"" +

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iterator>
 #include <string>
 #include <vector>
@@ -299,6 +300,105 @@ TEST_F(SessionCli, ScoringVolumesOfDifferentGridsFailsNamingTheFile) {
   test::expectCleanFailure(runDentsim("score --task caries --initial " + file("initial.dvol") + " --final " + other +
                                       "/final.dvol -o " + dir_->file("x.json") + " --png " + dir_->file("x.png")),
                            other + "/final.dvol", "level", dir_->file("x.json"));
+}
+
+// A copy of the demo's session (edited by `edit`) and its starting tooth in a folder of their own,
+// so that a test that writes there leaves the suite's demo alone.
+std::string copyRecording(const test::TempDir& dir, const std::string& from, const std::string& name,
+                          const std::function<void(SessionRecording&)>& edit = {}) {
+  const std::string folder = dir.file(name);
+  std::filesystem::create_directories(folder);
+  std::filesystem::copy_file(from + "/initial.dvol", folder + "/initial.dvol");
+  auto session = readSessionFile(from + "/session.dses");
+  EXPECT_TRUE(session.ok()) << session.message();
+  if (edit) edit(*session);
+  writeBytes(folder + "/session.dses", encodeSession(*session));
+  return folder;
+}
+
+// A recording that crashed left only session.dses.part: replay of the folder or of session.dses
+// says so and names the command that replays it, and the .part replays as far as it goes.
+TEST_F(SessionCli, ReplayOffersTheRecordingThatDidNotFinish) {
+  ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
+  const std::string folder = copyRecording(*dir_, out(), "crashed");
+  std::vector<uint8_t> bytes = readBytes(folder + "/session.dses");
+  bytes.resize(bytes.size() / 2 + 3);  // cut inside a record, as a crash leaves it
+  writeBytes(folder + "/session.dses.part", bytes);
+  std::filesystem::remove(folder + "/session.dses");
+  for (const std::string& given : {folder, folder + "/session.dses"}) {
+    SCOPED_TRACE(given);
+    test::expectCleanFailure(runDentsim("replay " + given + " --headless"), folder + "/session.dses: does not exist, but",
+                             "a recording that did not finish; replay it with `dentsim replay " + folder +
+                                 "/session.dses.part`");
+  }
+  const test::CommandResult part = runDentsim("replay " + folder + "/session.dses.part --headless");
+  EXPECT_EQ(part.exit_code, 0) << part.output;
+  EXPECT_NE(part.output.find("cut off"), std::string::npos) << part.output;
+  EXPECT_NE(part.output.find("replayed"), std::string::npos) << part.output;
+}
+
+// replay writes over neither its session nor the tooth the session names (which every later
+// replay needs), by any of its outputs.
+TEST_F(SessionCli, ReplayNeverWritesOverItsSessionOrItsTooth) {
+  ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
+  const std::string folder = copyRecording(*dir_, out(), "kept");
+  const std::string session = folder + "/session.dses", tooth = folder + "/initial.dvol";
+  const std::vector<uint8_t> session_bytes = readBytes(session), tooth_bytes = readBytes(tooth);
+  for (const std::string& outputs : {"-o " + session, "-o " + tooth, "--report " + tooth, "--png " + session,
+                                     "--audio-out " + tooth}) {
+    SCOPED_TRACE(outputs);
+    const std::string target = outputs.substr(outputs.find(' ') + 1);
+    test::expectCleanFailure(runDentsim("replay " + session + " --headless " + outputs), target + ": is the same file",
+                             "as the input");
+  }
+  EXPECT_EQ(readBytes(session), session_bytes);
+  EXPECT_EQ(readBytes(tooth), tooth_bytes);
+  // A folder given for the session is its session.dses, and it replays.
+  EXPECT_EQ(runDentsim("replay " + folder + " --headless").exit_code, 0);
+}
+
+// A session names files only beside itself: a tooth file that is absolute or climbs out of the
+// folder is refused unread, and a task that does is refused without a byte of the file shown.
+TEST_F(SessionCli, ASessionNamesFilesOnlyBesideItself) {
+  ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
+  const std::string out_file = dir_->file("escaped.dvol");
+  const std::string absolute =
+      copyRecording(*dir_, out(), "absolute", [](SessionRecording& s) { s.info.tooth_file = "/etc/passwd"; });
+  test::expectCleanFailure(runDentsim("replay " + absolute + "/session.dses --headless -o " + out_file),
+                           "tooth.file names \"/etc/passwd\"", "absolute path", out_file);
+  const std::string climbing =
+      copyRecording(*dir_, out(), "climbing", [](SessionRecording& s) { s.info.tooth_file = "../climbing/../initial.dvol"; });
+  std::filesystem::copy_file(out() + "/initial.dvol", dir_->file("initial.dvol"), std::filesystem::copy_options::overwrite_existing);
+  test::expectCleanFailure(runDentsim("replay " + climbing + "/session.dses --headless -o " + out_file), "tooth.file",
+                           "lies outside it", out_file);
+  // The task: a secret beside the folder, whose first byte an earlier build echoed in a warning.
+  std::ofstream(dir_->file("secret.json")) << "Zebra-secret";
+  const std::string task =
+      copyRecording(*dir_, out(), "task", [](SessionRecording& s) { s.info.task = "../secret.json"; });
+  const test::CommandResult r = runDentsim("replay " + task + "/session.dses --headless");
+  EXPECT_EQ(r.exit_code, 0) << r.output;  // the replay stands; only the score is lost
+  EXPECT_NE(r.output.find("not scored"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("lies outside it"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("Zebra"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("'Z'"), std::string::npos) << r.output;
+}
+
+// A session whose steps were rewritten (checksums and all) after the recording ends elsewhere:
+// the message says the file was changed, not that the replay is not deterministic.
+TEST_F(SessionCli, AnEditedSessionIsSaidToBeChangedNotNondeterministic) {
+  ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
+  const std::string folder = copyRecording(*dir_, out(), "edited", [](SessionRecording& s) {
+    // The drill held 20 mm above where it was, with the turbine stopped: nothing is cut.
+    for (SessionStep& step : s.steps) {
+      step.reading[0].pedal = 0.0;
+      step.reading[0].grip.position.z += 20.0;
+    }
+  });
+  const test::CommandResult r = runDentsim("replay " + folder + "/session.dses --headless");
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_NE(r.output.find("dentsim: " + folder + "/session.dses: the replay ended on"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("the file was changed after it was recorded"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("not deterministic"), std::string::npos) << r.output;
 }
 
 }  // namespace

@@ -87,7 +87,10 @@ TEST_F(TaskCli, TaskNewWritesATaskThatChecksAndRefusesWhatCannotWork) {
   ASSERT_EQ(made.exit_code, 0) << made.output;
   std::ifstream in(task);
   const nlohmann::json j = nlohmann::json::parse(in);
-  EXPECT_EQ(j["tooth"], "../t.dvol");  // relative to the task's folder
+  // A task names only files in its own folder: the tooth from the folder above is copied beside it.
+  EXPECT_EQ(j["tooth"], "t.dvol");
+  EXPECT_EQ(test::readBytes(dir_.file("course/t.dvol")), test::readBytes(dir_.file("t.dvol")));
+  EXPECT_NE(made.output.find("copied " + dir_.file("t.dvol") + " beside the task"), std::string::npos) << made.output;
   EXPECT_EQ(j["title"], "Side caries");
   EXPECT_EQ(j["insertion_axis"], nlohmann::json::array({0, 0, 1}));
   EXPECT_EQ(j["tools"]["drill"], "round_bur_010");

@@ -53,6 +53,19 @@ TEST(TaskTooth, AMissingToothFileIsAnErrorNamingIt) {
   EXPECT_NE(loaded.message().find(dir.file("gone.dvol")), std::string::npos) << loaded.message();
 }
 
+// A task from elsewhere cannot make dentsim open a file outside its folder: an absolute tooth or one
+// that climbs out is refused when the task is read, naming the field and never reading the file.
+TEST(TaskTooth, AToothOutsideTheTasksFolderIsRefused) {
+  test::TempDir dir;
+  for (const char* outside : {"/etc/passwd", "../../../../etc/passwd", "teeth/../../x.dvol"}) {
+    auto task = builtinTask(writeTaskNamingTooth(dir, outside));
+    ASSERT_FALSE(task.ok()) << outside;
+    EXPECT_NE(task.message().find(dir.file("my_task.json") + ": tooth names \"" + outside + "\""), std::string::npos)
+        << task.message();
+    EXPECT_EQ(task.message().find("root:"), std::string::npos) << task.message();
+  }
+}
+
 TEST(TaskTooth, TheBuiltinMolarAtTheTasksLevelOrTheOneAskedFor) {
   auto task = builtinTask("caries");
   ASSERT_TRUE(task.ok()) << task.message();
