@@ -31,6 +31,8 @@ double msSince(Clock::time_point t0) {
 }
 
 constexpr uint64_t kMaxBandRays = uint64_t{1} << 24;  // 64 MiB of counts and as much of offsets
+// Paint workgroups per submission: a few seconds of lavapipe on a loaded 2-core machine at most.
+constexpr uint64_t kPaintGroupsPerSubmission = 8192;
 
 struct Pipelines {
   std::optional<ComputePipeline> count, scatter, scan_reduce, scan_blocks, scan_apply, sort, donor, paint, chunks;
@@ -327,36 +329,55 @@ Result<BrickVolume> voxelizeGpu(Context& ctx, const RaySetup& setup, const Voxel
     for (int attempt = 0; attempt < 2; ++attempt) {
       p.brickCapacity = uint32_t(capacity);
       std::fill_n(counter_words, 2, 0u);
-      auto second = submitAndWait(ctx, "voxelize paint", [&](Commands& cmds) -> Status {
-        auto b = bindings();
-        if (stamps) stamps->begin(cmds, 1);
-        if (!stored && rays > 0) {
+      // Store, paint and pack go in submissions of bounded work, so that a level-12 band on a
+      // loaded CPU device still finishes each within the context's submit timeout.
+      if (!stored && rays > 0) {
+        auto store = submitAndWait(ctx, "voxelize store", [&](Commands& cmds) -> Status {
+          auto b = bindings();
+          if (stamps) stamps->begin(cmds, 1);
           if (auto s = runPass(cmds, *pipes->scatter, b, p, item1 - item0, false, item0); !s) return s;
           if (auto s = runPass(cmds, *pipes->sort, b, p, rays, false); !s) return s;
           if (auto s = runPass(cmds, *pipes->donor, b, p, rays, false); !s) return s;
-        }
-        if (stamps) stamps->end(cmds, 1);
-        if (stamps) stamps->begin(cmds, 2);
-        vkCmdFillBuffer(cmds.cmd(), blocks.buffer->handle(), 0, block_bytes, DS_ENTRY_UNIFORM);
-        cmds.use(*blocks.buffer);
-        cmds.barrier();
-        paint.brickCapacity = p.brickCapacity;
-        paint.itemLimit = uint32_t(columns);
-        for (uint64_t g = 0; g < columns;) {
-          const uint32_t n = uint32_t(std::min<uint64_t>(columns - g, ctx.limits().max_group_count[0]));
-          paint.firstItem = uint32_t(g);
-          if (auto s = pipes->paint->dispatch(cmds, b, paint, n); !s) return s;
-          g += n;
-        }
-        if (stamps) stamps->end(cmds, 2);
+          if (stamps) stamps->end(cmds, 1);
+          return Ok{};
+        });
+        if (!store) return makeError(where, store.message());
+        addKernelTime(1, &tm.store_sort_ms);
+      }
+      paint.brickCapacity = p.brickCapacity;
+      paint.itemLimit = uint32_t(columns);
+      uint64_t g = 0;
+      do {
+        const uint64_t g_end = std::min<uint64_t>(columns, g + kPaintGroupsPerSubmission);
+        auto painted = submitAndWait(ctx, "voxelize paint", [&](Commands& cmds) -> Status {
+          auto b = bindings();
+          if (stamps) stamps->begin(cmds, 2);
+          if (g == 0) {
+            vkCmdFillBuffer(cmds.cmd(), blocks.buffer->handle(), 0, block_bytes, DS_ENTRY_UNIFORM);
+            cmds.use(*blocks.buffer);
+            cmds.barrier();
+          }
+          for (uint64_t next = g; next < g_end;) {
+            const uint32_t n = uint32_t(std::min<uint64_t>(g_end - next, ctx.limits().max_group_count[0]));
+            paint.firstItem = uint32_t(next);
+            if (auto s = pipes->paint->dispatch(cmds, b, paint, n); !s) return s;
+            next += n;
+          }
+          if (stamps) stamps->end(cmds, 2);
+          return Ok{};
+        });
+        if (!painted) return makeError(where, painted.message());
+        addKernelTime(2, &tm.paint_ms);
+        g = g_end;
+      } while (g < columns);
+      auto packed_chunks = submitAndWait(ctx, "voxelize chunks", [&](Commands& cmds) -> Status {
+        auto b = bindings();
         if (stamps) stamps->begin(cmds, 3);
         if (auto s = runPass(cmds, *pipes->chunks, b, p, band_chunk_count, true); !s) return s;
         if (stamps) stamps->end(cmds, 3);
         return Ok{};
       });
-      if (!second) return makeError(where, second.message());
-      if (!stored) addKernelTime(1, &tm.store_sort_ms);
-      addKernelTime(2, &tm.paint_ms);
+      if (!packed_chunks) return makeError(where, packed_chunks.message());
       addKernelTime(3, &tm.chunks_ms);
       stored = true;
       dense = counter_words[0];
