@@ -72,7 +72,9 @@ VoxelizeCost estimateMeshVoxelize(const RaySetup& setup, bool gpu) {
     faces += 0.5 * std::sqrt(nx * nx + ny * ny + nz * nz);
     hits += 0.5 * std::abs(nz) * S * S;
   }
-  c.surface_bricks = bricksForFaces(faces);
+  const double grid_bricks = std::ldexp(1.0, 3 * (setup.level - DS_BRICK_LOG2));
+  c.surface_bricks = uint64_t(std::min(double(bricksForFaces(faces)), grid_bricks));  // no more than the grid has
+  c.crossings_per_ray = c.rays > 0 ? hits / double(c.rays) : 0.0;
   const double bricks = double(c.surface_bricks);
   const double band_rays = double(std::min<uint64_t>(c.rays, kGpuBandRays));
   const double memory = gpu ? kBaseBytes + band_rays * kGpuRayBytes + hits * 4.0 + bricks * kBrickBytes * kBrickCopies
@@ -125,7 +127,15 @@ uint64_t availableMemoryBytes() {
 }
 
 Status checkAffordable(const VoxelizeCost& cost, uint64_t available, bool force, const std::string& where) {
-  if (force || available == 0 || cost.memory_bytes <= available) return Ok{};
+  if (force) return Ok{};
+  if (cost.crossings_per_ray > kMaxCrossingsPerRay) {
+    char crossings[32];
+    std::snprintf(crossings, sizeof crossings, "%.0f", cost.crossings_per_ray);
+    return makeError(where, std::string("the meshes cross each ray ") + crossings +
+                                " times on average, where a tooth's layers cross it a few times: random or piled-up "
+                                "triangles? " + describeCost(cost) + "; give --force to try it all the same");
+  }
+  if (available == 0 || cost.memory_bytes <= available) return Ok{};
   return makeError(where, describeCost(cost) + ", but this machine has " + gigabytes(available) +
                               " free; choose a lower --level (or a larger voxel), or give --force to try it all the same");
 }

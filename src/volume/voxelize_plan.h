@@ -19,6 +19,7 @@ struct VoxelizeCost {
   uint64_t surface_bricks = 0;  // dense bricks expected
   uint64_t memory_bytes = 0;    // peak resident memory expected
   double seconds = 0.0;         // expected time on one core of the reference machine
+  double crossings_per_ray = 0; // surfaces a ray of the footprint crosses on average (a tooth: a few)
 };
 
 // STL layers: from the ray set-up (its footprint and its triangles' area). `gpu` is the Vulkan
@@ -36,8 +37,11 @@ std::string describeCost(const VoxelizeCost& cost);
 // DENTSIM_MEMORY_LIMIT_MB, when set, is taken instead (a PC shared with other work, or a test).
 uint64_t availableMemoryBytes();
 
-// Refuses a job expected to need more memory than `available` (0: unknown, never refused) unless
-// `force`; the error says what it would need and that --force runs it all the same.
+// Refuses, unless `force`, a job expected to need more memory than `available` (0: unknown, never
+// refused), or meshes whose rays cross more than kMaxCrossingsPerRay surfaces on average (random or
+// piled-up triangles, not a tooth, whose cost grows with every crossing); the error says what it
+// would need and that --force runs it all the same.
+inline constexpr double kMaxCrossingsPerRay = 64.0;
 Status checkAffordable(const VoxelizeCost& cost, uint64_t available, bool force, const std::string& where);
 
 }  // namespace dentsim

@@ -76,6 +76,26 @@ TEST(VoxelizePlan, RefusesBeyondFreeMemoryUnlessForced) {
   EXPECT_TRUE(checkAffordable(c, 20'000'000'000, false, "voxelize").ok());
 }
 
+TEST(VoxelizePlan, RefusesMeshesThatAreNotATooth) {
+  // 200 copies of one sphere: every ray through it crosses 400 surfaces, where a tooth's crosses a
+  // few; such a file costs memory and time with every crossing, so it needs --force.
+  const TriangleMesh s = test::uvSphere({0, 0, 0}, 4.0, 24, 12);
+  TriangleMesh pile;
+  for (int i = 0; i < 200; ++i) test::appendMesh(pile, s);
+  const std::vector<MeshLayer> one{{Material::Dentin, &s, "sphere"}}, many{{Material::Dentin, &pile, "pile"}};
+  const VoxelizeCost tooth_like = estimateMeshVoxelize(test::raySetupFor(one, 7, {}, nullptr), false);
+  const VoxelizeCost piled = estimateMeshVoxelize(test::raySetupFor(many, 7, {}, nullptr), false);
+  // The sphere fills about pi/4 of its square footprint and is crossed twice there.
+  EXPECT_NEAR(tooth_like.crossings_per_ray, 2 * 0.785, 0.1);
+  EXPECT_NEAR(piled.crossings_per_ray, 200 * tooth_like.crossings_per_ray, 1.0);
+  EXPECT_TRUE(checkAffordable(tooth_like, 0, false, "voxelize").ok());
+  const Status refused = checkAffordable(piled, 0, false, "voxelize");
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.message().find("times on average"), std::string::npos) << refused.message();
+  EXPECT_NE(refused.message().find("--force"), std::string::npos) << refused.message();
+  EXPECT_TRUE(checkAffordable(piled, 0, true, "voxelize").ok());
+}
+
 TEST(VoxelizePlan, MachineMemoryIsReadOrOverridden) {
   // On Linux /proc/meminfo tells; DENTSIM_MEMORY_LIMIT_MB sets what counts as free instead.
   EXPECT_GT(availableMemoryBytes(), 0u);
