@@ -236,7 +236,6 @@ int runHapticBenchCommand(HapticBenchOptions o) {
 }  // namespace
 
 void addBenchCommand(CLI::App& root, Action& action) {
-  failInOneLine(root);
   CLI::App* bench = root.add_subcommand("bench", "Benchmarks recorded in docs/PERFORMANCE.md (JSON, Markdown, SVG)");
   bench->require_subcommand(1);
   auto opts = std::make_shared<MemoryBenchOptions>();

@@ -198,7 +198,6 @@ int runCpuDemo(const DemoOptions& o) {
 }  // namespace
 
 void addDemoCommand(CLI::App& root, Action& action) {
-  failInOneLine(root);
   auto o = std::make_shared<DemoOptions>();
   CLI::App* cmd = root.add_subcommand("demo", "Remove the built-in molar's caries with the scripted pen, record the session and score it");
   cmd->add_option("--out", o->out, "Output folder; one that already holds a recording needs --overwrite")->capture_default_str();

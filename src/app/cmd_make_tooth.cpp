@@ -51,7 +51,6 @@ int runMakeTooth(const MakeToothOptions& o) {
 }  // namespace
 
 void addMakeToothCommand(CLI::App& root, Action& action) {
-  failInOneLine(root);
   auto opts = std::make_shared<MakeToothOptions>();
   CLI::App* cmd = root.add_subcommand("make-tooth", "Regenerate the built-in molar (4 STL layers) and tool meshes");
   cmd->add_option("--out", opts->out, "Assets folder to write teeth/ and tools/ into")->capture_default_str();

@@ -277,7 +277,6 @@ int runReplay(ReplayCliOptions o) {
 }  // namespace
 
 void addReplayCommand(CLI::App& root, Action& action) {
-  failInOneLine(root);
   auto o = std::make_shared<ReplayCliOptions>();
   CLI::App* cmd = root.add_subcommand("replay", "Replay a recorded session step for step, in a window where a display answers, and write the final volume");
   cmd->add_option("session", o->session,

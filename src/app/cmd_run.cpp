@@ -30,6 +30,8 @@ Status checkRunOptions(const SimulatorOptions& o, const CLI::App& cmd) {
       refuseOption(given("--audio-out") && !o.sound, "--audio-out", "--no-sound makes no sound to write"),
       refuseOption((given("--turbine-wav") || given("--cutting-wav")) && !o.sound, "--turbine-wav/--cutting-wav",
                    "--no-sound plays no recording"),
+      refuseOption((given("--turbine-wav") || given("--cutting-wav")) && o.headless && o.audio_out.empty(),
+                   "--turbine-wav/--cutting-wav", "a headless run plays no sound; give --audio-out to render it to a WAV"),
       refuseOption(given("--recorded-rpm") && o.turbine_wav.empty(), "--recorded-rpm",
                    "is the speed of a --turbine-wav recording; none is given"),
       refuseOption(given("--attempt") && !o.demo_script, "--attempt", "picks the scripted attempt of --demo-script"),
@@ -90,7 +92,6 @@ void printOutcome(const SimulatorOutcome& r) {
 }  // namespace
 
 void addRunCommand(CLI::App& root, Action& action) {
-  failInOneLine(root);
   auto o = std::make_shared<SimulatorOptions>();
   auto learning = std::make_shared<LearningCliOptions>();
   auto overwrite = std::make_shared<bool>(false);

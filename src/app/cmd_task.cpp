@@ -241,7 +241,6 @@ int runTaskSetIdeal(const std::string& task, const std::string& session, const s
 }  // namespace
 
 void addTaskCommand(CLI::App& root, Action& action) {
-  failInOneLine(root);
   CLI::App* cmd = root.add_subcommand("task", "Write, check and set the ideal of an exercise (a task file)");
   cmd->require_subcommand(1);
 

@@ -358,7 +358,6 @@ int runVoxelize(const VoxelizeOptions& o) {
 }  // namespace
 
 void addVoxelizeCommand(CLI::App& root, Action& action) {
-  failInOneLine(root);
   auto opts = std::make_shared<VoxelizeOptions>();
   CLI::App* cmd = root.add_subcommand("voxelize", "Build a .dvol tooth from STL tissue layers or a segmented CT label volume");
   cmd->add_option("--enamel", opts->enamel, "Enamel surface (STL)");

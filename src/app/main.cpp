@@ -4,6 +4,7 @@
 #include <iostream>
 #include <new>
 
+#include "app/cli_checks.h"
 #include "app/commands.h"
 #include "io/input_budget.h"
 
@@ -21,6 +22,7 @@ int main(int argc, char** argv) {
   CLI::App root{"dentsim: dental surgery simulator (voxel tooth, haptic drilling, automatic scoring)"};
   root.require_subcommand(1);
   root.set_version_flag("--version", std::string("dentsim ") + DENTSIM_VERSION);
+  failInOneLine(root);  // a rejected option or number is one "dentsim: ..." line, as every other error
   // One budget for every input a command reads (io/input_budget.h); raised for real large data.
   uint64_t max_input_mb = dentsim::kDefaultInputBudgetBytes >> 20;
   root.add_option(dentsim::kInputBudgetFlag, max_input_mb,

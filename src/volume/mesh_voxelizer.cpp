@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <sstream>
 #include <numeric>
 
 #include "volume/voxelize_layout.h"
@@ -52,9 +53,10 @@ Result<VolumeFrame> fitGridToVoxelSize(const Bounds3& bounds, double voxel_mm, i
   const double needed = std::ceil(bounds.maxExtent() / voxel_mm) + 2.0 * margin_voxels;
   for (int level = DS_MIN_LEVEL; level <= DS_MAX_LEVEL; ++level)
     if (double(int64_t{1} << level) >= needed) return frameFor(bounds, level, voxel_mm);
-  return makeError("voxelize", "a voxel of " + std::to_string(voxel_mm) + " mm needs a grid above level " +
-                                   std::to_string(DS_MAX_LEVEL) + " for an extent of " +
-                                   std::to_string(bounds.maxExtent()) + " mm");
+  std::ostringstream msg;  // shortest form: a hostile size must not print 300 digits
+  msg << "a voxel of " << voxel_mm << " mm needs a grid above level " << DS_MAX_LEVEL << " for an extent of "
+      << bounds.maxExtent() << " mm";
+  return makeError("voxelize", msg.str());
 }
 
 Result<RaySetup> makeRaySetup(const std::vector<MeshLayer>& layers, const VolumeFrame& frame,

@@ -112,6 +112,8 @@ TEST_F(CarelessInputCli, AnOptionThatCannotApplyIsRefusedWithTheReason) {
       {"run --headless --demo-script --bur no_such_bur --out " + never, "--bur", "not in the tool catalog"},
       {"run --headless --attempt trench --exit-after 1 --out " + never, "--attempt", "--demo-script"},
       {"run --headless --demo-script --recorded-rpm 30000 --out " + never, "--recorded-rpm", "--turbine-wav"},
+      {"run --headless --demo-script --turbine-wav " + dir_.file("t.wav") + " --out " + never, "--turbine-wav",
+       "a headless run plays no sound"},
       {"run --headless --demo-script --guide-stiffness 2 --out " + never, "--guide-stiffness", "--guide"},
       {"run --headless --wander 1 --exit-after 1 --out " + never, "--wander", "pen script"},
       {"run --headless --score-at-end --exit-after 1 --out " + never, "--score-at-end", "pen script ends"},
