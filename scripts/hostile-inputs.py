@@ -30,10 +30,11 @@ def write(path, data):
     return path
 
 
-def piped_zeros(path, count, compressor):
-    """`count` zero bytes (after an optional header file) through a compressor, streamed."""
+def piped_zeros(path, count, compressor, header=b""):
+    """`header`, then `count` zero bytes, through a compressor, streamed."""
     with open(path, "wb") as out:
         p = subprocess.Popen(compressor, stdin=subprocess.PIPE, stdout=out)
+        p.stdin.write(header)
         block = bytes(1 << 20)
         left = count
         while left > 0:
@@ -59,18 +60,7 @@ def nifti_header(dims, datatype, bitpix):
 
 def nifti_gz(path, dims, datatype, bitpix, zeros_bytes):
     """A .nii.gz of a header then zeros, compressed as it streams."""
-    with open(path, "wb") as out:
-        p = subprocess.Popen(["gzip", "-9", "-c"], stdin=subprocess.PIPE, stdout=out)
-        p.stdin.write(nifti_header(dims, datatype, bitpix))
-        block = bytes(1 << 20)
-        left = zeros_bytes
-        while left > 0:
-            n = min(left, len(block))
-            p.stdin.write(block[:n])
-            left -= n
-        p.stdin.close()
-        p.wait()
-    return path
+    return piped_zeros(path, zeros_bytes, ["gzip", "-9", "-c"], nifti_header(dims, datatype, bitpix))
 
 
 def ascii_stl_giant_token(path, size):
