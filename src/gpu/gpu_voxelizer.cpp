@@ -2,7 +2,8 @@
 //
 // Per band (a slab of chunk rows, the whole grid when it fits):
 //   submission 1: count hits per ray (raster MODE 0), then the three scan phases -> offsets
-//   submission 2: store hits (raster MODE 1), sort each ray, find donors, paint bricks, pack chunks
+//   then, each in submissions of bounded work: store hits (raster MODE 1), sort each ray and find
+//   donors; paint bricks (8192 workgroups a submission); pack chunks
 // The raster passes take a triangle a tile of rays at a time and the paint pass a column a segment
 // of bricks at a time, to stay within lavapipe's loop budget per invocation (voxelize_layout.h).
 // The hit total read back between the two sizes the hit buffer exactly. A brick pool that overflows
@@ -95,20 +96,36 @@ struct RasterItems {
   std::vector<uint32_t> first_of_row;  // item index where each tile row starts, one past the end last
 };
 
-RasterItems rasterItems(const RaySetup& setup) {
+// A triangle's tiles: first and one-past-last tile column and row (empty when it misses the footprint).
+std::array<uint32_t, 4> triangleTiles(const RaySetup& setup, size_t t) {
   const uint32_t tile = DS_VOX_RASTER_TILE;
-  const uint32_t rows = (setup.ray_y1 + tile - 1) / tile;
-  std::vector<std::vector<uint32_t>> by_row(rows);
+  const float* c = &setup.corners[t * 9];
+  uint32_t x0, x1, y0, y1;
+  layout::voxRaySpan(std::min({c[0], c[3], c[6]}), std::max({c[0], c[3], c[6]}), setup.ray_x1, x0, x1);
+  layout::voxRaySpan(std::min({c[1], c[4], c[7]}), std::max({c[1], c[4], c[7]}), setup.ray_y1, y0, y1);
+  x0 = std::max(x0, setup.ray_x0);
+  y0 = std::max(y0, setup.ray_y0);
+  if (x0 >= x1 || y0 >= y1) return {0, 0, 0, 0};
+  return {x0 / tile, (x1 - 1) / tile + 1, y0 / tile, (y1 - 1) / tile + 1};
+}
+
+// The items, or an error before anything is allocated when they would not fit one binding (a
+// hostile mesh of huge triangles at a fine level: each one's tiles are counted first).
+Result<RasterItems> rasterItems(const RaySetup& setup, uint64_t max_binding, const std::string& where) {
+  uint64_t total = 0;
   for (size_t t = 0; t < setup.triangle_layer.size(); ++t) {
-    const float* c = &setup.corners[t * 9];
-    uint32_t x0, x1, y0, y1;
-    layout::voxRaySpan(std::min({c[0], c[3], c[6]}), std::max({c[0], c[3], c[6]}), setup.ray_x1, x0, x1);
-    layout::voxRaySpan(std::min({c[1], c[4], c[7]}), std::max({c[1], c[4], c[7]}), setup.ray_y1, y0, y1);
-    x0 = std::max(x0, setup.ray_x0);
-    y0 = std::max(y0, setup.ray_y0);
-    if (x0 >= x1 || y0 >= y1) continue;
-    for (uint32_t ty = y0 / tile; ty <= (y1 - 1) / tile; ++ty)
-      for (uint32_t tx = x0 / tile; tx <= (x1 - 1) / tile; ++tx) {
+    const auto [tx0, tx1, ty0, ty1] = triangleTiles(setup, t);
+    total += uint64_t(tx1 - tx0) * (ty1 - ty0);
+  }
+  if (total * 8 > max_binding)
+    return makeError(where, std::to_string(total) + " raster tiles exceed one storage binding (" +
+                                formatBytes(max_binding) + "); decimate the meshes or choose a lower level");
+  const uint32_t tile = DS_VOX_RASTER_TILE;
+  std::vector<std::vector<uint32_t>> by_row((setup.ray_y1 + tile - 1) / tile);
+  for (size_t t = 0; t < setup.triangle_layer.size(); ++t) {
+    const auto [tx0, tx1, ty0, ty1] = triangleTiles(setup, t);
+    for (uint32_t ty = ty0; ty < ty1; ++ty)
+      for (uint32_t tx = tx0; tx < tx1; ++tx) {
         by_row[ty].push_back(uint32_t(t));
         by_row[ty].push_back(tx | (ty << 16));
       }
@@ -156,11 +173,10 @@ Result<BrickVolume> voxelizeGpu(Context& ctx, const RaySetup& setup, const Voxel
     if (auto s = corners.buffer->upload(ctx, std::as_bytes(std::span(setup.corners))); !s) return s.error();
     if (auto s = tri_layer.buffer->upload(ctx, std::as_bytes(std::span(setup.triangle_layer))); !s) return s.error();
   }
-  const RasterItems raster = rasterItems(setup);
+  auto raster_or = rasterItems(setup, max_binding, where);
+  if (!raster_or) return raster_or.error();
+  const RasterItems raster = std::move(raster_or).value();
   GrowingBuffer raster_items{{}, MemoryKind::DeviceLocal, "voxelize raster items"};
-  if (raster.words.size() * 4 > max_binding)
-    return makeError(where, std::to_string(raster.words.size() / 2) + " raster tiles exceed one storage binding (" +
-                                formatBytes(max_binding) + "); decimate the meshes");
   if (auto s = raster_items.ensure(ctx, raster.words.size() * 4); !s) return makeError(where, s.message());
   if (!raster.words.empty())
     if (auto s = raster_items.buffer->upload(ctx, std::as_bytes(std::span(raster.words))); !s) return s.error();

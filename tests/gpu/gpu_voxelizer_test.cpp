@@ -162,5 +162,23 @@ TEST_F(GpuVoxelizerTest, LongColumnsStayWithinLavapipesLoopBudget) {
   EXPECT_NEAR(v.materialTotals().volumeMm3(Material::Dentin, f.voxel_mm), 0.23 * 0.19 * 20, 0.02 * 0.23 * 0.19 * 20);
 }
 
+TEST_F(GpuVoxelizerTest, TooManyRasterTilesAreRefusedBeforeAllocating) {
+  // 24 copies of a flat box at level 12 with 4 x 4 rays per voxel: the footprint of each top and
+  // bottom triangle spans the whole 16384^2-ray grid, 262 144 tiles of 8 bytes, and their 96
+  // triangles together need 192 MiB, more than one 128 MiB storage binding. The tiles are counted
+  // before any is stored, so the refusal costs nothing.
+  const TriangleMesh one = box({0, 0, 0}, {10, 10, 0.5});
+  TriangleMesh pile;
+  for (int i = 0; i < 24; ++i) dentsim::test::appendMesh(pile, one);
+  VoxelizeOptions o;
+  o.subsamples = 4;
+  const RaySetup setup = dentsim::test::raySetupFor({{Material::Dentin, &pile, "pile"}}, 12, o);
+  if (ctx().limits().max_storage_buffer_range > (uint64_t{128} << 20))
+    GTEST_SKIP() << "this device binds more than lavapipe's 128 MiB; the pile would fit";
+  auto gpu = voxelizeGpu(ctx(), setup, o);
+  ASSERT_FALSE(gpu.ok());
+  EXPECT_NE(gpu.message().find("raster tiles exceed one storage binding"), std::string::npos) << gpu.message();
+}
+
 }  // namespace
 }  // namespace dentsim::gpu::test
