@@ -94,6 +94,9 @@ struct GpuSurface::State {
   // Meshes `to_mesh`, publishes the draws and the statistics of the round begun at t0.
   Status finishRound(const BrickVolume& vol, const std::vector<MeshBlock>& to_mesh, SurfaceUpdateStats& stats,
                      Clock::time_point t0, SurfaceUpdateStats* stats_out);
+  // Meshes those of `candidates` that can hold surface and frees the rest, then finishRound.
+  Status meshCandidates(const BrickVolume& vol, std::span<const MeshBlock> candidates, SurfaceUpdateStats& stats,
+                        Clock::time_point t0, SurfaceUpdateStats* stats_out);
   void fillStats(SurfaceUpdateStats& stats) const;
 };
 
@@ -378,6 +381,19 @@ Status GpuSurface::State::finishRound(const BrickVolume& vol, const std::vector<
   return Ok{};
 }
 
+Status GpuSurface::State::meshCandidates(const BrickVolume& vol, std::span<const MeshBlock> candidates,
+                                         SurfaceUpdateStats& stats, Clock::time_point t0, SurfaceUpdateStats* stats_out) {
+  const std::vector<bool> active = meshBlocksActive(vol, options.tissue, candidates);
+  std::vector<MeshBlock> to_mesh;
+  for (size_t i = 0; i < candidates.size(); ++i) {
+    if (active[i])
+      to_mesh.push_back(candidates[i]);
+    else
+      freeSlot(candidates[i].packed());
+  }
+  return finishRound(vol, to_mesh, stats, t0, stats_out);
+}
+
 // ==== 3. build, update, read-back ================================================================
 Result<GpuSurface> GpuSurface::create(Context& ctx, const GpuSurfaceOptions& options) {
   auto state = std::make_unique<State>();
@@ -453,16 +469,27 @@ Status GpuSurface::update(const BrickVolume& volume, std::span<const BrickCoord>
   }
   if (auto u = s.syncMirror(volume, dirty); !u) return u;
   stats.upload_ms = msSince(t0);
-  const std::vector<MeshBlock> around = blocksReadingBricks(volume, dirty);
-  const std::vector<bool> active = meshBlocksActive(volume, s.options.tissue, around);
-  std::vector<MeshBlock> to_mesh;
-  for (size_t i = 0; i < around.size(); ++i) {
-    if (active[i])
-      to_mesh.push_back(around[i]);
-    else
-      s.freeSlot(around[i].packed());
-  }
-  return s.finishRound(volume, to_mesh, stats, t0, stats_out);
+  return s.meshCandidates(volume, blocksReadingBricks(volume, dirty), stats, t0, stats_out);
+}
+
+Status GpuSurface::clear(const BrickVolume& volume) {
+  State& s = *state_;
+  if (volume.level() > 12)
+    return makeError("gpu surface", "level " + std::to_string(volume.level()) + " is over 12, the most a mesh block can address");
+  s.slots.clear();
+  s.pages.clear();
+  return s.uploadMirror(volume);
+}
+
+Status GpuSurface::meshBlocks(const BrickVolume& volume, std::span<const MeshBlock> blocks, SurfaceUpdateStats* stats_out) {
+  State& s = *state_;
+  if (s.level < 0) return makeError("gpu surface", "blocks meshed before the volume was uploaded");
+  if (volume.level() != s.level)
+    return makeError("gpu surface", "blocks of a level-" + std::to_string(volume.level()) + " volume on a level-" +
+                                        std::to_string(s.level) + " surface");
+  SurfaceUpdateStats stats;
+  stats.timestamps = s.stamps.has_value();
+  return s.meshCandidates(volume, blocks, stats, Clock::now(), stats_out);
 }
 
 uint32_t GpuSurface::pageCount() const { return uint32_t(state_->pages.size()); }

@@ -75,6 +75,13 @@ class GpuSurface {
   // build() on the same volume, triangle for triangle. Errors: no build yet, a different level.
   Status update(const BrickVolume& volume, std::span<const BrickCoord> dirty, SurfaceUpdateStats* stats = nullptr);
 
+  // A build in parts (the first frame drawn before the whole surface is meshed): clear() uploads
+  // the whole volume and drops every slot, meshing nothing; meshBlocks() then meshes the blocks it
+  // is given (those that can hold no surface are freed), a few at a time. The volume must be the one
+  // last given to clear, build or update. Errors: no volume yet, a different level.
+  Status clear(const BrickVolume& volume);
+  Status meshBlocks(const BrickVolume& volume, std::span<const MeshBlock> blocks, SurfaceUpdateStats* stats = nullptr);
+
   // What the renderer binds, per page: a pool holds live blocks' vertices (MeshVertex) each followed
   // by the block's indices (uint32, local to the block); its draw buffer holds drawCount(page)
   // SurfaceDraw records, freed ones with index_count 0. A page is one storage binding, so it never

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cassert>
+#include <cmath>
 #include <optional>
 #include <tuple>
 
@@ -151,6 +152,162 @@ std::vector<BrickCoord> downsampleBricks(const BrickVolume& fine, uint32_t k, st
             out.end());
   for (const BrickCoord& c : out) downsampleBrick(fine, k, c, coarse);
   return out;
+}
+
+}  // namespace dentsim
+
+namespace dentsim {
+
+namespace {
+
+constexpr uint32_t kHalfFill = 16;  // fill at or above which a voxel is inside (F/31 > 0.5)
+
+bool insideVoxel(Voxel v) { return voxelFill(v) >= kHalfFill; }
+
+// Where along an edge from fill fa to fb (one inside, one not) marching cubes puts the vertex, in
+// [0, 1] from the first voxel's centre: the same t the mesher computes.
+double crossingT(uint32_t fa, uint32_t fb) {
+  return (double(DS_FILL_FULL) - 2.0 * double(fa)) / (2.0 * (double(fb) - double(fa)));
+}
+
+// The distance from position p (full voxels, along `axis`) to the nearest crossing of the full fill
+// on the row of full voxels at `row` (the other two coordinates), looking `window` voxels each way.
+double nearestFullCrossing(const BrickVolume& full, int axis, const int64_t row[3], double p, double window) {
+  const int64_t dim = int64_t(full.dim());
+  const int64_t lo = std::max<int64_t>(0, int64_t(std::floor(p - 0.5 - window)));
+  const int64_t hi = std::min<int64_t>(dim - 1, int64_t(std::ceil(p - 0.5 + window)));
+  double best = window;
+  int64_t at[3] = {row[0], row[1], row[2]};
+  at[axis] = lo;
+  uint32_t prev = voxelFill(full.voxel(uint32_t(at[0]), uint32_t(at[1]), uint32_t(at[2])));
+  for (int64_t i = lo + 1; i <= hi; ++i) {
+    at[axis] = i;
+    const uint32_t cur = voxelFill(full.voxel(uint32_t(at[0]), uint32_t(at[1]), uint32_t(at[2])));
+    if ((prev >= kHalfFill) != (cur >= kHalfFill)) {
+      const double q = double(i - 1) + 0.5 + crossingT(prev, cur);
+      best = std::min(best, std::fabs(q - p));
+    }
+    prev = cur;
+  }
+  return best;
+}
+
+// Whether a brick holds both inside and outside voxels (so surface passes through it).
+bool holdsSurface(const BrickView& b) {
+  if (b.uniform) return false;
+  bool in = false, out = false;
+  for (uint32_t i = 0; i < DS_BRICK_VOXELS && !(in && out); ++i) (insideVoxel(b.voxels[i]) ? in : out) = true;
+  return in && out;
+}
+
+}  // namespace
+
+void measureCopyError(const BrickVolume& full, const BrickVolume& coarse, uint32_t k, uint32_t region_bricks,
+                      std::span<const uint8_t> only, std::vector<float>& error) {
+  const uint32_t region_voxels = region_bricks * DS_BRICK_DIM;
+  const uint32_t rd = (full.brickDim() + region_bricks - 1) / region_bricks;
+  const size_t regions = size_t(rd) * rd * rd;
+  if (error.size() != regions) error.assign(regions, 0.0f);
+  const auto measured = [&](size_t r) { return only.empty() || only[r]; };
+  // Per measured region: the sum of squared vertex distances and their count, and the lost-feature
+  // floor; the error is the root mean square, or the floor when that is larger.
+  std::vector<double> sum2(regions, 0.0);
+  std::vector<uint32_t> count(regions, 0);
+  std::vector<float> lost(regions, 0.0f);
+  const uint32_t f = 1u << k;
+  const double window = double(2u * f);
+  const auto region_of = [&](const double p[3]) {
+    size_t r[3];
+    for (int a = 0; a < 3; ++a) r[a] = std::min<size_t>(rd - 1, size_t(std::max(0.0, p[a]) / double(region_voxels)));
+    return (r[2] * rd + r[1]) * rd + r[0];
+  };
+  const uint32_t coarse_bricks_per_region = std::max(1u, region_bricks / f);
+  const int64_t cdim = int64_t(coarse.dim());
+  coarse.forEachBrick([&](const BrickView& b) {
+    // Only bricks of measured regions; a coarse brick lies in one region (regions are whole bricks).
+    const size_t r0 = (size_t(b.coord.z / coarse_bricks_per_region) * rd + b.coord.y / coarse_bricks_per_region) * rd +
+                      b.coord.x / coarse_bricks_per_region;
+    if (r0 >= regions || !measured(r0)) return;
+    if (!holdsSurface(b)) {
+      // A copy with no surface here or next to it: any full brick beneath that holds surface is a
+      // feature the copy lost. (Next to it, the copy's surface may just cross the brick border
+      // elsewhere than the full one does; its vertices are measured there.)
+      bool near_surface = false;
+      const int64_t cb = int64_t(coarse.brickDim());
+      for (int64_t dz = -1; dz <= 1 && !near_surface; ++dz)
+        for (int64_t dy = -1; dy <= 1 && !near_surface; ++dy)
+          for (int64_t dx = -1; dx <= 1 && !near_surface; ++dx) {
+            const int64_t x = int64_t(b.coord.x) + dx, y = int64_t(b.coord.y) + dy, z = int64_t(b.coord.z) + dz;
+            if ((dx | dy | dz) == 0 || x < 0 || y < 0 || z < 0 || x >= cb || y >= cb || z >= cb) continue;
+            near_surface = holdsSurface(coarse.brick({uint32_t(x), uint32_t(y), uint32_t(z)}));
+          }
+      if (near_surface) {
+        if (b.uniform) return;
+      } else {
+      for (uint32_t z = 0; z < f; ++z)
+        for (uint32_t y = 0; y < f; ++y)
+          for (uint32_t x = 0; x < f; ++x)
+            if (holdsSurface(full.brick({b.coord.x * f + x, b.coord.y * f + y, b.coord.z * f + z})))
+              lost[r0] = float(window);
+      }
+      if (b.uniform) return;
+    }
+    for (uint32_t vz = 0; vz < DS_BRICK_DIM; ++vz)
+      for (uint32_t vy = 0; vy < DS_BRICK_DIM; ++vy)
+        for (uint32_t vx = 0; vx < DS_BRICK_DIM; ++vx) {
+          const int64_t c[3] = {int64_t(b.coord.x * DS_BRICK_DIM + vx), int64_t(b.coord.y * DS_BRICK_DIM + vy),
+                                int64_t(b.coord.z * DS_BRICK_DIM + vz)};
+          const Voxel here = b.voxels[layout::brickCoordToOffset(vx, vy, vz)];
+          for (int axis = 0; axis < 3; ++axis) {
+            if (c[axis] + 1 >= cdim) continue;
+            int64_t n[3] = {c[0], c[1], c[2]};
+            ++n[axis];
+            const uint32_t local[3] = {vx, vy, vz};
+            const Voxel there = local[axis] + 1 < DS_BRICK_DIM
+                                    ? b.voxels[layout::brickCoordToOffset(vx + (axis == 0), vy + (axis == 1), vz + (axis == 2))]
+                                    : coarse.voxel(uint32_t(n[0]), uint32_t(n[1]), uint32_t(n[2]));
+            if (insideVoxel(here) == insideVoxel(there)) continue;
+            // The coarse vertex in full voxels, and the full row through it (the lower of the two
+            // rows its other coordinates fall between).
+            double p[3];
+            int64_t row[3];
+            for (int a = 0; a < 3; ++a) {
+              p[a] = (double(c[a]) + 0.5) * double(f);
+              row[a] = std::min<int64_t>(int64_t(full.dim()) - 1, int64_t(std::floor(p[a] - 0.5)));
+            }
+            p[axis] += crossingT(voxelFill(here), voxelFill(there)) * double(f);
+            // Along the edge's axis, then across the surface: times the normal's share of the axis
+            // (the copy's fill gradient at the edge), so that a surface grazing the axis, whose
+            // crossing on a row beside the vertex moves far along it, is not counted as far off.
+            double g[3], g2 = 0.0;
+            for (int a = 0; a < 3; ++a) {
+              int64_t lo[3] = {c[0], c[1], c[2]}, hi[3] = {n[0], n[1], n[2]};
+              --lo[a];
+              ++hi[a];
+              // Clamped at the grid's faces, so that they add no gradient of their own.
+              const auto fill_at = [&](const int64_t q[3]) {
+                const auto at = [&](int i) { return uint32_t(std::clamp<int64_t>(q[i], 0, cdim - 1)); };
+                return double(voxelFill(coarse.voxel(at(0), at(1), at(2))));
+              };
+              // Central differences at both ends of the edge, summed: the gradient at its middle.
+              int64_t c_hi[3] = {c[0], c[1], c[2]}, n_lo[3] = {n[0], n[1], n[2]};
+              ++c_hi[a];
+              --n_lo[a];
+              g[a] = fill_at(c_hi) - fill_at(lo) + fill_at(hi) - fill_at(n_lo);
+              g2 += g[a] * g[a];
+            }
+            const double share = g2 > 0.0 ? std::fabs(g[axis]) / std::sqrt(g2) : 1.0;
+            const double d = nearestFullCrossing(full, axis, row, p[axis], window) * share;
+            const size_t r = region_of(p);
+            if (!measured(r)) continue;
+            sum2[r] += d * d;
+            ++count[r];
+          }
+        }
+  });
+  for (size_t r = 0; r < regions; ++r)
+    if (measured(r))
+      error[r] = std::max(lost[r], count[r] ? float(std::sqrt(sum2[r] / double(count[r]))) : 0.0f);
 }
 
 }  // namespace dentsim

@@ -33,4 +33,18 @@ BrickVolume downsampleVolume(const BrickVolume& fine, uint32_t k);
 std::vector<BrickCoord> downsampleBricks(const BrickVolume& fine, uint32_t k, std::span<const BrickCoord> fine_dirty,
                                          BrickVolume& coarse);
 
+// How far copy k's surface (the outer surface: any tissue's fill) lies from the full one, per region
+// of `region_bricks` full bricks a side [full voxels]. For each lattice edge of the copy where its
+// fill crosses one half, the vertex marching cubes puts there is compared with the nearest crossing
+// of the full fill on the full voxel row through it along the same axis, and that distance is
+// scaled by the axis's share of the copy's normal (the distance across the surface). A vertex with
+// no full crossing within 2^(k+1) voxels counts that far. A region's error is the root mean square
+// over its vertices: one grazing edge does not decide it, a surface that moved does. A full brick
+// holding surface where the copy holds none, nor next to it (a feature the copy lost), sets its
+// region's error to 2^(k+1) at least.
+// `error` has one entry per region (x fastest); with `only` non-empty (one flag per region) just the
+// flagged regions are measured again, the others kept.
+void measureCopyError(const BrickVolume& full, const BrickVolume& coarse, uint32_t k, uint32_t region_bricks,
+                      std::span<const uint8_t> only, std::vector<float>& error);
+
 }  // namespace dentsim

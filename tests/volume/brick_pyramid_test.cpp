@@ -111,3 +111,60 @@ TEST(BrickPyramidTest, UpdatingTheChangedBricksEqualsANewCopy) {
 
 }  // namespace
 }  // namespace dentsim
+
+namespace dentsim {
+namespace {
+
+// A solid slab below z = top (voxels 0 .. top-1 full), over a level-7 grid.
+BrickVolume slab(uint32_t top) {
+  BrickVolume v(7);
+  test::setBox(v, {0, 0, 0}, {128, 128, top}, makeVoxel(Material::Dentin));
+  return v;
+}
+
+TEST(CopyErrorTest, AFlatFaceOnTheCopysGridIsExact) {
+  // Full crossing between voxels 95 (31) and 96 (0): t = 1/2, at 96.0. The 2^3 copy: voxel 47
+  // (full 94, 95) is 31, voxel 48 is 0: its vertex is at (47.5 + 0.5) * 2 = 96.0 too.
+  const BrickVolume full = slab(96);
+  const BrickVolume coarse = downsampleVolume(full, 1);
+  std::vector<float> error;
+  measureCopyError(full, coarse, 1, 4, {}, error);
+  ASSERT_EQ(error.size(), 64u);  // 4 regions a side
+  for (float e : error) EXPECT_EQ(e, 0.0f);
+}
+
+TEST(CopyErrorTest, AFaceBetweenTheCopysVoxelsIsOffByAHandCountedSixteenth) {
+  // Full crossing at 97.0 (voxel 96 full, 97 empty). Copy voxel 48 holds four full and four empty
+  // voxels: (124 + 4) / 8 = 16, inside; voxel 49 is 0. t = (31 - 32) / (2 * (0 - 16)) = 1/32, so
+  // the vertex is at (48.5 + 1/32) * 2 = 97.0625: 0.0625 voxels off, in the regions of z 96..127.
+  const BrickVolume full = slab(97);
+  const BrickVolume coarse = downsampleVolume(full, 1);
+  std::vector<float> error;
+  measureCopyError(full, coarse, 1, 4, {}, error);
+  for (uint32_t z = 0; z < 4; ++z)
+    for (uint32_t i = 0; i < 16; ++i) EXPECT_FLOAT_EQ(error[z * 16 + i], z == 3 ? 0.0625f : 0.0f) << z;
+  // Measuring again only region 0 keeps the others as they were.
+  std::vector<uint8_t> only(64, 0);
+  only[0] = 1;
+  error[63] = 5.0f;
+  measureCopyError(full, coarse, 1, 4, only, error);
+  EXPECT_EQ(error[63], 5.0f);
+  EXPECT_EQ(error[0], 0.0f);
+}
+
+TEST(CopyErrorTest, AThinPlateTheCopyLosesCountsTheWholeWindow) {
+  // A plate 2 voxels thick at z 43..44 straddles the 4^3 copy's voxels 10 (z 40..43) and 11 (44..47):
+  // each holds one layer, (16 * 31 + 32) / 64 = 8, both outside, and the plate is gone. Its regions
+  // count 2^(k+1) = 8.
+  BrickVolume full(7);
+  test::setBox(full, {0, 0, 43}, {128, 128, 45}, makeVoxel(Material::Enamel));
+  const BrickVolume coarse = downsampleVolume(full, 2);
+  EXPECT_EQ(coarse.voxel(5, 5, 10), makeVoxel(Material::Enamel, 8));
+  std::vector<float> error;
+  measureCopyError(full, coarse, 2, 4, {}, error);
+  for (uint32_t i = 0; i < 16; ++i) EXPECT_EQ(error[16 + i], 8.0f);
+  EXPECT_EQ(error[0], 0.0f);
+}
+
+}  // namespace
+}  // namespace dentsim
