@@ -100,6 +100,7 @@ struct Target {
 struct Pipelines {
   std::array<VkPipeline, 2> tooth_opaque{};
   std::array<VkPipeline, 2> tooth_blend{};
+  std::array<VkPipeline, 2> tooth_blend_depth{};  // the translucent tissues' depth alone, before their colour
   std::array<VkPipeline, 2> tool{};
   std::array<VkPipeline, 2> glass{};
   std::array<VkPipeline, 2> ghost_depth{};  // the ghost tools' depth only, no colour
@@ -138,6 +139,7 @@ struct SceneRenderer::State {
   bool mirror_drawn = false;
 
   std::optional<GpuImage> overlay;
+  ToothDrawStats tooth_stats;
 
   std::map<VkImageView, Target> targets;
   uint64_t last_serial = 0;
@@ -155,7 +157,9 @@ struct SceneRenderer::State {
   Status createMirrorTarget();
   Result<Target*> target(const RenderImage& image);
 
-  void drawTooth(VkCommandBuffer cmd, const ToothSurfaces& tooth, const FrameState& frame, bool translucent, bool flip);
+  // Draws the opaque or the translucent tissues; with a choice, each copy's blocks where it says.
+  void drawTooth(VkCommandBuffer cmd, const ToothSurfaces& tooth, const FrameState& frame, bool translucent, bool flip,
+                 const LodChoice* choice, uint64_t& triangles, uint64_t& blocks);
   void drawTool(VkCommandBuffer cmd, const ToolMesh& mesh, VkPipeline pipe, const glm::mat4& model, const TissueLook& look);
   void drawTools(VkCommandBuffer cmd, const FrameState& frame, bool with_mirror, bool flip);
   void drawGhost(VkCommandBuffer cmd, const FrameState& frame, bool with_mirror, bool flip);
@@ -168,7 +172,7 @@ SceneRenderer::State::~State() {
   // Pipelines, passes and sets may still be in a submission up to last_serial.
   VkDevice device = core->device;
   std::vector<VkPipeline> pipelines;
-  for (auto* arr : {&pipes.tooth_opaque, &pipes.tooth_blend, &pipes.tool, &pipes.glass, &pipes.ghost_depth, &pipes.ghost})
+  for (auto* arr : {&pipes.tooth_opaque, &pipes.tooth_blend, &pipes.tooth_blend_depth, &pipes.tool, &pipes.glass, &pipes.ghost_depth, &pipes.ghost})
     for (VkPipeline p : *arr) pipelines.push_back(p);
   pipelines.push_back(pipes.overlay);
   core->retired.retire(last_serial, [=, modules = modules, passes = std::array{main_pass, mirror_pass},
@@ -488,6 +492,9 @@ Status SceneRenderer::State::createPipelines() {
     p = createPipeline("tooth translucent", tooth_vert, surface_frag, 1, true, false, true, true, flip);
     if (!p) return p.error();
     pipes.tooth_blend[i] = *p;
+    p = createPipeline("tooth translucent depth", tooth_vert, surface_frag, 1, false, true, true, true, flip, false);
+    if (!p) return p.error();
+    pipes.tooth_blend_depth[i] = *p;
     p = createPipeline("tool", tool_vert, surface_frag, 2, false, true, true, true, flip);
     if (!p) return p.error();
     pipes.tool[i] = *p;
@@ -699,6 +706,8 @@ Result<Target*> SceneRenderer::State::target(const RenderImage& image) {
   return &targets.emplace(image.view, std::move(t)).first->second;
 }
 
+ToothDrawStats SceneRenderer::toothDrawStats() const { return state_->tooth_stats; }
+
 void SceneRenderer::forgetTarget(VkImageView view) {
   auto it = state_->targets.find(view);
   if (it == state_->targets.end()) return;
@@ -714,40 +723,62 @@ void SceneRenderer::forgetTargets() {
 // ==== 5. recording ===================================================================================
 
 void SceneRenderer::State::drawTooth(VkCommandBuffer cmd, const ToothSurfaces& tooth, const FrameState& frame,
-                                     bool translucent, bool flip) {
+                                     bool translucent, bool flip, const LodChoice* choice, uint64_t& triangles,
+                                     uint64_t& blocks) {
   const VolumeFrame& vf = frame.tooth_frame;
-  const float s = float(vf.voxel_mm);
-  const glm::mat4 model = glm::scale(glm::translate(glm::mat4(1.0f), glm::vec3(float(vf.origin_mm[0]), float(vf.origin_mm[1]),
-                                                                               float(vf.origin_mm[2]))),
-                                     glm::vec3(s, s, s));
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
-                    translucent ? pipes.tooth_blend[flip ? 1 : 0] : pipes.tooth_opaque[flip ? 1 : 0]);
-  // Translucent layers go in falling draw order (inside out: caries, pulp, dentin, enamel), so outer
-  // ones blend over inner ones.
-  for (size_t k = 0; k < kDrawnTissues.size(); ++k) {
-    const size_t i = translucent ? kDrawnTissues.size() - 1 - k : k;
-    const TissueLook& look = frame.looks[size_t(kDrawnTissues[i])];
-    if (look.alpha <= 0.0 || (look.alpha < 1.0) != translucent) continue;
-    layout::DrawConstants dc{};
-    putMatrix(dc.model, model);
-    putLook(dc, look);
-    vkCmdPushConstants(cmd, pipeline_layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof dc, &dc);
-    gpu::GpuSurface& surface = tooth.surface(i);
-    for (uint32_t page = 0; page < surface.pageCount(); ++page) {
-      const uint32_t n = surface.drawCount(page);
-      const auto* records = static_cast<const gpu::SurfaceDraw*>(surface.draws(page).mapped());
-      if (n == 0 || !records) continue;
-      const VkBuffer slots = surface.pool(page).handle();
-      const VkDeviceSize zero = 0;
-      vkCmdBindVertexBuffers(cmd, 0, 1, &slots, &zero);
-      vkCmdBindIndexBuffer(cmd, slots, 0, VK_INDEX_TYPE_UINT32);
-      // The records are host-visible: one direct draw per live block, so neither multiDrawIndirect
-      // nor drawIndirectFirstInstance (the block id in firstInstance) is needed.
-      for (uint32_t d = 0; d < n; ++d) {
-        const gpu::SurfaceDraw& r = records[d];
-        if (r.index_count) vkCmdDrawIndexed(cmd, r.index_count, 1, r.first_index, r.vertex_offset, 0);
+  const uint32_t copies = choice ? tooth.copies() : 1u;
+  // Records one tissue's draws of every copy with `pipe`; counts them when `count`.
+  const auto draw_tissue = [&](size_t i, const TissueLook& look, bool count) {
+    for (uint32_t k = 0; k < copies; ++k) {
+      // Copy k's vertices are in its own voxels, 2^k full ones each.
+      const float s = float(vf.voxel_mm * double(1u << k));
+      const glm::mat4 model = glm::scale(
+          glm::translate(glm::mat4(1.0f), glm::vec3(float(vf.origin_mm[0]), float(vf.origin_mm[1]), float(vf.origin_mm[2]))),
+          glm::vec3(s, s, s));
+      layout::DrawConstants dc{};
+      putMatrix(dc.model, model);
+      putLook(dc, look);
+      vkCmdPushConstants(cmd, pipeline_layout, VK_SHADER_STAGE_VERTEX_BIT | VK_SHADER_STAGE_FRAGMENT_BIT, 0, sizeof dc, &dc);
+      gpu::GpuSurface& surface = tooth.surface(i, k);
+      for (uint32_t page = 0; page < surface.pageCount(); ++page) {
+        const uint32_t n = surface.drawCount(page);
+        const auto* records = static_cast<const gpu::SurfaceDraw*>(surface.draws(page).mapped());
+        if (n == 0 || !records) continue;
+        const VkBuffer slots = surface.pool(page).handle();
+        const VkDeviceSize zero = 0;
+        vkCmdBindVertexBuffers(cmd, 0, 1, &slots, &zero);
+        vkCmdBindIndexBuffer(cmd, slots, 0, VK_INDEX_TYPE_UINT32);
+        // The records are host-visible: one direct draw per live block, so neither multiDrawIndirect
+        // nor drawIndirectFirstInstance (the block id in firstInstance) is needed, and the choice of
+        // copy can skip blocks here.
+        for (uint32_t d = 0; d < n; ++d) {
+          const gpu::SurfaceDraw& r = records[d];
+          if (!r.index_count) continue;
+          if (choice && !choice->drawsBlock(k, MeshBlock::unpack(r.first_instance))) continue;
+          vkCmdDrawIndexed(cmd, r.index_count, 1, r.first_index, r.vertex_offset, 0);
+          if (count) {
+            triangles += r.index_count / 3u;
+            ++blocks;
+          }
+        }
       }
     }
+  };
+  // Translucent layers go in falling draw order (inside out: caries, pulp, dentin, enamel), so outer
+  // ones blend over inner ones. Each translucent tissue writes its depth first and then blends its
+  // nearest layer only: where two copies overlap at a border, or a fold puts two layers in one
+  // pixel, the tissue is blended once.
+  for (size_t n = 0; n < kDrawnTissues.size(); ++n) {
+    const size_t i = translucent ? kDrawnTissues.size() - 1 - n : n;
+    const TissueLook& look = frame.looks[size_t(kDrawnTissues[i])];
+    if (look.alpha <= 0.0 || (look.alpha < 1.0) != translucent) continue;
+    if (translucent) {
+      vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, pipes.tooth_blend_depth[flip ? 1 : 0]);
+      draw_tissue(i, look, false);
+    }
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS,
+                      translucent ? pipes.tooth_blend[flip ? 1 : 0] : pipes.tooth_opaque[flip ? 1 : 0]);
+    draw_tissue(i, look, true);
   }
 }
 
@@ -868,14 +899,28 @@ Status SceneRenderer::recordFrame(VkCommandBuffer cmd, const RenderImage& target
                             0, nullptr);
   };
   const bool draw_tooth = frame.tooth_shown && tooth.built();
+  // Each pass chooses its own copies: the mirror's image is smaller and sees the tooth from elsewhere.
+  const bool lod = draw_tooth && frame.lod.pixel_error > 0.0f;
+  std::optional<glm::vec3> bur_tip;
+  if (frame.drill_shown) bur_tip = toGlm(frame.drill.position);
+  const auto choose = [&](const glm::mat4& view, VkExtent2D extent) {
+    return chooseLod(frame.tooth_frame, tooth.copies() - 1u,
+                     LodView{view, frame.projection, extent.width, extent.height, bur_tip}, frame.lod,
+                     LodRegions{tooth.laggingRegions(), tooth.readyRegions(), tooth.copyErrors()});
+  };
+  s.tooth_stats = ToothDrawStats{};
 
   // 1. The mirror pass: everything but the mirror itself, seen in the mirror's plane.
   if (mirror_pass) {
     const bool flip = mirrored(mirror_view);
     begin(s.mirror_pass, s.mirror_framebuffer, s.mirror_colour->extent(), s.mirror_frame_set);
-    if (draw_tooth) s.drawTooth(cmd, tooth, frame, false, flip);
+    std::optional<LodChoice> choice;
+    if (lod) choice = choose(mirror_view, s.mirror_colour->extent());
+    uint64_t blocks = 0;
+    const LodChoice* c = choice ? &*choice : nullptr;
+    if (draw_tooth) s.drawTooth(cmd, tooth, frame, false, flip, c, s.tooth_stats.mirror_triangles, blocks);
     s.drawTools(cmd, frame, false, flip);
-    if (draw_tooth) s.drawTooth(cmd, tooth, frame, true, flip);
+    if (draw_tooth) s.drawTooth(cmd, tooth, frame, true, flip, c, s.tooth_stats.mirror_triangles, blocks);
     s.drawGhost(cmd, frame, false, flip);
     vkCmdEndRenderPass(cmd);
   }
@@ -884,14 +929,23 @@ Status SceneRenderer::recordFrame(VkCommandBuffer cmd, const RenderImage& target
   // 2. The main pass.
   const bool flip = mirrored(frame.view);
   begin(s.main_pass, (*tgt)->framebuffer, target.extent, s.main_frame_set);
-  if (draw_tooth) s.drawTooth(cmd, tooth, frame, false, flip);
+  std::optional<LodChoice> choice;
+  if (lod) {
+    choice = choose(frame.view, target.extent);
+    for (uint8_t k : choice->copy)
+      if (k < s.tooth_stats.main_regions.size()) ++s.tooth_stats.main_regions[k];
+  }
+  const LodChoice* main_choice = choice ? &*choice : nullptr;
+  if (draw_tooth)
+    s.drawTooth(cmd, tooth, frame, false, flip, main_choice, s.tooth_stats.main_triangles, s.tooth_stats.main_blocks);
   s.drawTools(cmd, frame, true, flip);
   if (mirror_pass) {
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, s.pipeline_layout, DS_RENDER_SET_TEXTURE, 1,
                             &s.mirror_texture_set, 0, nullptr);
     s.drawTool(cmd, s.glass, s.pipes.glass[flip ? 1 : 0], toGlm(frame.mirror), s.options.mirror_rim);
   }
-  if (draw_tooth) s.drawTooth(cmd, tooth, frame, true, flip);
+  if (draw_tooth)
+    s.drawTooth(cmd, tooth, frame, true, flip, main_choice, s.tooth_stats.main_triangles, s.tooth_stats.main_blocks);
   s.drawGhost(cmd, frame, true, flip);
   if (frame.overlay_shown && s.overlay && frame.overlay_rect.width > 0 && frame.overlay_rect.height > 0) {
     const float w = float(target.extent.width), h = float(target.extent.height);

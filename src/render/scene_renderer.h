@@ -39,6 +39,7 @@
 #include "gpu/context.h"
 #include "io/png_file.h"
 #include "model/tool_generator.h"
+#include "render/tooth_lod.h"
 #include "render/tooth_surfaces.h"
 #include "render/look_params.h"
 
@@ -93,6 +94,19 @@ struct FrameState {
 
   bool overlay_shown = false;                        // draws the setOverlayImage picture into overlay_rect
   PixelRect overlay_rect;
+
+  // Screen-sized detail (render/tooth_lod.h): each pass draws each region of the tooth from the
+  // coarsest copy within lod.pixel_error pixels. pixel_error 0 draws the full copy everywhere,
+  // frustum and all: the full-detail path benchmarks compare against.
+  LodSettings lod;
+};
+
+// What the last recorded frame drew of the tooth.
+struct ToothDrawStats {
+  uint64_t main_triangles = 0;    // tooth triangles of the main pass (every tissue)
+  uint64_t mirror_triangles = 0;  // of the mirror pass (0 when it did not run)
+  uint64_t main_blocks = 0;       // block draws of the main pass
+  std::array<uint32_t, 4> main_regions{};  // regions of the main pass drawn from copy k (k < 4)
 };
 
 struct SceneRendererOptions {
@@ -130,6 +144,9 @@ class SceneRenderer {
   // format, a Vulkan failure making the target's depth buffer and framebuffer.
   Status recordFrame(VkCommandBuffer cmd, const RenderImage& target, const ToothSurfaces& tooth,
                      const FrameState& frame, const std::function<void(VkCommandBuffer)>& in_pass = {});
+
+  // What the last recordFrame drew of the tooth.
+  ToothDrawStats toothDrawStats() const;
 
   // Uploads the overlay picture (e.g. the score's over/under-cut image). Waits for the device to be
   // idle first, as a frame in flight may still sample the old one. Error: an empty image.

@@ -258,6 +258,8 @@ TEST_F(RenderTest, OcclusalToothShowsEnamelAndItsCarvedHole) {
   // reaches the surface, so it takes the enamel's look here.
   s.frame.looks[size_t(Material::Enamel)].alpha = 1.0;
   s.frame.looks[size_t(Material::Caries)] = s.frame.looks[size_t(Material::Enamel)];
+  // Full detail: a cut that switches a region to another copy would change pixels away from it.
+  s.frame.lod.pixel_error = 0.0f;
   const auto t0 = std::chrono::steady_clock::now();
   const RgbImage before = render(s.frame);
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -375,6 +377,10 @@ struct MirrorScene {
 
 MirrorScene mirrorScene() {
   MirrorScene m{toothScene(6, ViewPreset::Occlusal)};
+  // Full detail: where two copies of the tooth overlap at a border their surfaces nearly coincide,
+  // and the last bit of a reflected matrix decides which one a pixel shows (tooth_lod_test.cpp
+  // checks that the mirror pass chooses the copies the reflected camera would).
+  m.s.frame.lod.pixel_error = 0.0f;
   m.s.camera.setDistance(m.s.camera.distance() * 1.6f);
   m.s.camera.setTarget(m.s.centre + glm::vec3(0.0f, m.s.radius * 0.6f, 0.0f));
   m.s.frame.view = m.s.camera.view();
