@@ -20,6 +20,7 @@
 #include "bench/mesh_bench.h"
 #include "bench/voxelize_bench.h"
 #include "gpu/context.h"
+#include "render/tooth_lod.h"
 #include "volume/normal_mode.h"
 
 namespace dentsim::app {
@@ -325,6 +326,10 @@ void addBenchCommand(CLI::App& root, Action& action) {
   frames->add_option("--width", fopts->width, "Frame width [px]")->check(CLI::Range(64, 8192))->capture_default_str();
   frames->add_option("--height", fopts->height, "Frame height [px]")->check(CLI::Range(64, 8192))->capture_default_str();
   frames->add_flag("--window", fopts->window, "Draw into a window (needs a display) instead of offscreen");
+  frames->add_option("--detail-pixels", fopts->detail_pixels, "Screen-sized detail's error, beside full detail [px]")
+      ->check(finiteIn(0.01, render::kMaxDetailPixels, "px"))
+      ->capture_default_str();
+  frames->add_flag("!--no-first-frame", fopts->first_frame, "Skip timing the demo's first frame");
   frames->add_option("--out", fopts->out, "Output folder")->capture_default_str();
   frames->add_option("--device", fopts->device, "Vulkan device index or name part");
   frames->callback([fopts, &action] { action = [fopts] { return runFramesBench(*fopts); }; });

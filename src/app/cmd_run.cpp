@@ -10,6 +10,7 @@
 #include "app/simulator.h"
 #include "sim/novice_paths.h"
 #include "ui/course_list.h"
+#include "render/tooth_lod.h"
 
 namespace dentsim::app {
 namespace {
@@ -170,6 +171,15 @@ void addRunCommand(CLI::App& root, Action& action) {
       ->capture_default_str();
   cmd->add_flag("!--no-ui", o->ui, "Hide the parameter window and the overlay");
   cmd->add_option("--view", o->view, "First camera view: occlusal, buccal, lingual, mesial or distal (default: the task's, else buccal)");
+  cmd->add_option("--detail-pixels", o->detail_pixels,
+                  "Draw each part of the tooth from the coarsest copy within this many pixels of error; 0: full "
+                  "detail everywhere")
+      ->check(finiteIn(0.0, render::kMaxDetailPixels, "px"))
+      ->capture_default_str();
+  cmd->add_option_function<bool>(
+      "--progressive", [o](bool on) { o->progressive = on; },
+      "First frame from the coarse copies, full detail filling in over the next frames (default: in a window, not "
+      "headless)");
   cmd->add_flag("!--no-vsync", o->vsync, "Present as fast as frames come (frame-rate measurements)");
   cmd->add_flag("--score-at-end", o->score_at_end, "Score the cut when the pen script ends");
   cmd->add_flag("--exit-at-end", o->exit_at_end, "Quit one frame after the pen script ends, windowed too");

@@ -1,6 +1,7 @@
-// The frame-time benchmark: the demo's caries removal drawn frame by frame, so each frame re-meshes the bricks the bur changed.
+// The frame-time benchmark: the demo's caries removal drawn frame by frame, full detail against screen-sized detail in one run; the same frames and five views compared pixel by pixel; the demo's first frame.
 #include "app/frames_bench.h"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -10,14 +11,39 @@
 #include "app/commands.h"
 #include "app/simulator.h"
 #include "bench/svg_plot.h"
+#include "gpu/context.h"
 #include "io/atomic_file.h"
+#include "render/camera.h"
+#include "render/frame_compare.h"
+#include "render/look_params.h"
+#include "render/offscreen.h"
+#include "render/scene_renderer.h"
+#include "render/tooth_surfaces.h"
+#include "sim/builtin_tooth.h"
 
 namespace dentsim::app {
 namespace {
 
-struct FramesRow {
+namespace fs = std::filesystem;
+
+struct RunRow {
   int level = 0;
+  bool screen_sized = false;  // false: the full-detail path
   SimulatorOutcome run;
+};
+
+// One view of the uncut molar drawn both ways, tooth alone.
+struct ViewRow {
+  int level = 0;
+  std::string view;
+  uint64_t full_triangles = 0, triangles = 0;
+  render::FrameDifference diff;
+};
+
+struct FirstFrameRow {
+  int level = 0;
+  bool in_parts = false;
+  double first_frame_s = 0.0, full_detail_s = 0.0;
 };
 
 std::string fmt(const char* f, double v) {
@@ -26,49 +52,164 @@ std::string fmt(const char* f, double v) {
   return b;
 }
 
+std::array<uint8_t, 3> backgroundRgb() {
+  const std::array<float, 3> bg = render::FrameState{}.background;
+  return {uint8_t(std::lround(bg[0] * 255.0f)), uint8_t(std::lround(bg[1] * 255.0f)), uint8_t(std::lround(bg[2] * 255.0f))};
+}
+
+SimulatorOptions demoRun(const FramesBenchOptions& o, int level) {
+  SimulatorOptions so;
+  so.level = level;
+  so.demo_script = true;
+  so.headless = !o.window;
+  so.lockstep = true;  // each frame shows 1/30 s more of the drilling, whatever the frame costs
+  so.fps = 30.0;
+  so.vsync = false;
+  so.width = o.width;
+  so.height = o.height;
+  so.bench_frames = o.frames;
+  so.bench_from_s = o.from_s;
+  so.device = o.device;
+  so.sound = false;
+  so.ui = false;  // the panel's cost is not the tooth's; the pictures compare the scene alone
+  so.progressive = false;
+  return so;
+}
+
+// The five views of the molar at `level`, each drawn at full detail and with screen-sized detail.
+Status compareViews(const FramesBenchOptions& o, int level, std::vector<ViewRow>& rows) {
+  gpu::ContextOptions co;
+  co.graphics = true;
+  co.device_override = o.device;
+  auto ctx = gpu::Context::create(gpu::withEnvironment(co));
+  if (!ctx) return ctx.error();
+  auto tooth = builtinMolarTooth(level);
+  if (!tooth) return tooth.error();
+  auto surfaces = render::ToothSurfaces::create(*ctx);
+  if (!surfaces) return surfaces.error();
+  if (Status st = surfaces->build(tooth->voxels); !st) return st;
+  auto renderer = render::SceneRenderer::create(*ctx, render::kDefaultColourFormat, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+  if (!renderer) return renderer.error();
+  const VolumeFrame& f = tooth->frame;
+  const BrickBox box = tissueBricks(tooth->voxels);
+  const double brick_mm = f.voxel_mm * DS_BRICK_DIM;
+  glm::vec3 lo, hi;
+  for (int a = 0; a < 3; ++a) {
+    const uint32_t blo = a == 0 ? box.lo.x : a == 1 ? box.lo.y : box.lo.z, bhi = a == 0 ? box.hi.x : a == 1 ? box.hi.y : box.hi.z;
+    lo[a] = float(f.origin_mm[size_t(a)] + blo * brick_mm);
+    hi[a] = float(f.origin_mm[size_t(a)] + (bhi + 1) * brick_mm);
+  }
+  const glm::vec3 centre = 0.5f * (lo + hi);
+  const float radius = 0.5f * glm::length(hi - lo);
+  struct View {
+    const char* name;
+    render::ViewPreset preset;
+    float zoom;
+  };
+  for (const View v : {View{"buccal", render::ViewPreset::Buccal, 1.0f}, View{"occlusal", render::ViewPreset::Occlusal, 1.0f},
+                       View{"mesial", render::ViewPreset::Mesial, 1.0f}, View{"occlusal x3", render::ViewPreset::Occlusal, 3.0f},
+                       View{"buccal x1/3", render::ViewPreset::Buccal, 1.0f / 3.0f}}) {
+    render::OrbitCamera camera;
+    camera.setView(v.preset, centre, radius);
+    camera.setDistance(camera.distance() / v.zoom);
+    render::FrameState fs;
+    fs.view = camera.view();
+    fs.projection = camera.projection(float(o.width) / float(o.height));
+    fs.eye = camera.eye();
+    fs.light_dir = glm::normalize(camera.eye() - centre);
+    fs.tooth_frame = f;
+    fs.looks = defaultLookParams().looks;
+    fs.drill_shown = false;
+    ViewRow row;
+    row.level = level;
+    row.view = v.name;
+    fs.lod.pixel_error = 0.0f;
+    auto full = render::renderOffscreen(*ctx, *renderer, *surfaces, fs, uint32_t(o.width), uint32_t(o.height));
+    if (!full) return full.error();
+    row.full_triangles = renderer->toothDrawStats().main_triangles;
+    fs.lod.pixel_error = o.detail_pixels;
+    auto lod = render::renderOffscreen(*ctx, *renderer, *surfaces, fs, uint32_t(o.width), uint32_t(o.height));
+    if (!lod) return lod.error();
+    row.triangles = renderer->toothDrawStats().main_triangles;
+    row.diff = render::compareFrames(*full, *lod, backgroundRgb());
+    rows.push_back(row);
+  }
+  return ctx->waitIdle();
+}
+
 }  // namespace
 
 int runFramesBench(const FramesBenchOptions& o) {
   std::error_code ec;
-  std::filesystem::create_directories(o.out, ec);
+  fs::create_directories(o.out, ec);
   if (ec) return fail(o.out + ": cannot create the output folder: " + ec.message());
-  std::vector<FramesRow> rows;
+  const fs::path scratch = fs::path(o.out) / "frames-scratch";
+  // The frame both paths write as a picture, in the middle of the timed ones.
+  const double shot_s = o.from_s + 0.5 * double(o.frames) / 30.0;
+  std::vector<RunRow> rows;
+  std::vector<render::FrameDifference> shot_diffs;
+  std::vector<ViewRow> views;
+  std::vector<FirstFrameRow> firsts;
   for (int level : o.levels) {
-    SimulatorOptions so;
-    so.level = level;
-    so.demo_script = true;
-    so.headless = !o.window;
-    so.lockstep = true;  // each frame shows 1/30 s more of the drilling, whatever the frame costs
-    so.fps = 30.0;
-    so.vsync = false;
-    so.width = o.width;
-    so.height = o.height;
-    so.bench_frames = o.frames;
-    so.bench_from_s = o.from_s;
-    so.device = o.device;
-    auto run = runSimulator(so);
-    if (!run) return fail(run.message());
-    rows.push_back({level, *run});
-    std::printf("level %d (%s, %s): %llu frames, frame %.1f ms median, %.1f ms p95, %.1f ms mean (%.1f frames/s); "
-                "re-mesh %.1f ms mean; %llu triangles\n",
-                level, run->windowed ? "window" : "offscreen", run->device.c_str(),
-                static_cast<unsigned long long>(run->drawn), run->frame_ms_p50, run->frame_ms_p95, run->frame_ms_mean,
-                1000.0 / run->frame_ms_mean, run->remesh_ms_mean, static_cast<unsigned long long>(run->triangles));
+    std::array<std::string, 2> shots;
+    for (int path = 0; path < 2; ++path) {
+      SimulatorOptions so = demoRun(o, level);
+      so.detail_pixels = path == 0 ? 0.0f : o.detail_pixels;
+      const fs::path dir = scratch / (std::to_string(level) + (path == 0 ? "-full" : "-screen"));
+      fs::remove_all(dir, ec);
+      so.out = dir.string();
+      so.shots_s = {shot_s};
+      auto run = runSimulator(so);
+      if (!run) return fail(run.message());
+      rows.push_back({level, path == 1, *run});
+      shots[size_t(path)] = (dir / "shot-1.png").string();
+      std::printf("level %d, %s (%s, %s): frame %.1f ms median, %.1f ms p95, %.1f ms mean (%.1f frames/s); re-mesh "
+                  "%.1f ms mean; %.0f triangles drawn a frame\n",
+                  level, path == 0 ? "full detail" : "screen-sized detail", run->windowed ? "window" : "offscreen",
+                  run->device.c_str(), run->frame_ms_p50, run->frame_ms_p95, run->frame_ms_mean,
+                  1000.0 / run->frame_ms_mean, run->remesh_ms_mean, run->triangles_drawn_mean);
+    }
+    auto full = readPng(shots[0]);
+    auto screen = readPng(shots[1]);
+    if (!full) return fail(full.message());
+    if (!screen) return fail(screen.message());
+    if (full->width != screen->width || full->height != screen->height)
+      return fail(shots[1] + ": not the size of " + shots[0]);
+    shot_diffs.push_back(render::compareFrames(*full, *screen, backgroundRgb()));
+    if (Status st = compareViews(o, level, views); !st) return fail(st.message());
+    if (o.first_frame) {
+      for (bool parts : {false, true}) {
+        SimulatorOptions so = demoRun(o, level);
+        so.bench_frames = parts ? 1000000 : 1;  // in parts: on until full detail is everywhere
+        so.bench_from_s = 0.0;
+        so.progressive = parts;
+        so.detail_pixels = o.detail_pixels;
+        so.quit_at_full_detail = parts;
+        auto run = runSimulator(so);
+        if (!run) return fail(run.message());
+        firsts.push_back({level, parts, run->first_frame_s, parts ? run->full_detail_s : run->first_frame_s});
+      }
+    }
   }
+  fs::remove_all(scratch, ec);
 
   nlohmann::ordered_json j;
   j["benchmark"] = "frames";
   j["what"] = "the built-in molar's scripted caries removal from loop time from_s on, one frame per 1/30 s of loop "
-              "time, each frame re-meshing the bricks the bur changed, then drawing tooth, tools, mirror pass and "
-              "parameter window";
+              "time, each frame re-meshing the bricks the bur changed, then drawing tooth, tools and mirror pass "
+              "(no panel), once at full detail and once with screen-sized detail; the frame at shot_s of both "
+              "compared; five views of the uncut molar (tooth only) drawn both ways; the demo's first frame";
   j["from_s"] = o.from_s;
+  j["shot_s"] = shot_s;
   j["width"] = o.width;
   j["height"] = o.height;
-  std::string md = "| level | target | device | frames | frame p50 [ms] | frame p95 [ms] | frame mean [ms] | frames/s "
-                   "(mean) | re-mesh mean [ms] | triangles |\n|---|---|---|---|---|---|---|---|---|---|\n";
-  bench::PlotSeries p50{"frame p50", {}}, p95{"frame p95", {}}, remesh{"re-mesh mean", {}};
-  for (const FramesRow& r : rows) {
+  j["detail_pixels"] = o.detail_pixels;
+  std::string md = "| level | path | device | frames | frame p50 [ms] | frame p95 [ms] | frame mean [ms] | frames/s "
+                   "(mean) | re-mesh mean [ms] | triangles drawn a frame |\n|---|---|---|---|---|---|---|---|---|---|\n";
+  bench::PlotSeries full_p50{"full detail, frame p50", {}}, screen_p50{"screen-sized, frame p50", {}};
+  for (const RunRow& r : rows) {
     j["rows"].push_back({{"level", r.level},
+                         {"path", r.screen_sized ? "screen-sized" : "full"},
                          {"target", r.run.windowed ? "window" : "offscreen"},
                          {"device", r.run.device},
                          {"frames", r.run.drawn},
@@ -77,19 +218,61 @@ int runFramesBench(const FramesBenchOptions& o) {
                          {"frame_ms_mean", r.run.frame_ms_mean},
                          {"frames_per_s", 1000.0 / r.run.frame_ms_mean},
                          {"remesh_ms_mean", r.run.remesh_ms_mean},
-                         {"triangles", r.run.triangles}});
-    md += "| " + std::to_string(r.level) + " | " + (r.run.windowed ? "window" : "offscreen") + " | " + r.run.device +
+                         {"triangles_drawn_mean", r.run.triangles_drawn_mean},
+                         {"surface_triangles", r.run.triangles}});
+    md += "| " + std::to_string(r.level) + " | " + (r.screen_sized ? "screen-sized" : "full") + " | " + r.run.device +
           " | " + std::to_string(r.run.drawn) + " | " + fmt("%.1f", r.run.frame_ms_p50) + " | " +
           fmt("%.1f", r.run.frame_ms_p95) + " | " + fmt("%.1f", r.run.frame_ms_mean) + " | " +
           fmt("%.1f", 1000.0 / r.run.frame_ms_mean) + " | " + fmt("%.1f", r.run.remesh_ms_mean) + " | " +
-          std::to_string(r.run.triangles) + " |\n";
-    p50.points.emplace_back(r.level, r.run.frame_ms_p50);
-    p95.points.emplace_back(r.level, r.run.frame_ms_p95);
-    remesh.points.emplace_back(r.level, r.run.remesh_ms_mean);
+          fmt("%.0f", r.run.triangles_drawn_mean) + " |\n";
+    (r.screen_sized ? screen_p50 : full_p50).points.emplace_back(r.level, r.run.frame_ms_p50);
+  }
+  md += "\n| level | full / screen-sized frame (mean) | shot: mean difference [grey] | pixels over 8 | crack pixels |\n"
+        "|---|---|---|---|---|\n";
+  for (size_t i = 0; i < shot_diffs.size(); ++i) {
+    const RunRow &full = rows[2 * i], &screen = rows[2 * i + 1];
+    const double speedup = full.run.frame_ms_mean / screen.run.frame_ms_mean;
+    const render::FrameDifference& d = shot_diffs[i];
+    j["shots"].push_back({{"level", full.level},
+                          {"speedup_mean", speedup},
+                          {"mean_abs_difference", d.mean_abs},
+                          {"pixels_over_8", d.differing},
+                          {"crack_pixels", d.cracks}});
+    md += "| " + std::to_string(full.level) + " | " + fmt("%.2f", speedup) + " | " + fmt("%.2f", d.mean_abs) + " | " +
+          std::to_string(d.differing) + " | " + std::to_string(d.cracks) + " |\n";
+  }
+  md += "\n| level | view | tooth pixels | triangles full | triangles screen-sized | per tooth pixel | mean difference "
+        "[grey] | pixels over 8 | crack pixels |\n|---|---|---|---|---|---|---|---|---|\n";
+  for (const ViewRow& v : views) {
+    const double per_px = v.diff.covered ? double(v.triangles) / double(v.diff.covered) : 0.0;
+    j["views"].push_back({{"level", v.level},
+                          {"view", v.view},
+                          {"tooth_pixels", v.diff.covered},
+                          {"triangles_full", v.full_triangles},
+                          {"triangles", v.triangles},
+                          {"triangles_per_tooth_pixel", per_px},
+                          {"mean_abs_difference", v.diff.mean_abs},
+                          {"pixels_over_8", v.diff.differing},
+                          {"crack_pixels", v.diff.cracks}});
+    md += "| " + std::to_string(v.level) + " | " + v.view + " | " + std::to_string(v.diff.covered) + " | " +
+          std::to_string(v.full_triangles) + " | " + std::to_string(v.triangles) + " | " + fmt("%.2f", per_px) + " | " +
+          fmt("%.2f", v.diff.mean_abs) + " | " + std::to_string(v.diff.differing) + " | " +
+          std::to_string(v.diff.cracks) + " |\n";
+  }
+  if (!firsts.empty()) {
+    md += "\n| level | build | first frame [s] | full detail everywhere [s] |\n|---|---|---|---|\n";
+    for (const FirstFrameRow& f : firsts) {
+      j["first_frame"].push_back({{"level", f.level},
+                                  {"build", f.in_parts ? "in parts" : "whole"},
+                                  {"first_frame_s", f.first_frame_s},
+                                  {"full_detail_s", f.full_detail_s}});
+      md += "| " + std::to_string(f.level) + " | " + (f.in_parts ? "in parts" : "whole") + " | " +
+            fmt("%.2f", f.first_frame_s) + " | " + fmt("%.2f", f.full_detail_s) + " |\n";
+    }
   }
   const std::string svg = bench::svgLinePlot("Frame time while drilling (" + std::to_string(o.width) + "x" +
                                                  std::to_string(o.height) + ")",
-                                             "octree level", "ms", {p50, p95, remesh}, true);
+                                             "octree level", "ms", {full_p50, screen_p50}, true);
   for (const auto& [name, text] : {std::pair{std::string("frames.json"), j.dump(2) + "\n"},
                                    {std::string("frames.md"), md},
                                    {std::string("frames.svg"), svg}})

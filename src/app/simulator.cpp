@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <csignal>
+#include <limits>
 #include <cstdio>
 
 #include "app/score_screen.h"
@@ -106,6 +107,7 @@ render::FrameState Simulator::frameState(const HapticState& state, VkExtent2D ex
       camera_, extent, float(sceneShiftPx()), 0.0f, state,
       SceneContents{view_.frame, ui_.looks.looks, drill_name_, mirror_tool_.has_value(), ui_.params.device.max_force_n});
   showGhost(fs);
+  fs.lod.pixel_error = o_.detail_pixels;
   if (score_shown_ && !last_actions_.score_image_rect.empty()) {
     fs.overlay_shown = true;
     fs.overlay_rect = last_actions_.score_image_rect;
@@ -145,6 +147,10 @@ Status Simulator::drawFrame(const ShotSchedule::Due& due) {
       },
       read_back);
   if (!picture) return picture.error();
+  const render::ToothDrawStats drew = painter_->renderer().toothDrawStats();
+  ui_.stats.triangles = drew.main_triangles + drew.mirror_triangles;
+  triangles_drawn_sum_ += double(ui_.stats.triangles);
+  if (out_.drawn == 0) out_.first_frame_s = std::chrono::duration<double>(Clock::now() - run_t0_).count();
   if (!*picture) return Ok{};
   if (!due.shot_stem.empty()) {
     ShotFacts facts;
@@ -287,13 +293,32 @@ Status Simulator::frame() {
   // The loop's voxel edits reach this copy of the tooth at once; the changed bricks are re-meshed
   // when the frame is drawn.
   segments_.drainEdits(view_.voxels, &pending_dirty_);
+  render::ToothSurfaces& surfaces = painter_->surfaces();
   if (draw && !pending_dirty_.empty()) {
     gpu::SurfaceUpdateStats st;
     if (Status u = painter_->remesh(view_.voxels, &pending_dirty_, &st); !u) return u;
     remesh_sum_ms_ += st.total_ms;
     ++remesh_count_;
-    ui_.stats.triangles = st.triangles;
     ui_.stats.remesh_ms = st.total_ms;
+    final_triangles_ = st.triangles;
+  } else if (draw && surfaces.coarseLagging()) {
+    // Nothing cut this frame: the coarse copies catch up with the cuts they lag behind.
+    if (Status u = surfaces.update(view_.voxels, {}); !u) return u;
+  }
+  // A first frame in parts: full detail fills in nearest the eye first, a slice of each frame.
+  if (draw && !surfaces.done()) {
+    // A picture written to a file never depends on how fast this machine meshes: it waits for all.
+    const bool picture_due = !due.shot_stem.empty() || !due.frame_stem.empty();
+    const double slice_ms = picture_due ? std::numeric_limits<double>::infinity() : kDetailSliceMs;
+    if (Status st = surfaces.continueBuild(view_.voxels, camera_.eye(), slice_ms); !st) return st;
+    ui_.stats.detail_progress = surfaces.progress();
+    progress_.progress(surfaces.progress());
+    if (surfaces.done()) {
+      progress_.end();
+      out_.full_detail_s = std::chrono::duration<double>(Clock::now() - run_t0_).count();
+      std::printf("surface: full detail everywhere %.1f s after the start\n", out_.full_detail_s);
+      if (o_.quit_at_full_detail) quit_ = true;
+    }
   }
 
   const HapticState state = segments_.state();
@@ -429,7 +454,8 @@ Result<SimulatorOutcome> Simulator::run() {
     out_.frame_ms_p95 = percentileSorted(sorted, 95.0);
   }
   out_.remesh_ms_mean = remesh_count_ ? remesh_sum_ms_ / double(remesh_count_) : 0.0;
-  out_.triangles = ui_.stats.triangles;
+  out_.triangles = final_triangles_;
+  if (out_.drawn) out_.triangles_drawn_mean = triangles_drawn_sum_ / double(out_.drawn);
   return out_;
 }
 

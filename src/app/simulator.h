@@ -74,6 +74,14 @@ struct SimulatorOptions {
   // beside the student's, never in the haptic loop.
   std::string ghost;                    // the professional's session (.dses); empty: the task's recorded ideal, if the panel shows it
   std::string ghost_follow = "time";    // "time": the pose at the student's task time; "nearest": nearest the student's bur
+  // Screen-sized detail (docs/MESHING.md): each region drawn from the coarsest copy of the tooth
+  // within this many pixels of error; 0 draws everything at full detail (the path before it).
+  float detail_pixels = 1.0f;
+  // The first frame comes from the coarse copies and full detail fills in around the view over the
+  // next frames; false meshes everything before the first frame. Unset: on in a window, off headless
+  // (so that a headless run's pictures never depend on how fast the machine meshes).
+  std::optional<bool> progressive;
+  bool quit_at_full_detail = false;     // with progressive: quit once the full copy is whole (benchmarks)
   int bench_frames = 0;                 // > 0: draw every frame (headless too), stop after this many
   double bench_from_s = 0.0;            // ... from this loop time on (the script's steps before run undrawn) [s]
 };
@@ -92,7 +100,10 @@ struct SimulatorOutcome {
   double haptic_rate_hz = 0.0;          // haptic steps per wall second from the first segment's start
   uint64_t haptic_steps = 0;
   double remesh_ms_mean = 0.0;          // incremental re-mesh per frame that had edits [ms]
-  uint64_t triangles = 0;               // the tooth's surface at the end
+  uint64_t triangles = 0;               // the tooth's full-copy surface at the end
+  double triangles_drawn_mean = 0.0;    // tooth triangles drawn per drawn frame, both passes
+  double first_frame_s = 0.0;           // wall time from the start of the run to the first frame drawn [s]
+  double full_detail_s = 0.0;           // ... to the frame after which the full copy was whole [s]
   double removed_mm3 = 0.0;
   std::vector<std::string> written;     // files written, in order, each one on disk when the run returns
   std::optional<double> score;          // the last score made, of the tooth as the run left it

@@ -222,12 +222,22 @@ Status Simulator::setUp() {
   input_.setPanel(painter_->panel());
   out_.device = painter_->context().device().name;
   out_.windowed = !headless_;
-  gpu::SurfaceUpdateStats stats;
-  if (Status st = painter_->surfaces().build(view_.voxels, &stats); !st) return st;
-  ui_.stats.triangles = stats.triangles;
-  std::printf("tooth: %s, level %d, %.4f mm voxels; surface %llu triangles in %.1f ms on %s\n", toothName().c_str(),
-              initial_.frame.level, initial_.frame.voxel_mm, static_cast<unsigned long long>(stats.triangles),
-              stats.total_ms, out_.device.c_str());
+  if (o_.progressive.value_or(!headless_)) {
+    // The coarse copies now, the full copy region by region over the first frames (Simulator::frame).
+    const auto t0 = Clock::now();
+    if (Status st = painter_->surfaces().beginBuild(view_.voxels, view_.frame); !st) return st;
+    std::printf("tooth: %s, level %d, %.4f mm voxels; coarse copies in %.1f ms on %s, full detail follows\n",
+                toothName().c_str(), initial_.frame.level, initial_.frame.voxel_mm,
+                std::chrono::duration<double, std::milli>(Clock::now() - t0).count(), out_.device.c_str());
+    if (!painter_->surfaces().done()) progress_.start("full detail");
+  } else {
+    gpu::SurfaceUpdateStats stats;
+    if (Status st = painter_->surfaces().build(view_.voxels, &stats); !st) return st;
+    final_triangles_ = stats.triangles;
+    std::printf("tooth: %s, level %d, %.4f mm voxels; surface %llu triangles in %.1f ms on %s\n", toothName().c_str(),
+                initial_.frame.level, initial_.frame.voxel_mm, static_cast<unsigned long long>(stats.triangles),
+                stats.total_ms, out_.device.c_str());
+  }
 
   // The panel's state.
   presets_ = std::make_unique<ui::PresetStore>(ui::defaultPresetDirectory());

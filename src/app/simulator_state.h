@@ -15,6 +15,7 @@
 #include "app/screenshots.h"
 #include "app/segments.h"
 #include "app/simulator.h"
+#include "app/terminal_progress.h"
 #include "app/window_input.h"
 #include "eval/task.h"
 #include "eval/task_tooth.h"
@@ -125,6 +126,12 @@ class Simulator {
   std::vector<double> frame_ms_;
   double remesh_sum_ms_ = 0.0;
   uint64_t remesh_count_ = 0;
+  double triangles_drawn_sum_ = 0.0;  // tooth triangles drawn, summed over drawn frames
+  uint64_t final_triangles_ = 0;      // the full copy's surface after the last re-mesh
+  TerminalProgress progress_;         // full detail filling in after the first frame
+  // Wall time each frame gives the full copy's meshing while the first frames come in parts [ms]:
+  // enough to finish a level-9 molar in a few seconds, little enough to keep the view moving.
+  static constexpr double kDetailSliceMs = 40.0;
 
   // The professional's ghost (simulator_ghost.cpp): drawn only, never in the haptic loop.
   Status setUpGhost();                       // --ghost read (an error ends the run) and the panel's ghost state

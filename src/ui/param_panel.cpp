@@ -499,6 +499,7 @@ void drawOverlay(const UiState& state) {
     ImGui::Text("haptics  %7.0f Hz", st.haptic_rate_hz);
     ImGui::Text("re-mesh  %7.2f ms", st.remesh_ms);
     ImGui::Text("triangles %llu", static_cast<unsigned long long>(st.triangles));
+    if (st.detail_progress < 1.0) ImGui::Text("full detail %5.0f %%", 100.0 * st.detail_progress);
     ImGui::Text("turbine  %7.0f rpm%s", state.turbine_speed * state.params.turbine.max_rpm,
                 state.pedal_present ? "" : " (keys)");
     forceGauge(state.force, kGaugeWidth);

@@ -65,7 +65,8 @@ struct OverlayStats {
   double frame_ms = 0.0;        // last frame's CPU time [ms]
   double haptic_rate_hz = 0.0;  // haptic loops per second, measured [Hz]
   double remesh_ms = 0.0;       // last incremental re-mesh [ms]
-  uint64_t triangles = 0;       // triangles drawn
+  uint64_t triangles = 0;       // tooth triangles drawn last frame (main and mirror pass)
+  double detail_progress = 1.0; // share of the full copy meshed while the first frames come in parts [0..1]
 };
 
 // Contact shows as a gauge since a mouse-driven pen has no force to feel.
