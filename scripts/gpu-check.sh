@@ -63,7 +63,10 @@ out, test_rc, started = sys.argv[1], int(sys.argv[2]), int(sys.argv[3])
 def load(path):
     with open(os.path.join(out, path)) as f:
         return json.load(f)
-result = {"check": "dentsim gpu-check", "device": load("device.json")}
+device = load("device.json")
+chosen = device.get("chosen", {})
+result = {"check": "dentsim gpu-check", "device_name": chosen.get("name", "unknown"),
+          "device_type": chosen.get("type", "unknown"), "device": device}
 junit = os.path.join(out, "gpu-tests.xml")
 if os.path.exists(junit):
     suite = ET.parse(junit).getroot()

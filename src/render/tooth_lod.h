@@ -1,4 +1,4 @@
-// Screen-sized detail: which copy of the tooth (full, or averaged 2^3, 4^3) each region is drawn from, per pass and per frame.
+// Screen-sized detail: which copy of the tooth (full, or averaged 2^3, 4^3, 8^3) each region is drawn from, per pass and per frame.
 //
 // The tooth's grid is cut into regions of 32^3 full voxels (4^3 bricks). Each region is drawn from
 // the coarsest copy k whose error, seen from the pass's camera, stays under `pixel_error` pixels:
@@ -34,7 +34,7 @@ inline constexpr double kMaxDetailPixels = 16.0;  // the largest error a user ma
 
 struct LodSettings {
   float pixel_error = 1.0f;    // largest error on screen [px]; 0 draws everything from the full copy
-  float bur_radius_mm = 2.0f;  // regions this close to the bur tip are drawn from the full copy [mm]
+  float bur_radius_mm = 1.0f;  // regions this close to the bur tip are drawn from the full copy [mm]
 };
 
 // One pass's camera as the choice needs it.

@@ -1,7 +1,7 @@
-// ToothSurfaces: one GPU marching-cubes surface per tissue and per copy of the tooth (full, averaged 2^3, 4^3), so that a translucent enamel shows the layers beneath it and far parts cost few triangles.
+// ToothSurfaces: one GPU marching-cubes surface per tissue and per copy of the tooth (full, averaged 2^3, 4^3, 8^3), so that a translucent enamel shows the layers beneath it and far parts cost few triangles.
 //
-// Copy 0 is the full volume, the one the haptic loop cuts. Copy k (k = 1, 2) is the volume with each
-// voxel averaged over 2^k x 2^k x 2^k (volume/brick_pyramid.h), meshed by the same marching cubes
+// Copy 0 is the full volume, the one the haptic loop cuts. Copy k (k = 1, 2, 3) is the volume with
+// each voxel averaged over 2^k x 2^k x 2^k (volume/brick_pyramid.h), meshed by the same marching cubes
 // with the normal box nearest in millimetres to the full copy's. The renderer draws each region from
 // one copy (render/tooth_lod.h).
 //
@@ -32,7 +32,9 @@ namespace dentsim::render {
 // the renderer draws opaque surfaces first to last and translucent ones last to first.
 inline constexpr std::array<Material, kTissueCount> kDrawnTissues = tissuesInDrawOrder();
 
-inline constexpr uint32_t kDefaultCoarseCopies = 2;  // averaged 2^3 and 4^3
+// Averaged 2^3, 4^3 and 8^3. The third serves level 10 and finer: there the 4^3 copy still has about
+// seven triangles to each pixel of the tooth in a default view, the 8^3 copy under two.
+inline constexpr uint32_t kDefaultCoarseCopies = 3;
 inline constexpr uint32_t kCoarseSettleUpdates = 8;  // cutting updates before the coarse copies are re-meshed
 
 // The normal mode of copy k: the box whose side in millimetres is nearest the full copy's (ties to

@@ -221,13 +221,21 @@ void measureCopyError(const BrickVolume& full, const BrickVolume& coarse, uint32
     for (int a = 0; a < 3; ++a) r[a] = std::min<size_t>(rd - 1, size_t(std::max(0.0, p[a]) / double(region_voxels)));
     return (r[2] * rd + r[1]) * rd + r[0];
   };
-  const uint32_t coarse_bricks_per_region = std::max(1u, region_bricks / f);
   const int64_t cdim = int64_t(coarse.dim());
+  // The region of full brick (x, y, z).
+  const auto region_of_full_brick = [&](uint32_t x, uint32_t y, uint32_t z) {
+    return (size_t(std::min(z / region_bricks, rd - 1)) * rd + std::min(y / region_bricks, rd - 1)) * rd +
+           std::min(x / region_bricks, rd - 1);
+  };
   coarse.forEachBrick([&](const BrickView& b) {
-    // Only bricks of measured regions; a coarse brick lies in one region (regions are whole bricks).
-    const size_t r0 = (size_t(b.coord.z / coarse_bricks_per_region) * rd + b.coord.y / coarse_bricks_per_region) * rd +
-                      b.coord.x / coarse_bricks_per_region;
-    if (r0 >= regions || !measured(r0)) return;
+    // Only bricks over a measured region: a coarse brick covers f^3 full bricks, in one region or
+    // (f above the region's side) several.
+    bool any = false;
+    for (uint32_t z = 0; z < f && !any; z += region_bricks)
+      for (uint32_t y = 0; y < f && !any; y += region_bricks)
+        for (uint32_t x = 0; x < f && !any; x += region_bricks)
+          any = measured(region_of_full_brick(b.coord.x * f + x, b.coord.y * f + y, b.coord.z * f + z));
+    if (!any) return;
     if (!holdsSurface(b)) {
       // A copy with no surface here or next to it: any full brick beneath that holds surface is a
       // feature the copy lost. (Next to it, the copy's surface may just cross the brick border
@@ -247,8 +255,10 @@ void measureCopyError(const BrickVolume& full, const BrickVolume& coarse, uint32
       for (uint32_t z = 0; z < f; ++z)
         for (uint32_t y = 0; y < f; ++y)
           for (uint32_t x = 0; x < f; ++x)
-            if (holdsSurface(full.brick({b.coord.x * f + x, b.coord.y * f + y, b.coord.z * f + z})))
-              lost[r0] = float(window);
+            if (holdsSurface(full.brick({b.coord.x * f + x, b.coord.y * f + y, b.coord.z * f + z}))) {
+              const size_t r = region_of_full_brick(b.coord.x * f + x, b.coord.y * f + y, b.coord.z * f + z);
+              if (measured(r)) lost[r] = float(window);
+            }
       }
       if (b.uniform) return;
     }

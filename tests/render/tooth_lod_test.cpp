@@ -238,7 +238,7 @@ TEST_F(ToothLodTest, CoarseCopiesLagACutUntilTheySettleThenEqualFreshBuilds) {
   BrickVolume& v = tooth->voxels;
   ToothSurfaces t = surfaces();
   ASSERT_TRUE(t.build(v).ok());
-  ASSERT_EQ(t.copies(), 3u);
+  ASSERT_EQ(t.copies(), 4u);  // level 8: copies of levels 7, 6 and 5
   const auto before = blocksOf(t, 1);
   const int c = int(v.dim() / 2);
   const std::vector<BrickCoord> dirty = carve(v, c, c, crownTop(v), 7);
@@ -256,7 +256,7 @@ TEST_F(ToothLodTest, CoarseCopiesLagACutUntilTheySettleThenEqualFreshBuilds) {
   for (uint8_t flag : t.laggingRegions()) ASSERT_EQ(flag, 0u);
   ToothSurfaces fresh = surfaces();
   ASSERT_TRUE(fresh.build(v).ok());
-  for (uint32_t k = 0; k < 3; ++k) EXPECT_TRUE(sameBlocks(blocksOf(t, k), blocksOf(fresh, k))) << "copy " << k;
+  for (uint32_t k = 0; k < t.copies(); ++k) EXPECT_TRUE(sameBlocks(blocksOf(t, k), blocksOf(fresh, k))) << "copy " << k;
   EXPECT_FALSE(sameBlocks(blocksOf(t, 1), before));
 }
 
@@ -268,7 +268,7 @@ TEST_F(ToothLodTest, ABuildInPartsFillsInNearestFirstAndEndsAsAWholeBuild) {
   ASSERT_TRUE(parts.beginBuild(v, tooth->frame).ok());
   EXPECT_FALSE(parts.done());
   EXPECT_EQ(parts.progress(), 0.0);
-  ASSERT_EQ(parts.readyRegions().size(), 3u);
+  ASSERT_EQ(parts.readyRegions().size(), 4u);
   // A corner of the grid as the focus: the first region meshed is the one nearest it that holds
   // surface, and the far corner's regions stay unready after a few steps.
   const glm::vec3 corner(float(tooth->frame.origin_mm[0]), float(tooth->frame.origin_mm[1]),
@@ -290,7 +290,7 @@ TEST_F(ToothLodTest, ABuildInPartsFillsInNearestFirstAndEndsAsAWholeBuild) {
   EXPECT_TRUE(parts.readyRegions().empty());
   ToothSurfaces whole = surfaces();
   ASSERT_TRUE(whole.build(v).ok());
-  for (uint32_t k = 0; k < 3; ++k) EXPECT_TRUE(sameBlocks(blocksOf(parts, k), blocksOf(whole, k))) << "copy " << k;
+  for (uint32_t k = 0; k < parts.copies(); ++k) EXPECT_TRUE(sameBlocks(blocksOf(parts, k), blocksOf(whole, k))) << "copy " << k;
 }
 
 TEST_F(ToothLodTest, FramesStayWithinTwoGreyLevelsOfFullDetailWithNoCrack) {
@@ -336,11 +336,11 @@ TEST_F(ToothLodTest, FramesStayWithinTwoGreyLevelsOfFullDetailWithNoCrack) {
                                     uint8_t(std::lround(fs.background[1] * 255.0f)),
                                     uint8_t(std::lround(fs.background[2] * 255.0f))};
     const FrameDifference d = compareFrames(*full, *lod, bg);
-    std::printf("[ info ] %s x%.1f: %llu of %llu triangles, copies %u/%u/%u regions; %llu px covered, mean "
+    std::printf("[ info ] %s x%.1f: %llu of %llu triangles, copies %u/%u/%u/%u regions; %llu px covered, mean "
                 "difference %.2f, %llu px over 8, %llu crack px\n",
                 std::string(viewPresetName(view.preset)).c_str(), double(view.zoom),
                 (unsigned long long)drew.main_triangles, (unsigned long long)full_triangles, drew.main_regions[0],
-                drew.main_regions[1], drew.main_regions[2], (unsigned long long)d.covered, d.mean_abs,
+                drew.main_regions[1], drew.main_regions[2], drew.main_regions[3], (unsigned long long)d.covered, d.mean_abs,
                 (unsigned long long)d.differing, (unsigned long long)d.cracks);
     EXPECT_GT(d.covered, uint64_t(kW * kH / 100));
     EXPECT_LT(d.mean_abs, 2.0);

@@ -152,6 +152,21 @@ TEST(CopyErrorTest, AFaceBetweenTheCopysVoxelsIsOffByAHandCountedSixteenth) {
   EXPECT_EQ(error[0], 0.0f);
 }
 
+TEST(CopyErrorTest, ACopyCoarserThanARegionPutsEachVertexInItsOwnRegion) {
+  // The 8^3 copy's bricks span two regions a side. Full crossing at 97.0; copy voxel 11 (z 88..95)
+  // is full, voxel 12 (z 96..103) holds one full layer of eight: (64 * 31 + 256) / 512 = 4. Its
+  // vertex: t = (31 - 62) / (2 * (4 - 31)) = 31/54, at (11.5 + 31/54) * 8 = 96.593, 0.407 below
+  // 97: in the regions of z 96..127 only.
+  const BrickVolume full = slab(97);
+  const BrickVolume coarse = downsampleVolume(full, 3);
+  EXPECT_EQ(coarse.voxel(0, 0, 12), makeVoxel(Material::Dentin, 4));
+  std::vector<float> error;
+  measureCopyError(full, coarse, 3, 4, {}, error);
+  const double want = 97.0 - (11.5 + 31.0 / 54.0) * 8.0;
+  for (uint32_t z = 0; z < 4; ++z)
+    for (uint32_t i = 0; i < 16; ++i) EXPECT_NEAR(error[z * 16 + i], z == 3 ? want : 0.0, 1e-5) << z;
+}
+
 TEST(CopyErrorTest, AThinPlateTheCopyLosesCountsTheWholeWindow) {
   // A plate 2 voxels thick at z 43..44 straddles the 4^3 copy's voxels 10 (z 40..43) and 11 (44..47):
   // each holds one layer, (16 * 31 + 32) / 64 = 8, both outside, and the plate is gone. Its regions
