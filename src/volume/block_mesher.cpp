@@ -2,7 +2,7 @@
 //
 // Contents
 //   1. Scratch: the block's voxels, F, corner-row masks, prefix sums
-//   2. Loading: rows copied from the 27 bricks a block reads
+//   2. Loading: rows of words from the 27 bricks a block reads, F of 8 voxels at once
 //   3. Masks: crossing edges and mixed cells from the corner rows
 //   4. Normals: the reference's box sums over padded prefix sums, unrolled per box side and edge axis
 //   5. count, emit, mesh
@@ -24,7 +24,7 @@ constexpr int kCells = int(DS_MESH_BLOCK_CELLS);      // 8
 constexpr int kCorners = int(DS_MESH_CORNER_DIM);     // 9
 constexpr int kLocal = int(DS_MESH_LOCAL_DIM);        // 18: local voxels 0..17 are 8b-5 .. 8b+12
 constexpr int kCorner0 = int(DS_MESH_APRON) - 1;      // 4: local index of corner 0 (voxel 8b-1)
-constexpr int kRowBytes = 32;                         // a voxel row padded, so whole-row loops vectorise
+constexpr int kRowBytes = 24;                         // a voxel row with room for the word written at x 13
 
 // Prefix sums with one zero plane below each axis: padded index = local + 1, 0 .. 18.
 constexpr int kSatDim = kLocal + 1;
@@ -51,7 +51,7 @@ struct BlockMesher::Scratch {
   Material tissue = Material::Empty;
   std::array<NormalSumsFn, 3> normal_sums{};  // per edge axis, for the chosen box side
 
-  alignas(64) uint8_t voxels[kLocal][kLocal][kRowBytes]{};  // voxel bytes [z][y][x]; x >= 18 stays 0
+  alignas(64) uint8_t voxels[kLocal][kLocal][kRowBytes]{};  // voxel bytes [z][y][x]; x >= 18 don't care
   alignas(64) uint8_t fill[kLocal][kLocal][kRowBytes]{};    // F of each voxel
   uint16_t mask[kCorners][kCorners]{};                      // [cz][cy]: bit cx set when corner (cx,cy,cz) is inside
   alignas(64) int32_t sat[kSatDim * kSatPlane]{};           // inclusive prefix sums of F, padded
@@ -66,9 +66,6 @@ namespace {
 // in-brick coordinate (l + 3) & 7.
 constexpr int slotOf(int l) { return (l + 3) >> 3; }
 constexpr int inBrick(int l) { return (l + 3) & 7; }
-// The local x range [begin, end) that slot s covers.
-constexpr int slotBegin(int s) { return s == 0 ? 0 : s == 1 ? 5 : 13; }
-constexpr int slotEnd(int s) { return s == 0 ? 5 : s == 1 ? 13 : 18; }
 
 void fetchViews(const BrickVolume& vol, MeshBlock b, int slot_lo, int slot_hi, BrickView (&views)[3][3][3]) {
   const int64_t bd = vol.brickDim();
@@ -84,52 +81,85 @@ void fetchViews(const BrickVolume& vol, MeshBlock b, int slot_lo, int slot_hi, B
       }
 }
 
-// Copies the local voxels [lo, hi)^3 from the bricks, one row segment per brick, and turns them into F.
-void loadBox(BlockMesher::Scratch& s, int lo, int hi) {
+// Rows go in 64-bit words, one byte a voxel, x in byte order (a little-endian host).
+static_assert(std::endian::native == std::endian::little, "voxel rows are read as little-endian words");
+constexpr uint64_t kOnes = 0x0101010101010101ull;
+
+uint64_t loadWord(const uint8_t* p) {
+  uint64_t w;
+  std::memcpy(&w, p, sizeof w);
+  return w;
+}
+void storeWord(uint8_t* p, uint64_t w) { std::memcpy(p, &w, sizeof w); }
+
+// The 8 voxels of row (y, z) of a brick, in-brick coordinates.
+uint64_t brickRow(const BrickView& v, int y, int z) {
+  if (v.uniform) return kOnes * v.value;
+  return loadWord(v.voxels + layout::brickCoordToOffset(0, uint32_t(y), uint32_t(z)));
+}
+
+// F of 8 voxels at once: the fill where the voxel counts as solid (every voxel, or only the meshed
+// tissue's), as FieldTable has it.
+uint64_t fillWord(uint64_t w, bool all_tissue, uint32_t tissue) {
+  const uint64_t fill = w & (kOnes * DS_FILL_MASK);
+  if (all_tissue) return fill;
+  const uint64_t diff = ((w >> DS_MATERIAL_SHIFT) & (kOnes * 7u)) ^ (kOnes * tissue);  // 0 where the tissue
+  const uint64_t other = (diff + kOnes * 0x7fu) & (kOnes * 0x80u);  // bit 7 where diff != 0 (diff <= 7: no carry)
+  return fill & (((other >> 7) ^ kOnes) * 0xffu);
+}
+
+// Copies the rows of local voxels [lo, hi)^2 in y and z from the bricks, with their F. A row takes
+// one word from each brick it crosses: local x 0..4 are in-brick 3..7 of brick b-1, 5..12 brick b,
+// 13..17 in-brick 0..4 of b+1 (`right`: read that brick too; the count pass needs x <= 12 only).
+// Words overlap and are written left to right; bytes from 18 on are don't-care.
+void loadRows(BlockMesher::Scratch& s, int lo, int hi, bool right) {
   const bool all_tissue = s.tissue == Material::Empty;
-  const uint8_t tissue_bits = uint8_t(uint32_t(s.tissue) << DS_MATERIAL_SHIFT);
+  const uint32_t tissue = uint32_t(s.tissue);
   for (int z = lo; z < hi; ++z)
     for (int y = lo; y < hi; ++y) {
+      const int sy = slotOf(y), sz = slotOf(z), iy = inBrick(y), iz = inBrick(z);
+      const uint64_t left = brickRow(s.views[sz][sy][0], iy, iz) >> 24;  // in-brick 3..7 to bytes 0..4
+      const uint64_t mid = brickRow(s.views[sz][sy][1], iy, iz);
       uint8_t* row = s.voxels[z][y];
-      for (int sx = slotOf(lo); sx <= slotOf(hi - 1); ++sx) {
-        const int x0 = std::max(lo, slotBegin(sx)), x1 = std::min(hi, slotEnd(sx));
-        const BrickView& v = s.views[slotOf(z)][slotOf(y)][sx];
-        if (v.uniform)
-          std::memset(row + x0, v.value, size_t(x1 - x0));
-        else
-          std::memcpy(row + x0, v.voxels + layout::brickCoordToOffset(uint32_t(inBrick(x0)), uint32_t(inBrick(y)),
-                                                                      uint32_t(inBrick(z))),
-                      size_t(x1 - x0));
-      }
-      // F: the fill where the voxel counts as solid (every voxel, or only the meshed tissue's).
-      // Written over the whole padded row so the loop vectorises; bytes outside [lo, hi) are unused.
       uint8_t* f = s.fill[z][y];
-      for (int x = 0; x < kRowBytes; ++x) {
-        const uint8_t v = row[x];
-        const bool counts = all_tissue || (v & 0xe0u) == tissue_bits;
-        f[x] = counts ? uint8_t(v & DS_FILL_MASK) : uint8_t(0);
+      storeWord(row, left);
+      storeWord(f, fillWord(left, all_tissue, tissue));
+      storeWord(row + 5, mid);
+      storeWord(f + 5, fillWord(mid, all_tissue, tissue));
+      if (right) {
+        const uint64_t r = brickRow(s.views[sz][sy][2], iy, iz) & 0xffffffffffull;  // in-brick 0..4
+        storeWord(row + 13, r);
+        storeWord(f + 13, fillWord(r, all_tissue, tissue));
       }
     }
 }
 
 // ==== 3. masks ====================================================================================
-// Inside is 2F > 31, i.e. F >= 16: bit 4 of F.
+// Inside is 2F > 31, i.e. F >= 16: bit 4 of F. Corner x 0..8 are local 4..12.
 void buildMasks(BlockMesher::Scratch& s) {
   for (int cz = 0; cz < kCorners; ++cz)
     for (int cy = 0; cy < kCorners; ++cy) {
       const uint8_t* f = s.fill[kCorner0 + cz][kCorner0 + cy] + kCorner0;
-      uint32_t m = 0;
-      for (int cx = 0; cx < kCorners; ++cx) m |= uint32_t(f[cx] >> 4 & 1u) << cx;
+      // Bit 4 of each byte to bit 0, then byte i to bit i by one multiplication.
+      const uint64_t low = (loadWord(f) >> 4) & kOnes;
+      const uint32_t m = uint32_t((low * 0x0102040810204080ull) >> 56) | uint32_t(f[8] >> 4 & 1u) << 8;
       s.mask[cz][cy] = uint16_t(m);
     }
 }
+
+// Set bits of a corner-row mask (9 bits), without a library call on hosts lacking POPCNT.
+constexpr std::array<uint8_t, 512> kBitCount = [] {
+  std::array<uint8_t, 512> t{};
+  for (int i = 0; i < 512; ++i) t[size_t(i)] = uint8_t(std::popcount(unsigned(i)));
+  return t;
+}();
 
 // The crossed edges of corner row (cy, cz), per axis, as bit cx: along x between corners cx and cx+1
 // (cx <= 7), along y and z to the next row (none from the last row).
 struct RowEdges {
   uint32_t e[3];
   uint32_t any() const { return e[0] | e[1] | e[2]; }
-  int count() const { return std::popcount(e[0]) + std::popcount(e[1]) + std::popcount(e[2]); }
+  int count() const { return kBitCount[e[0]] + kBitCount[e[1]] + kBitCount[e[2]]; }
 };
 
 RowEdges rowEdges(const BlockMesher::Scratch& s, int cy, int cz) {
@@ -235,6 +265,7 @@ void buildPrefixSums(BlockMesher::Scratch& s) {
       int32_t* row = sat + (z + 1) * kSatPlane + (y + 1) * kSatRow + 1;
       const uint8_t* f = s.fill[z][y];
       int32_t run = 0;
+#pragma GCC unroll 18
       for (int x = 0; x < kLocal; ++x) {
         run += f[x];
         row[x] = run;
@@ -274,7 +305,7 @@ BlockCounts BlockMesher::count(const BrickVolume& volume, MeshBlock b) {
   Scratch& s = *s_;
   // The corners are local 4..12: bricks b-1 (its last voxel) and b on each axis.
   fetchViews(volume, b, 0, 1, s.views);
-  loadBox(s, kCorner0, kCorner0 + kCorners);
+  loadRows(s, kCorner0, kCorner0 + kCorners, /*right=*/false);
   buildMasks(s);
   const auto& table = internal::caseTable();
   BlockCounts n;
@@ -292,7 +323,7 @@ BlockCounts BlockMesher::count(const BrickVolume& volume, MeshBlock b) {
 BlockCounts BlockMesher::emit(const BrickVolume& volume, MeshBlock b, layout::MeshVertex* vertices, uint32_t* indices) {
   Scratch& s = *s_;
   fetchViews(volume, b, 0, 2, s.views);
-  loadBox(s, 0, kLocal);
+  loadRows(s, 0, kLocal, /*right=*/true);
   buildMasks(s);
   bool crossed = false;
   for (int cz = 0; cz < kCorners && !crossed; ++cz)
