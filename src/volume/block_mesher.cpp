@@ -50,6 +50,7 @@ using NormalSumsFn = std::array<int64_t, 3> (*)(const int32_t* sat, const int p[
 struct BlockMesher::Scratch {
   Material tissue = Material::Empty;
   std::array<NormalSumsFn, 3> normal_sums{};  // per edge axis, for the chosen box side
+  void (*prefix_sums)(Scratch&) = nullptr;     // over as many voxels as that box side reads
 
   alignas(64) uint8_t voxels[kLocal][kLocal][kRowBytes]{};  // voxel bytes [z][y][x]; x >= 18 don't care
   alignas(64) uint8_t fill[kLocal][kLocal][kRowBytes]{};    // F of each voxel
@@ -257,31 +258,36 @@ std::array<NormalSumsFn, 3> normalSumsFor() {
   return {&normalSumsAt<H, 0>, &normalSumsAt<H, 1>, &normalSumsAt<H, 2>};
 }
 
-// Inclusive prefix sums of F over the 18^3 voxels, along x, then y, then z; padded planes stay 0.
+// Inclusive prefix sums of F, along x, then y, then z; the padded planes stay 0. Only local voxels
+// 0 .. N-1 are summed: with a box of side 2h the highest sum a normal reads is at local 13 + h
+// (vertex corners reach local 12, a box h past it, a difference one more), so N = 14 + h of the 18.
+template <int N>
 void buildPrefixSums(BlockMesher::Scratch& s) {
+  static_assert(N <= kLocal);
   int32_t* sat = s.sat;
-  for (int z = 0; z < kLocal; ++z)
-    for (int y = 0; y < kLocal; ++y) {
+  for (int z = 0; z < N; ++z)
+    for (int y = 0; y < N; ++y) {
       int32_t* row = sat + (z + 1) * kSatPlane + (y + 1) * kSatRow + 1;
       const uint8_t* f = s.fill[z][y];
       int32_t run = 0;
 #pragma GCC unroll 18
-      for (int x = 0; x < kLocal; ++x) {
+      for (int x = 0; x < N; ++x) {
         run += f[x];
         row[x] = run;
       }
     }
-  for (int z = 1; z <= kLocal; ++z)
-    for (int y = 2; y <= kLocal; ++y) {
+  for (int z = 1; z <= N; ++z)
+    for (int y = 2; y <= N; ++y) {
       int32_t* row = sat + z * kSatPlane + y * kSatRow;
       const int32_t* below = row - kSatRow;
-      for (int x = 0; x < kSatRow; ++x) row[x] += below[x];
+      for (int x = 1; x <= N; ++x) row[x] += below[x];
     }
-  for (int z = 2; z <= kLocal; ++z) {
-    int32_t* plane = sat + z * kSatPlane;
-    const int32_t* below = plane - kSatPlane;
-    for (int i = 0; i < kSatPlane; ++i) plane[i] += below[i];
-  }
+  for (int z = 2; z <= N; ++z)
+    for (int y = 1; y <= N; ++y) {
+      int32_t* row = sat + z * kSatPlane + y * kSatRow;
+      const int32_t* below = row - kSatPlane;
+      for (int x = 1; x <= N; ++x) row[x] += below[x];
+    }
 }
 
 }  // namespace
@@ -290,9 +296,18 @@ void buildPrefixSums(BlockMesher::Scratch& s) {
 BlockMesher::BlockMesher(Material tissue, uint32_t side) : s_(std::make_unique<Scratch>()) {
   s_->tissue = tissue;
   switch (side) {
-    case DS_MESH_SIDE_8: s_->normal_sums = normalSumsFor<1>(); break;
-    case DS_MESH_SIDE_64: s_->normal_sums = normalSumsFor<2>(); break;
-    case DS_MESH_SIDE_216: s_->normal_sums = normalSumsFor<3>(); break;
+    case DS_MESH_SIDE_8:
+      s_->normal_sums = normalSumsFor<1>();
+      s_->prefix_sums = &buildPrefixSums<15>;
+      break;
+    case DS_MESH_SIDE_64:
+      s_->normal_sums = normalSumsFor<2>();
+      s_->prefix_sums = &buildPrefixSums<16>;
+      break;
+    case DS_MESH_SIDE_216:
+      s_->normal_sums = normalSumsFor<3>();
+      s_->prefix_sums = &buildPrefixSums<17>;
+      break;
     default: assert(false && "the normal box side is 2, 4 or 6");
   }
 }
@@ -329,7 +344,7 @@ BlockCounts BlockMesher::emit(const BrickVolume& volume, MeshBlock b, layout::Me
   for (int cz = 0; cz < kCorners && !crossed; ++cz)
     for (int cy = 0; cy < kCorners && !crossed; ++cy) crossed = rowEdges(s, cy, cz).any() != 0;
   if (!crossed) return {};
-  buildPrefixSums(s);
+  s.prefix_sums(s);
 
   // Vertices in local edge order: corners z, then y, then x, then the axis.
   const int64_t lo[3] = {int64_t(b.x) * kCells - 1, int64_t(b.y) * kCells - 1, int64_t(b.z) * kCells - 1};
