@@ -7,7 +7,7 @@
 // arithmetic of a vertex is the reference's own (internal::meshVertex), so the output is the same
 // bit for bit. Tests compare the two over random blocks (tests/volume/block_mesher_test.cpp).
 //
-// One BlockMesher holds about 60 KiB of scratch and allocates nothing per block: give each thread
+// One BlockMesher holds about 50 KiB of scratch and allocates nothing per block: give each thread
 // its own. It never changes the volume, so several may read one volume at once.
 #pragma once
 
