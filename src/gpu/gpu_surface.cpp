@@ -532,10 +532,10 @@ Status GpuSurface::build(const BrickVolume& volume, SurfaceUpdateStats* stats_ou
   s.pages.clear();
   if (s.mesher == MesherKind::Gpu) {
     if (auto u = s.uploadMirror(volume); !u) return u;
+    stats.upload_ms = msSince(t0);
   } else {
-    s.level = volume.level();  // the CPU mesher reads the host's bricks: no mirror
+    s.level = volume.level();  // the CPU mesher reads the host's bricks: no mirror, no upload
   }
-  stats.upload_ms = msSince(t0);
   const std::vector<MeshBlock> to_mesh = activeMeshBlocks(volume, s.options.tissue);
   return s.finishRound(volume, to_mesh, stats, t0, stats_out);
 }
@@ -557,8 +557,8 @@ Status GpuSurface::update(const BrickVolume& volume, std::span<const BrickCoord>
   }
   if (s.mesher == MesherKind::Gpu) {
     if (auto u = s.syncMirror(volume, dirty); !u) return u;
+    stats.upload_ms = msSince(t0);
   }
-  stats.upload_ms = msSince(t0);
   const std::vector<MeshBlock> around = blocksReadingBricks(volume, dirty);
   const std::vector<bool> active = meshBlocksActive(volume, s.options.tissue, around);
   std::vector<MeshBlock> to_mesh;

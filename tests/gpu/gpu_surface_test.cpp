@@ -340,6 +340,7 @@ TEST_F(GpuSurfaceTest, CpuMesherEqualsTheReferenceBitForBitAndTheKernelToItsRoun
                                   &stats);
       ASSERT_TRUE(cpu_mesher.ok()) << cpu_mesher.message();
       EXPECT_FALSE(stats.timestamps);
+      EXPECT_EQ(stats.upload_ms, 0.0) << "the CPU mesher uploads nothing";
       auto kernel = gpuBlocks(ctx(), vol, {.normal_neighbours = normals, .tissue = tissue, .mesher = MesherKind::Gpu});
       ASSERT_TRUE(kernel.ok()) << kernel.message();
       const auto reference = cpuBlocks(vol, tissue, normals);
