@@ -3,6 +3,7 @@
 
 #include <chrono>
 #include <memory>
+#include <thread>
 #include <optional>
 #include <span>
 #include <utility>
@@ -47,7 +48,8 @@ VolumeMaker layersVolumeMaker(gpu::Context* context, const std::vector<MeshLayer
 
 // One GpuSurface for the mode being measured; a new one when the mode changes, so that three
 // level-10 surfaces never sit in memory at once.
-MeshRunner gpuMeshRunner(gpu::Context& context) {
+MeshRunner gpuMeshRunner(gpu::Context& context, gpu::MesherKind asked) {
+  const gpu::MesherKind mesher = gpu::resolveMesher(asked, context.device().type);
   struct Held {
     std::optional<gpu::GpuSurface> surface;
     int normals = 0;
@@ -58,11 +60,15 @@ MeshRunner gpuMeshRunner(gpu::Context& context) {
                       st.blocks_meshed};
   };
   MeshRunner r;
-  r.name = "GPU mesher (GpuSurface)";
-  r.full = [&context, held, timing](const ToothVolume& tooth, int normals) -> Result<MeshTiming> {
+  r.name = mesher == gpu::MesherKind::Cpu
+               ? "CPU mesher (GpuSurface, BlockMesher on " + std::to_string(std::max(1u, std::thread::hardware_concurrency())) +
+                     " threads into host-visible slots)"
+               : "GPU mesher (GpuSurface, compute kernel)";
+  r.mesher = gpu::mesherKindName(mesher);
+  r.full = [&context, held, timing, mesher](const ToothVolume& tooth, int normals) -> Result<MeshTiming> {
     if (!held->surface || held->normals != normals) {
       held->surface.reset();
-      auto s = gpu::GpuSurface::create(context, {.normal_neighbours = normals});
+      auto s = gpu::GpuSurface::create(context, {.normal_neighbours = normals, .mesher = mesher});
       if (!s) return s.error();
       held->surface.emplace(std::move(s).value());
       held->normals = normals;

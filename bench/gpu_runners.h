@@ -7,6 +7,7 @@
 #include "bench/voxelize_bench.h"
 #include "core/triangle_mesh.h"
 #include "gpu/context.h"
+#include "gpu/mesher_kind.h"
 #include "volume/mesh_voxelizer.h"
 
 namespace dentsim::bench {
@@ -19,7 +20,8 @@ DentsimVoxelizer gpuVoxelizer(gpu::Context& context, const VoxelizeOptions& opti
 // reference when it is null (the same voxels). `context` and `layers` must outlive the maker.
 VolumeMaker layersVolumeMaker(gpu::Context* context, const std::vector<MeshLayer>& layers, Bounds3 bounds);
 
-// The GPU mesher (GpuSurface) as a bench runner. `context` must outlive it.
-MeshRunner gpuMeshRunner(gpu::Context& context);
+// GpuSurface as a bench runner, with the mesher asked for (Auto resolved for the context's device):
+// the compute kernel or the CPU threads. `context` must outlive it.
+MeshRunner gpuMeshRunner(gpu::Context& context, gpu::MesherKind mesher = gpu::MesherKind::Gpu);
 
 }  // namespace dentsim::bench

@@ -47,6 +47,7 @@ bool solidVoxel(Voxel v) { return 2 * voxelFill(v) > DS_FILL_FULL; }
 MeshRunner cpuReferenceRunner() {
   MeshRunner r;
   r.name = "CPU reference (meshVolumeCpu, one thread; its update re-meshes everything)";
+  r.mesher = "reference";
   auto mesh = [](const ToothVolume& tooth, int normals) -> Result<MeshTiming> {
     const std::optional<NormalMode> mode = normalModeFromNeighbours(normals);
     if (!mode) return makeError("bench mesh", "no normal mode of " + std::to_string(normals) + " voxels");
@@ -453,6 +454,7 @@ Result<MeshReport> runMeshBench(const MeshBenchSettings& settings, const VolumeM
     if (log) log(line);
   };
   MeshReport report;
+  report.mesher = runner.mesher.empty() ? "?" : runner.mesher;
   std::optional<ToothVolume> bur_tooth;
   for (const int level : settings.levels) {
     auto tooth = make_volume(level);
@@ -592,6 +594,7 @@ nlohmann::json meshReportJson(const MeshReportInfo& info, const MeshReport& repo
           {"model", info.model},
           {"command", info.command},
           {"runner", info.runner},
+          {"mesher", report.mesher},
           {"machine", {{"cpu", info.cpu}, {"cpu_threads", info.cpu_threads}, {"device", info.device}}},
           {"settings", {{"levels", s.levels},
                         {"normal_modes", s.normal_modes},
@@ -615,13 +618,15 @@ namespace {
 
 void figure15Markdown(std::ostringstream& o, const MeshReport& report) {
   o << "### Re-meshing time (paper Figure 15)\n\n"
-    << "| level | voxel [mm] | normals | full [ms] | GPU kernels [ms] | part [ms] | part kernels [ms] | part bricks | "
-       "triangles | VTK FE [ms] | dentsim / VTK |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+    << "| mesher | level | voxel [mm] | normals | full [ms] | GPU kernels [ms] | part [ms] | part kernels [ms] | "
+       "part bricks | triangles | VTK FE [ms] | dentsim / VTK |\n|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+  // Kernel times exist for the compute kernel only; the CPU meshers have none to show.
+  const bool kernels = report.mesher == "gpu";
   for (const MeshLevelRow& row : report.levels)
     for (const ModeTiming& m : row.modes)
-      o << "| " << row.level << " | " << fmt("%.4f", row.voxel_mm) << " | " << m.normals << " | "
-        << fmt("%.1f", m.full_ms) << " | " << fmt("%.1f", m.full_kernel_ms) << " | " << fmt("%.2f", m.part_ms) << " | "
-        << fmt("%.2f", m.part_kernel_ms) << " | " << row.part.bricks.size() << " | " << grouped(m.triangles) << " | "
+      o << "| " << report.mesher << " | " << row.level << " | " << fmt("%.4f", row.voxel_mm) << " | " << m.normals << " | "
+        << fmt("%.1f", m.full_ms) << " | " << (kernels ? fmt("%.1f", m.full_kernel_ms) : "n/a") << " | "
+        << fmt("%.2f", m.part_ms) << " | " << (kernels ? fmt("%.2f", m.part_kernel_ms) : "n/a") << " | " << row.part.bricks.size() << " | " << grouped(m.triangles) << " | "
         << (row.vtk.available ? fmt("%.1f", row.vtk.ms) : "n/a") << " | "
         << (row.vtk.available ? fmt("%.2f", m.vtk_ratio) : "n/a") << " |\n";
 
@@ -637,7 +642,7 @@ void figure15Markdown(std::ostringstream& o, const MeshReport& report) {
   }
 }
 
-void burMarkdown(std::ostringstream& o, const BurPathResult& b) {
+void burMarkdown(std::ostringstream& o, const std::string& mesher, const BurPathResult& b) {
   const BurPathSettings& p = b.settings;
   o << "### One frame of drilling: re-mesh of the dirty bricks\n\n"
     << "A " << fmt("%g", p.diameter_mm) << " mm ball moving at " << fmt("%g", p.speed_mm_s) << " mm/s, "
@@ -646,10 +651,10 @@ void burMarkdown(std::ostringstream& o, const BurPathResult& b) {
     << "original surface and sunk " << fmt("%g", p.depth_mm) << " mm into it per pass; level " << p.level << " ("
     << fmt("%.4f", b.voxel_mm) << " mm voxels), " << p.normals << " normals. Each frame: carveBall on the CPU "
     << "bricks, then an update of the bricks it changed. Frames that changed nothing count as 0 ms.\n\n"
-    << "| frames | frames cut | p50 [ms] | p95 [ms] | max [ms] | target p95 [ms] | met | dirty bricks / frame "
-       "(mean, max) | blocks / frame | carve [ms] | removed [mm^3] |\n"
-       "|---|---|---|---|---|---|---|---|---|---|---|\n"
-    << "| " << b.frames.size() << " | " << b.frames_cut << " | " << fmt("%.2f", b.p50_ms) << " | "
+    << "| mesher | frames | frames cut | p50 [ms] | p95 [ms] | max [ms] | target p95 [ms] | met | dirty bricks / "
+       "frame (mean, max) | blocks / frame | carve [ms] | removed [mm^3] |\n"
+       "|---|---|---|---|---|---|---|---|---|---|---|---|\n"
+    << "| " << mesher << " | " << b.frames.size() << " | " << b.frames_cut << " | " << fmt("%.2f", b.p50_ms) << " | "
     << fmt("%.2f", b.p95_ms) << " | " << fmt("%.2f", b.max_ms) << " | " << fmt("%g", p.target_p95_ms) << " | "
     << (b.meets_target ? "yes" : "no") << " | " << fmt("%.1f", b.mean_dirty_bricks) << ", "
     << fmt("%.0f", b.max_dirty_bricks) << " | " << fmt("%.1f", b.mean_blocks) << " | " << fmt("%.3f", b.mean_carve_ms)
@@ -711,7 +716,7 @@ std::string meshReportMarkdown(const MeshReportInfo& info, const MeshReport& rep
   if (!report.levels.empty()) figure15Markdown(o, report);
   if (report.has_bur) {
     o << "\n";
-    burMarkdown(o, report.bur);
+    burMarkdown(o, report.mesher, report.bur);
   }
   if (!report.normals.empty()) {
     o << "\n";

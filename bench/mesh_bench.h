@@ -44,7 +44,8 @@ struct MeshTiming {
 // and that since then the voxels changed inside `dirty` only (sorted (z, y, x), unique): the GPU
 // mesher keeps its surface between calls. normals: 8, 64 or 216.
 struct MeshRunner {
-  std::string name;  // what runs: "GPU mesher on <device>", "CPU reference (meshVolumeCpu)"
+  std::string name;    // what runs: "GPU mesher on <device>", "CPU reference (meshVolumeCpu)"
+  std::string mesher;  // the tables' short label: "gpu", "cpu" (GpuSurface's two meshers), "reference"
   std::function<Result<MeshTiming>(const ToothVolume& tooth, int normals)> full;
   std::function<Result<MeshTiming>(const ToothVolume& tooth, std::span<const BrickCoord> dirty, int normals)> update;
 };
@@ -204,6 +205,7 @@ struct MeshBenchSettings {
 };
 
 struct MeshReport {
+  std::string mesher;  // MeshRunner::mesher of the run
   std::vector<MeshLevelRow> levels;
   bool has_bur = false;
   BurPathResult bur;

@@ -13,6 +13,7 @@
 
 #include "io/atomic_file.h"
 #include "model/tool_generator.h"
+#include "render/tooth_lod.h"
 
 namespace dentsim::app {
 
@@ -125,6 +126,33 @@ Status checkCatalogTool(const std::string& option, const std::string& name, Tool
                                  wanted + " is one of " + names + ")");
   }
   return makeError(option, "\"" + name + "\" is not in the tool catalog (" + wanted + " is one of " + names + ")");
+}
+
+CLI::Validator mesherCheck() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        return gpu::parseMesherKind(text) ? std::string()
+                                          : "\"" + text + "\" is not a mesher (" + gpu::kMesherKindChoices + ")";
+      },
+      gpu::kMesherKindChoices, "mesher");
+}
+
+void addDrawingOptions(CLI::App& cmd, float* detail_pixels, gpu::MesherKind* mesher) {
+  cmd.add_option("--detail-pixels", *detail_pixels,
+                 "Draw each part of the tooth from the coarsest copy within this many pixels of error; 0: full "
+                 "detail everywhere")
+      ->check(finiteIn(0.0, render::kMaxDetailPixels, "px"))
+      ->capture_default_str();
+  addMesherOption(cmd, mesher);
+}
+
+void addMesherOption(CLI::App& cmd, gpu::MesherKind* mesher) {
+  cmd.add_option_function<std::string>(
+         "--mesher", [mesher](const std::string& text) { *mesher = *gpu::parseMesherKind(text); },
+         "Who meshes the tooth: the GPU's compute kernel, CPU threads, or auto (CPU threads where the Vulkan "
+         "device is itself a CPU, as lavapipe is)")
+      ->check(mesherCheck())
+      ->default_str("auto");
 }
 
 }  // namespace dentsim::app

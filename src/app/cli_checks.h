@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "core/result.h"
+#include "gpu/mesher_kind.h"
 
 namespace dentsim::app {
 
@@ -24,6 +25,15 @@ void failInOneLine(CLI::App& root);
 // One helper for every numeric option, so no command accepts a NaN that a range test lets through
 // (NaN compares false with every bound).
 CLI::Validator finiteIn(double lo, double hi, const std::string& unit);
+
+// A mesher on the command line (gpu, cpu or auto): gpu/mesher_kind.h's one parser.
+CLI::Validator mesherCheck();
+
+// Adds `--mesher gpu|cpu|auto` to a command that meshes the tooth, parsed into `*mesher`.
+void addMesherOption(CLI::App& cmd, gpu::MesherKind* mesher);
+// Adds what `run` and `demo` draw the tooth with: `--detail-pixels` (screen-sized detail's error,
+// 0 for full detail) and `--mesher`.
+void addDrawingOptions(CLI::App& cmd, float* detail_pixels, gpu::MesherKind* mesher);
 
 // An option the chosen mode cannot use: the error names the option and why.
 // `given` is how often the user gave it (CLI::App::count()).

@@ -20,6 +20,7 @@
 #include "bench/mesh_bench.h"
 #include "bench/voxelize_bench.h"
 #include "gpu/context.h"
+#include "gpu/mesher_kind.h"
 #include "render/tooth_lod.h"
 #include "volume/normal_mode.h"
 
@@ -57,7 +58,8 @@ struct MeshBenchOptions {
   bool no_peers = false;
   bool no_bur = false;
   bool no_normals = false;
-  bool cpu = false;                // the CPU reference instead of the GPU mesher
+  bool cpu = false;                // the single-threaded CPU reference, no Vulkan device at all
+  std::string mesher = "gpu";      // GpuSurface's mesher: gpu, cpu or auto (gpu::parseMesherKind)
   std::string device;              // Vulkan device override
 };
 
@@ -163,7 +165,8 @@ int runMeshBench(MeshBenchOptions o) {
   const std::vector<MeshLayer> layers = model.layers();
   // The molar is voxelized on the GPU where there is one (the CPU reference gives the same voxels).
   const bench::VolumeMaker maker = bench::layersVolumeMaker(context ? &*context : nullptr, layers, model.bounds());
-  const bench::MeshRunner runner = context ? bench::gpuMeshRunner(*context) : bench::cpuReferenceRunner();
+  const gpu::MesherKind mesher = gpu::parseMesherKind(o.mesher).value_or(gpu::MesherKind::Gpu);
+  const bench::MeshRunner runner = context ? bench::gpuMeshRunner(*context, mesher) : bench::cpuReferenceRunner();
 
   bench::MeshReportInfo info;
   info.model = model.description;
@@ -171,7 +174,7 @@ int runMeshBench(MeshBenchOptions o) {
   info.command = "dentsim bench mesh --levels " + joined(st.levels) + " --normals " + joined(st.normal_modes) +
                  " --repeat " + std::to_string(st.repeats) + " --frames " + std::to_string(st.bur_path.frames) +
                  (o.no_peers ? " --no-peers" : "") + (o.no_bur ? " --no-bur" : "") +
-                 (o.no_normals ? " --no-normals" : "") + (o.cpu ? " --cpu" : "");
+                 (o.no_normals ? " --no-normals" : "") + (o.cpu ? " --cpu" : " --mesher " + o.mesher);
   info.cpu = bench::cpuModel();
   info.cpu_threads = int(std::thread::hardware_concurrency());
   info.device = context ? bench::deviceLabel(context->device()) : "none";
@@ -289,7 +292,14 @@ void addBenchCommand(CLI::App& root, Action& action) {
   mesh->add_flag("--no-peers", mopts->no_peers, "Skip VTK");
   mesh->add_flag("--no-bur", mopts->no_bur, "Skip the bur path");
   mesh->add_flag("--no-normals", mopts->no_normals, "Skip the normal-error table");
-  mesh->add_flag("--cpu", mopts->cpu, "Measure the CPU reference mesher instead of the GPU");
+  auto* cpu_flag = mesh->add_flag("--cpu", mopts->cpu,
+                                  "Measure the single-threaded CPU reference (meshVolumeCpu) without a Vulkan device");
+  mesh->add_option("--mesher", mopts->mesher,
+                   std::string("GpuSurface's mesher: the compute kernel, CPU threads, or auto (CPU threads on a CPU "
+                               "device) (") + gpu::kMesherKindChoices + ")")
+      ->check(mesherCheck())
+      ->excludes(cpu_flag)
+      ->capture_default_str();
   mesh->add_option("--out", mopts->out, "Output folder")->capture_default_str();
   mesh->add_option("--device", mopts->device, "Device index or name substring (also DENTSIM_DEVICE)");
   mesh->callback([mopts, &action] { action = [mopts] { return runMeshBench(*mopts); }; });
@@ -330,6 +340,7 @@ void addBenchCommand(CLI::App& root, Action& action) {
       ->check(finiteIn(0.01, render::kMaxDetailPixels, "px"))
       ->capture_default_str();
   frames->add_flag("!--no-first-frame", fopts->first_frame, "Skip timing the demo's first frame");
+  addMesherOption(*frames, &fopts->mesher);
   frames->add_option("--out", fopts->out, "Output folder")->capture_default_str();
   frames->add_option("--device", fopts->device, "Vulkan device index or name part");
   frames->callback([fopts, &action] { action = [fopts] { return runFramesBench(*fopts); }; });

@@ -23,7 +23,6 @@
 #include "volume/surface_mesher.h"
 #include "volume/tooth_file.h"
 #include "volume/volume_hash.h"
-#include "render/tooth_lod.h"
 
 namespace dentsim::app {
 namespace {
@@ -45,6 +44,7 @@ struct DemoOptions {
   LearningCliOptions learning;       // the attempt's learning record, when a student is named
   bool overwrite = false;            // replace a recording already in `out`
   float detail_pixels = 1.0f;        // screen-sized detail's largest error [px]; 0: full detail everywhere
+  gpu::MesherKind mesher = gpu::MesherKind::Auto;  // who meshes the tooth
 };
 
 // Options that cannot apply together, each refused with the reason (checked after parsing).
@@ -92,6 +92,7 @@ int runDemo(const DemoOptions& o) {
   so.score_at_end = true;
   so.headless = o.headless;
   so.detail_pixels = o.detail_pixels;
+  so.mesher = o.mesher;
   so.out = o.out;
   so.width = o.width;
   so.height = o.height;
@@ -217,11 +218,7 @@ void addDemoCommand(CLI::App& root, Action& action) {
   cmd->add_option("--height", o->height, "Window or frame height [px]")->check(CLI::Range(64, 8192))->capture_default_str();
   cmd->add_option("--params", o->params, "Parameter preset (.json); default: dentsim's defaults");
   cmd->add_flag("!--no-sound", o->sound, "No sound (headless: no sound.wav)");
-  cmd->add_option("--detail-pixels", o->detail_pixels,
-                  "Draw each part of the tooth from the coarsest copy within this many pixels of error; 0: full "
-                  "detail everywhere")
-      ->check(finiteIn(0.0, render::kMaxDetailPixels, "px"))
-      ->capture_default_str();
+  addDrawingOptions(*cmd, &o->detail_pixels, &o->mesher);
   cmd->add_option("--attempt", o->attempt, "The careful removal, or one with a fault: " + attemptNames())
       ->check(CLI::IsMember(attemptNameList()))
       ->capture_default_str();

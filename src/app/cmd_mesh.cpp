@@ -12,6 +12,7 @@
 #include "app/gpu_choice.h"
 #include "app/terminal_progress.h"
 #include "gpu/gpu_surface.h"
+#include "gpu/mesher_kind.h"
 #include "io/ply_file.h"
 #include "io/stl_file.h"
 #include "volume/surface_mesher.h"
@@ -74,7 +75,11 @@ int runMesh(const MeshOptions& o) {
     if (!opened) return fail(opened.message());
     ctx = std::move(*opened);
   }
-  const std::string engine = ctx ? "GPU (" + ctx->device().name + ")" : "CPU reference";
+  // GpuSurface picks its mesher for the device (auto): the kernel on a GPU, CPU threads on lavapipe.
+  const gpu::MesherKind mesher = ctx ? gpu::resolveMesher(gpu::MesherKind::Auto, ctx->device().type) : gpu::MesherKind::Cpu;
+  const std::string engine = !ctx                           ? "CPU reference"
+                             : mesher == gpu::MesherKind::Gpu ? "GPU (" + ctx->device().name + ")"
+                                                              : "CPU threads (the device, " + ctx->device().name + ", is a CPU)";
   TerminalProgress progress;
   const auto t0 = std::chrono::steady_clock::now();
   SurfaceMesh surface;
@@ -111,8 +116,8 @@ int runMesh(const MeshOptions& o) {
               engine.c_str(), mesh_ms);
   for (const std::string& p : parts) std::printf("  %s\n", p.c_str());
   for (const gpu::SurfaceUpdateStats& st : stats) {
-    std::printf("  GPU: %u blocks; upload %.0f ms, count %.0f ms, emit %.0f ms", st.blocks_meshed, st.upload_ms,
-                st.count_ms, st.emit_ms);
+    std::printf("  %s mesher: %u blocks; upload %.0f ms, count %.0f ms, emit %.0f ms", gpu::mesherKindName(mesher).c_str(),
+                st.blocks_meshed, st.upload_ms, st.count_ms, st.emit_ms);
     if (st.timestamps) std::printf(" (kernels: count %.1f ms, emit %.1f ms)", st.count_kernel_ms, st.emit_kernel_ms);
     std::printf("; slots %s in a pool of %s\n", gpu::formatBytes(st.slot_bytes).c_str(),
                 gpu::formatBytes(st.pool_bytes).c_str());

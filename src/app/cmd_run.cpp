@@ -10,7 +10,6 @@
 #include "app/simulator.h"
 #include "sim/novice_paths.h"
 #include "ui/course_list.h"
-#include "render/tooth_lod.h"
 
 namespace dentsim::app {
 namespace {
@@ -171,11 +170,7 @@ void addRunCommand(CLI::App& root, Action& action) {
       ->capture_default_str();
   cmd->add_flag("!--no-ui", o->ui, "Hide the parameter window and the overlay");
   cmd->add_option("--view", o->view, "First camera view: occlusal, buccal, lingual, mesial or distal (default: the task's, else buccal)");
-  cmd->add_option("--detail-pixels", o->detail_pixels,
-                  "Draw each part of the tooth from the coarsest copy within this many pixels of error; 0: full "
-                  "detail everywhere")
-      ->check(finiteIn(0.0, render::kMaxDetailPixels, "px"))
-      ->capture_default_str();
+  addDrawingOptions(*cmd, &o->detail_pixels, &o->mesher);
   cmd->add_option_function<bool>(
       "--progressive", [o](bool on) { o->progressive = on; },
       "First frame from the coarse copies, full detail filling in over the next frames (default: in a window, not "

@@ -73,7 +73,7 @@ Result<std::unique_ptr<FramePainter>> FramePainter::create(const PainterOptions&
   auto renderer = render::SceneRenderer::create(*p->ctx_, format, final_layout);
   if (!renderer) return renderer.error();
   p->renderer_ = std::move(*renderer);
-  auto surfaces = render::ToothSurfaces::create(*p->ctx_, o.normals);
+  auto surfaces = render::ToothSurfaces::create(*p->ctx_, o.normals, render::kDefaultCoarseCopies, o.mesher);
   if (!surfaces) return surfaces.error();
   p->surfaces_ = std::move(*surfaces);
   if (p->window_ && before_panel) before_panel(*p->window_);

@@ -10,6 +10,7 @@
 
 #include "core/result.h"
 #include "gpu/context.h"
+#include "gpu/mesher_kind.h"
 #include "io/png_file.h"
 #include "render/camera.h"
 #include "render/look_params.h"
@@ -31,6 +32,7 @@ struct PainterOptions {
   std::string device;             // Vulkan device index or name part; empty: the best
   bool panel = true;              // the ImGui layer for the parameter window and the overlay
   NormalMode normals = NormalMode::Box216;  // the tooth surfaces' normal mode
+  gpu::MesherKind mesher = gpu::MesherKind::Auto;  // who meshes them: the kernel, CPU threads, or what suits the device
 };
 
 // What a frame shows besides the camera: the tooth's frame and looks, and the tools.

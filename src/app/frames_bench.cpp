@@ -71,6 +71,7 @@ SimulatorOptions demoRun(const FramesBenchOptions& o, int level) {
   so.bench_from_s = o.from_s;
   so.device = o.device;
   so.sound = false;
+  so.mesher = o.mesher;
   so.ui = false;  // the panel's cost is not the tooth's; the pictures compare the scene alone
   so.progressive = false;
   return so;
@@ -85,7 +86,7 @@ Status compareViews(const FramesBenchOptions& o, int level, std::vector<ViewRow>
   if (!ctx) return ctx.error();
   auto tooth = builtinMolarTooth(level);
   if (!tooth) return tooth.error();
-  auto surfaces = render::ToothSurfaces::create(*ctx);
+  auto surfaces = render::ToothSurfaces::create(*ctx, NormalMode::Box216, render::kDefaultCoarseCopies, o.mesher);
   if (!surfaces) return surfaces.error();
   if (Status st = surfaces->build(tooth->voxels); !st) return st;
   auto renderer = render::SceneRenderer::create(*ctx, render::kDefaultColourFormat, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
@@ -204,6 +205,7 @@ int runFramesBench(const FramesBenchOptions& o) {
   j["width"] = o.width;
   j["height"] = o.height;
   j["detail_pixels"] = o.detail_pixels;
+  j["mesher"] = gpu::mesherKindName(o.mesher);
   std::string md = "| level | path | device | frames | frame p50 [ms] | frame p95 [ms] | frame mean [ms] | frames/s "
                    "(mean) | re-mesh mean [ms] | triangles drawn a frame |\n|---|---|---|---|---|---|---|---|---|---|\n";
   bench::PlotSeries full_p50{"full detail, frame p50", {}}, screen_p50{"screen-sized, frame p50", {}};

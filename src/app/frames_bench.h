@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "gpu/mesher_kind.h"
+
 namespace dentsim::app {
 
 struct FramesBenchOptions {
@@ -14,6 +16,7 @@ struct FramesBenchOptions {
   bool window = false;            // draw into a window (a display must answer) instead of offscreen
   float detail_pixels = 1.0f;     // screen-sized detail's error [px] (the full-detail path draws 0)
   bool first_frame = true;        // also time the first frame of the demo, whole build against in parts
+  gpu::MesherKind mesher = gpu::MesherKind::Auto;  // who meshes the tooth
   std::string out = "bench-out";  // frames.json, frames.md, frames.svg
   std::string device;
 };

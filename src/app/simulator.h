@@ -19,6 +19,7 @@
 
 #include "app/device_rack.h"
 #include "core/result.h"
+#include "gpu/mesher_kind.h"
 #include "eval/task.h"
 #include "sim/guide_spring.h"
 
@@ -77,6 +78,7 @@ struct SimulatorOptions {
   // Screen-sized detail (docs/MESHING.md): each region drawn from the coarsest copy of the tooth
   // within this many pixels of error; 0 draws everything at full detail (the path before it).
   float detail_pixels = 1.0f;
+  gpu::MesherKind mesher = gpu::MesherKind::Auto;  // the tooth's mesher: the kernel, CPU threads, or what suits the device
   // The first frame comes from the coarse copies and full detail fills in around the view over the
   // next frames; false meshes everything before the first frame. Unset: on in a window, off headless
   // (so that a headless run's pictures never depend on how fast the machine meshes).

@@ -216,6 +216,7 @@ Status Simulator::setUp() {
   po.device = o_.device;
   po.panel = o_.ui;
   po.normals = looks_.view.normals;
+  po.mesher = o_.mesher;
   auto painter = FramePainter::create(po, [this](ui::Window& w) { input_.attach(w); });
   if (!painter) return painter.error();
   painter_ = std::move(*painter);

@@ -1,14 +1,15 @@
-// GpuSurface: the brick-volume mirror, the count and emit passes of surface_mesh.comp.glsl, and the slot pages.
+// GpuSurface: the brick-volume mirror, the count and emit passes of surface_mesh.comp.glsl or of the CPU BlockMesher, and the slot pages.
 //
 // Contents
 //   1. Pipelines, the volume mirror and the slot pages
-//   2. One meshing round: count, read back, allocate slots, emit, draw records
+//   2. One meshing round: count, allocate slots, emit, draw records; the count and emit on the GPU
+//      or on the CPU threads
 //   3. build, update, read-back
 #include "gpu/gpu_surface.h"
 
-#include <array>
-
 #include <algorithm>
+#include <array>
+#include <atomic>
 #include <bit>
 #include <chrono>
 #include <cstring>
@@ -18,8 +19,11 @@
 #include <unordered_set>
 
 #include "core/buddy_allocator.h"
+#include "core/worker_pool.h"
 #include "dentsim_compute_spirv_spirv.h"
 #include "gpu/compute.h"
+#include "gpu/vk_check.h"
+#include "volume/block_mesher.h"
 
 namespace dentsim::gpu {
 
@@ -67,7 +71,12 @@ uint64_t slotBytesFor(uint32_t vertices, uint32_t triangles) {
 struct GpuSurface::State {
   Context* ctx = nullptr;
   GpuSurfaceOptions options;
+  MesherKind mesher = MesherKind::Gpu;  // resolved: Gpu or Cpu
   uint32_t side = 0;
+  // The CPU mesher: its threads and one BlockMesher (scratch) per thread.
+  std::shared_ptr<WorkerPool> workers;  // the CPU mesher's threads, maybe shared with other surfaces
+  std::vector<BlockMesher> block_meshers;
+  std::vector<BlockCounts> cpu_counts;  // (blocks of the round) what the CPU count pass found
   std::optional<ComputePipeline> count, emit;
   std::optional<Buffer> cases;
   // The volume mirror: the three word arrays, with room to grow before a full re-upload.
@@ -87,9 +96,21 @@ struct GpuSurface::State {
   Status uploadMirror(const BrickVolume& vol);
   Status syncMirror(const BrickVolume& vol, std::span<const BrickCoord> dirty);
   Status meshBlocks(const BrickVolume& vol, const std::vector<MeshBlock>& to_mesh, SurfaceUpdateStats& stats);
+  Status countOnGpu(const BrickVolume& vol, const std::vector<MeshBlock>& to_mesh, SurfaceUpdateStats& stats);
+  void countOnCpu(const BrickVolume& vol, const std::vector<MeshBlock>& to_mesh);
+  Status emitOnGpu(const BrickVolume& vol, std::span<const MeshJob> placed,
+                   const std::vector<std::vector<uint32_t>>& per_page, SurfaceUpdateStats& stats);
+  Status emitOnCpu(const BrickVolume& vol, const std::vector<MeshBlock>& to_mesh, std::span<const MeshJob> placed,
+                   std::span<const uint32_t> page_of, const std::vector<std::vector<uint32_t>>& per_page);
+  Status dispatch(ComputePipeline& pipe, const BrickVolume& vol, Buffer& surface, uint32_t jobs_now, uint32_t pair,
+                  const char* what, double& kernel_ms);
+  // Grain of the CPU threads' pieces: a few pieces per thread, so a slow block does not hold up one.
+  size_t cpuGrain(size_t n) const { return std::clamp<size_t>(n / (8u * workers->size()), 1, 32); }
   Result<Slot> allocateSlot(uint32_t vertices, uint32_t triangles, bool& grew);
   void freeSlot(uint32_t block);
   Status growPage(Page& page);
+  // The CPU mesher writes its slots from the host.
+  MemoryKind poolMemory() const { return mesher == MesherKind::Cpu ? MemoryKind::HostVisible : MemoryKind::DeviceLocal; }
   Status writeDraws();
   // Meshes `to_mesh`, publishes the draws and the statistics of the round begun at t0.
   Status finishRound(const BrickVolume& vol, const std::vector<MeshBlock>& to_mesh, SurfaceUpdateStats& stats,
@@ -179,8 +200,14 @@ Status GpuSurface::State::syncMirror(const BrickVolume& vol, std::span<const Bri
 
 Status GpuSurface::State::growPage(Page& page) {
   const uint64_t old_bytes = page.slots->capacity();
-  auto bigger = Buffer::create(*ctx, old_bytes * 2, MemoryKind::DeviceLocal, BufferUse::Geometry, "surface pool");
+  auto bigger = Buffer::create(*ctx, old_bytes * 2, poolMemory(), BufferUse::Geometry, "surface pool");
   if (!bigger) return bigger.error();
+  if (mesher == MesherKind::Cpu) {  // host-visible both: live offsets stay valid after a memcpy
+    std::memcpy(bigger->mapped(), page.pool->mapped(), old_bytes);
+    page.pool.emplace(std::move(bigger).value());
+    page.slots->grow();
+    return Ok{};
+  }
   Status s = submitAndWait(*ctx, "surface pool growth", [&](Commands& cmds) -> Status {
     cmds.use(*page.pool);
     cmds.use(*bigger);
@@ -203,7 +230,7 @@ Result<Slot> GpuSurface::State::allocateSlot(uint32_t vertices, uint32_t triangl
     if (p == pages.size()) {
       Page page;
       const uint64_t first = std::min(page_limit, std::bit_ceil(std::max(options.initial_pool_bytes, kSlotUnit)));
-      auto pool = Buffer::create(*ctx, first, MemoryKind::DeviceLocal, BufferUse::Geometry, "surface pool");
+      auto pool = Buffer::create(*ctx, first, poolMemory(), BufferUse::Geometry, "surface pool");
       if (!pool) return pool.error();
       page.pool.emplace(std::move(pool).value());
       page.slots.emplace(kSlotUnit, first);
@@ -276,59 +303,125 @@ void GpuSurface::State::fillStats(SurfaceUpdateStats& stats) const {
 }
 
 // ==== 2. one meshing round =======================================================================
-Status GpuSurface::State::meshBlocks(const BrickVolume& vol, const std::vector<MeshBlock>& to_mesh,
+// Dispatches `jobs_now` jobs (the first ones in the jobs buffer), split by the group-count limit.
+Status GpuSurface::State::dispatch(ComputePipeline& pipe, const BrickVolume& vol, Buffer& surface, uint32_t jobs_now,
+                                   uint32_t pair, const char* what, double& kernel_ms) {
+  MeshParams params{};
+  params.grid = vol.gridInfo();
+  params.jobCount = jobs_now;
+  params.tissue = uint32_t(options.tissue);
+  const uint32_t max_groups = options.max_groups_per_dispatch ? options.max_groups_per_dispatch
+                                                              : ctx->limits().max_group_count[0];
+  std::array<Buffer*, DS_MESH_BINDING_COUNT> bindings{&*chunks.buffer, &*blocks.buffer, &*bricks.buffer, &*jobs.buffer,
+                                                      &*counts.buffer, &surface, &*cases};
+  Status r = submitAndWait(*ctx, what, [&](Commands& cmds) -> Status {
+    if (stamps) stamps->begin(cmds, pair);
+    for (uint32_t first = 0; first < jobs_now; first += max_groups) {
+      params.firstJob = first;
+      const uint32_t groups = std::min(max_groups, jobs_now - first);
+      if (auto d = pipe.dispatch(cmds, std::span<Buffer* const>(bindings), params, groups); !d) return d;
+    }
+    if (stamps) stamps->end(cmds, pair);
+    return Ok{};
+  });
+  if (r && stamps) {
+    if (auto ns = stamps->elapsedNs(pair)) kernel_ms += *ns * 1e-6;
+  }
+  return r;
+}
+
+// Count on the GPU: the counts buffer receives (vertices, triangles) per job.
+Status GpuSurface::State::countOnGpu(const BrickVolume& vol, const std::vector<MeshBlock>& to_mesh,
                                      SurfaceUpdateStats& stats) {
-  stats.blocks_meshed = uint32_t(to_mesh.size());
-  if (to_mesh.empty()) return Ok{};
   const uint32_t n = uint32_t(to_mesh.size());
   Status s = jobs.ensure(*ctx, std::bit_ceil(uint64_t(n) * sizeof(MeshJob)));
   if (s) s = counts.ensure(*ctx, std::bit_ceil(uint64_t(n) * 8u));
   if (!s) return s;
   auto* job_words = static_cast<MeshJob*>(jobs.buffer->mapped());
   for (uint32_t i = 0; i < n; ++i) job_words[i] = MeshJob{to_mesh[i].packed(), 0, 0, 0};
-
-  MeshParams params{};
-  params.grid = vol.gridInfo();
-  params.jobCount = n;
-  params.tissue = uint32_t(options.tissue);
-  const uint32_t max_groups = options.max_groups_per_dispatch ? options.max_groups_per_dispatch
-                                                              : ctx->limits().max_group_count[0];
-  std::array<Buffer*, DS_MESH_BINDING_COUNT> bindings{};
-
-  // Dispatches `jobs_now` jobs (the first ones in the jobs buffer), split by the group-count limit.
-  const auto run = [&](ComputePipeline& pipe, Buffer& surface, uint32_t jobs_now, uint32_t pair, const char* what,
-                       double& kernel_ms) -> Status {
-    bindings = {&*chunks.buffer, &*blocks.buffer, &*bricks.buffer, &*jobs.buffer, &*counts.buffer, &surface, &*cases};
-    params.jobCount = jobs_now;
-    Status r = submitAndWait(*ctx, what, [&](Commands& cmds) -> Status {
-      if (stamps) stamps->begin(cmds, pair);
-      for (uint32_t first = 0; first < jobs_now; first += max_groups) {
-        params.firstJob = first;
-        const uint32_t groups = std::min(max_groups, jobs_now - first);
-        if (auto d = pipe.dispatch(cmds, std::span<Buffer* const>(bindings), params, groups); !d) return d;
-      }
-      if (stamps) stamps->end(cmds, pair);
-      return Ok{};
-    });
-    if (r && stamps) {
-      if (auto ns = stamps->elapsedNs(pair)) kernel_ms += *ns * 1e-6;
-    }
-    return r;
-  };
-
-  // Count: the pool is not written; any page's pool (or the counts buffer) fills the binding.
-  auto t0 = Clock::now();
+  // The pool is not written; any page's pool (or the counts buffer) fills the binding.
   Buffer& dummy_surface = pages.empty() ? *counts.buffer : *pages[0].pool;
-  if (auto r = run(*count, dummy_surface, n, 0, "surface count", stats.count_kernel_ms); !r) return r;
+  return dispatch(*count, vol, dummy_surface, n, 0, "surface count", stats.count_kernel_ms);
+}
+
+// Count on the CPU threads: cpu_counts receives each block's counts.
+void GpuSurface::State::countOnCpu(const BrickVolume& vol, const std::vector<MeshBlock>& to_mesh) {
+  cpu_counts.resize(to_mesh.size());
+  workers->run(to_mesh.size(), cpuGrain(to_mesh.size()), [&](size_t begin, size_t end, unsigned worker) {
+    BlockMesher& m = block_meshers[worker];
+    for (size_t i = begin; i < end; ++i) cpu_counts[i] = m.count(vol, to_mesh[i]);
+  });
+}
+
+// Emit on the GPU, one page at a time (each page is its own binding), listing only that page's jobs.
+Status GpuSurface::State::emitOnGpu(const BrickVolume& vol, std::span<const MeshJob> placed,
+                                    const std::vector<std::vector<uint32_t>>& per_page, SurfaceUpdateStats& stats) {
+  auto* job_words = static_cast<MeshJob*>(jobs.buffer->mapped());
+  for (uint32_t p = 0; p < per_page.size(); ++p) {
+    if (per_page[p].empty()) continue;
+    const uint32_t m = uint32_t(per_page[p].size());
+    for (uint32_t k = 0; k < m; ++k) job_words[k] = placed[per_page[p][k]];
+    if (auto e = dispatch(*emit, vol, *pages[p].pool, m, 1, "surface emit", stats.emit_kernel_ms); !e) return e;
+  }
+  return Ok{};
+}
+
+// Emit on the CPU threads, straight into the host-visible slots. Each block owns its slot, so the
+// threads never write the same bytes.
+Status GpuSurface::State::emitOnCpu(const BrickVolume& vol, const std::vector<MeshBlock>& to_mesh,
+                                    std::span<const MeshJob> placed, std::span<const uint32_t> page_of,
+                                    const std::vector<std::vector<uint32_t>>& per_page) {
+  // Draws are recorded and waited for in the same thread (submitAndWait), so nothing should be in
+  // flight; if a submission still is, it may read these pages.
+  if (!ctx->core().pending.empty()) DS_TRY_STATUS(ctx->waitIdle());
+  std::vector<uint32_t> order;
+  for (const auto& jobs_of_page : per_page) order.insert(order.end(), jobs_of_page.begin(), jobs_of_page.end());
+  std::atomic<bool> mismatch{false};
+  workers->run(order.size(), cpuGrain(order.size()), [&](size_t begin, size_t end, unsigned worker) {
+    BlockMesher& m = block_meshers[worker];
+    for (size_t k = begin; k < end; ++k) {
+      const uint32_t i = order[k];
+      auto* words = static_cast<uint32_t*>(pages[page_of[i]].pool->mapped());
+      const MeshJob& job = placed[i];
+      const BlockCounts wrote = m.emit(vol, to_mesh[i], reinterpret_cast<layout::MeshVertex*>(words + job.slotWord),
+                                       words + job.indexWord);
+      if (wrote.vertices != cpu_counts[i].vertices || wrote.triangles != cpu_counts[i].triangles)
+        mismatch.store(true, std::memory_order_relaxed);
+    }
+  });
+  // The two passes read the same voxels, so this is a bug, not a condition of the environment.
+  if (mismatch.load()) return makeError("gpu surface", "the CPU mesher emitted other counts than it counted");
+  return Ok{};
+}
+
+Status GpuSurface::State::meshBlocks(const BrickVolume& vol, const std::vector<MeshBlock>& to_mesh,
+                                     SurfaceUpdateStats& stats) {
+  stats.blocks_meshed = uint32_t(to_mesh.size());
+  if (to_mesh.empty()) return Ok{};
+  const uint32_t n = uint32_t(to_mesh.size());
+
+  // Count: vertices and triangles per block.
+  auto t0 = Clock::now();
+  const uint32_t* gpu_counts = nullptr;
+  if (mesher == MesherKind::Gpu) {
+    DS_TRY_STATUS(countOnGpu(vol, to_mesh, stats));
+    gpu_counts = static_cast<const uint32_t*>(counts.buffer->mapped());
+  } else {
+    countOnCpu(vol, to_mesh);
+  }
+  const auto countOf = [&](uint32_t i) -> BlockCounts {
+    return gpu_counts ? BlockCounts{gpu_counts[2 * i], gpu_counts[2 * i + 1]} : cpu_counts[i];
+  };
   stats.count_ms = msSince(t0);
 
   // Allocate: a block keeps its slot while it fits and is not four times too large.
   t0 = Clock::now();
-  const auto* cnt = static_cast<const uint32_t*>(counts.buffer->mapped());
+  std::vector<MeshJob> placed(n);
+  std::vector<uint32_t> page_of(n, 0);
   std::vector<std::vector<uint32_t>> per_page;  // job indices by page
   for (uint32_t i = 0; i < n; ++i) {
     const uint32_t block = to_mesh[i].packed();
-    const uint32_t v = cnt[2 * i], t = cnt[2 * i + 1];
+    const auto [v, t] = countOf(i);
     if (t == 0) {
       freeSlot(block);
       continue;
@@ -351,7 +444,8 @@ Status GpuSurface::State::meshBlocks(const BrickVolume& vol, const std::vector<M
     slot.vertices = v;
     slot.triangles = t;
     const uint64_t index_byte = slot.offset + uint64_t(v) * sizeof(layout::MeshVertex);
-    job_words[i] = MeshJob{block, uint32_t(slot.offset / 4u), v, uint32_t(index_byte / 4u)};
+    placed[i] = MeshJob{block, uint32_t(slot.offset / 4u), v, uint32_t(index_byte / 4u)};
+    page_of[i] = slot.page;
     pages[slot.page].records[slot.record] =
         SurfaceDraw{3u * t, 1u, uint32_t(index_byte / 4u), int32_t(slot.offset / sizeof(layout::MeshVertex)), block};
     pages[slot.page].changed.push_back(slot.record);
@@ -359,14 +453,11 @@ Status GpuSurface::State::meshBlocks(const BrickVolume& vol, const std::vector<M
     per_page[slot.page].push_back(i);
   }
 
-  // Emit, one page at a time (each page is its own binding), listing only that page's jobs.
-  std::vector<MeshJob> all(job_words, job_words + n);
-  for (uint32_t p = 0; p < per_page.size(); ++p) {
-    if (per_page[p].empty()) continue;
-    const uint32_t m = uint32_t(per_page[p].size());
-    for (uint32_t k = 0; k < m; ++k) job_words[k] = all[per_page[p][k]];
-    if (auto e = run(*emit, *pages[p].pool, m, 1, "surface emit", stats.emit_kernel_ms); !e) return e;
-  }
+  // Emit into the slots.
+  if (mesher == MesherKind::Gpu)
+    DS_TRY_STATUS(emitOnGpu(vol, placed, per_page, stats));
+  else
+    DS_TRY_STATUS(emitOnCpu(vol, to_mesh, placed, page_of, per_page));
   stats.emit_ms = msSince(t0);
   return Ok{};
 }
@@ -404,7 +495,20 @@ Result<GpuSurface> GpuSurface::create(Context& ctx, const GpuSurfaceOptions& opt
     return makeError("gpu surface", std::string("normal_neighbours must be ") + kNormalModeChoices + ", not " +
                                         std::to_string(options.normal_neighbours));
   state->side = normalBoxSide(*mode);
+  state->mesher = resolveMesher(options.mesher, ctx.device().type);
   const DeviceLimits& lim = ctx.limits();
+  uint64_t limit = lim.max_storage_buffer_range;
+  if (lim.max_memory_allocation_size) limit = std::min(limit, lim.max_memory_allocation_size);
+  if (options.max_page_bytes) limit = std::min(limit, std::max(options.max_page_bytes, kSlotUnit));
+  state->page_limit = std::bit_floor(limit);
+
+  if (state->mesher == MesherKind::Cpu) {
+    // Threads that live as long as the surface: a frame's re-mesh starts none.
+    state->workers = options.workers ? options.workers : std::make_shared<WorkerPool>(options.cpu_threads);
+    for (unsigned i = 0; i < state->workers->size(); ++i) state->block_meshers.emplace_back(options.tissue, state->side);
+    return GpuSurface(std::move(state));
+  }
+
   // What surface_mesh.comp.glsl needs: its shared arrays and subgroup scans.
   if (!lim.subgroup_arithmetic_in_compute)
     return makeError("gpu surface", "this device has no subgroup arithmetic in compute shaders, which the mesher's scans use");
@@ -412,10 +516,6 @@ Result<GpuSurface> GpuSurface::create(Context& ctx, const GpuSurfaceOptions& opt
     return makeError("gpu surface", "the mesher needs " + formatBytes(kKernelSharedBytes) +
                                         " of shared memory per workgroup; this device has " +
                                         formatBytes(lim.max_compute_shared_memory));
-  uint64_t limit = lim.max_storage_buffer_range;
-  if (lim.max_memory_allocation_size) limit = std::min(limit, lim.max_memory_allocation_size);
-  if (options.max_page_bytes) limit = std::min(limit, std::max(options.max_page_bytes, kSlotUnit));
-  state->page_limit = std::bit_floor(limit);
 
   const std::span<const uint32_t> spirv{surface_mesh_comp_spv, surface_mesh_comp_spv_words};
   auto count = ComputePipeline::create(ctx, PipelineDesc{"surface_count", spirv, DS_MESH_BINDING_COUNT, {{0, 0}}});
@@ -446,8 +546,12 @@ Status GpuSurface::build(const BrickVolume& volume, SurfaceUpdateStats* stats_ou
   const auto t0 = Clock::now();
   s.slots.clear();
   s.pages.clear();
-  if (auto u = s.uploadMirror(volume); !u) return u;
-  stats.upload_ms = msSince(t0);
+  if (s.mesher == MesherKind::Gpu) {
+    if (auto u = s.uploadMirror(volume); !u) return u;
+    stats.upload_ms = msSince(t0);
+  } else {
+    s.level = volume.level();  // the CPU mesher reads the host's bricks: no mirror, no upload
+  }
   const std::vector<MeshBlock> to_mesh = activeMeshBlocks(volume, s.options.tissue);
   return s.finishRound(volume, to_mesh, stats, t0, stats_out);
 }
@@ -467,8 +571,10 @@ Status GpuSurface::update(const BrickVolume& volume, std::span<const BrickCoord>
     if (stats_out) *stats_out = stats;
     return Ok{};
   }
-  if (auto u = s.syncMirror(volume, dirty); !u) return u;
-  stats.upload_ms = msSince(t0);
+  if (s.mesher == MesherKind::Gpu) {
+    if (auto u = s.syncMirror(volume, dirty); !u) return u;
+    stats.upload_ms = msSince(t0);
+  }
   return s.meshCandidates(volume, blocksReadingBricks(volume, dirty), stats, t0, stats_out);
 }
 
@@ -478,7 +584,9 @@ Status GpuSurface::clear(const BrickVolume& volume) {
     return makeError("gpu surface", "level " + std::to_string(volume.level()) + " is over 12, the most a mesh block can address");
   s.slots.clear();
   s.pages.clear();
-  return s.uploadMirror(volume);
+  if (s.mesher == MesherKind::Gpu) return s.uploadMirror(volume);
+  s.level = volume.level();  // the CPU mesher reads the host's bricks: no mirror
+  return Ok{};
 }
 
 Status GpuSurface::meshBlocks(const BrickVolume& volume, std::span<const MeshBlock> blocks, SurfaceUpdateStats* stats_out) {
@@ -492,6 +600,7 @@ Status GpuSurface::meshBlocks(const BrickVolume& volume, std::span<const MeshBlo
   return s.meshCandidates(volume, blocks, stats, Clock::now(), stats_out);
 }
 
+MesherKind GpuSurface::mesher() const { return state_->mesher; }
 uint32_t GpuSurface::pageCount() const { return uint32_t(state_->pages.size()); }
 Buffer& GpuSurface::pool(uint32_t page) { return *state_->pages.at(page).pool; }
 Buffer& GpuSurface::draws(uint32_t page) { return *state_->pages.at(page).draws.buffer; }
@@ -500,6 +609,8 @@ uint64_t GpuSurface::liveBlocks() const { return state_->slots.size(); }
 
 Result<BrickVolume> GpuSurface::downloadVolume() {
   State& s = *state_;
+  if (s.mesher == MesherKind::Cpu)
+    return makeError("surface mirror", "the CPU mesher reads the host's bricks and keeps no copy on the device");
   if (s.level < 0) return makeError("surface mirror", "nothing uploaded yet");
   std::array<std::vector<uint32_t>, 3> words;
   const std::array<GrowingBuffer*, 3> buffers{&s.chunks, &s.blocks, &s.bricks};

@@ -1,5 +1,9 @@
 // GpuSurface: the tooth's surface kept on the GPU by marching cubes, re-meshed per dirty brick into per-block slots.
 //
+// The slots are meshed by the compute kernel, or on a CPU device (lavapipe) by the host's threads
+// with the BlockMesher, written straight into host-visible slot pages (MesherKind). Either way the
+// renderer reads the same pages and draw records.
+//
 // Contents
 //   1. Options and statistics
 //   2. GpuSurface: full build, incremental update, what the renderer binds, read-back for tests
@@ -12,8 +16,10 @@
 #include <vector>
 
 #include "core/result.h"
+#include "core/worker_pool.h"
 #include "gpu/buffer.h"
 #include "gpu/context.h"
+#include "gpu/mesher_kind.h"
 #include "volume/surface_layout.h"
 #include "volume/brick_volume.h"
 #include "volume/surface_mesher.h"
@@ -28,6 +34,11 @@ struct GpuSurfaceOptions {
   uint64_t initial_pool_bytes = 4ull << 20;     // first size of the slot pool; it doubles on demand [B]
   uint32_t max_groups_per_dispatch = 0;         // 0: the device limit; tests lower it to split dispatches
   uint64_t max_page_bytes = 0;                  // 0: one storage binding; tests lower it to open pages [B]
+  MesherKind mesher = MesherKind::Auto;         // Auto: CPU threads on a CPU device, the kernel on a GPU
+  uint32_t cpu_threads = 0;                     // CPU mesher threads, the caller's included; 0: one per core
+  // The CPU mesher's threads shared with other surfaces that are only ever meshed one at a time
+  // (a tooth's tissues and copies); null: the surface starts its own (cpu_threads).
+  std::shared_ptr<WorkerPool> workers = nullptr;
 };
 
 // What one build or update did.
@@ -41,11 +52,11 @@ struct SurfaceUpdateStats {
   uint64_t slot_bytes = 0;        // bytes held by live slots, rounded to their size class [B]
   uint64_t used_bytes = 0;        // bytes the live blocks' vertices and indices fill [B]
   bool pool_grew = false;         // the pool was reallocated (its contents copied on the GPU)
-  double upload_ms = 0.0;         // wall time to sync the dirty bricks to the GPU mirror [ms]
-  double count_ms = 0.0;          // wall time of the count pass incl. read-back [ms]
-  double emit_ms = 0.0;           // wall time of the slot allocation and emit pass [ms]
+  double upload_ms = 0.0;         // wall time to sync the dirty bricks to the GPU mirror [ms]; 0 on the CPU mesher
+  double count_ms = 0.0;          // wall time of the count pass incl. read-back (CPU mesher: its count pass) [ms]
+  double emit_ms = 0.0;           // wall time of the slot allocation and emit pass (CPU mesher: its emit) [ms]
   double total_ms = 0.0;          // wall time of the whole call [ms]
-  bool timestamps = false;        // the kernel times below are valid
+  bool timestamps = false;        // the kernel times below are valid (never on the CPU mesher)
   double count_kernel_ms = 0.0;   // GPU time of the count dispatches [ms]
   double emit_kernel_ms = 0.0;    // GPU time of the emit dispatches [ms]
 };
@@ -63,8 +74,12 @@ struct SurfaceDraw {
 
 class GpuSurface {
  public:
-  // Creates the pipelines and empty buffers. Errors: a bad normal mode, a Vulkan failure.
+  // Creates the pipelines (GPU mesher) or the threads (CPU mesher) and empty buffers. Errors: a
+  // bad normal mode, a device the kernel cannot run on (GPU mesher), a Vulkan failure.
   static Result<GpuSurface> create(Context& ctx, const GpuSurfaceOptions& options);
+
+  // The mesher this surface runs: options.mesher with Auto resolved for the context's device.
+  MesherKind mesher() const;
 
   // Uploads the whole volume and meshes every block that can hold surface, dropping all slots.
   // Levels DS_MIN_LEVEL..12 (block coordinates must fit 10 bits).
@@ -93,7 +108,8 @@ class GpuSurface {
   uint64_t liveBlocks() const;  // blocks holding triangles
 
   // Reads the GPU's copy of the voxels back (for tests): after build() or update() it equals the
-  // volume those were given. Errors: nothing uploaded yet, a Vulkan failure, an index out of range.
+  // volume those were given. Errors: nothing uploaded yet, a Vulkan failure, an index out of range,
+  // the CPU mesher (it reads the host's bricks and keeps no GPU copy).
   Result<BrickVolume> downloadVolume();
 
   // Reads every live block back (for tests and export), ordered by block.

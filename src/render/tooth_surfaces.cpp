@@ -57,13 +57,27 @@ NormalMode coarseNormalMode(NormalMode full, uint32_t k) {
   return best;
 }
 
-Result<ToothSurfaces> ToothSurfaces::create(gpu::Context& ctx, NormalMode normals, uint32_t coarse_copies) {
+Result<ToothSurfaces> ToothSurfaces::create(gpu::Context& ctx, NormalMode normals, uint32_t coarse_copies,
+                                            gpu::MesherKind mesher) {
   ToothSurfaces t;
   t.ctx_ = &ctx;
   t.normals_ = normals;
   t.coarse_wanted_ = coarse_copies;
+  t.mesher_ = gpu::resolveMesher(mesher, ctx.device().type);
+  if (t.mesher_ == gpu::MesherKind::Cpu) t.workers_ = std::make_shared<WorkerPool>();
   if (auto s = t.recreate(); !s) return s.error();
   return t;
+}
+
+Result<std::unique_ptr<gpu::GpuSurface>> ToothSurfaces::makeSurface(Material tissue, NormalMode normals) {
+  gpu::GpuSurfaceOptions options;
+  options.normal_neighbours = normalNeighbours(normals);
+  options.tissue = tissue;
+  options.mesher = mesher_;
+  options.workers = workers_;
+  auto s = gpu::GpuSurface::create(*ctx_, options);
+  if (!s) return s.error();
+  return std::make_unique<gpu::GpuSurface>(std::move(*s));
 }
 
 // Surfaces for the full copy; coarse copies get theirs at the first build of a level that has room.
@@ -71,12 +85,9 @@ Status ToothSurfaces::recreate() {
   copies_.clear();
   copies_.emplace_back();
   for (size_t i = 0; i < kDrawnTissues.size(); ++i) {
-    gpu::GpuSurfaceOptions options;
-    options.normal_neighbours = normalNeighbours(normals_);
-    options.tissue = kDrawnTissues[i];
-    auto s = gpu::GpuSurface::create(*ctx_, options);
+    auto s = makeSurface(kDrawnTissues[i], normals_);
     if (!s) return s.error();
-    copies_[0].surfaces[i] = std::make_unique<gpu::GpuSurface>(std::move(*s));
+    copies_[0].surfaces[i] = std::move(*s);
   }
   built_ = false;
   return Ok{};
@@ -107,12 +118,9 @@ Status ToothSurfaces::buildCoarse(const BrickVolume& volume, uint32_t from) {
     Copy& c = copies_[k];
     if (!c.surfaces[0]) {
       for (size_t i = 0; i < kDrawnTissues.size(); ++i) {
-        gpu::GpuSurfaceOptions options;
-        options.normal_neighbours = normalNeighbours(coarseNormalMode(normals_, k));
-        options.tissue = kDrawnTissues[i];
-        auto s = gpu::GpuSurface::create(*ctx_, options);
+        auto s = makeSurface(kDrawnTissues[i], coarseNormalMode(normals_, k));
         if (!s) return s.error();
-        c.surfaces[i] = std::make_unique<gpu::GpuSurface>(std::move(*s));
+        c.surfaces[i] = std::move(*s);
       }
     }
     c.volume = downsampleVolume(volume, k);

@@ -43,10 +43,12 @@ NormalMode coarseNormalMode(NormalMode full, uint32_t k);
 
 class ToothSurfaces {
  public:
-  // Empty surfaces for every drawn tissue and copy, with normals of `normals` (LookParams::view).
-  // coarse_copies 0 keeps the full copy alone. Errors: a Vulkan failure.
+  // Empty surfaces for every drawn tissue and copy, with normals of `normals` (LookParams::view),
+  // meshed by `mesher` (on the CPU mesher all of them share one pool of threads). coarse_copies 0
+  // keeps the full copy alone. Errors: a Vulkan failure.
   static Result<ToothSurfaces> create(gpu::Context& ctx, NormalMode normals = NormalMode::Box216,
-                                      uint32_t coarse_copies = kDefaultCoarseCopies);
+                                      uint32_t coarse_copies = kDefaultCoarseCopies,
+                                      gpu::MesherKind mesher = gpu::MesherKind::Auto);
 
   // Meshes the whole volume, every tissue and copy; stats (may be null) are summed over the
   // tissues of the full copy.
@@ -72,6 +74,7 @@ class ToothSurfaces {
   void setNormalMode(NormalMode normals);
 
   NormalMode normalMode() const { return normals_; }
+  gpu::MesherKind mesher() const { return mesher_; }  // as resolved for the device
   bool built() const { return built_; }
   uint32_t copies() const { return uint32_t(copies_.size()); }
   // Whether the coarse copies lag behind cuts (an update with nothing dirty settles them).
@@ -95,6 +98,7 @@ class ToothSurfaces {
 
   ToothSurfaces() = default;
   Status recreate();
+  Result<std::unique_ptr<gpu::GpuSurface>> makeSurface(Material tissue, NormalMode normals);
   // The coarse copies' voxels, and the surfaces of copies `from` .. coarsest whole; the others left.
   Status buildCoarse(const BrickVolume& volume, uint32_t from);
   void markReady(uint32_t k);
@@ -105,6 +109,8 @@ class ToothSurfaces {
   std::vector<Copy> copies_;
   uint32_t coarse_wanted_ = kDefaultCoarseCopies;
   NormalMode normals_ = NormalMode::Box216;
+  gpu::MesherKind mesher_ = gpu::MesherKind::Auto;
+  std::shared_ptr<WorkerPool> workers_;  // the CPU mesher's threads, one pool for every surface
   bool mode_changed_ = false;  // the next update() rebuilds
   bool built_ = false;
   uint32_t region_dim_ = 0;

@@ -17,6 +17,8 @@
 #include <unordered_map>
 #include <vector>
 
+#include "volume/surface_mesher_internal.h"
+
 namespace dentsim {
 
 TriangleMesh SurfaceMesh::geometry() const {
@@ -29,13 +31,7 @@ TriangleMesh SurfaceMesh::geometry() const {
 namespace internal {
 
 // ==== 1. the case table ===========================================================================
-// Cube corner c sits at (c & 1, (c >> 1) & 1, (c >> 2) & 1). Edge e joins corner kEdgeCorner[e] to
-// that corner plus one step along kEdgeAxis[e]; edges 0..3 run along x, 4..7 along y, 8..11 along z.
-constexpr std::array<int, 12> kEdgeCorner{0, 2, 4, 6, 0, 1, 4, 5, 0, 1, 2, 3};
-constexpr std::array<int, 12> kEdgeAxis{0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2};
-
-constexpr int cornerBit(int c, int axis) { return (c >> axis) & 1; }
-
+// Corners and edges are numbered as surface_mesher_internal.h says.
 int edgeBetween(int a, int b) {
   for (int e = 0; e < 12; ++e) {
     const int lo = kEdgeCorner[e], hi = lo | (1 << kEdgeAxis[e]);
@@ -57,11 +53,6 @@ bool edgesShareFace(int a, int b) {
     if (edgeOnFace(a, f) && edgeOnFace(b, f)) return true;
   return false;
 }
-
-struct CaseEntry {
-  uint8_t triangle_count = 0;
-  std::array<std::array<uint8_t, 3>, 12> triangles{};  // cell-edge indices, counter-clockwise from outside
-};
 
 struct Vec3i {
   int v[3];
@@ -174,12 +165,6 @@ const std::array<CaseEntry, 256>& caseTable() {
 }
 
 // ==== 2. the scalar field ========================================================================
-// F per voxel byte: the fill that counts as solid (only `tissue`'s when one is chosen); phi = F / 31.
-struct FieldTable {
-  std::array<uint32_t, 256> fill{};  // F: the fill that counts as solid
-  std::array<bool, 256> inside{};
-};
-
 FieldTable makeFieldTable(Material tissue) {
   FieldTable t;
   for (uint32_t b = 0; b < 256; ++b) {
@@ -359,6 +344,36 @@ uint32_t packOctahedral(Vec3f n) {
   return q(u) | (q(v) << 12);
 }
 
+layout::MeshVertex meshVertex(const int64_t g[3], int axis, int fa, int fb, const std::array<int64_t, 3>& n, Voxel in,
+                              Voxel out, Material tissue, Vec3f* float_normal) {
+  // t in [1/32, 31/32]: fill is integral, so the level 15.5 never sits on a voxel centre.
+  const float t = float(int(DS_FILL_FULL) - 2 * fa) / float(2 * (fb - fa));
+  float pos[3];
+  for (int a = 0; a < 3; ++a) pos[a] = float(g[a]) + 0.5f;
+  pos[axis] = pos[axis] + t;
+  layout::MeshVertex v{};
+  v.x = pos[0];
+  v.y = pos[1];
+  v.z = pos[2];
+
+  // N grows inwards (fill rises into the solid); the normal points out.
+  const double len = std::sqrt(double(n[0]) * double(n[0]) + double(n[1]) * double(n[1]) + double(n[2]) * double(n[2]));
+  Vec3f normal;
+  if (len == 0.0) {  // a flat field (thin features cancelling): the edge is the best guess
+    normal = {0.f, 0.f, 0.f};
+    normal[size_t(axis)] = 2 * fa > int(DS_FILL_FULL) ? 1.f : -1.f;
+  } else {
+    normal = {float(-double(n[0]) / len), float(-double(n[1]) / len), float(-double(n[2]) / len)};
+  }
+  // Across: the other tissue at an interface of one tissue's surface; the outer surface (and every
+  // vertex of the all-tissue surface) has empty space across.
+  const Material out_material = voxelMaterial(out);
+  const Material across = tissue != Material::Empty && out_material != tissue ? out_material : Material::Empty;
+  v.packed = packOctahedral(normal) | uint32_t(voxelMaterial(in)) << 24 | uint32_t(across) << 28;
+  if (float_normal) *float_normal = normal;
+  return v;
+}
+
 }  // namespace internal
 
 // ==== 5. per-block meshing =======================================================================
@@ -474,37 +489,13 @@ BlockMesh meshBlockWith(const BrickVolume& vol, const internal::FieldTable& fiel
           if (a_in == block.inside(q[0], q[1], q[2])) continue;
           vertex_of[size_t(((cz * kCornerDim + cy) * kCornerDim + cx) * 3 + axis)] = uint16_t(out.vertices.size());
 
-          const int fa = block.fill[size_t(LocalBlock::index(p[0], p[1], p[2]))];
-          const int fb = block.fill[size_t(LocalBlock::index(q[0], q[1], q[2]))];
-          // t in [1/32, 31/32]: fill is integral, so the level 15.5 never sits on a voxel centre.
-          const float t = float(int(DS_FILL_FULL) - 2 * fa) / float(2 * (fb - fa));
-          layout::MeshVertex v{};
-          float pos[3];
-          for (int a = 0; a < 3; ++a) pos[a] = float(lo[a] + c[a]) + 0.5f;
-          pos[axis] = pos[axis] + t;
-          v.x = pos[0];
-          v.y = pos[1];
-          v.z = pos[2];
-
+          const int ip = LocalBlock::index(p[0], p[1], p[2]), iq = LocalBlock::index(q[0], q[1], q[2]);
+          const int64_t g[3] = {lo[0] + c[0], lo[1] + c[1], lo[2] + c[2]};
           const std::array<int64_t, 3> n = normalSums(block, p, axis, int(side));
-          // N grows inwards (fill rises into the solid); the normal points out.
-          const double len = std::sqrt(double(n[0]) * double(n[0]) + double(n[1]) * double(n[1]) +
-                                       double(n[2]) * double(n[2]));
           Vec3f normal;
-          if (len == 0.0) {  // a flat field (thin features cancelling): the edge is the best guess
-            normal = {0.f, 0.f, 0.f};
-            normal[size_t(axis)] = a_in ? 1.f : -1.f;
-          } else {
-            normal = {float(-double(n[0]) / len), float(-double(n[1]) / len), float(-double(n[2]) / len)};
-          }
-          const Voxel in_voxel = block.voxels[size_t(a_in ? LocalBlock::index(p[0], p[1], p[2]) : LocalBlock::index(q[0], q[1], q[2]))];
-          const Voxel out_voxel = block.voxels[size_t(a_in ? LocalBlock::index(q[0], q[1], q[2]) : LocalBlock::index(p[0], p[1], p[2]))];
-          // Across: the other tissue at an interface of one tissue's surface; the outer surface
-          // (and every vertex of the all-tissue surface) has empty space across.
-          const Material out_material = voxelMaterial(out_voxel);
-          const Material across = tissue != Material::Empty && out_material != tissue ? out_material : Material::Empty;
-          v.packed = packOctahedral(normal) | uint32_t(voxelMaterial(in_voxel)) << 24 | uint32_t(across) << 28;
-          out.vertices.push_back(v);
+          out.vertices.push_back(meshVertex(g, axis, block.fill[size_t(ip)], block.fill[size_t(iq)], n,
+                                            block.voxels[size_t(a_in ? ip : iq)], block.voxels[size_t(a_in ? iq : ip)],
+                                            tissue, &normal));
           if (float_normals) float_normals->push_back(normal);
         }
 

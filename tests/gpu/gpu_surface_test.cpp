@@ -1,4 +1,4 @@
-// GPU marching cubes against the CPU reference on lavapipe; incremental re-meshing against full builds; slot pages.
+// GPU marching cubes against the CPU reference on lavapipe; incremental re-meshing against full builds; slot pages; the CPU mesher against the kernel.
 #include "gpu/gpu_surface.h"
 
 #include <gtest/gtest.h>
@@ -65,8 +65,10 @@ void addBall(BrickVolume& vol, double cx, double cy, double cz, double r, Materi
       }
 }
 
+// A fresh surface's blocks after a build; the kernel's unless the options name the CPU mesher.
 Result<std::vector<BlockMesh>> gpuBlocks(Context& ctx, const BrickVolume& vol, GpuSurfaceOptions options,
                                          SurfaceUpdateStats* stats = nullptr) {
+  if (options.mesher == MesherKind::Auto) options.mesher = MesherKind::Gpu;
   auto surface = GpuSurface::create(ctx, options);
   if (!surface) return surface.error();
   if (auto s = surface->build(vol, stats); !s) return s.error();
@@ -223,7 +225,8 @@ TEST_F(GpuSurfaceTest, IncrementalUpdatesEqualFullBuildsAfterRandomEdits) {
   BrickVolume vol(6);
   addBall(vol, 30.5, 33.1, 31.7, 24.0, Material::Enamel);
   addBall(vol, 30.5, 33.1, 31.7, 14.0, Material::Dentin);
-  auto surface = GpuSurface::create(ctx(), {.normal_neighbours = 216, .initial_pool_bytes = 16 << 10});
+  auto surface =
+      GpuSurface::create(ctx(), {.normal_neighbours = 216, .initial_pool_bytes = 16 << 10, .mesher = MesherKind::Gpu});
   ASSERT_TRUE(surface.ok()) << surface.message();
   ASSERT_TRUE(surface->build(vol).ok());
   std::mt19937 rng(5);
@@ -260,28 +263,31 @@ TEST_F(GpuSurfaceTest, IncrementalUpdatesEqualFullBuildsAfterRandomEdits) {
 }
 
 TEST_F(GpuSurfaceTest, RemovingTheSolidFreesEverySlot) {
-  BrickVolume vol(5);
-  addBall(vol, 16, 16, 16, 6, Material::Dentin);
-  auto surface = GpuSurface::create(ctx(), {.normal_neighbours = 8});
-  ASSERT_TRUE(surface.ok());
-  ASSERT_TRUE(surface->build(vol).ok());
-  EXPECT_GT(surface->liveBlocks(), 0u);
-  std::vector<BrickCoord> all;
-  for (uint32_t z = 0; z < 4; ++z)
-    for (uint32_t y = 0; y < 4; ++y)
-      for (uint32_t x = 0; x < 4; ++x) {
-        vol.setBrickUniform({x, y, z}, 0);
-        all.push_back({x, y, z});
-      }
-  SurfaceUpdateStats stats;
-  ASSERT_TRUE(surface->update(vol, all, &stats).ok());
-  EXPECT_EQ(surface->liveBlocks(), 0u);
-  EXPECT_EQ(stats.triangles, 0u);
-  EXPECT_EQ(stats.slot_bytes, 0u);
-  for (uint32_t p = 0; p < surface->pageCount(); ++p) {
-    ASSERT_GE(surface->draws(p).size(), surface->drawCount(p) * sizeof(SurfaceDraw));
-    const auto* draws = static_cast<const SurfaceDraw*>(surface->draws(p).mapped());
-    for (uint32_t i = 0; i < surface->drawCount(p); ++i) EXPECT_EQ(draws[i].index_count, 0u);
+  for (MesherKind mesher : {MesherKind::Gpu, MesherKind::Cpu}) {
+    SCOPED_TRACE(mesherKindName(mesher) + " mesher");
+    BrickVolume vol(5);
+    addBall(vol, 16, 16, 16, 6, Material::Dentin);
+    auto surface = GpuSurface::create(ctx(), {.normal_neighbours = 8, .mesher = mesher});
+    ASSERT_TRUE(surface.ok());
+    ASSERT_TRUE(surface->build(vol).ok());
+    EXPECT_GT(surface->liveBlocks(), 0u);
+    std::vector<BrickCoord> all;
+    for (uint32_t z = 0; z < 4; ++z)
+      for (uint32_t y = 0; y < 4; ++y)
+        for (uint32_t x = 0; x < 4; ++x) {
+          vol.setBrickUniform({x, y, z}, 0);
+          all.push_back({x, y, z});
+        }
+    SurfaceUpdateStats stats;
+    ASSERT_TRUE(surface->update(vol, all, &stats).ok());
+    EXPECT_EQ(surface->liveBlocks(), 0u);
+    EXPECT_EQ(stats.triangles, 0u);
+    EXPECT_EQ(stats.slot_bytes, 0u);
+    for (uint32_t p = 0; p < surface->pageCount(); ++p) {
+      ASSERT_GE(surface->draws(p).size(), surface->drawCount(p) * sizeof(SurfaceDraw));
+      const auto* draws = static_cast<const SurfaceDraw*>(surface->draws(p).mapped());
+      for (uint32_t i = 0; i < surface->drawCount(p); ++i) EXPECT_EQ(draws[i].index_count, 0u);
+    }
   }
 }
 
@@ -296,6 +302,100 @@ TEST_F(GpuSurfaceTest, RefusesBadModesAndUpdatesBeforeABuild) {
   const Status s = surface->update(vol, std::span<const BrickCoord>(&c, 1));
   ASSERT_FALSE(s.ok());
   EXPECT_NE(s.message().find("before build"), std::string::npos);
+}
+
+
+// ---- the CPU mesher ---------------------------------------------------------------------------------
+
+TEST(MesherKind, ParsesPrintsAndResolvesAutoByDeviceType) {
+  for (MesherKind k : kMesherKinds) EXPECT_EQ(parseMesherKind(mesherKindName(k)), k);
+  EXPECT_FALSE(parseMesherKind("GPU").has_value());
+  EXPECT_FALSE(parseMesherKind("").has_value());
+  EXPECT_EQ(resolveMesher(MesherKind::Auto, VK_PHYSICAL_DEVICE_TYPE_CPU), MesherKind::Cpu);
+  for (VkPhysicalDeviceType t : {VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU, VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU,
+                                 VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU, VK_PHYSICAL_DEVICE_TYPE_OTHER})
+    EXPECT_EQ(resolveMesher(MesherKind::Auto, t), MesherKind::Gpu);
+  // An explicit choice stands on any device.
+  EXPECT_EQ(resolveMesher(MesherKind::Gpu, VK_PHYSICAL_DEVICE_TYPE_CPU), MesherKind::Gpu);
+  EXPECT_EQ(resolveMesher(MesherKind::Cpu, VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU), MesherKind::Cpu);
+}
+
+TEST_F(GpuSurfaceTest, AutoPicksTheCpuMesherOnACpuDevice) {
+  auto surface = GpuSurface::create(ctx(), {});
+  ASSERT_TRUE(surface.ok()) << surface.message();
+  const bool cpu_device = ctx().device().type == VK_PHYSICAL_DEVICE_TYPE_CPU;
+  EXPECT_EQ(surface->mesher(), cpu_device ? MesherKind::Cpu : MesherKind::Gpu) << ctx().device().name;
+  auto gpu = GpuSurface::create(ctx(), {.mesher = MesherKind::Gpu});
+  ASSERT_TRUE(gpu.ok());
+  EXPECT_EQ(gpu->mesher(), MesherKind::Gpu);
+}
+
+TEST_F(GpuSurfaceTest, CpuMesherEqualsTheReferenceBitForBitAndTheKernelToItsRounding) {
+  const BrickVolume vol = randomVolume(5, 4);
+  for (int normals : {8, 64, 216})
+    for (Material tissue : {Material::Empty, Material::Enamel, Material::Dentin}) {
+      SCOPED_TRACE(std::to_string(normals) + " normals, tissue " + materialName(tissue));
+      SurfaceUpdateStats stats;
+      auto cpu_mesher = gpuBlocks(ctx(), vol, {.normal_neighbours = normals, .tissue = tissue, .mesher = MesherKind::Cpu},
+                                  &stats);
+      ASSERT_TRUE(cpu_mesher.ok()) << cpu_mesher.message();
+      EXPECT_FALSE(stats.timestamps);
+      EXPECT_EQ(stats.upload_ms, 0.0) << "the CPU mesher uploads nothing";
+      auto kernel = gpuBlocks(ctx(), vol, {.normal_neighbours = normals, .tissue = tissue, .mesher = MesherKind::Gpu});
+      ASSERT_TRUE(kernel.ok()) << kernel.message();
+      const auto reference = cpuBlocks(vol, tissue, normals);
+      EXPECT_GT(reference.size(), 20u);
+      EXPECT_TRUE(identical(*cpu_mesher, reference));
+      EXPECT_TRUE(sameAsCpu(*kernel, *cpu_mesher));
+    }
+}
+
+// Both meshers through a build and a series of cuts, with pages small enough that the surface grows
+// its first page and opens several: after each update the CPU mesher's slots hold the kernel's
+// surface, and its draw records name its live blocks.
+TEST_F(GpuSurfaceTest, CpuMesherUpdatesEqualTheKernelsAcrossPageGrowthAndManyPages) {
+  const VolumeFrame frame = VolumeFrame::axisAligned(6, 0.05, {0, 0, 0});
+  BrickVolume vol(6);
+  addBall(vol, 30.5, 33.1, 31.7, 24.0, Material::Enamel);
+  addBall(vol, 30.5, 33.1, 31.7, 14.0, Material::Dentin);
+  GpuSurfaceOptions options{.normal_neighbours = 216, .initial_pool_bytes = 4096, .max_page_bytes = 64 << 10};
+  options.mesher = MesherKind::Gpu;
+  auto kernel = GpuSurface::create(ctx(), options);
+  options.mesher = MesherKind::Cpu;
+  options.cpu_threads = 3;  // more threads than this machine may have cores: pieces interleave
+  auto cpu = GpuSurface::create(ctx(), options);
+  ASSERT_TRUE(kernel.ok() && cpu.ok());
+  ASSERT_EQ(cpu->mesher(), MesherKind::Cpu);
+  SurfaceUpdateStats built;
+  ASSERT_TRUE(kernel->build(vol).ok());
+  ASSERT_TRUE(cpu->build(vol, &built).ok());
+  EXPECT_TRUE(built.pool_grew);
+  EXPECT_GT(cpu->pageCount(), 2u) << "the surface should need several 64 KiB pages";
+  EXPECT_FALSE(cpu->downloadVolume().ok()) << "the CPU mesher keeps no device copy of the voxels";
+
+  std::mt19937 rng(9);
+  for (int edit = 0; edit < 10; ++edit) {
+    const double theta = double(rng() % 1000) / 1000.0 * std::numbers::pi;
+    const double phi = double(rng() % 1000) / 1000.0 * 2.0 * std::numbers::pi;
+    const double rr = 18.0 + double(rng() % 80) / 10.0;
+    const std::array<double, 3> centre{(30.5 + rr * std::sin(theta) * std::cos(phi)) * frame.voxel_mm,
+                                       (33.1 + rr * std::sin(theta) * std::sin(phi)) * frame.voxel_mm,
+                                       (31.7 + rr * std::cos(theta)) * frame.voxel_mm};
+    // Big balls now and then, so blocks outgrow their slots and pages fill.
+    const double radius = (edit % 3 == 2 ? 9.0 : 1.0 + double(rng() % 50) / 10.0) * frame.voxel_mm;
+    const EditResult e = carveBall(vol, frame, centre, radius);
+    SurfaceUpdateStats ks, cs;
+    ASSERT_TRUE(kernel->update(vol, e.dirty, &ks).ok());
+    ASSERT_TRUE(cpu->update(vol, e.dirty, &cs).ok());
+    EXPECT_EQ(cs.triangles, ks.triangles) << "after edit " << edit;
+    EXPECT_EQ(cs.blocks_meshed, ks.blocks_meshed) << "after edit " << edit;
+    auto from_kernel = kernel->downloadBlocks();
+    auto from_cpu = cpu->downloadBlocks();
+    ASSERT_TRUE(from_kernel.ok() && from_cpu.ok());
+    EXPECT_TRUE(sameAsCpu(*from_kernel, *from_cpu)) << "after edit " << edit;
+    EXPECT_TRUE(identical(*from_cpu, cpuBlocks(vol, Material::Empty, 216))) << "after edit " << edit;
+    EXPECT_TRUE(drawsMatch(*cpu, *from_cpu)) << "after edit " << edit;
+  }
 }
 
 }  // namespace

@@ -37,7 +37,8 @@ TEST_F(GpuTest, AfterASessionTheGpuAndCpuVolumesAreIdentical) {
   loop.attach(PenRole::Drill, &pen);
   loop.placeTool(PenRole::Drill, Pose{{0.4, 0.8, block.surface_mm + r}, Quat{}});
 
-  auto surface = GpuSurface::create(ctx(), {.normal_neighbours = 64});
+  // The kernel's mesher, whose GPU mirror of the voxels this test reads back.
+  auto surface = GpuSurface::create(ctx(), {.normal_neighbours = 64, .mesher = MesherKind::Gpu});
   ASSERT_TRUE(surface.ok()) << surface.message();
   ASSERT_TRUE(surface->build(render_copy).ok());
 
@@ -72,7 +73,7 @@ TEST_F(GpuTest, AfterASessionTheGpuAndCpuVolumesAreIdentical) {
   ASSERT_TRUE(on_gpu.ok()) << on_gpu.message();
   EXPECT_TRUE(*on_gpu == block.volume) << "the GPU's voxels differ from the haptic thread's";
   // And the incremental surface is the one a fresh build gives.
-  auto fresh = GpuSurface::create(ctx(), {.normal_neighbours = 64});
+  auto fresh = GpuSurface::create(ctx(), {.normal_neighbours = 64, .mesher = MesherKind::Gpu});
   ASSERT_TRUE(fresh.ok());
   SurfaceUpdateStats a, b;
   ASSERT_TRUE(fresh->build(block.volume, &a).ok());
