@@ -145,8 +145,9 @@ int runFramesBench(const FramesBenchOptions& o) {
   fs::create_directories(o.out, ec);
   if (ec) return fail(o.out + ": cannot create the output folder: " + ec.message());
   const fs::path scratch = fs::path(o.out) / "frames-scratch";
-  // The frame both paths write as a picture, in the middle of the timed ones.
-  const double shot_s = o.from_s + 0.5 * double(o.frames) / 30.0;
+  // The frame both paths write as a picture, in the middle of the timed ones (a window draws every
+  // frame from the start, headless only from from_s on).
+  const double shot_s = (o.window ? 0.0 : o.from_s) + 0.5 * double(o.frames) / 30.0;
   std::vector<RunRow> rows;
   std::vector<render::FrameDifference> shot_diffs;
   std::vector<ViewRow> views;

@@ -906,7 +906,7 @@ Status SceneRenderer::recordFrame(VkCommandBuffer cmd, const RenderImage& target
   const auto choose = [&](const glm::mat4& view, VkExtent2D extent) {
     return chooseLod(frame.tooth_frame, tooth.copies() - 1u,
                      LodView{view, frame.projection, extent.width, extent.height, bur_tip}, frame.lod,
-                     LodRegions{tooth.laggingRegions(), tooth.readyRegions(), tooth.copyErrors()});
+                     LodRegions{tooth.readyRegions(), tooth.laggingRegions(), tooth.copyErrors()});
   };
   s.tooth_stats = ToothDrawStats{};
 

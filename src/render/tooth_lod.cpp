@@ -46,7 +46,6 @@ bool LodChoice::drawsBlock(uint32_t k, MeshBlock b) const {
 
 LodChoice chooseLod(const VolumeFrame& full, uint32_t coarse_copies, const LodView& view, const LodSettings& settings,
                     const LodRegions& regions) {
-  const std::span<const uint8_t> forced_full = regions.forced_full;
   const std::span<const std::vector<uint8_t>> ready = regions.ready;
   LodChoice choice;
   choice.region_dim = lodRegionDim(uint32_t(full.dim() >> DS_BRICK_LOG2));
@@ -87,20 +86,31 @@ LodChoice chooseLod(const VolumeFrame& full, uint32_t coarse_copies, const LodVi
           return 0.5 * double(1u << c);
         };
         const bool keep_full =
-            (!forced_full.empty() && forced_full[index]) || !(nearest > 0.0f) || settings.pixel_error <= 0.0f ||
+            !(nearest > 0.0f) || settings.pixel_error <= 0.0f ||
             (view.bur_tip && glm::length(glm::clamp(*view.bur_tip, lo, hi) - *view.bur_tip) <= settings.bur_radius_mm);
         if (!keep_full) {
           const double px_per_mm = double(focal_px) / double(nearest);
           for (uint32_t c = coarse_copies; c >= 1 && k == 0; --c)
             if (error_voxels(c) * v * px_per_mm <= double(settings.pixel_error)) k = uint8_t(c);
         }
-        if (!ready.empty() && !ready[k][index]) {
-          // The chosen copy is not meshed yet (a build in parts): a coarser one, else a finer one.
+        const auto lags = [&](uint32_t c) {
+          return c < regions.lagging.size() && regions.lagging[c].size() > index && regions.lagging[c][index];
+        };
+        const auto usable = [&](uint32_t c) { return (ready.empty() || ready[c][index]) && !lags(c); };
+        if (!usable(k)) {
+          // A copy that lags behind a cut gives way to a finer one (the full copy never lags); one not
+          // yet meshed (a build in parts meshes the coarse copies first) to a coarser one.
           uint8_t alt = kLodHidden;
-          for (uint32_t c = k + 1u; c <= coarse_copies && alt == kLodHidden; ++c)
-            if (ready[c][index]) alt = uint8_t(c);
-          for (int c = int(k) - 1; c >= 0 && alt == kLodHidden; --c)
-            if (ready[size_t(c)][index]) alt = uint8_t(c);
+          const bool finer_first = lags(k);
+          for (int pass = 0; pass < 2 && alt == kLodHidden; ++pass) {
+            if ((pass == 0) == finer_first) {
+              for (int c = int(k) - 1; c >= 0 && alt == kLodHidden; --c)
+                if (usable(uint32_t(c))) alt = uint8_t(c);
+            } else {
+              for (uint32_t c = k + 1u; c <= coarse_copies && alt == kLodHidden; ++c)
+                if (usable(c)) alt = uint8_t(c);
+            }
+          }
           k = alt;
         }
         choice.copy[index] = k;

@@ -8,8 +8,8 @@
 //              half a coarse voxel where no measure is given; the full copy's error counts as 0
 //   pixels   = error(k) * focal_px / depth,   focal_px = max(|P00| w, |P11| h) / 2,
 // with depth the region's nearest view depth. A region the pass cannot see (outside the frustum)
-// is not drawn. A region near the bur, or whose coarse copies still lag behind a cut, or that the
-// eye is inside, is drawn from the full copy.
+// is not drawn. A region near the bur, or that the eye is inside, is drawn from the full copy;
+// where the chosen copy still lags behind a cut, from the next finer one.
 //
 // Borders between copies are closed by overlap, not by stitching: a copy's mesh blocks are drawn
 // wherever they reach into a region of that copy, so at a border both copies are drawn over a strip
@@ -62,13 +62,14 @@ struct LodChoice {
 
 // What the tooth's surfaces know per region (each may be empty).
 struct LodRegions {
-  std::span<const uint8_t> forced_full;              // 1: a coarse copy lags behind a cut here
   std::span<const std::vector<uint8_t>> ready;       // [k][region] 1: copy k is meshed here; empty: all are
+  std::span<const std::vector<uint8_t>> lagging;     // [k][region] 1: copy k lags behind a cut here
   std::span<const std::vector<float>> error;         // [k][region] copy k's measured error [full voxels]; [0] unused
 };
 
-// Chooses a copy per region. `full` is the full copy's frame. A region whose chosen copy is not
-// ready takes the finest ready one coarser than it, else the finest ready one.
+// Chooses a copy per region. `full` is the full copy's frame. A region whose chosen copy lags
+// behind a cut takes the next finer copy that does not (the full copy never lags); one whose chosen
+// copy is not meshed yet takes the next coarser one that is, else the next finer.
 LodChoice chooseLod(const VolumeFrame& full, uint32_t coarse_copies, const LodView& view, const LodSettings& settings,
                     const LodRegions& regions = {});
 

@@ -129,8 +129,8 @@ Status ToothSurfaces::buildCoarse(const BrickVolume& volume, uint32_t from) {
     for (auto& surface : c.surfaces) DS_TRY_STATUS(surface->build(c.volume));
     measureCopyError(volume, c.volume, k, kLodRegionBricks, {}, error_[k]);
   }
-  lagging_.assign(size_t(region_dim_) * region_dim_ * region_dim_, 0);
-  updates_since_settle_ = 0;
+  lagging_.assign(copies_.size(), std::vector<uint8_t>(size_t(region_dim_) * region_dim_ * region_dim_, 0));
+  lagging_[0].clear();  // the full copy never lags
   pending_.clear();
   waiting_.clear();
   ready_.clear();
@@ -264,9 +264,12 @@ bool ToothSurfaces::coarseLagging() const {
 }
 
 void ToothSurfaces::markLagging(uint32_t k, std::span<const BrickCoord> bricks) {
-  // A coarse brick's voxels reach the cells one voxel out and the normals six voxels out.
-  const int64_t scale = int64_t(1) << k, reach = 6, side = int64_t(kLodRegionBricks * DS_BRICK_DIM);
+  // A coarse brick's voxels reach the cells one voxel out and the normals half the box's side plus
+  // one: the regions of copy k that may draw something else than its surface does now.
+  const int64_t scale = int64_t(1) << k, side = int64_t(kLodRegionBricks * DS_BRICK_DIM);
+  const int64_t reach = int64_t(normalBoxSide(coarseNormalMode(normals_, k))) / 2 + 1;
   const int64_t last = int64_t(region_dim_) - 1;
+  std::vector<uint8_t>& flags = lagging_[k];
   for (const BrickCoord& c : bricks) {
     const int64_t at[3] = {c.x, c.y, c.z};
     int64_t lo[3], hi[3];
@@ -276,26 +279,22 @@ void ToothSurfaces::markLagging(uint32_t k, std::span<const BrickCoord> bricks) 
     }
     for (int64_t z = lo[2]; z <= hi[2]; ++z)
       for (int64_t y = lo[1]; y <= hi[1]; ++y)
-        for (int64_t x = lo[0]; x <= hi[0]; ++x) lagging_[size_t((z * (last + 1) + y) * (last + 1) + x)] = 1;
+        for (int64_t x = lo[0]; x <= hi[0]; ++x) flags[size_t((z * (last + 1) + y) * (last + 1) + x)] = 1;
   }
 }
 
-Status ToothSurfaces::settleCoarse(const BrickVolume& volume) {
-  for (uint32_t k = 1; k < copies_.size(); ++k) {
-    Copy& c = copies_[k];
-    if (c.pending.empty()) continue;
-    std::sort(c.pending.begin(), c.pending.end(), [](const BrickCoord& a, const BrickCoord& b) {
-      return std::tuple(a.z, a.y, a.x) < std::tuple(b.z, b.y, b.x);
-    });
-    c.pending.erase(std::unique(c.pending.begin(), c.pending.end(),
-                                [](const BrickCoord& a, const BrickCoord& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }),
-                    c.pending.end());
-    for (auto& surface : c.surfaces) DS_TRY_STATUS(surface->update(c.volume, c.pending));
-    c.pending.clear();
-    measureCopyError(volume, c.volume, k, kLodRegionBricks, lagging_, error_[k]);
-  }
-  std::fill(lagging_.begin(), lagging_.end(), uint8_t{0});
-  updates_since_settle_ = 0;
+Status ToothSurfaces::settleCopy(const BrickVolume& volume, uint32_t k) {
+  Copy& c = copies_[k];
+  std::sort(c.pending.begin(), c.pending.end(), [](const BrickCoord& a, const BrickCoord& b) {
+    return std::tuple(a.z, a.y, a.x) < std::tuple(b.z, b.y, b.x);
+  });
+  c.pending.erase(std::unique(c.pending.begin(), c.pending.end(),
+                              [](const BrickCoord& a, const BrickCoord& b) { return a.x == b.x && a.y == b.y && a.z == b.z; }),
+                  c.pending.end());
+  for (auto& surface : c.surfaces) DS_TRY_STATUS(surface->update(c.volume, c.pending));
+  c.pending.clear();
+  measureCopyError(volume, c.volume, k, kLodRegionBricks, lagging_[k], error_[k]);
+  std::fill(lagging_[k].begin(), lagging_[k].end(), uint8_t{0});
   return Ok{};
 }
 
@@ -309,15 +308,23 @@ Status ToothSurfaces::update(const BrickVolume& volume, std::span<const BrickCoo
     DS_TRY_STATUS(surface->update(volume, dirty, &one));
     accumulate(total, one);
   }
+  ++updates_;
   if (!dirty.empty()) {
     for (uint32_t k = 1; k < copies_.size(); ++k) {
       const std::vector<BrickCoord> changed = downsampleBricks(volume, k, dirty, copies_[k].volume);
+      if (copies_[k].pending.empty()) copies_[k].pending_since = updates_;
       copies_[k].pending.insert(copies_[k].pending.end(), changed.begin(), changed.end());
       markLagging(k, changed);
     }
   }
-  if (coarseLagging() && (dirty.empty() || ++updates_since_settle_ >= kCoarseSettleUpdates))
-    DS_TRY_STATUS(settleCoarse(volume));
+  // At most one copy catches up per update, so that no frame pays for all of them: the one that
+  // has lagged longest, once it has for kCoarseSettleUpdates updates or nothing was cut.
+  uint32_t oldest = 0;
+  for (uint32_t k = 1; k < copies_.size(); ++k)
+    if (!copies_[k].pending.empty() && (oldest == 0 || copies_[k].pending_since < copies_[oldest].pending_since))
+      oldest = k;
+  if (oldest != 0 && (dirty.empty() || updates_ - copies_[oldest].pending_since >= kCoarseSettleUpdates))
+    DS_TRY_STATUS(settleCopy(volume, oldest));
   if (stats) *stats = total;
   return Ok{};
 }

@@ -7,8 +7,8 @@
 //
 // Keeping the copies up to date. A cut re-meshes the full copy at once. The coarse copies' voxels
 // follow at once too (a brick average is cheap), but their surfaces are re-meshed only every few
-// updates or when nothing was cut: until then the regions they lag in are flagged, and the renderer
-// draws those from the full copy. So a cut never shows stale, and drilling pays little for copies
+// updates or when nothing was cut, one copy per update: until then the regions a copy lags in are
+// flagged, and the renderer draws those from a finer copy. So a cut never shows stale, and drilling pays little for copies
 // it does not see.
 #pragma once
 
@@ -66,8 +66,8 @@ class ToothSurfaces {
   double progress() const;
 
   // Re-meshes what `dirty` bricks touch in the full copy, and brings the coarse copies' voxels up
-  // to date; their surfaces follow every kCoarseSettleUpdates updates, or on an update with nothing
-  // dirty. After setNormalMode changed the mode it rebuilds instead. Errors: no build yet, a
+  // to date; their surfaces follow one copy per update, once it has lagged kCoarseSettleUpdates
+  // updates or on an update with nothing dirty. After setNormalMode changed the mode it rebuilds instead. Errors: no build yet, a
   // Vulkan failure.
   Status update(const BrickVolume& volume, std::span<const BrickCoord> dirty, gpu::SurfaceUpdateStats* stats = nullptr);
   // Takes a new normal mode; the next update() rebuilds with it.
@@ -81,8 +81,9 @@ class ToothSurfaces {
   bool coarseLagging() const;
   // The surface of kDrawnTissues[i] in copy k; what the renderer binds.
   gpu::GpuSurface& surface(size_t i, uint32_t k = 0) const { return *copies_[k].surfaces[i]; }
-  // Per region (render/tooth_lod.h), 1 where a coarse copy lags behind a cut: drawn from the full copy.
-  std::span<const uint8_t> laggingRegions() const { return lagging_; }
+  // Per copy, per region (render/tooth_lod.h), 1 where the copy lags behind a cut: the region is
+  // drawn from a finer copy there. Copy 0's list is empty.
+  std::span<const std::vector<uint8_t>> laggingRegions() const { return lagging_; }
   // Per copy, per region, 1 where the copy is meshed; empty when every copy is whole.
   std::span<const std::vector<uint8_t>> readyRegions() const;
   // Per copy, per region, how far the copy's surface lies from the full one [full voxels]
@@ -94,6 +95,7 @@ class ToothSurfaces {
     std::array<std::unique_ptr<gpu::GpuSurface>, kDrawnTissues.size()> surfaces;
     BrickVolume volume;                  // the averaged voxels (copy 0 keeps none: it is the caller's)
     std::vector<BrickCoord> pending;     // coarse bricks changed since the surfaces were last meshed
+    uint64_t pending_since = 0;          // the update that found the first of them
   };
 
   ToothSurfaces() = default;
@@ -102,7 +104,7 @@ class ToothSurfaces {
   // The coarse copies' voxels, and the surfaces of copies `from` .. coarsest whole; the others left.
   Status buildCoarse(const BrickVolume& volume, uint32_t from);
   void markReady(uint32_t k);
-  Status settleCoarse(const BrickVolume& volume);
+  Status settleCopy(const BrickVolume& volume, uint32_t k);  // copy k's surfaces catch up with its voxels
   void markLagging(uint32_t k, std::span<const BrickCoord> bricks);
 
   gpu::Context* ctx_ = nullptr;
@@ -114,8 +116,8 @@ class ToothSurfaces {
   bool mode_changed_ = false;  // the next update() rebuilds
   bool built_ = false;
   uint32_t region_dim_ = 0;
-  std::vector<uint8_t> lagging_;
-  uint32_t updates_since_settle_ = 0;
+  std::vector<std::vector<uint8_t>> lagging_;  // per copy, per region
+  uint64_t updates_ = 0;                        // update() calls so far
   // A build in parts: the candidate blocks of one copy in one region, still to mesh.
   struct PendingRegion {
     uint32_t copy = 0;

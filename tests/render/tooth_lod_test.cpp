@@ -115,14 +115,17 @@ TEST(LodChoiceTest, RegionsOutsideTheViewAreNotDrawn) {
 
 TEST(LodChoiceTest, LaggingAndUnmeshedRegionsFallBack) {
   ChoiceScene s(500.0f);
-  std::vector<uint8_t> lagging(512, 0);
-  lagging[ChoiceScene::index(1, 2, 3)] = 1;
+  std::vector<std::vector<uint8_t>> lagging(3, std::vector<uint8_t>(512, 0));
+  lagging[2][ChoiceScene::index(1, 2, 3)] = 1;  // copy 2 lags: the next finer one
+  lagging[2][ChoiceScene::index(2, 2, 3)] = 1;  // copies 2 and 1 lag: the full one
+  lagging[1][ChoiceScene::index(2, 2, 3)] = 1;
   std::vector<std::vector<uint8_t>> ready(3, std::vector<uint8_t>(512, 1));
   ready[2][ChoiceScene::index(5, 5, 5)] = 0;  // the coarsest copy not there: the next finer one
   ready[2][ChoiceScene::index(6, 6, 6)] = 0;
   ready[1][ChoiceScene::index(6, 6, 6)] = 0;  // nor the next: the full one
-  const LodChoice c = chooseLod(s.frame, 2, s.view, LodSettings{}, LodRegions{lagging, ready, {}});
-  EXPECT_EQ(c.at(1, 2, 3), 0u);
+  const LodChoice c = chooseLod(s.frame, 2, s.view, LodSettings{}, LodRegions{ready, lagging, {}});
+  EXPECT_EQ(c.at(1, 2, 3), 1u);
+  EXPECT_EQ(c.at(2, 2, 3), 0u);
   EXPECT_EQ(c.at(5, 5, 5), 1u);
   EXPECT_EQ(c.at(6, 6, 6), 0u);
   EXPECT_EQ(c.at(0, 0, 0), 2u);
@@ -248,12 +251,22 @@ TEST_F(ToothLodTest, CoarseCopiesLagACutUntilTheySettleThenEqualFreshBuilds) {
   EXPECT_TRUE(sameBlocks(blocksOf(t, 1), before));
   const uint32_t rd = lodRegionDim(v.brickDim());
   const uint32_t r = uint32_t(c) / 32u, rz = uint32_t(crownTop(v)) / 32u;
-  EXPECT_EQ(t.laggingRegions()[(size_t(rz) * rd + r) * rd + r], 1u);
-  EXPECT_EQ(t.laggingRegions()[0], 0u);
-  // Nothing cut in the next update: they catch up and equal surfaces built afresh from the copies.
+  for (uint32_t k = 1; k < t.copies(); ++k) {
+    EXPECT_EQ(t.laggingRegions()[k][(size_t(rz) * rd + r) * rd + r], 1u) << k;
+    EXPECT_EQ(t.laggingRegions()[k][0], 0u) << k;
+  }
+  EXPECT_TRUE(t.laggingRegions()[0].empty());
+  // Nothing cut in the next updates: one copy catches up per update, then all equal surfaces built
+  // afresh from the copies.
+  ASSERT_TRUE(t.update(v, {}).ok());
+  EXPECT_TRUE(t.coarseLagging());
+  EXPECT_EQ(t.laggingRegions()[1][(size_t(rz) * rd + r) * rd + r], 0u);
+  EXPECT_EQ(t.laggingRegions()[2][(size_t(rz) * rd + r) * rd + r], 1u);
+  ASSERT_TRUE(t.update(v, {}).ok());
   ASSERT_TRUE(t.update(v, {}).ok());
   EXPECT_FALSE(t.coarseLagging());
-  for (uint8_t flag : t.laggingRegions()) ASSERT_EQ(flag, 0u);
+  for (uint32_t k = 1; k < t.copies(); ++k)
+    for (uint8_t flag : t.laggingRegions()[k]) ASSERT_EQ(flag, 0u);
   ToothSurfaces fresh = surfaces();
   ASSERT_TRUE(fresh.build(v).ok());
   for (uint32_t k = 0; k < t.copies(); ++k) EXPECT_TRUE(sameBlocks(blocksOf(t, k), blocksOf(fresh, k))) << "copy " << k;
