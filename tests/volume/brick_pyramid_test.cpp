@@ -21,11 +21,12 @@ BrickVolume mixedVolume(uint32_t seed) {
     for (uint32_t y = 20; y < 100; ++y)
       for (uint32_t x = 20; x < 100; ++x) {
         const double d = std::sqrt((x - 60.0) * (x - 60.0) + (y - 62.0) * (y - 62.0) + (z - 58.0) * (z - 58.0));
+        const long rim = std::lround((r + 1.0 - d) * 15.5);  // a tissue voxel's fill is 1..31
         if (d < r - 1.0) v.setVoxel(x, y, z, makeVoxel(Material::Enamel));
-        else if (d < r + 1.0) v.setVoxel(x, y, z, makeVoxel(Material::Enamel, uint32_t(std::lround((r + 1.0 - d) * 15.5))));
+        else if (d < r + 1.0 && rim > 0) v.setVoxel(x, y, z, makeVoxel(Material::Enamel, uint32_t(rim)));
       }
   test::setBox(v, {50, 50, 50}, {70, 66, 61}, makeVoxel(Material::Pulp));
-  std::uniform_int_distribution<uint32_t> coord(0, 127), fill(0, 31), mat(1, 4);
+  std::uniform_int_distribution<uint32_t> coord(0, 127), fill(1, 31), mat(1, 4);
   for (int i = 0; i < 3000; ++i) v.setVoxel(coord(rng), coord(rng), coord(rng), makeVoxel(Material(mat(rng)), fill(rng)));
   return v;
 }
@@ -84,7 +85,7 @@ TEST(BrickPyramidTest, UpdatingTheChangedBricksEqualsANewCopy) {
   BrickVolume fine = mixedVolume(11);
   std::array<BrickVolume, 3> coarse{downsampleVolume(fine, 1), downsampleVolume(fine, 2), downsampleVolume(fine, 3)};
   std::mt19937 rng(5);
-  std::uniform_int_distribution<uint32_t> corner(0, 120), size(1, 7), fill(0, 31), mat(0, 4);
+  std::uniform_int_distribution<uint32_t> corner(0, 120), size(1, 7), fill(1, 31), mat(0, 4);
   for (int round = 0; round < 20; ++round) {
     // A drill's worth of change: a small box set to one voxel value, and the bricks it touched.
     const std::array<uint32_t, 3> lo{corner(rng), corner(rng), corner(rng)};
