@@ -115,6 +115,8 @@ struct GpuSurface::State {
   // Meshes `to_mesh`, publishes the draws and the statistics of the round begun at t0.
   Status finishRound(const BrickVolume& vol, const std::vector<MeshBlock>& to_mesh, SurfaceUpdateStats& stats,
                      Clock::time_point t0, SurfaceUpdateStats* stats_out);
+  // Errors for a call that needs the volume last built or cleared: none yet, or another level.
+  Status checkSameVolume(const BrickVolume& vol, const char* call) const;
   // Meshes those of `candidates` that can hold surface and frees the rest, then finishRound.
   Status meshCandidates(const BrickVolume& vol, std::span<const MeshBlock> candidates, SurfaceUpdateStats& stats,
                         Clock::time_point t0, SurfaceUpdateStats* stats_out);
@@ -539,29 +541,25 @@ Result<GpuSurface> GpuSurface::create(Context& ctx, const GpuSurfaceOptions& opt
 
 Status GpuSurface::build(const BrickVolume& volume, SurfaceUpdateStats* stats_out) {
   State& s = *state_;
-  if (volume.level() > 12)
-    return makeError("gpu surface", "level " + std::to_string(volume.level()) + " is over 12, the most a mesh block can address");
   SurfaceUpdateStats stats;
   stats.timestamps = s.stamps.has_value();
   const auto t0 = Clock::now();
-  s.slots.clear();
-  s.pages.clear();
-  if (s.mesher == MesherKind::Gpu) {
-    if (auto u = s.uploadMirror(volume); !u) return u;
-    stats.upload_ms = msSince(t0);
-  } else {
-    s.level = volume.level();  // the CPU mesher reads the host's bricks: no mirror, no upload
-  }
-  const std::vector<MeshBlock> to_mesh = activeMeshBlocks(volume, s.options.tissue);
-  return s.finishRound(volume, to_mesh, stats, t0, stats_out);
+  if (auto c = clear(volume); !c) return c;
+  if (s.mesher == MesherKind::Gpu) stats.upload_ms = msSince(t0);
+  return s.finishRound(volume, activeMeshBlocks(volume, s.options.tissue), stats, t0, stats_out);
+}
+
+Status GpuSurface::State::checkSameVolume(const BrickVolume& vol, const char* call) const {
+  if (level < 0) return makeError("gpu surface", std::string(call) + " before build");
+  if (vol.level() != level)
+    return makeError("gpu surface", std::string(call) + " of a level-" + std::to_string(vol.level()) +
+                                        " volume on a level-" + std::to_string(level) + " surface; build again");
+  return Ok{};
 }
 
 Status GpuSurface::update(const BrickVolume& volume, std::span<const BrickCoord> dirty, SurfaceUpdateStats* stats_out) {
   State& s = *state_;
-  if (s.level < 0) return makeError("gpu surface", "update before build");
-  if (volume.level() != s.level)
-    return makeError("gpu surface", "update of a level-" + std::to_string(volume.level()) + " volume on a level-" +
-                                        std::to_string(s.level) + " surface; build again");
+  if (auto same = s.checkSameVolume(volume, "update"); !same) return same;
   SurfaceUpdateStats stats;
   stats.timestamps = s.stamps.has_value();
   stats.dirty_bricks = uint32_t(dirty.size());
@@ -591,10 +589,7 @@ Status GpuSurface::clear(const BrickVolume& volume) {
 
 Status GpuSurface::meshBlocks(const BrickVolume& volume, std::span<const MeshBlock> blocks, SurfaceUpdateStats* stats_out) {
   State& s = *state_;
-  if (s.level < 0) return makeError("gpu surface", "blocks meshed before the volume was uploaded");
-  if (volume.level() != s.level)
-    return makeError("gpu surface", "blocks of a level-" + std::to_string(volume.level()) + " volume on a level-" +
-                                        std::to_string(s.level) + " surface");
+  if (auto same = s.checkSameVolume(volume, "meshBlocks"); !same) return same;
   SurfaceUpdateStats stats;
   stats.timestamps = s.stamps.has_value();
   return s.meshCandidates(volume, blocks, stats, Clock::now(), stats_out);
