@@ -227,7 +227,7 @@ void measureCopyError(const BrickVolume& full, const BrickVolume& coarse, uint32
     return (size_t(std::min(z / region_bricks, rd - 1)) * rd + std::min(y / region_bricks, rd - 1)) * rd +
            std::min(x / region_bricks, rd - 1);
   };
-  coarse.forEachBrick([&](const BrickView& b) {
+  const auto visit = [&](const BrickView& b) {
     // Only bricks over a measured region: a coarse brick covers f^3 full bricks, in one region or
     // (f above the region's side) several.
     bool any = false;
@@ -314,7 +314,32 @@ void measureCopyError(const BrickVolume& full, const BrickVolume& coarse, uint32
             ++count[r];
           }
         }
-  });
+  };
+  if (only.empty()) {
+    coarse.forEachBrick(visit);
+  } else {
+    // Only the coarse bricks over flagged regions: a settle after a cut measures a few regions, and
+    // walking every brick of the copy for them would cost more than the measuring.
+    const uint32_t cbd = coarse.brickDim();
+    std::vector<uint8_t> seen(size_t(cbd) * cbd * cbd, 0);
+    for (size_t r = 0; r < regions; ++r) {
+      if (!only[r]) continue;
+      const uint32_t at[3] = {uint32_t(r % rd), uint32_t(r / rd % rd), uint32_t(r / rd / rd)};
+      uint32_t lo[3], hi[3];
+      for (int a = 0; a < 3; ++a) {
+        lo[a] = at[a] * region_bricks / f;
+        hi[a] = std::min(cbd, ((at[a] + 1) * region_bricks + f - 1) / f);
+      }
+      for (uint32_t z = lo[2]; z < hi[2]; ++z)
+        for (uint32_t y = lo[1]; y < hi[1]; ++y)
+          for (uint32_t x = lo[0]; x < hi[0]; ++x) {
+            uint8_t& mark = seen[(size_t(z) * cbd + y) * cbd + x];
+            if (mark) continue;
+            mark = 1;
+            visit(coarse.brick({x, y, z}));
+          }
+    }
+  }
   for (size_t r = 0; r < regions; ++r)
     if (measured(r))
       error[r] = std::max(lost[r], count[r] ? float(std::sqrt(sum2[r] / double(count[r]))) : 0.0f);

@@ -144,6 +144,10 @@ TEST(CopyErrorTest, AFaceBetweenTheCopysVoxelsIsOffByAHandCountedSixteenth) {
   measureCopyError(full, coarse, 1, 4, {}, error);
   for (uint32_t z = 0; z < 4; ++z)
     for (uint32_t i = 0; i < 16; ++i) EXPECT_FLOAT_EQ(error[z * 16 + i], z == 3 ? 0.0625f : 0.0f) << z;
+  // Every region flagged walks only the bricks over flagged regions, and must give the same errors.
+  std::vector<float> flagged(64, 9.0f);
+  measureCopyError(full, coarse, 1, 4, std::vector<uint8_t>(64, 1), flagged);
+  EXPECT_EQ(flagged, error);
   // Measuring again only region 0 keeps the others as they were.
   std::vector<uint8_t> only(64, 0);
   only[0] = 1;
