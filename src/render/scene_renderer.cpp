@@ -159,7 +159,7 @@ struct SceneRenderer::State {
 
   // Draws the opaque or the translucent tissues; with a choice, each copy's blocks where it says.
   void drawTooth(VkCommandBuffer cmd, const ToothSurfaces& tooth, const FrameState& frame, bool translucent, bool flip,
-                 const LodChoice* choice, uint64_t& triangles, uint64_t& blocks);
+                 const LodChoice* choice, uint64_t& triangles);
   void drawTool(VkCommandBuffer cmd, const ToolMesh& mesh, VkPipeline pipe, const glm::mat4& model, const TissueLook& look);
   void drawTools(VkCommandBuffer cmd, const FrameState& frame, bool with_mirror, bool flip);
   void drawGhost(VkCommandBuffer cmd, const FrameState& frame, bool with_mirror, bool flip);
@@ -723,8 +723,7 @@ void SceneRenderer::forgetTargets() {
 // ==== 5. recording ===================================================================================
 
 void SceneRenderer::State::drawTooth(VkCommandBuffer cmd, const ToothSurfaces& tooth, const FrameState& frame,
-                                     bool translucent, bool flip, const LodChoice* choice, uint64_t& triangles,
-                                     uint64_t& blocks) {
+                                     bool translucent, bool flip, const LodChoice* choice, uint64_t& triangles) {
   const VolumeFrame& vf = frame.tooth_frame;
   const uint32_t copies = choice ? tooth.copies() : 1u;
   // Records one tissue's draws of every copy with `pipe`; counts them when `count`.
@@ -756,10 +755,7 @@ void SceneRenderer::State::drawTooth(VkCommandBuffer cmd, const ToothSurfaces& t
           if (!r.index_count) continue;
           if (choice && !choice->drawsBlock(k, MeshBlock::unpack(r.first_instance))) continue;
           vkCmdDrawIndexed(cmd, r.index_count, 1, r.first_index, r.vertex_offset, 0);
-          if (count) {
-            triangles += r.index_count / 3u;
-            ++blocks;
-          }
+          if (count) triangles += r.index_count / 3u;
         }
       }
     }
@@ -916,11 +912,10 @@ Status SceneRenderer::recordFrame(VkCommandBuffer cmd, const RenderImage& target
     begin(s.mirror_pass, s.mirror_framebuffer, s.mirror_colour->extent(), s.mirror_frame_set);
     std::optional<LodChoice> choice;
     if (lod) choice = choose(mirror_view, s.mirror_colour->extent());
-    uint64_t blocks = 0;
     const LodChoice* c = choice ? &*choice : nullptr;
-    if (draw_tooth) s.drawTooth(cmd, tooth, frame, false, flip, c, s.tooth_stats.mirror_triangles, blocks);
+    if (draw_tooth) s.drawTooth(cmd, tooth, frame, false, flip, c, s.tooth_stats.mirror_triangles);
     s.drawTools(cmd, frame, false, flip);
-    if (draw_tooth) s.drawTooth(cmd, tooth, frame, true, flip, c, s.tooth_stats.mirror_triangles, blocks);
+    if (draw_tooth) s.drawTooth(cmd, tooth, frame, true, flip, c, s.tooth_stats.mirror_triangles);
     s.drawGhost(cmd, frame, false, flip);
     vkCmdEndRenderPass(cmd);
   }
@@ -937,7 +932,7 @@ Status SceneRenderer::recordFrame(VkCommandBuffer cmd, const RenderImage& target
   }
   const LodChoice* main_choice = choice ? &*choice : nullptr;
   if (draw_tooth)
-    s.drawTooth(cmd, tooth, frame, false, flip, main_choice, s.tooth_stats.main_triangles, s.tooth_stats.main_blocks);
+    s.drawTooth(cmd, tooth, frame, false, flip, main_choice, s.tooth_stats.main_triangles);
   s.drawTools(cmd, frame, true, flip);
   if (mirror_pass) {
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, s.pipeline_layout, DS_RENDER_SET_TEXTURE, 1,
@@ -945,7 +940,7 @@ Status SceneRenderer::recordFrame(VkCommandBuffer cmd, const RenderImage& target
     s.drawTool(cmd, s.glass, s.pipes.glass[flip ? 1 : 0], toGlm(frame.mirror), s.options.mirror_rim);
   }
   if (draw_tooth)
-    s.drawTooth(cmd, tooth, frame, true, flip, main_choice, s.tooth_stats.main_triangles, s.tooth_stats.main_blocks);
+    s.drawTooth(cmd, tooth, frame, true, flip, main_choice, s.tooth_stats.main_triangles);
   s.drawGhost(cmd, frame, true, flip);
   if (frame.overlay_shown && s.overlay && frame.overlay_rect.width > 0 && frame.overlay_rect.height > 0) {
     const float w = float(target.extent.width), h = float(target.extent.height);

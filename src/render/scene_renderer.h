@@ -105,7 +105,6 @@ struct FrameState {
 struct ToothDrawStats {
   uint64_t main_triangles = 0;    // tooth triangles of the main pass (every tissue)
   uint64_t mirror_triangles = 0;  // of the mirror pass (0 when it did not run)
-  uint64_t main_blocks = 0;       // block draws of the main pass
   std::array<uint32_t, 4> main_regions{};  // regions of the main pass drawn from copy k (k < 4)
 };
 

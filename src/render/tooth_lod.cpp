@@ -49,7 +49,6 @@ LodChoice chooseLod(const VolumeFrame& full, uint32_t coarse_copies, const LodVi
   const std::span<const std::vector<uint8_t>> ready = regions.ready;
   LodChoice choice;
   choice.region_dim = lodRegionDim(uint32_t(full.dim() >> DS_BRICK_LOG2));
-  choice.coarse_copies = coarse_copies;
   const uint32_t rd = choice.region_dim;
   choice.copy.assign(size_t(rd) * rd * rd, kLodHidden);
   const glm::mat4 view_proj = view.projection * view.view;

@@ -51,7 +51,6 @@ inline uint32_t lodRegionDim(uint32_t brick_dim) { return (brick_dim + kLodRegio
 // The copy each region is drawn from in one pass.
 struct LodChoice {
   uint32_t region_dim = 0;      // regions per side
-  uint32_t coarse_copies = 0;   // copies besides the full one
   std::vector<uint8_t> copy;    // per region (x fastest): 0 full, k the 2^k copy, kLodHidden not drawn
 
   uint8_t at(uint32_t x, uint32_t y, uint32_t z) const { return copy[(size_t(z) * region_dim + y) * region_dim + x]; }

@@ -134,7 +134,6 @@ TEST(LodChoiceTest, LaggingAndUnmeshedRegionsFallBack) {
 TEST(LodChoiceTest, BlocksReachOneVoxelIntoNeighbouringRegions) {
   LodChoice c;
   c.region_dim = 8;
-  c.coarse_copies = 2;
   c.copy.assign(512, 2);
   c.copy[ChoiceScene::index(3, 3, 3)] = 0;
   // Full block b spans voxels 8b - 0.5 .. 8b + 7.5, widened by 1: regions floor((8b - 1.5) / 32) to
