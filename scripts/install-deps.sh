@@ -15,6 +15,8 @@ packages=(
   xvfb xauth
   libgtest-dev libgmock-dev
   libnifti2-dev zlib1g-dev libzstd-dev libxxhash-dev
+  libgdcm-dev libgdcm-tools libteem-dev  # a scanner's DICOM series (GDCM) and NRRD volumes (Teem)
+  python3-pydicom python3-numpy          # an independent DICOM reader, and its sample files, for the tests
   libcli11-dev libstb-dev nlohmann-json3-dev libmeshoptimizer-dev
   chromium libcurl4-openssl-dev uuid-dev python3
 )

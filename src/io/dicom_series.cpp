@@ -1,0 +1,698 @@
+// Reading DICOM series through GDCM into a GreyImage (headers first, then pixels into their place), and writing one back.
+//
+// Contents
+//   1. Header values as text, vectors and their checks
+//   2. One file's header (SliceHeader)
+//   3. Pixels of one file into floats
+//   4. readDicomFile
+//   5. readDicomSeries: group, check, sort, place
+//   6. writeDicomSeries
+#include "io/dicom_series.h"
+
+#include <gdcmDataElement.h>
+#include <gdcmDataSet.h>
+#include <gdcmExplicitDataElement.h>
+#include <gdcmImplicitDataElement.h>
+#include <gdcmDirectory.h>
+#include <gdcmFile.h>
+#include <gdcmImage.h>
+#include <gdcmImageReader.h>
+#include <gdcmMediaStorage.h>
+#include <gdcmPixelFormat.h>
+#include <gdcmReader.h>
+#include <gdcmStringFilter.h>
+#include <gdcmTrace.h>
+#include <gdcmTransferSyntax.h>
+#include <gdcmUIDGenerator.h>
+#include <gdcmUIDs.h>
+#include <gdcmWriter.h>
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <functional>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <random>
+#include <sstream>
+
+#include "io/atomic_file.h"
+
+namespace dentsim {
+namespace {
+
+namespace fs = std::filesystem;
+using Vec = std::array<double, 3>;
+
+// GDCM reports problems on std::cerr by default; dentsim's errors are its own one-line messages.
+void quietGdcm() {
+  static const bool once = [] {
+    gdcm::Trace::SetDebug(false);
+    gdcm::Trace::SetWarning(false);
+    gdcm::Trace::SetError(false);
+    return true;
+  }();
+  (void)once;
+}
+
+// GDCM as Debian builds it keeps its assertions, and some damaged files reach one (a file meta
+// header cut short aborts inside GDCM). A damaged file must be a line, not a crash, so every read
+// runs first in a child process: if the child dies, the file it was on is named; if it lives, the
+// same read runs here. The price is reading the headers and pixels twice.
+char* g_current_file = nullptr;  // shared with the parent; set only in the checking child
+constexpr size_t kCurrentFileBytes = 4096;
+
+void noteFile(const std::string& path) {
+  if (!g_current_file) return;
+  const size_t n = std::min(path.size(), kCurrentFileBytes - 1);
+  std::memcpy(g_current_file, path.data(), n);
+  g_current_file[n] = '\0';
+}
+
+Status survivesInChild(const std::string& where, const std::function<void()>& work) {
+  void* shared = ::mmap(nullptr, kCurrentFileBytes, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+  if (shared == MAP_FAILED) return Ok{};  // no check possible: read unguarded
+  auto* current = static_cast<char*>(shared);
+  std::snprintf(current, kCurrentFileBytes, "%s", where.c_str());
+  std::fflush(nullptr);
+  const pid_t child = ::fork();
+  if (child == 0) {
+    g_current_file = current;
+    // GDCM's assertion text is not the user's business: the parent prints the one line.
+    if (const int null_fd = ::open("/dev/null", O_WRONLY); null_fd >= 0) ::dup2(null_fd, STDERR_FILENO);
+    work();
+    ::_exit(0);
+  }
+  int status = 0;
+  bool died = false;
+  if (child > 0) {
+    while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
+    }
+    died = !(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  }
+  const std::string file(current);
+  ::munmap(shared, kCurrentFileBytes);
+  if (!died) return Ok{};
+  const std::string how = WIFSIGNALED(status) ? "signal " + std::to_string(WTERMSIG(status))
+                                              : "exit code " + std::to_string(WEXITSTATUS(status));
+  return makeError(file, "truncated or damaged DICOM file: GDCM stops on it (" + how + ")");
+}
+
+// ---- 1. Header values ------------------------------------------------------------------------
+const gdcm::Tag kRows(0x0028, 0x0010), kColumns(0x0028, 0x0011), kPixelSpacing(0x0028, 0x0030),
+    kPosition(0x0020, 0x0032), kOrientation(0x0020, 0x0037), kSeriesUid(0x0020, 0x000e),
+    kModality(0x0008, 0x0060), kManufacturer(0x0008, 0x0070), kModel(0x0008, 0x1090),
+    kDescription(0x0008, 0x103e), kRescaleType(0x0028, 0x1054), kFrames(0x0028, 0x0008),
+    kGantryTilt(0x0018, 0x1120), kSamples(0x0028, 0x0002), kSliceThickness(0x0018, 0x0050),
+    kPixelData(0x7fe0, 0x0010);
+
+std::string trimmed(std::string s) {
+  const auto keep = [](char c) { return c != ' ' && c != '\0' && c != '\r' && c != '\n' && c != '\t'; };
+  s.erase(s.begin(), std::find_if(s.begin(), s.end(), keep));
+  s.erase(std::find_if(s.rbegin(), s.rend(), keep).base(), s.end());
+  return s;
+}
+
+// A header value as text, or empty when the element is missing.
+std::string text(const gdcm::File& file, const gdcm::Tag& tag) {
+  if (!file.GetDataSet().FindDataElement(tag)) return {};
+  gdcm::StringFilter sf;
+  sf.SetFile(file);
+  return trimmed(sf.ToString(tag));
+}
+
+// Backslash-separated decimal numbers; false unless there are exactly `n`, all finite.
+bool numbers(const std::string& s, size_t n, double* out) {
+  std::stringstream in(s);
+  std::string item;
+  size_t count = 0;
+  while (std::getline(in, item, '\\')) {
+    if (count == n) return false;
+    item = trimmed(item);
+    char* end = nullptr;
+    const double v = std::strtod(item.c_str(), &end);
+    if (item.empty() || end != item.c_str() + item.size() || !std::isfinite(v)) return false;
+    out[count++] = v;
+  }
+  return count == n;
+}
+
+Vec cross(const Vec& a, const Vec& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+double dot(const Vec& a, const Vec& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+double norm(const Vec& a) { return std::sqrt(dot(a, a)); }
+
+std::string mm(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return buf;
+}
+
+bool hasDicomPreamble(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[132] = {};
+  if (!in.read(head, sizeof head)) return false;
+  return std::memcmp(head + 128, "DICM", 4) == 0;
+}
+
+// ---- 2. SliceHeader --------------------------------------------------------------------------
+struct SliceHeader {
+  std::string path;
+  std::string series_uid, modality, manufacturer, model, description, rescale_type, transfer_syntax;
+  int32_t rows = 0, columns = 0, frames = 1, samples = 1;
+  std::array<double, 2> spacing{0, 0};  // between rows (along j), between columns (along i) [mm]
+  std::array<double, 6> orientation{1, 0, 0, 0, 1, 0};
+  Vec position{0, 0, 0};
+  bool has_position = false, has_orientation = false, has_spacing = false;
+  double gantry_tilt = 0.0;      // degrees
+  double slice_thickness = 0.0;  // [mm], 0 when absent
+};
+
+enum class HeaderKind { Image, NotImage, NotDicom };
+
+// Reads the header up to the pixel data. A file that claims DICOM and cannot be read is an error.
+Result<HeaderKind> readHeader(const std::string& path, SliceHeader& h) {
+  noteFile(path);
+  gdcm::Reader reader;
+  reader.SetFileName(path.c_str());
+  const bool dicom = hasDicomPreamble(path);
+  if (!reader.ReadUpToTag(kPixelData)) {
+    if (dicom) return makeError(path, "truncated or damaged DICOM file (its header cannot be read)");
+    return HeaderKind::NotDicom;
+  }
+  const gdcm::File& f = reader.GetFile();
+  h.path = path;
+  const std::string rows = text(f, kRows), columns = text(f, kColumns);
+  if (rows.empty() || columns.empty()) return HeaderKind::NotImage;
+  double v[6];
+  if (!numbers(rows, 1, v) || v[0] < 1 || v[0] > 65535) return makeError(path, "Rows is not a valid size: '" + rows + "'");
+  h.rows = int32_t(v[0]);
+  if (!numbers(columns, 1, v) || v[0] < 1 || v[0] > 65535)
+    return makeError(path, "Columns is not a valid size: '" + columns + "'");
+  h.columns = int32_t(v[0]);
+  if (const std::string s = text(f, kFrames); !s.empty()) {
+    if (!numbers(s, 1, v) || v[0] < 1 || v[0] > 65535) return makeError(path, "Number of Frames is not valid: '" + s + "'");
+    h.frames = int32_t(v[0]);
+  }
+  if (const std::string s = text(f, kSamples); !s.empty() && numbers(s, 1, v)) h.samples = int32_t(v[0]);
+  if (const std::string s = text(f, kPixelSpacing); !s.empty()) {
+    if (!numbers(s, 2, v) || !(v[0] > 0) || !(v[1] > 0))
+      return makeError(path, "Pixel Spacing is not two positive numbers: '" + s + "'");
+    h.spacing = {v[0], v[1]};
+    h.has_spacing = true;
+  }
+  if (const std::string s = text(f, kOrientation); !s.empty()) {
+    if (!numbers(s, 6, v)) return makeError(path, "Image Orientation (Patient) is not six numbers: '" + s + "'");
+    std::copy(v, v + 6, h.orientation.begin());
+    const Vec r{v[0], v[1], v[2]}, c{v[3], v[4], v[5]};
+    if (std::fabs(norm(r) - 1) > 1e-3 || std::fabs(norm(c) - 1) > 1e-3 || std::fabs(dot(r, c)) > 1e-3)
+      return makeError(path, "Image Orientation (Patient) is not two perpendicular unit vectors: '" + s + "'");
+    h.has_orientation = true;
+  }
+  if (const std::string s = text(f, kPosition); !s.empty()) {
+    if (!numbers(s, 3, v)) return makeError(path, "Image Position (Patient) is not three numbers: '" + s + "'");
+    h.position = {v[0], v[1], v[2]};
+    h.has_position = true;
+  }
+  if (const std::string s = text(f, kGantryTilt); !s.empty() && numbers(s, 1, v)) h.gantry_tilt = v[0];
+  if (const std::string s = text(f, kSliceThickness); !s.empty() && numbers(s, 1, v) && v[0] > 0) h.slice_thickness = v[0];
+  h.series_uid = text(f, kSeriesUid);
+  h.modality = text(f, kModality);
+  h.manufacturer = text(f, kManufacturer);
+  h.model = text(f, kModel);
+  h.description = text(f, kDescription);
+  h.rescale_type = text(f, kRescaleType);
+  const gdcm::TransferSyntax ts = f.GetHeader().GetDataSetTransferSyntax();
+  const char* ts_uid = gdcm::TransferSyntax::GetTSString(ts);
+  gdcm::UIDs uid;
+  h.transfer_syntax = ts_uid && uid.SetFromUID(ts_uid) && uid.GetName() ? std::string(uid.GetName()) + " " + ts_uid
+                                                                         : std::string(ts_uid ? ts_uid : "unknown");
+  return HeaderKind::Image;
+}
+
+GreyUnit unitOf(const SliceHeader& h) {
+  if (!h.rescale_type.empty()) return h.rescale_type == "HU" ? GreyUnit::Hounsfield : GreyUnit::Raw;
+  return h.modality == "CT" ? GreyUnit::Hounsfield : GreyUnit::Raw;
+}
+
+// ---- 3. Pixels -------------------------------------------------------------------------------
+template <class T>
+void toFloats(const char* bytes, size_t count, int bits_stored, bool is_signed, double slope, double intercept,
+              float* out) {
+  const bool mask = std::is_integral_v<T> && bits_stored > 0 && bits_stored < int(8 * sizeof(T));
+  for (size_t n = 0; n < count; ++n) {
+    T raw;
+    std::memcpy(&raw, bytes + n * sizeof(T), sizeof(T));
+    double value = double(raw);
+    if constexpr (std::is_integral_v<T>) {
+      if (mask) {
+        // Bits above Bits Stored may hold overlays; the stored value is the low bits, sign-extended.
+        const int64_t low = int64_t(uint64_t(std::make_unsigned_t<T>(raw)) & ((uint64_t{1} << bits_stored) - 1));
+        value = double(is_signed && (low >> (bits_stored - 1)) ? low - (int64_t{1} << bits_stored) : low);
+      }
+    }
+    out[n] = float(value * slope + intercept);
+  }
+}
+
+// Decodes every frame of `path` into `out` (rows * columns * frames floats), applying its rescale.
+Status decodePixels(const std::string& path, const SliceHeader& h, float* out, DicomSeriesInfo* info) {
+  noteFile(path);
+  gdcm::ImageReader reader;
+  reader.SetFileName(path.c_str());
+  if (!reader.Read()) return makeError(path, "truncated or damaged DICOM file (its pixel data cannot be read)");
+  const gdcm::Image& image = reader.GetImage();
+  const gdcm::PixelFormat pf = image.GetPixelFormat();
+  if (pf.GetSamplesPerPixel() != 1)
+    return makeError(path, "a colour image (" + std::to_string(pf.GetSamplesPerPixel()) + " samples a pixel), not a scan");
+  const uint32_t frames = image.GetNumberOfDimensions() >= 3 ? image.GetDimension(2) : 1;
+  if (int32_t(image.GetDimension(0)) != h.columns || int32_t(image.GetDimension(1)) != h.rows ||
+      int32_t(frames) != h.frames)
+    return makeError(path, "the pixel data's size differs from its header");
+  const size_t count = size_t(h.columns) * size_t(h.rows) * frames;
+  const unsigned long length = image.GetBufferLength();
+  if (length != count * pf.GetPixelSize())
+    return makeError(path, "the pixel data holds " + std::to_string(length) + " bytes where " +
+                               std::to_string(count * pf.GetPixelSize()) + " are expected");
+  // A file shorter than its elements say is cut short, whatever GDCM pads the missing pixels with.
+  {
+    const gdcm::File& file = reader.GetFile();
+    const bool implicit = file.GetHeader().GetDataSetTransferSyntax().GetNegociatedType() == gdcm::TransferSyntax::Implicit;
+    const uint64_t body = implicit ? uint64_t(file.GetDataSet().GetLength<gdcm::ImplicitDataElement>())
+                                   : uint64_t(file.GetDataSet().GetLength<gdcm::ExplicitDataElement>());
+    const uint64_t meta = hasDicomPreamble(path) ? uint64_t(file.GetHeader().GetFullLength()) : 0;  // with the preamble
+    std::error_code ec;
+    const uint64_t size = fs::file_size(path, ec);
+    if (!ec && size < body + meta)
+      return makeError(path, "truncated: " + std::to_string(size) + " bytes where its elements need " +
+                                 std::to_string(body + meta));
+  }
+  std::vector<char> buffer(length);
+  if (!image.GetBuffer(buffer.data()))
+    return makeError(path, "cannot decode its pixel data (transfer syntax " + h.transfer_syntax +
+                               "): truncated, or a compression GDCM cannot read");
+  const int bits = pf.GetBitsStored();
+  const bool is_signed = pf.GetPixelRepresentation() == 1;
+  const double slope = image.GetSlope(), intercept = image.GetIntercept();
+  if (!std::isfinite(slope) || !std::isfinite(intercept) || slope == 0.0)
+    return makeError(path, "rescale slope and intercept are not usable numbers");
+  switch (pf.GetScalarType()) {
+    case gdcm::PixelFormat::UINT8: toFloats<uint8_t>(buffer.data(), count, bits, false, slope, intercept, out); break;
+    case gdcm::PixelFormat::INT8: toFloats<int8_t>(buffer.data(), count, bits, true, slope, intercept, out); break;
+    case gdcm::PixelFormat::UINT12:
+    case gdcm::PixelFormat::UINT16: toFloats<uint16_t>(buffer.data(), count, bits, false, slope, intercept, out); break;
+    case gdcm::PixelFormat::INT12:
+    case gdcm::PixelFormat::INT16: toFloats<int16_t>(buffer.data(), count, bits, is_signed, slope, intercept, out); break;
+    case gdcm::PixelFormat::UINT32: toFloats<uint32_t>(buffer.data(), count, bits, false, slope, intercept, out); break;
+    case gdcm::PixelFormat::INT32: toFloats<int32_t>(buffer.data(), count, bits, is_signed, slope, intercept, out); break;
+    case gdcm::PixelFormat::FLOAT32: toFloats<float>(buffer.data(), count, 0, true, slope, intercept, out); break;
+    default:
+      return makeError(path, std::string("pixel type ") + pf.GetScalarTypeAsString() + " is not a scan's grey value");
+  }
+  if (info) {
+    info->rescale_slope = slope;
+    info->rescale_intercept = intercept;
+    info->bits_stored = bits;
+    info->signed_pixels = is_signed;
+    info->transfer_syntax = h.transfer_syntax;
+  }
+  return Ok{};
+}
+
+Status checkBudget(const std::string& where, uint64_t voxels, uint64_t max_bytes) {
+  if (voxels > max_bytes / sizeof(float))
+    return makeError(where, limitExceeded("a volume of " + std::to_string(voxels) + " voxels as float", max_bytes));
+  return Ok{};
+}
+
+void copyDescription(const SliceHeader& h, GreyImage& image) {
+  image.unit = unitOf(h);
+  image.modality = h.modality;
+  image.manufacturer = h.manufacturer;
+  image.model = h.model;
+  image.description = h.description;
+}
+
+// The scanner matrix of a volume whose slices start at `origin` and step by `step` (a vector) [mm].
+std::array<double, 12> scannerMatrix(const SliceHeader& h, const Vec& origin, const Vec& step) {
+  const Vec r{h.orientation[0], h.orientation[1], h.orientation[2]};
+  const Vec c{h.orientation[3], h.orientation[4], h.orientation[5]};
+  std::array<double, 12> m{};
+  for (int row = 0; row < 3; ++row) {
+    m[4 * row + 0] = r[row] * h.spacing[1];  // along i: the distance between columns
+    m[4 * row + 1] = c[row] * h.spacing[0];  // along j: the distance between rows
+    m[4 * row + 2] = step[row];
+    m[4 * row + 3] = origin[row];
+  }
+  return m;
+}
+
+// ---- 4. readDicomFile ------------------------------------------------------------------------
+Result<GreyImage> readOneFile(const std::string& path, uint64_t max_bytes, DicomSeriesInfo* info) {
+  SliceHeader h;
+  Result<HeaderKind> kind = readHeader(path, h);
+  if (!kind) return kind.error();
+  if (*kind == HeaderKind::NotDicom) return makeError(path, "not a DICOM file");
+  if (*kind == HeaderKind::NotImage) return makeError(path, "a DICOM file without an image (no Rows and Columns)");
+  if (h.samples != 1) return makeError(path, "a colour image (" + std::to_string(h.samples) + " samples a pixel), not a scan");
+  const uint64_t voxels = uint64_t(h.rows) * uint64_t(h.columns) * uint64_t(h.frames);
+  if (Status s = checkBudget(path, voxels, max_bytes); !s) return s.error();
+  GreyImage image;
+  image.dims = {h.columns, h.rows, h.frames};
+  image.values.resize(voxels);
+  if (Status s = decodePixels(path, h, image.values.data(), info); !s) return s.error();
+  copyDescription(h, image);
+  if (!h.has_spacing) h.spacing = {1.0, 1.0};
+  // A multi-frame file's frames step along the normal by GDCM's spacing (from its functional groups
+  // or Spacing Between Slices); one slice is as thick as it says.
+  const Vec r{h.orientation[0], h.orientation[1], h.orientation[2]};
+  const Vec c{h.orientation[3], h.orientation[4], h.orientation[5]};
+  const Vec n = cross(r, c);
+  double dz = h.slice_thickness > 0 ? h.slice_thickness : 1.0;
+  if (h.frames > 1) {
+    gdcm::ImageReader reader;
+    reader.SetFileName(path.c_str());
+    if (reader.Read() && reader.GetImage().GetSpacing(2) > 0) dz = reader.GetImage().GetSpacing(2);
+  }
+  image.pitch_mm = {h.spacing[1], h.spacing[0], dz};
+  image.scanner_from_voxel = scannerMatrix(h, h.position, {n[0] * dz, n[1] * dz, n[2] * dz});
+  if (info) {
+    info->series_uid = h.series_uid;
+    info->files = 1;
+    info->slice_spacing_mm = dz;
+  }
+  return image;
+}
+
+// ---- 5. readDicomSeries ----------------------------------------------------------------------
+std::string seriesList(const std::map<std::string, std::vector<SliceHeader>>& groups) {
+  std::string list;
+  for (const auto& [uid, slices] : groups) {
+    if (!list.empty()) list += "; ";
+    list += (uid.empty() ? std::string("(no Series Instance UID)") : uid) + " with " + std::to_string(slices.size()) +
+            (slices.size() == 1 ? " file" : " files");
+    if (!slices.front().description.empty()) list += " '" + slices.front().description + "'";
+  }
+  return list;
+}
+
+// Every slice of a series must be cut from one grid.
+Status checkSameGrid(const std::string& where, const std::vector<SliceHeader>& slices) {
+  const SliceHeader& a = slices.front();
+  for (const SliceHeader& b : slices) {
+    if (b.rows != a.rows || b.columns != a.columns)
+      return makeError(where, "mixed series: " + fs::path(a.path).filename().string() + " is " +
+                                  std::to_string(a.columns) + " x " + std::to_string(a.rows) + " pixels but " +
+                                  fs::path(b.path).filename().string() + " is " + std::to_string(b.columns) + " x " +
+                                  std::to_string(b.rows));
+    if (b.has_spacing != a.has_spacing || std::fabs(b.spacing[0] - a.spacing[0]) > 1e-4 * a.spacing[0] ||
+        std::fabs(b.spacing[1] - a.spacing[1]) > 1e-4 * a.spacing[1])
+      return makeError(where, "mixed series: " + fs::path(b.path).filename().string() +
+                                  " has another pixel spacing than " + fs::path(a.path).filename().string());
+    for (int q = 0; q < 6; ++q)
+      if (std::fabs(b.orientation[q] - a.orientation[q]) > 1e-4)
+        return makeError(where, "mixed series: " + fs::path(b.path).filename().string() +
+                                    " is oriented differently from " + fs::path(a.path).filename().string());
+    if (b.frames != 1) return makeError(where, "mixed series: " + fs::path(b.path).filename().string() +
+                                                   " is a multi-frame file among single slices");
+    if (b.samples != 1) return makeError(b.path, "a colour image, not a scan");
+  }
+  return Ok{};
+}
+
+Result<GreyImage> readSeries(const std::string& path, const DicomReadOptions& options, Interrupter& interrupter,
+                             DicomSeriesInfo* info) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return makeError(path, "no such file or folder");
+  if (fs::is_regular_file(path, ec)) {
+    Result<GreyImage> one = readOneFile(path, options.max_bytes, info);
+    if (one && one->dims[2] < 2) return makeError(path, "one slice is not a volume; give the folder of the series");
+    return one;
+  }
+  if (!fs::is_directory(path, ec)) return makeError(path, "neither a folder of DICOM files nor a file");
+
+  gdcm::Directory dir;
+  dir.Load(path, true);
+  std::vector<std::string> files = dir.GetFilenames();
+  std::sort(files.begin(), files.end());
+  interrupter.start("reading DICOM headers");
+  std::map<std::string, std::vector<SliceHeader>> groups;
+  for (size_t n = 0; n < files.size(); ++n) {
+    SliceHeader h;
+    Result<HeaderKind> kind = readHeader(files[n], h);
+    if (!kind) return kind.error();
+    if (*kind != HeaderKind::Image) continue;
+    groups[h.series_uid].push_back(std::move(h));
+    if (!interrupter.progress(0.1 * double(n + 1) / double(files.size()))) return makeError(path, "cancelled");
+  }
+  if (groups.empty())
+    return makeError(path, files.empty() ? "the folder holds no files" : "no DICOM image among its " +
+                                                                             std::to_string(files.size()) + " files");
+  std::vector<SliceHeader>* chosen = nullptr;
+  if (!options.series_uid.empty()) {
+    auto it = groups.find(options.series_uid);
+    if (it == groups.end())
+      return makeError(path, "no series " + options.series_uid + " here; the folder holds " + seriesList(groups));
+    chosen = &it->second;
+  } else if (groups.size() > 1) {
+    return makeError(path, "mixed series: " + std::to_string(groups.size()) + " series in one folder (" +
+                               seriesList(groups) + "); pick one with --series UID");
+  } else {
+    chosen = &groups.begin()->second;
+  }
+  std::vector<SliceHeader>& slices = *chosen;
+  if (slices.size() == 1) {
+    if (slices.front().frames > 1) return readOneFile(slices.front().path, options.max_bytes, info);
+    return makeError(path, "one slice is not a volume (" + fs::path(slices.front().path).filename().string() + ")");
+  }
+  if (Status s = checkSameGrid(path, slices); !s) return s.error();
+  for (const SliceHeader& h : slices)
+    if (!h.has_position || !h.has_orientation)
+      return makeError(h.path, "no Image Position or Orientation (Patient): the slices cannot be ordered");
+  for (const SliceHeader& h : slices)
+    if (std::fabs(h.gantry_tilt) > 1e-3)
+      return makeError(h.path, "gantry tilt of " + mm(h.gantry_tilt) +
+                                   " degrees: the slices are sheared; reconstruct the scan without tilt");
+
+  // Order along the normal, then check that the steps are one spacing, straight along it.
+  const SliceHeader& first = slices.front();
+  const Vec n = cross({first.orientation[0], first.orientation[1], first.orientation[2]},
+                      {first.orientation[3], first.orientation[4], first.orientation[5]});
+  std::stable_sort(slices.begin(), slices.end(),
+                   [&n](const SliceHeader& a, const SliceHeader& b) { return dot(a.position, n) < dot(b.position, n); });
+  std::vector<double> steps;
+  for (size_t k = 1; k < slices.size(); ++k) {
+    const double step = dot(slices[k].position, n) - dot(slices[k - 1].position, n);
+    if (step < 1e-4)
+      return makeError(path, "two slices at one position: " + fs::path(slices[k - 1].path).filename().string() +
+                                 " and " + fs::path(slices[k].path).filename().string());
+    steps.push_back(step);
+  }
+  std::vector<double> sorted_steps = steps;
+  std::nth_element(sorted_steps.begin(), sorted_steps.begin() + std::ptrdiff_t(sorted_steps.size() / 2),
+                   sorted_steps.end());
+  const double spacing = sorted_steps[sorted_steps.size() / 2];
+  for (size_t k = 0; k < steps.size(); ++k) {
+    const std::string between =
+        fs::path(slices[k].path).filename().string() + " and " + fs::path(slices[k + 1].path).filename().string();
+    if (steps[k] > 1.5 * spacing) {
+      const long missing = std::lround(steps[k] / spacing) - 1;
+      return makeError(path, "missing slice: a gap of " + mm(steps[k]) + " mm between " + between + " where slices are " +
+                                 mm(spacing) + " mm apart (about " + std::to_string(std::max(1L, missing)) +
+                                 (missing == 1 ? " slice" : " slices") + " missing)");
+    }
+    if (std::fabs(steps[k] - spacing) > 0.1 * spacing)
+      return makeError(path, "unevenly spaced slices: " + mm(steps[k]) + " mm between " + between + " where most are " +
+                                 mm(spacing) + " mm apart");
+  }
+  const Vec span{slices.back().position[0] - first.position[0], slices.back().position[1] - first.position[1],
+                 slices.back().position[2] - first.position[2]};
+  const double along = dot(span, n);
+  const Vec across{span[0] - along * n[0], span[1] - along * n[1], span[2] - along * n[2]};
+  if (norm(across) > std::max(1e-3, 1e-3 * along)) {
+    const double degrees = std::atan2(norm(across), along) * 180.0 / std::numbers::pi;
+    return makeError(path, "gantry tilt: the slices shift " + mm(norm(across)) + " mm across their normal over the series (" +
+                               mm(degrees) + " degrees); reconstruct the scan without tilt");
+  }
+
+  const uint64_t plane = uint64_t(first.rows) * uint64_t(first.columns);
+  if (Status s = checkBudget(path, plane * slices.size(), options.max_bytes); !s) return s.error();
+  GreyImage image;
+  image.dims = {first.columns, first.rows, int32_t(slices.size())};
+  const double pitch_k = along / double(slices.size() - 1);
+  image.pitch_mm = {first.has_spacing ? first.spacing[1] : 1.0, first.has_spacing ? first.spacing[0] : 1.0, pitch_k};
+  SliceHeader geometry = first;
+  if (!geometry.has_spacing) geometry.spacing = {1.0, 1.0};
+  image.scanner_from_voxel = scannerMatrix(geometry, first.position, {n[0] * pitch_k, n[1] * pitch_k, n[2] * pitch_k});
+  copyDescription(first, image);
+  image.values.resize(plane * slices.size());
+  interrupter.start("reading DICOM slices");
+  DicomSeriesInfo local;
+  for (size_t k = 0; k < slices.size(); ++k) {
+    if (Status s = decodePixels(slices[k].path, slices[k], image.values.data() + k * plane, &local); !s)
+      return s.error();
+    if (!interrupter.progress(0.1 + 0.9 * double(k + 1) / double(slices.size()))) return makeError(path, "cancelled");
+  }
+  interrupter.end();
+  if (info) {
+    *info = local;
+    info->files_skipped = int32_t(files.size()) - int32_t(slices.size());  // not images, or another series
+    info->series_uid = first.series_uid;
+    info->files = int32_t(slices.size());
+    info->slice_spacing_mm = pitch_k;
+  }
+  return image;
+}
+
+}  // namespace
+
+Result<GreyImage> readDicomFile(const std::string& path, uint64_t max_bytes, DicomSeriesInfo* info) {
+  quietGdcm();
+  if (Status s = requireRegularFile(path); !s) return s.error();
+  if (Status s = survivesInChild(path, [&] { (void)readOneFile(path, max_bytes, nullptr); }); !s) return s.error();
+  return readOneFile(path, max_bytes, info);
+}
+
+Result<GreyImage> readDicomSeries(const std::string& path, const DicomReadOptions& options, Interrupter& interrupter,
+                                  DicomSeriesInfo* info) {
+  quietGdcm();
+  if (Status s = survivesInChild(path, [&] { (void)readSeries(path, options, nullInterrupter(), nullptr); }); !s)
+    return s.error();
+  return readSeries(path, options, interrupter, info);
+}
+
+// ---- 6. writeDicomSeries -----------------------------------------------------------------------
+namespace {
+
+void put(gdcm::DataSet& ds, uint16_t group, uint16_t element, const char* vr, std::string value) {
+  if (value.size() % 2 == 1) value += (std::string(vr) == "UI" ? '\0' : ' ');
+  gdcm::DataElement de(gdcm::Tag(group, element));
+  de.SetVR(gdcm::VR::GetVRType(vr));
+  de.SetByteValue(value.data(), uint32_t(value.size()));
+  ds.Replace(de);
+}
+
+void putUs(gdcm::DataSet& ds, uint16_t group, uint16_t element, uint16_t value) {
+  const char bytes[2] = {char(value & 0xff), char(value >> 8)};  // little endian, as the transfer syntax
+  gdcm::DataElement de(gdcm::Tag(group, element));
+  de.SetVR(gdcm::VR::US);
+  de.SetByteValue(bytes, 2);
+  ds.Replace(de);
+}
+
+// A decimal string of at most 16 characters (the DS limit), as precise as that allows.
+std::string decimal(double v) {
+  char buf[40];
+  for (int digits = 12; digits > 1; --digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+    if (std::strlen(buf) <= 16) break;
+  }
+  return buf;
+}
+
+std::string decimals(std::initializer_list<double> values) {
+  std::string s;
+  for (double v : values) s += (s.empty() ? "" : "\\") + decimal(v);
+  return s;
+}
+
+}  // namespace
+
+Result<std::vector<std::string>> writeDicomSeries(const std::string& dir, const GreyImage& image,
+                                                  const DicomWriteOptions& options) {
+  quietGdcm();
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !(fs::is_directory(dir, ec) && fs::is_empty(dir, ec)))
+    return makeError(dir, "not an empty folder; the series is written into a new or empty one");
+  fs::create_directories(dir, ec);
+  if (ec) return makeError(dir, "cannot create the folder: " + ec.message());
+  const int64_t nx = image.dims[0], ny = image.dims[1], nz = image.dims[2];
+  if (nx < 1 || ny < 1 || nz < 1 || nx > 65535 || ny > 65535 || image.values.size() != size_t(image.voxelCount()))
+    return makeError(dir, "the image's size does not suit DICOM slices");
+  if (!(options.rescale_slope > 0) || !std::isfinite(options.rescale_intercept))
+    return makeError(dir, "the rescale slope must be positive and the intercept finite");
+  const std::array<double, 12>& m = image.scanner_from_voxel;
+  const Vec ci{m[0], m[4], m[8]}, cj{m[1], m[5], m[9]}, ck{m[2], m[6], m[10]};
+  if (!(norm(ci) > 0 && norm(cj) > 0)) return makeError(dir, "the image has no in-plane axes");
+  const Vec r{ci[0] / norm(ci), ci[1] / norm(ci), ci[2] / norm(ci)};
+  const Vec c{cj[0] / norm(cj), cj[1] / norm(cj), cj[2] / norm(cj)};
+
+  gdcm::UIDGenerator uids;
+  const std::string study = uids.Generate();
+  const std::string series = options.series_uid.empty() ? std::string(uids.Generate()) : options.series_uid;
+  const std::string frame_of_reference = uids.Generate();
+  std::vector<int> order(static_cast<size_t>(nz));
+  for (int k = 0; k < int(nz); ++k) order[size_t(k)] = k;
+  if (options.scramble_names) std::shuffle(order.begin(), order.end(), std::mt19937(20261128u));
+  const double lo = options.signed_pixels ? -32768.0 : 0.0, hi = options.signed_pixels ? 32767.0 : 65535.0;
+  const char* ct_storage = gdcm::MediaStorage::GetMSString(gdcm::MediaStorage::CTImageStorage);
+
+  std::vector<std::string> written;
+  std::vector<char> pixels(size_t(nx * ny) * 2);
+  for (int64_t k = 0; k < nz; ++k) {
+    const float* src = image.values.data() + size_t(k * nx * ny);
+    for (int64_t p = 0; p < nx * ny; ++p) {
+      const double stored =
+          std::clamp(std::nearbyint((double(src[p]) - options.rescale_intercept) / options.rescale_slope), lo, hi);
+      const uint16_t bits = options.signed_pixels ? uint16_t(int16_t(stored)) : uint16_t(stored);
+      pixels[size_t(p) * 2] = char(bits & 0xff);
+      pixels[size_t(p) * 2 + 1] = char(bits >> 8);
+    }
+    gdcm::Writer writer;
+    gdcm::DataSet& ds = writer.GetFile().GetDataSet();
+    put(ds, 0x0008, 0x0016, "UI", ct_storage);
+    put(ds, 0x0008, 0x0018, "UI", uids.Generate());
+    put(ds, 0x0008, 0x0060, "CS", options.modality);
+    put(ds, 0x0008, 0x0070, "LO", "dentsim");
+    put(ds, 0x0008, 0x103e, "LO", options.series_description);
+    put(ds, 0x0010, 0x0010, "PN", "Phantom^Tooth");
+    put(ds, 0x0010, 0x0020, "LO", "DENTSIM-PHANTOM");
+    put(ds, 0x0018, 0x0050, "DS", decimal(std::max(norm(ck), 1e-6)));
+    put(ds, 0x0020, 0x000d, "UI", study);
+    put(ds, 0x0020, 0x000e, "UI", series);
+    put(ds, 0x0020, 0x0011, "IS", "1");
+    put(ds, 0x0020, 0x0013, "IS", std::to_string(k + 1));
+    put(ds, 0x0020, 0x0032, "DS",
+        decimals({m[3] + double(k) * ck[0], m[7] + double(k) * ck[1], m[11] + double(k) * ck[2]}));
+    put(ds, 0x0020, 0x0037, "DS", decimals({r[0], r[1], r[2], c[0], c[1], c[2]}));
+    put(ds, 0x0020, 0x0052, "UI", frame_of_reference);
+    putUs(ds, 0x0028, 0x0002, 1);
+    put(ds, 0x0028, 0x0004, "CS", "MONOCHROME2");
+    putUs(ds, 0x0028, 0x0010, uint16_t(ny));
+    putUs(ds, 0x0028, 0x0011, uint16_t(nx));
+    put(ds, 0x0028, 0x0030, "DS", decimals({norm(cj), norm(ci)}));  // between rows, then between columns
+    putUs(ds, 0x0028, 0x0100, 16);
+    putUs(ds, 0x0028, 0x0101, 16);
+    putUs(ds, 0x0028, 0x0102, 15);
+    putUs(ds, 0x0028, 0x0103, options.signed_pixels ? 1 : 0);
+    put(ds, 0x0028, 0x1052, "DS", decimal(options.rescale_intercept));
+    put(ds, 0x0028, 0x1053, "DS", decimal(options.rescale_slope));
+    put(ds, 0x0028, 0x1054, "LO", options.hounsfield ? "HU" : "US");
+    gdcm::DataElement pixel_data(kPixelData);
+    pixel_data.SetVR(gdcm::VR::OW);
+    pixel_data.SetByteValue(pixels.data(), uint32_t(pixels.size()));
+    ds.Replace(pixel_data);
+    writer.GetFile().GetHeader().SetDataSetTransferSyntax(gdcm::TransferSyntax::ExplicitVRLittleEndian);
+
+    char name[32];
+    std::snprintf(name, sizeof name, "slice-%04d.dcm", order[size_t(k)] + 1);
+    const std::string file = (fs::path(dir) / name).string();
+    writer.SetFileName(file.c_str());
+    if (!writer.Write()) return makeError(file, "cannot write the DICOM file");
+    written.push_back(file);
+  }
+  return written;
+}
+
+}  // namespace dentsim
