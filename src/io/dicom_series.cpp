@@ -29,6 +29,7 @@
 
 #include <fcntl.h>
 #include <sys/mman.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -42,6 +43,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <new>
 #include <numbers>
 #include <random>
 #include <sstream>
@@ -66,43 +68,72 @@ void quietGdcm() {
 }
 
 // GDCM as Debian builds it keeps its assertions, and some damaged files reach one (a file meta
-// header cut short aborts inside GDCM). A damaged file must be a line, not a crash, so every read
-// runs first in a child process: if the child dies, the file it was on is named; if it lives, the
-// same read runs here. The price is reading the headers and pixels twice.
-char* g_current_file = nullptr;  // shared with the parent; set only in the checking child
-constexpr size_t kCurrentFileBytes = 4096;
+// header cut short aborts inside GDCM); others declare an element of gigabytes, which GDCM allocates
+// and fills before it finds the file too short. A damaged file must be a line, not a crash or a
+// gigabyte, so every read runs first in a child process whose data segment may grow by the budget
+// and no more. If the child dies, the file it was on is named; if it fails, its message is the
+// answer; only if it succeeds does the same read run here, where it now cannot go wrong. The price
+// is reading the headers and pixels twice.
+struct ChildReport {
+  char outcome = '?';     // '?' running or died, 'E' an error (message), 'K' read
+  char message[2047] = {};
+  char current_file[2048] = {};
+};
+ChildReport* g_child = nullptr;  // shared with the parent; set only in the checking child
 
-void noteFile(const std::string& path) {
-  if (!g_current_file) return;
-  const size_t n = std::min(path.size(), kCurrentFileBytes - 1);
-  std::memcpy(g_current_file, path.data(), n);
-  g_current_file[n] = '\0';
+void copyInto(char* dst, size_t cap, const std::string& src) {
+  const size_t n = std::min(src.size(), cap - 1);
+  std::memcpy(dst, src.data(), n);
+  dst[n] = '\0';
 }
 
-Status survivesInChild(const std::string& where, const std::function<void()>& work) {
-  void* shared = ::mmap(nullptr, kCurrentFileBytes, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
+void noteFile(const std::string& path) {
+  if (g_child) copyInto(g_child->current_file, sizeof g_child->current_file, path);
+}
+
+// The data segment's size now [B], from /proc/self/status (VmData); 0 when unknown.
+uint64_t dataSegmentBytes() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmData:", 0) == 0) return uint64_t(std::strtoull(line.c_str() + 7, nullptr, 10)) * 1024;
+  return 0;
+}
+
+Status readInChild(const std::string& where, uint64_t budget, const std::function<Status()>& work) {
+  void* shared = ::mmap(nullptr, sizeof(ChildReport), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
   if (shared == MAP_FAILED) return Ok{};  // no check possible: read unguarded
-  auto* current = static_cast<char*>(shared);
-  std::snprintf(current, kCurrentFileBytes, "%s", where.c_str());
+  auto* report = new (shared) ChildReport;
+  copyInto(report->current_file, sizeof report->current_file, where);
+  const uint64_t data_now = dataSegmentBytes();
   std::fflush(nullptr);
   const pid_t child = ::fork();
   if (child == 0) {
-    g_current_file = current;
+    g_child = report;
     // GDCM's assertion text is not the user's business: the parent prints the one line.
     if (const int null_fd = ::open("/dev/null", O_WRONLY); null_fd >= 0) ::dup2(null_fd, STDERR_FILENO);
-    work();
+    if (data_now > 0) {
+      const rlimit cap{rlim_t(data_now + budget + (uint64_t{256} << 20)), rlim_t(data_now + budget + (uint64_t{256} << 20))};
+      ::setrlimit(RLIMIT_DATA, &cap);
+    }
+    Status s = work();
+    if (s) {
+      report->outcome = 'K';
+    } else {
+      copyInto(report->message, sizeof report->message, s.message());
+      report->outcome = 'E';
+    }
     ::_exit(0);
   }
   int status = 0;
-  bool died = false;
-  if (child > 0) {
+  if (child > 0)
     while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
     }
-    died = !(WIFEXITED(status) && WEXITSTATUS(status) == 0);
-  }
-  const std::string file(current);
-  ::munmap(shared, kCurrentFileBytes);
-  if (!died) return Ok{};
+  const char outcome = child > 0 ? report->outcome : 'K';  // fork failed: read unguarded
+  const std::string file(report->current_file), message(report->message);
+  ::munmap(shared, sizeof(ChildReport));
+  if (outcome == 'K') return Ok{};
+  if (outcome == 'E') return Error{message};
   const std::string how = WIFSIGNALED(status) ? "signal " + std::to_string(WTERMSIG(status))
                                               : "exit code " + std::to_string(WEXITSTATUS(status));
   return makeError(file, "truncated or damaged DICOM file: GDCM stops on it (" + how + ")");
@@ -123,12 +154,17 @@ std::string trimmed(std::string s) {
   return s;
 }
 
-// A header value as text, or empty when the element is missing.
+// A header value as text, or empty when the element is missing. Control characters become '?', so
+// that a value quoted in an error cannot break its one line; 200 characters at most.
 std::string text(const gdcm::File& file, const gdcm::Tag& tag) {
   if (!file.GetDataSet().FindDataElement(tag)) return {};
   gdcm::StringFilter sf;
   sf.SetFile(file);
-  return trimmed(sf.ToString(tag));
+  std::string s = trimmed(sf.ToString(tag));
+  if (s.size() > 200) s.resize(200);
+  for (char& c : s)
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = '?';
+  return s;
 }
 
 // Backslash-separated decimal numbers; false unless there are exactly `n`, all finite.
@@ -560,15 +596,22 @@ Result<GreyImage> readSeries(const std::string& path, const DicomReadOptions& op
 Result<GreyImage> readDicomFile(const std::string& path, uint64_t max_bytes, DicomSeriesInfo* info) {
   quietGdcm();
   if (Status s = requireRegularFile(path); !s) return s.error();
-  if (Status s = survivesInChild(path, [&] { (void)readOneFile(path, max_bytes, nullptr); }); !s) return s.error();
+  const auto check = [&]() -> Status {
+    Result<GreyImage> r = readOneFile(path, max_bytes, nullptr);
+    return r ? Status(Ok{}) : Status(r.error());
+  };
+  if (Status s = readInChild(path, max_bytes, check); !s) return s.error();
   return readOneFile(path, max_bytes, info);
 }
 
 Result<GreyImage> readDicomSeries(const std::string& path, const DicomReadOptions& options, Interrupter& interrupter,
                                   DicomSeriesInfo* info) {
   quietGdcm();
-  if (Status s = survivesInChild(path, [&] { (void)readSeries(path, options, nullInterrupter(), nullptr); }); !s)
-    return s.error();
+  const auto check = [&]() -> Status {
+    Result<GreyImage> r = readSeries(path, options, nullInterrupter(), nullptr);
+    return r ? Status(Ok{}) : Status(r.error());
+  };
+  if (Status s = readInChild(path, options.max_bytes, check); !s) return s.error();
   return readSeries(path, options, interrupter, info);
 }
 

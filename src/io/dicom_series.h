@@ -38,7 +38,7 @@ struct DicomSeriesInfo {
 
 struct DicomReadOptions {
   std::string series_uid;                          // the series to read from a folder holding several; empty: the only one
-  uint64_t max_bytes = inputBudget().max_bytes;    // the volume as float (4 bytes a voxel) must fit [B]
+  uint64_t max_bytes = 2 * inputBudget().max_bytes;  // the volume as float (4 bytes a voxel) must fit [B]; io/grey_volume_file.h says why twice
 };
 
 // ---- 2. readDicomSeries ---------------------------------------------------------------------
@@ -54,7 +54,7 @@ Result<GreyImage> readDicomSeries(const std::string& path, const DicomReadOption
 // One file's pixels (a slice: dims[2] == 1; a multi-frame file: one k per frame) with its rescale
 // applied and its geometry (a single slice's third axis is its normal, with its slice thickness or
 // 1 mm). Colour, non-image and undecodable files are one-line errors.
-Result<GreyImage> readDicomFile(const std::string& path, uint64_t max_bytes = inputBudget().max_bytes,
+Result<GreyImage> readDicomFile(const std::string& path, uint64_t max_bytes = 2 * inputBudget().max_bytes,
                                 DicomSeriesInfo* info = nullptr);
 
 // ---- 4. writeDicomSeries --------------------------------------------------------------------

@@ -1,10 +1,10 @@
-// NIfTI label volumes: the header is checked before libnifti allocates or reads voxels, and writes are atomic.
+// NIfTI volumes (segmented labels, and a scanner's grey values): the header is checked before libnifti allocates or reads voxels, and label writes are atomic.
 //
 // Contents
 //   1. Small helpers: messages, file names, matrices
 //   2. Header check (the raw header, before any voxel is read)
-//   3. Voxel conversion into int16 labels
-//   4. readNiftiLabels
+//   3. Voxel conversion into int16 labels; opening and geometry shared by both readers
+//   4. readNiftiLabels and readNiftiGrey
 //   5. writeNiftiLabels
 #include "io/nifti_labels.h"
 
@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <functional>
 #include <limits>
 #include <memory>
 #include <sstream>
@@ -159,7 +160,9 @@ struct CheckedHeader {
   uint64_t data_bytes = 0;   // voxel bytes the file must hold [B]
 };
 
-Result<CheckedHeader> checkHeader(const HeaderInfo& h, const std::string& path, const NiftiReadLimits& limits) {
+// `grey`: a scanner's grey values, which may be scaled and stored as any number type; otherwise labels.
+Result<CheckedHeader> checkHeader(const HeaderInfo& h, const std::string& path, const NiftiReadLimits& limits,
+                                  bool grey) {
   if (!h.single_file)
     return makeError(path, "not a single-file NIfTI image (no \"n+1\"/\"n+2\" magic; .hdr/.img pairs "
                            "and Analyze files are not supported)");
@@ -187,15 +190,17 @@ Result<CheckedHeader> checkHeader(const HeaderInfo& h, const std::string& path, 
   const int bpv = acceptedBytesPerVoxel(h.datatype);
   if (bpv == 0)
     return makeError(path, "unsupported datatype " + datatypeName(h.datatype) +
-                               " for labels (expected uint8, int8, int16, uint16, int32, uint32, or "
-                               "float32/float64 holding whole numbers)");
+                               (grey ? std::string(" for grey values (expected uint8, int8, int16, uint16, int32, uint32, "
+                                                   "float32 or float64)")
+                                     : std::string(" for labels (expected uint8, int8, int16, uint16, int32, uint32, or "
+                                                   "float32/float64 holding whole numbers)")));
   const uint64_t bytes = uint64_t(voxels) * uint64_t(bpv);
   if (bytes > limits.max_bytes)
     return makeError(path, "voxel data of " + std::to_string(bytes) + " bytes exceeds the limit of " +
                                std::to_string(limits.max_bytes) + " bytes");
   const bool scaled = std::isfinite(h.scl_slope) && h.scl_slope != 0.0 &&
                       !(h.scl_slope == 1.0 && h.scl_inter == 0.0);
-  if (scaled)
+  if (scaled && !grey)
     return makeError(path, "labels are scaled (scl_slope " + num(h.scl_slope) + ", scl_inter " +
                                num(h.scl_inter) + "); a label image must store its codes unscaled");
   for (size_t i = 1; i <= 3; ++i)
@@ -268,7 +273,11 @@ Result<size_t> convertSlab(int datatype, const void* data, size_t first, size_t 
 // Streams the voxels from the file into `out` one slab at a time, so that memory is the labels
 // alone: an int32 file never needs its whole stored data in memory beside them. A short read means
 // the file (or its compressed stream) ended early. Returns how many labels are not 0.
-Result<size_t> readVoxels(const nifti_image& nim, bool gz, uint64_t data_bytes, std::vector<Label>& out,
+// `convert(data, first, n)` takes each slab of n stored voxels (in native byte order) starting at
+// voxel `first`, and returns how many were not 0.
+using SlabSink = std::function<Result<size_t>(const void* data, size_t first, size_t n)>;
+
+Result<size_t> readVoxels(const nifti_image& nim, bool gz, uint64_t data_bytes, size_t voxels, const SlabSink& convert,
                           const std::string& path) {
   const auto truncated = [&] {
     return makeError(path, std::string("truncated or corrupt") + (gz ? " compressed" : "") +
@@ -287,11 +296,11 @@ Result<size_t> readVoxels(const nifti_image& nim, bool gz, uint64_t data_bytes, 
   std::vector<uint8_t> slab(kSlabBytes);
   const bool swap = nim.byteorder != nifti_short_order() && bpv > 1;
   size_t nonzero = 0;
-  for (size_t first = 0; first < out.size();) {
-    const size_t n = std::min(out.size() - first, kSlabBytes / bpv);
+  for (size_t first = 0; first < voxels;) {
+    const size_t n = std::min(voxels - first, kSlabBytes / bpv);
     if (znzread(slab.data(), 1, n * bpv, fp) != n * bpv) return truncated();
     if (swap) nifti_swap_Nbytes(int64_t(n), int(bpv), slab.data());
-    Result<size_t> converted = convertSlab(nim.datatype, slab.data(), first, n, out, path);
+    Result<size_t> converted = convert(slab.data(), first, n);
     if (!converted) return converted.error();
     nonzero += *converted;
     first += n;
@@ -299,12 +308,17 @@ Result<size_t> readVoxels(const nifti_image& nim, bool gz, uint64_t data_bytes, 
   return nonzero;
 }
 
-}  // namespace
+// A NIfTI file whose header has passed both checks, before any voxel is read.
+struct OpenedNifti {
+  HeaderInfo info;
+  CheckedHeader checked;
+  NimPtr nim;
+  bool gz = false;
+};
 
-// ---- 4. readNiftiLabels ---------------------------------------------------------------------
-
-Result<LabelImage> readNiftiLabels(const std::string& path, const NiftiReadLimits& limits) {
+Result<OpenedNifti> openNifti(const std::string& path, const NiftiReadLimits& limits, bool grey) {
   silenceNifti();
+  const char* what = grey ? "a NIfTI grey-value volume" : "a NIfTI label volume";
   // libnifti would quietly try sibling names ("a.nii" -> "a.nii.gz"), so the exact path is checked first.
   // libnifti opens the file itself, so a FIFO or a device is refused here, before it can block.
   Result<uint64_t> size = regularFileSize(path);
@@ -315,7 +329,7 @@ Result<LabelImage> readNiftiLabels(const std::string& path, const NiftiReadLimit
     // A mesh or a volume named on the wrong option says what it is.
     Result<std::vector<uint8_t>> head = readFileHead(path, kFileKindHeadBytes);
     if (head)
-      if (auto other = refuseOtherKind(*head, FileKind::Nifti1, path, "a NIfTI label volume (.nii or .nii.gz)"))
+      if (auto other = refuseOtherKind(*head, FileKind::Nifti1, path, std::string(what) + " (.nii or .nii.gz)"))
         return *other;
     return makeError(path, "not a NIfTI file name (expected .nii or .nii.gz)");
   }
@@ -329,15 +343,18 @@ Result<LabelImage> readNiftiLabels(const std::string& path, const NiftiReadLimit
       return makeError(path, "truncated or corrupt header (it starts like NIfTI but cannot be read whole)");
     Result<std::vector<uint8_t>> head = readFileHead(path, kFileKindHeadBytes);
     if (head)
-      if (auto other = refuseOtherKind(*head, gz ? FileKind::Gzip : FileKind::Nifti1, path, "a NIfTI label volume"))
+      if (auto other = refuseOtherKind(*head, gz ? FileKind::Gzip : FileKind::Nifti1, path, what))
         return *other;
     return makeError(path, "not a NIfTI file (no valid NIfTI-1 or NIfTI-2 header)");
   }
-  const HeaderInfo info = headerInfo(raw.get(), version);
+  OpenedNifti opened;
+  opened.gz = gz;
+  opened.info = headerInfo(raw.get(), version);
   raw.reset();
-  Result<CheckedHeader> checked = checkHeader(info, path, limits);
+  Result<CheckedHeader> checked = checkHeader(opened.info, path, limits, grey);
   if (!checked) return checked.error();
-  const uint64_t needed = uint64_t(info.vox_offset) + checked->data_bytes;
+  opened.checked = *checked;
+  const uint64_t needed = uint64_t(opened.info.vox_offset) + checked->data_bytes;
   if (!gz && file_bytes < needed)
     return makeError(path, "truncated: the header promises " + std::to_string(needed) + " bytes, the file has " +
                                std::to_string(file_bytes));
@@ -347,43 +364,115 @@ Result<LabelImage> readNiftiLabels(const std::string& path, const NiftiReadLimit
                                std::to_string(needed) + " bytes the header promises");
 
   // 2. libnifti's own view of the header (and extensions), cross-checked against ours.
-  NimPtr nim(nifti_image_read(path.c_str(), 0));
+  opened.nim.reset(nifti_image_read(path.c_str(), 0));
+  const nifti_image* nim = opened.nim.get();
   if (!nim) return makeError(path, "not a valid NIfTI file (libnifti rejected the header or its extensions)");
   if (nim->nx != checked->dims[0] || nim->ny != checked->dims[1] || nim->nz != checked->dims[2] ||
-      nim->nvox != checked->voxels || nim->datatype != info.datatype ||
+      nim->nvox != checked->voxels || nim->datatype != opened.info.datatype ||
       nim->nbyper != checked->bytes_per_voxel)
     return makeError(path, "inconsistent NIfTI header (libnifti reads other dimensions or datatype)");
+  return opened;
+}
 
+// Geometry in mm: pitch from pixdim, placement from sform, else qform, else the pitch alone.
+Status readGeometry(const OpenedNifti& opened, std::array<double, 3>& pitch, std::array<double, 12>& scanner,
+                    const std::string& path) {
+  const HeaderInfo& info = opened.info;
+  const nifti_image& nim = *opened.nim;
+  const double unit = mmPerUnit(info.xyzt_units);
+  for (size_t a = 0; a < 3; ++a) pitch[a] = info.pixdim[a + 1] * unit;
+  if (nim.sform_code > 0) {
+    scanner = fromDmat44(nim.sto_xyz, unit);
+  } else if (nim.qform_code > 0) {
+    scanner = fromDmat44(nim.qto_xyz, unit);
+  } else {
+    scanner = {};
+    for (size_t a = 0; a < 3; ++a) scanner[5 * a] = pitch[a];
+  }
+  for (double v : scanner)
+    if (!std::isfinite(v)) return makeError(path, "scanner matrix (sform/qform) holds a non-finite value");
+  const double p3 = pitch[0] * pitch[1] * pitch[2];
+  if (!(std::fabs(det3(scanner)) > 1e-12 * p3)) return makeError(path, "scanner matrix (sform/qform) is singular");
+  return Ok{};
+}
+
+// Stored grey values into floats with the file's scaling (scl_slope 0 means none).
+template <class T>
+size_t convertGrey(const void* data, size_t first, size_t n, double slope, double inter, std::vector<float>& out) {
+  const T* src = static_cast<const T*>(data);
+  size_t nonzero = 0;
+  for (size_t i = 0; i < n; ++i) {
+    double v = double(src[i]);
+    if (!std::isfinite(v)) v = 0;  // as libnifti's own loader does
+    const float f = float(v * slope + inter);
+    out[first + i] = std::isfinite(f) ? f : 0.0f;
+    nonzero += f != 0.0f;
+  }
+  return nonzero;
+}
+
+}  // namespace
+
+// ---- 4. readNiftiLabels and readNiftiGrey -----------------------------------------------------
+
+Result<LabelImage> readNiftiLabels(const std::string& path, const NiftiReadLimits& limits) {
+  Result<OpenedNifti> opened = openNifti(path, limits, false);
+  if (!opened) return opened.error();
+  const CheckedHeader& checked = opened->checked;
   // 3. The voxels, streamed into the labels: the labels are what stays in memory, so they are what
   // the input budget bounds (checked before they are allocated).
-  const uint64_t label_bytes = uint64_t(checked->voxels) * sizeof(Label);
+  const uint64_t label_bytes = uint64_t(checked.voxels) * sizeof(Label);
   if (label_bytes > limits.max_label_bytes)
-    return makeError(path, limitExceeded("labels of " + std::to_string(checked->voxels) + " voxels (" +
+    return makeError(path, limitExceeded("labels of " + std::to_string(checked.voxels) + " voxels (" +
                                              std::to_string(label_bytes) + " bytes)",
                                          limits.max_label_bytes));
   LabelImage image;
-  image.dims = checked->dims;
-  image.labels.resize(size_t(checked->voxels));
-  Result<size_t> nonzero = readVoxels(*nim, gz, checked->data_bytes, image.labels, path);
+  image.dims = checked.dims;
+  image.labels.resize(size_t(checked.voxels));
+  const int datatype = opened->info.datatype;
+  Result<size_t> nonzero = readVoxels(
+      *opened->nim, opened->gz, checked.data_bytes, image.labels.size(),
+      [&](const void* data, size_t first, size_t n) { return convertSlab(datatype, data, first, n, image.labels, path); },
+      path);
   if (!nonzero) return nonzero.error();
   if (*nonzero == 0) return makeError(path, "holds no tooth: every voxel is 0");
+  if (Status s = readGeometry(*opened, image.pitch_mm, image.scanner_from_voxel, path); !s) return s.error();
+  return image;
+}
 
-  // 4. Geometry in mm: pitch from pixdim, placement from sform, else qform, else the pitch alone.
-  const double unit = mmPerUnit(info.xyzt_units);
-  for (size_t a = 0; a < 3; ++a) image.pitch_mm[a] = info.pixdim[a + 1] * unit;
-  if (nim->sform_code > 0) {
-    image.scanner_from_voxel = fromDmat44(nim->sto_xyz, unit);
-  } else if (nim->qform_code > 0) {
-    image.scanner_from_voxel = fromDmat44(nim->qto_xyz, unit);
-  } else {
-    image.scanner_from_voxel = {};
-    for (size_t a = 0; a < 3; ++a) image.scanner_from_voxel[5 * a] = image.pitch_mm[a];
-  }
-  for (double v : image.scanner_from_voxel)
-    if (!std::isfinite(v)) return makeError(path, "scanner matrix (sform/qform) holds a non-finite value");
-  const double p3 = image.pitch_mm[0] * image.pitch_mm[1] * image.pitch_mm[2];
-  if (!(std::fabs(det3(image.scanner_from_voxel)) > 1e-12 * p3))
-    return makeError(path, "scanner matrix (sform/qform) is singular");
+Result<GreyImage> readNiftiGrey(const std::string& path, const NiftiReadLimits& limits) {
+  Result<OpenedNifti> opened = openNifti(path, limits, true);
+  if (!opened) return opened.error();
+  const CheckedHeader& checked = opened->checked;
+  const uint64_t float_bytes = uint64_t(checked.voxels) * sizeof(float);
+  if (float_bytes > limits.max_label_bytes * 2)
+    return makeError(path, limitExceeded("grey values of " + std::to_string(checked.voxels) + " voxels (" +
+                                             std::to_string(float_bytes) + " bytes as float)",
+                                         limits.max_label_bytes * 2));
+  GreyImage image;
+  image.dims = checked.dims;
+  image.values.resize(size_t(checked.voxels));
+  const HeaderInfo& h = opened->info;
+  const bool scaled = std::isfinite(h.scl_slope) && h.scl_slope != 0.0;
+  const double slope = scaled ? h.scl_slope : 1.0, inter = scaled && std::isfinite(h.scl_inter) ? h.scl_inter : 0.0;
+  const auto convert = [&](const void* data, size_t first, size_t n) -> Result<size_t> {
+    switch (h.datatype) {
+      case DT_UINT8: return convertGrey<uint8_t>(data, first, n, slope, inter, image.values);
+      case DT_INT8: return convertGrey<int8_t>(data, first, n, slope, inter, image.values);
+      case DT_INT16: return convertGrey<int16_t>(data, first, n, slope, inter, image.values);
+      case DT_UINT16: return convertGrey<uint16_t>(data, first, n, slope, inter, image.values);
+      case DT_INT32: return convertGrey<int32_t>(data, first, n, slope, inter, image.values);
+      case DT_UINT32: return convertGrey<uint32_t>(data, first, n, slope, inter, image.values);
+      case DT_FLOAT32: return convertGrey<float>(data, first, n, slope, inter, image.values);
+      case DT_FLOAT64: return convertGrey<double>(data, first, n, slope, inter, image.values);
+      default: return makeError(path, "unsupported datatype " + datatypeName(h.datatype));
+    }
+  };
+  Result<size_t> nonzero = readVoxels(*opened->nim, opened->gz, checked.data_bytes, image.values.size(), convert, path);
+  if (!nonzero) return nonzero.error();
+  if (*nonzero == 0) return makeError(path, "holds no scan: every voxel is 0");
+  if (Status s = readGeometry(*opened, image.pitch_mm, image.scanner_from_voxel, path); !s) return s.error();
+  image.unit = GreyUnit::Raw;
   return image;
 }
 

@@ -1,4 +1,4 @@
-// Segmented label volumes in NIfTI-1/-2 (.nii, .nii.gz): checked reading through libnifti, and atomic writing.
+// NIfTI-1/-2 volumes (.nii, .nii.gz) through libnifti: segmented labels (checked reading, atomic writing), and a scanner's grey values.
 //
 // Contents
 //   1. LabelImage: a label grid and where it sits in the scanner
@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/result.h"
+#include "io/grey_image.h"
 #include "io/input_budget.h"
 
 namespace dentsim {
@@ -56,6 +57,14 @@ Result<LabelImage> readNiftiLabels(const std::string& path, const NiftiReadLimit
 // `path` ends in ".nii.gz". pixdim = pitch, qform and sform both scanner (code 1) from
 // scanner_from_voxel, units mm. The file appears atomically: a temporary sibling, then a rename.
 Status writeNiftiLabels(const std::string& path, const LabelImage& image);
+
+// Reads a scanner's grey values (a CT, CBCT or micro-CT exported by 3D Slicer or a scanner's
+// software) from a .nii or .nii.gz file, under the same checks as the labels, except that any of the
+// datatypes is taken as it is and scl_slope/scl_inter are applied (slope 0: none). The floats must
+// fit twice limits.max_label_bytes (the same input budget: 4 bytes a voxel rather than 2). The unit is
+// Raw: NIfTI does not say whether values are Hounsfield units. Errors as readNiftiLabels ("holds no
+// scan" when every voxel is 0).
+Result<GreyImage> readNiftiGrey(const std::string& path, const NiftiReadLimits& limits = {});
 
 // libnifti reads only from files, so there is no in-memory parser: fuzz tests write their mutated
 // bytes to a temporary file and call readNiftiLabels.
