@@ -18,6 +18,7 @@ void addInfoCommand(CLI::App& root, Action& action);
 void addExportCommand(CLI::App& root, Action& action);
 void addBenchCommand(CLI::App& root, Action& action);
 void addMakeToothCommand(CLI::App& root, Action& action);
+void addMakeScanCommand(CLI::App& root, Action& action);
 void addMeshCommand(CLI::App& root, Action& action);
 void addDemoCommand(CLI::App& root, Action& action);
 void addReplayCommand(CLI::App& root, Action& action);

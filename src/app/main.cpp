@@ -36,6 +36,7 @@ int main(int argc, char** argv) {
   addExportCommand(root, action);
   addBenchCommand(root, action);
   addMakeToothCommand(root, action);
+  addMakeScanCommand(root, action);
   addMeshCommand(root, action);
   addRunCommand(root, action);
   addDevicesCommand(root, action);

@@ -711,6 +711,13 @@ Result<ToothVolume> importLabels(const LabelImage& image, const LabelImportOptio
           }
       }
     if (hi[0] < 0) return makeError(where, "no tissue to resample (every mapped voxel is empty)");
+    if (options.fit_box) {
+      for (size_t a = 0; a < 3; ++a) {
+        lo[a] = (*options.fit_box)[a][0];
+        hi[a] = (*options.fit_box)[a][1];
+        if (hi[a] < lo[a]) return makeError(where, "the box to fit is empty");
+      }
+    }
     double extent = 0;  // longest side of the box [mm]
     for (size_t a = 0; a < 3; ++a) extent = std::max(extent, double(hi[a] - lo[a] + 1) * pitch[a]);
     Resampling rs;

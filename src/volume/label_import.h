@@ -43,6 +43,10 @@ struct LabelImportOptions {
   // Resampling fills a chunk or brick whose samples all read one tissue (or none) as one tile
   // without sampling its voxels. false: every voxel sampled, the reference the tests hold it to.
   bool uniform_shortcuts = true;
+  // Resampling only: fit this box of source voxels (inclusive, lo and hi per axis) into the grid in place
+  // of the tissue's own bounding box, so that two imports of one scanner space (its labels, and a
+  // segmentation of its grey values) share a grid voxel for voxel. It may reach outside the image.
+  std::optional<std::array<std::array<int64_t, 2>, 3>> fit_box;
   // Resampling only: called with the import's estimated cost once the level is known and before
   // any target voxel is made; an error from it ends the import (a job too large for the machine).
   std::function<Status(const VoxelizeCost&)> approve;

@@ -675,3 +675,34 @@ TEST(LabelExportTest, SourceBoxWithOffsetShiftsTheMatrix) {
 
 }  // namespace
 }  // namespace dentsim
+
+namespace dentsim {
+namespace {
+
+// Two images of one scanner space whose tissue boxes differ (a stray voxel in one) land on one grid
+// when both fit the same box: same voxel size, same scanner matrix, and the shared tissue agrees.
+TEST(LabelImportTest, AGivenFitBoxPutsTwoImportsOnOneGrid) {
+  LabelImage a = blankImage({20, 20, 20}, 0.1);
+  fillBox(a, {4, 4, 4}, {11, 13, 9}, 3);  // inclusive: the fit box below is this tissue's own box
+  LabelImage b = a;
+  b.labels[b.index(17, 17, 17)] = 3;  // widens b's own box
+  LabelImportOptions o;
+  o.map = ctMap();
+  o.level = 5;
+  o.fit_box = {{{4, 11}, {4, 13}, {4, 9}}};
+  Result<ToothVolume> ta = importLabels(a, o), tb = importLabels(b, o);
+  ASSERT_TRUE(ta && tb);
+  EXPECT_EQ(ta->frame.voxel_mm, tb->frame.voxel_mm);
+  EXPECT_EQ(ta->frame.scanner_from_grid, tb->frame.scanner_from_grid);
+  // The box is 1.0 mm at its longest, over 2^5 - 4 voxels.
+  EXPECT_DOUBLE_EQ(ta->frame.voxel_mm, 1.0 / 28.0);
+  o.fit_box.reset();
+  Result<ToothVolume> own = importLabels(b, o);
+  ASSERT_TRUE(own);
+  EXPECT_GT(own->frame.voxel_mm, tb->frame.voxel_mm);  // b's own box is wider
+  o.fit_box = {{{4, 3}, {4, 13}, {4, 9}}};
+  EXPECT_FALSE(importLabels(a, o));  // an empty box
+}
+
+}  // namespace
+}  // namespace dentsim
