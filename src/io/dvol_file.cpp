@@ -21,6 +21,8 @@ namespace {
 static_assert(std::endian::native == std::endian::little, ".dvol stores little-endian words as they are in memory");
 
 constexpr char kMagic[8] = {'D', 'E', 'N', 'T', 'S', 'I', 'M', 'V'};
+constexpr char kNoteMagic[8] = {'D', 'S', 'N', 'O', 'T', 'E', 0, 0};  // version 3's source note
+constexpr size_t kNoteHeadBytes = 16;                                   // magic, then the text's length (u64)
 constexpr int kZstdLevel = 3;  // fast; the brick pool is mostly repeated bytes
 
 // Header field offsets [B]. The header is hashed up to kHeaderHashAt.
@@ -195,12 +197,48 @@ std::vector<uint8_t> encodeVolumeFile(const VolumeFileData& d) {
   out[kSourcesAt + 3] = t.has_occlusal_centre ? 1 : 0;
   for (int i = 0; i < 9; ++i) out[kTurnAt + i] = uint8_t(t.turn[i]);
   put<uint64_t>(out, kToothHashAt, XXH64(out.data() + kCrownAt, kToothHashAt - kCrownAt, 0));
+  if (!d.source_note.empty()) {
+    // Version 3: the note follows the payload (magic, length, text, XXH64 of the text). The header
+    // hash covers the version, so it is set before the hash is taken.
+    const std::string note = d.source_note.substr(0, kMaxSourceNoteBytes);
+    put<uint32_t>(out, kVersionAt, 3);
+    put<uint64_t>(out, kHeaderHashAt, XXH64(out.data(), kHeaderHashAt, 0));
+    const size_t note_at = out.size();
+    out.resize(note_at + kNoteHeadBytes + note.size() + 8);
+    std::memcpy(out.data() + note_at, kNoteMagic, sizeof(kNoteMagic));
+    put<uint64_t>(out, note_at + 8, note.size());
+    std::memcpy(out.data() + note_at + kNoteHeadBytes, note.data(), note.size());
+    put<uint64_t>(out, note_at + kNoteHeadBytes + note.size(), XXH64(note.data(), note.size(), 0));
+  }
   return out;
 }
 
 Status writeVolumeFile(const std::string& path, const VolumeFileData& data) {
   const std::vector<uint8_t> bytes = encodeVolumeFile(data);
   return writeFileAtomic(path, bytes);
+}
+
+// Version 3's note after the payload: magic, length, text, checksum, and nothing after it.
+Status readSourceNote(std::span<const uint8_t> in, size_t header_bytes, uint64_t packed, std::string& note,
+                      const std::string& where) {
+  if (packed > in.size() - header_bytes || in.size() - header_bytes - packed < kNoteHeadBytes + 8)
+    return makeError(where, "truncated: the source note after the payload is missing");
+  const size_t at = header_bytes + size_t(packed);
+  if (std::memcmp(in.data() + at, kNoteMagic, sizeof(kNoteMagic)) != 0)
+    return makeError(where, "the source note after the payload is corrupt (bad magic)");
+  const uint64_t length = get<uint64_t>(in, at + 8);
+  if (length > kMaxSourceNoteBytes) return makeError(where, "the source note is over " + std::to_string(kMaxSourceNoteBytes) + " bytes");
+  if (in.size() - at - kNoteHeadBytes - 8 != length)
+    return makeError(where, "truncated or padded source note (" + std::to_string(in.size() - at - kNoteHeadBytes - 8) +
+                                " bytes where it says " + std::to_string(length) + ")");
+  const char* text = reinterpret_cast<const char*>(in.data() + at + kNoteHeadBytes);
+  if (get<uint64_t>(in, at + kNoteHeadBytes + size_t(length)) != XXH64(text, size_t(length), 0))
+    return makeError(where, "source note checksum mismatch: the file is corrupt");
+  note.assign(text, size_t(length));
+  for (char c : note)
+    if ((static_cast<unsigned char>(c) < 0x20 && c != '\n') || c == 0x7f)
+      return makeError(where, "the source note holds a control character");
+  return Ok{};
 }
 
 Result<VolumeFileData> parseVolumeFile(std::span<const uint8_t> in, const std::string& where, uint64_t max_raw_bytes) {
@@ -277,6 +315,10 @@ Result<VolumeFileData> parseVolumeFile(std::span<const uint8_t> in, const std::s
     return makeError(where, limitExceeded("payload of " + std::to_string(claimed) + " bytes", max_raw_bytes));
   }
   const uint64_t raw_bytes = (chunk_words + block_words + brick_words) * 4;
+  if (version >= 3) {
+    if (Status s = readSourceNote(in, header_bytes, packed, d.source_note, where); !s) return s.error();
+    in = in.first(header_bytes + packed);
+  }
   if (packed != in.size() - header_bytes)
     return makeError(where, in.size() - header_bytes < packed
                                 ? "truncated: payload has " + std::to_string(in.size() - header_bytes) + " of " +
@@ -302,7 +344,7 @@ Result<VolumeFileData> parseVolumeFile(std::span<const uint8_t> in, const std::s
 
 Result<VolumeFileData> readVolumeFile(const std::string& path, uint64_t max_raw_bytes) {
   // zstd gains at least 1/8 on any payload we write, so a file this large is never legitimate.
-  auto bytes = readFileBytes(path, max_raw_bytes + (max_raw_bytes >> 3) + 4096);
+  auto bytes = readFileBytes(path, max_raw_bytes + (max_raw_bytes >> 3) + 4096 + kMaxSourceNoteBytes);
   if (!bytes) return bytes.error();
   return parseVolumeFile(*bytes, path, max_raw_bytes);
 }

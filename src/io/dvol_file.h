@@ -18,7 +18,10 @@
 
 namespace dentsim {
 
-inline constexpr uint32_t kVolumeFileVersion = 2;  // 2 adds the tooth frame; version 1 files load with the default frame
+// 2 adds the tooth frame (version 1 files load with the default frame); 3 adds a source note after
+// the payload, and is written only when there is a note, so files without one stay version 2.
+inline constexpr uint32_t kVolumeFileVersion = 3;
+inline constexpr size_t kMaxSourceNoteBytes = 64 * 1024;  // a source note's longest text [B]
 // Voxel edges a file may give [mm]: 1 nm up to 10 cm. Below, the grid of even level 13 spans less
 // than a cell; above, one voxel is larger than any tooth or jaw.
 inline constexpr double kMinVoxelMm = 1e-6, kMaxVoxelMm = 100.0;
@@ -28,9 +31,12 @@ struct VolumeFileData {
   std::vector<uint32_t> chunks;    // (chunkDim^3) chunk entries
   std::vector<uint32_t> blocks;    // (blockCount x 512) brick entries
   std::vector<uint32_t> bricks;    // (brickCount x 128) packed voxels
+  // Where the voxels came from and what was chosen on the way (a scan's thresholds, its tooth's box),
+  // as lines of text for `dentsim info`; empty: none recorded. Printable text and newlines only.
+  std::string source_note;
 };
 
-// Writes atomically; an error names the path.
+// Writes atomically; an error names the path. A note longer than kMaxSourceNoteBytes is cut there.
 Status writeVolumeFile(const std::string& path, const VolumeFileData& data);
 // Reads and checks magic (naming the real format of another kind of file), version, sizes,
 // limits, frame (voxel size within kMinVoxelMm..kMaxVoxelMm, a finite non-singular matrix) and

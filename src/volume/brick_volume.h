@@ -176,6 +176,9 @@ BrickBox tissueBricks(const BrickVolume& volume);
 struct ToothVolume {
   VolumeFrame frame;    // placement; never changes after loading
   BrickVolume voxels;   // the voxels; the simulation cuts these
+  // Where the voxels came from and what was chosen on the way (a scan's thresholds), as lines for
+  // `dentsim info`; kept in the .dvol file (io/dvol_file.h), empty when not recorded.
+  std::string source_note{};
 };
 
 }  // namespace dentsim

@@ -14,6 +14,7 @@ Status saveTooth(const std::string& path, ToothVolume& tooth) {
   d.chunks = copy(tooth.voxels.chunkWords());
   d.blocks = copy(tooth.voxels.blockWords());
   d.bricks = copy(tooth.voxels.brickWords());
+  d.source_note = tooth.source_note;
   return writeVolumeFile(path, d);
 }
 
@@ -24,7 +25,7 @@ Result<ToothVolume> toothOf(Result<VolumeFileData> file, const std::string& wher
   VolumeFileData& d = *file;
   auto voxels = BrickVolume::fromWords(d.frame.level, std::move(d.chunks), std::move(d.blocks), std::move(d.bricks), where);
   if (!voxels) return voxels.error();
-  return ToothVolume{d.frame, std::move(*voxels)};
+  return ToothVolume{d.frame, std::move(*voxels), std::move(d.source_note)};
 }
 
 }  // namespace

@@ -87,10 +87,10 @@ TEST(DvolFile, CorruptionIsCaughtByTheChecksums) {
 TEST(DvolFile, VersionAndLimitsAreChecked) {
   std::vector<uint8_t> bytes = encodeVolumeFile(sample());
   auto future = bytes;
-  const uint32_t v3 = 3;
-  std::memcpy(future.data() + 8, &v3, 4);
+  const uint32_t v4 = 4;
+  std::memcpy(future.data() + 8, &v4, 4);
   rehashHeader(future);
-  EXPECT_NE(parseVolumeFile(future, "x").message().find("unsupported volume file version 3"), std::string::npos);
+  EXPECT_NE(parseVolumeFile(future, "x").message().find("unsupported volume file version 4"), std::string::npos);
 
   auto huge = bytes;
   const uint64_t words = uint64_t{1} << 40;  // 4 TiB of bricks
@@ -183,6 +183,38 @@ TEST(DvolFile, ABadToothFrameIsOneLineNamingIt) {
   auto flipped = bytes;  // without the rehash
   flipped[230] ^= 0x40;
   EXPECT_EQ(parseVolumeFile(flipped, "t.dvol").message(), "t.dvol: tooth frame checksum mismatch: the file is corrupt");
+}
+
+// A source note makes a version 3 file; without one the file is version 2 and byte for byte as before.
+TEST(DvolFile, ASourceNoteRoundTripsAndOnlyItMakesVersion3) {
+  VolumeFileData d = sample();
+  const std::vector<uint8_t> plain = encodeVolumeFile(d);
+  uint32_t version = 0;
+  std::memcpy(&version, plain.data() + 8, 4);
+  EXPECT_EQ(version, 2u);
+  d.source_note = "scan: tooth_2 (400 DICOM files)\nthresholds (automatic): dentin from 850 HU, enamel from 2300 HU";
+  const std::vector<uint8_t> noted = encodeVolumeFile(d);
+  std::memcpy(&version, noted.data() + 8, 4);
+  EXPECT_EQ(version, 3u);
+  // The payload and header are those of the plain file; the note follows: 16 + text + 8 bytes.
+  ASSERT_EQ(noted.size(), plain.size() + 16 + d.source_note.size() + 8);
+  EXPECT_TRUE(std::equal(plain.begin() + 352, plain.end(), noted.begin() + 352));
+  Result<VolumeFileData> back = parseVolumeFile(noted, "x");
+  ASSERT_TRUE(back) << back.message();
+  EXPECT_EQ(back->source_note, d.source_note);
+  EXPECT_EQ(back->bricks, d.bricks);
+  // Damage to the note: its text, its length, its end.
+  auto flipped = noted;
+  flipped[plain.size() + 20] ^= 1;
+  EXPECT_NE(parseVolumeFile(flipped, "x").message().find("source note checksum mismatch"), std::string::npos);
+  auto cut = noted;
+  cut.resize(cut.size() - 3);
+  EXPECT_NE(parseVolumeFile(cut, "x").message().find("source note"), std::string::npos);
+  auto bare = noted;
+  bare.resize(plain.size());
+  EXPECT_NE(parseVolumeFile(bare, "x").message().find("source note after the payload is missing"), std::string::npos);
+  d.source_note = "bell\a";
+  EXPECT_NE(parseVolumeFile(encodeVolumeFile(d), "x").message().find("control character"), std::string::npos);
 }
 
 TEST(DvolFile, MissingFileAndDirectoryAreErrors) {
