@@ -455,7 +455,7 @@ Result<std::vector<uint8_t>> cutTooth(std::vector<uint8_t> piece, const std::arr
 // One byte a voxel of the output box: the class in bits 0-1, then flag bits.
 constexpr uint8_t kClassMask = 0x03;
 constexpr uint8_t kCaries = 1, kDentin = 2, kEnamel = 3;  // 0: not tooth
-constexpr uint8_t kNearEmpty = 1u << 2;    // within w of a non-tooth voxel
+constexpr uint8_t kNearEmpty = 1u << 2;    // within w of the outside
 constexpr uint8_t kNearEnamel = 1u << 3;   // within w of enamel
 constexpr uint8_t kNearHard = 1u << 4;     // within w of dentin or enamel
 constexpr uint8_t kOutside = 1u << 5;      // empty and connected to the box's border through empty
@@ -487,6 +487,29 @@ void dilateInto(std::vector<uint8_t>& cells, const std::array<int32_t, 3>& d, in
       for (uint8_t& c : cells) c = uint8_t(c & ~from[a]);
   }
   for (uint8_t& c : cells) c = uint8_t(c & ~(kScratchA | kScratchB));
+}
+
+// Sets kOutside on the empty cells reached from the box's border through empty cells (clearing it
+// elsewhere first). The rest of the empty space is enclosed: the pulp, when its canal is closed
+// within the box.
+void markOutside(std::vector<uint8_t>& cells, const std::array<int32_t, 3>& d, std::deque<uint64_t>& queue) {
+  auto reach = [&](uint64_t o) {
+    if (classOf(cells[o]) != 0 || (cells[o] & kOutside)) return;
+    cells[o] |= kOutside;
+    queue.push_back(o);
+  };
+  for (uint8_t& c : cells) c = uint8_t(c & ~kOutside);
+  for (uint64_t o = 0; o < cells.size(); ++o) {
+    const std::array<int64_t, 3> c = coordsOf(o, d);
+    bool border = false;
+    for (size_t a = 0; a < 3; ++a) border = border || c[a] == 0 || c[a] == d[a] - 1;
+    if (border) reach(o);
+  }
+  while (!queue.empty()) {
+    const uint64_t o = queue.front();
+    queue.pop_front();
+    forEachFaceNeighbour(o, d, reach);
+  }
 }
 
 // Mean grey value of each class in the box (index 0: non-tooth voxels below the hard threshold).
@@ -818,7 +841,10 @@ Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOption
   // Partial volume: decisions from the classes before any change, applied at once.
   const int w = options.partial_volume_voxels;
   if (w > 0) {
-    dilateInto(cells, od, w, kNearEmpty, [](uint8_t c) { return classOf(c) == 0; });
+    // Only the outside counts as the darker class: enamel never faces the pulp, and noise specks
+    // of enamel near the pulp wall must not pull dentin into enamel.
+    markOutside(cells, od, queue);
+    dilateInto(cells, od, w, kNearEmpty, [](uint8_t c) { return (c & kOutside) != 0; });
     dilateInto(cells, od, w, kNearEnamel, [](uint8_t c) { return classOf(c) == kEnamel; });
     if (options.caries)
       dilateInto(cells, od, w, kNearHard, [](uint8_t c) { return classOf(c) >= kDentin; });
@@ -838,27 +864,8 @@ Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOption
   }
   if (!job.report(0.8)) return cancelled(where);
 
-  // The outside: empty cells reached from the box's border through empty cells. The rest of the
-  // empty space is enclosed (the pulp, when its canal is closed within the box).
-  for (uint64_t o = 0; o < n_out; ++o) {
-    const std::array<int64_t, 3> c = coordsOf(o, od);
-    bool border = false;
-    for (size_t a = 0; a < 3; ++a) border = border || c[a] == 0 || c[a] == od[a] - 1;
-    if (border && cells[o] == 0) {
-      cells[o] |= kOutside;
-      queue.push_back(o);
-    }
-  }
-  while (!queue.empty()) {
-    const uint64_t o = queue.front();
-    queue.pop_front();
-    forEachFaceNeighbour(o, od, [&](uint64_t j) {
-      if (cells[j] == 0) {
-        cells[j] |= kOutside;
-        queue.push_back(j);
-      }
-    });
-  }
+  // The outside again, now that the partial-volume rule has emptied the rim.
+  markOutside(cells, od, queue);
 
   // Edges: a tooth voxel facing empty space is kept when its value is at least half-way from the
   // mean of that space to its class's mean. One global cut is half-way between air and dentin,

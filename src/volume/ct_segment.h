@@ -143,7 +143,7 @@ Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOption
 //   caries_below caries).
 // Partial volume: a blurred enamel-air edge passes through dentin values (and caries values), a
 //   false dentin rim on the enamel. A dentin voxel within partial_volume_voxels of both the outside
-//   (anything not tooth) and enamel, or a caries voxel within it of both the outside and dentin or
+//   (non-tooth voxels connected to the box's border through non-tooth voxels; not the pulp) and enamel, or a caries voxel within it of both the outside and dentin or
 //   enamel, becomes the brighter tissue when its value is above the midpoint of the two classes'
 //   mean values in the output box, else empty.
 // Edges: a tooth voxel facing empty space (a face neighbour) becomes empty when its value is below

@@ -9,6 +9,8 @@
 // radius 6 on A's dentin surface.
 #include "volume/ct_segment.h"
 
+#include "volume/label_import.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -298,6 +300,59 @@ TEST(CtSegment, GivenThresholdsAreUsedExactly) {
   EXPECT_EQ(prep.dentin_above, 1000.0);
   EXPECT_EQ(prep.enamel_above, 2100.0);
   EXPECT_EQ(prep.thresholds_from, "preset ct-hu");
+}
+
+TEST(CtSegment, IslandsTakeTheTissueAroundThem) {
+  // An enamel cut 2.5 noise sigmas above dentin leaves specks of "enamel" all through the dentin.
+  const Phantom ph = makePhantom({});
+  ToothSegmentOptions o;
+  o.dentin_above = 250.0;
+  o.enamel_above = 1700.0;
+  o.min_island_mm3 = 0;
+  ToothSegmentReport raw, clean;
+  Result<LabelImage> a = segmentTooth(ph.image, o, nullInterrupter(), &raw);
+  o.min_island_mm3 = 0.01;  // 10 voxels of 0.1 mm
+  Result<LabelImage> b = segmentTooth(ph.image, o, nullInterrupter(), &clean);
+  ASSERT_TRUE(a.ok() && b.ok());
+  // Enamel labels deep in the dentin, 5 voxels or more below the dentin-enamel junction (r = 18):
+  // nearer to it, chains of specks reach the enamel layer and are part of it, not islands.
+  auto specks = [&](const LabelImage& out, const ToothSegmentReport& rep) {
+    uint64_t n = 0;
+    for (int k = 0; k < ph.dims[2]; ++k)
+      for (int j = 0; j < ph.dims[1]; ++j)
+        for (int i = 0; i < ph.dims[0]; ++i)
+          if (ph.truth[ph.index(i, j, k)] == kDentinA && dist(i, j, k, kCentreA) <= 13 &&
+              labelAt(out, rep, i, j, k) == 1)
+            ++n;
+    return n;
+  };
+  const uint64_t specks_raw = specks(*a, raw), specks_clean = specks(*b, clean);
+  std::printf("islands: %llu removed (%llu voxels); enamel specks deep in the dentin %llu -> %llu\n",
+              (unsigned long long)clean.islands_removed, (unsigned long long)clean.island_voxels,
+              (unsigned long long)specks_raw, (unsigned long long)specks_clean);
+  EXPECT_EQ(raw.islands_removed, 0u);
+  EXPECT_GT(clean.islands_removed, 20u);
+  EXPECT_DOUBLE_EQ(clean.min_island_voxels, 10.0);
+  EXPECT_GT(specks_raw, 20u);
+  EXPECT_EQ(specks_clean, 0u);
+}
+
+TEST(CtSegment, OutputImportsWithThePulpFilledByImportLabels) {
+  const Phantom ph = makePhantom({});
+  Result<LabelImage> r = segmentTooth(ph.image, ToothSegmentOptions{});
+  ASSERT_TRUE(r.ok()) << r.message();
+  LabelImportOptions io;
+  io.map = parseLabelMap("1=enamel,2=dentin,4=caries").value();
+  io.fill_enclosed = Material::Pulp;
+  LabelImportReport ir;
+  Result<ToothVolume> tooth = importLabels(*r, io, nullInterrupter(), &ir);
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  LabelImage back = exportLabels(*tooth);
+  const uint64_t pulp = uint64_t(std::count(back.labels.begin(), back.labels.end(), Label(3)));
+  std::printf("pulp after import: %llu voxels (truth %llu)\n", (unsigned long long)pulp,
+              (unsigned long long)ph.count(kPulpA));
+  EXPECT_GT(pulp, ph.count(kPulpA) * 8 / 10);
+  EXPECT_LT(pulp, ph.count(kPulpA) * 12 / 10);
 }
 
 // ---- the seed cuts the tooth from its neighbours ----------------------------------------------
