@@ -528,7 +528,7 @@ struct Thresholds {
   std::optional<double> caries_below; // with caries: dentin starts here
   double enamel = 0;                  // enamel_above
   std::string from_hard, from_caries, from_enamel;
-  bool enamel_automatic = false;
+  bool enamel_automatic = false, caries_automatic = false;  // refined on the tooth's voxels
 };
 
 // The lower bound of dentin: caries_below with caries, else the hard threshold.
@@ -578,7 +578,11 @@ Result<Thresholds> chooseThresholds(const RoiView& roi, const ToothSegmentOption
     const std::vector<double> cuts = otsuThresholds(h, classes);
     const std::string how = "automatic (" + std::to_string(classes) + "-class Otsu on the ROI's histogram)";
     if (!hard) { hard = cuts.front(); t.from_hard = how; }
-    if (o.caries && !caries_below) { caries_below = cuts[1]; t.from_caries = how; }
+    if (o.caries && !caries_below) {
+      caries_below = cuts[1];
+      t.from_caries = "automatic (3-class Otsu on the tooth's histogram)";
+      t.caries_automatic = true;
+    }
     if (!enamel) {
       enamel = cuts.back();
       t.from_enamel = "automatic (2-class Otsu on the tooth's histogram)";
@@ -596,8 +600,9 @@ std::string thresholdsFrom(const Thresholds& t) {
   const bool automatic = t.from_hard.rfind("automatic", 0) == 0 && t.enamel_automatic &&
                          (!t.caries_below || t.from_caries.rfind("automatic", 0) == 0);
   if (automatic)
-    return "automatic (" + std::string(t.caries_below ? "4" : "3") +
-           "-class Otsu on the ROI's histogram, enamel_above by 2-class Otsu on the tooth's)";
+    return t.caries_below ? "automatic (4-class Otsu on the ROI's histogram, caries_below and enamel_above by "
+                            "3-class Otsu on the tooth's)"
+                          : "automatic (3-class Otsu on the ROI's histogram, enamel_above by 2-class Otsu on the tooth's)";
   const bool same = t.from_hard == t.from_enamel && (!t.caries_below || t.from_caries == t.from_hard);
   if (same) return t.from_hard;
   std::string out = "dentin_above " + t.from_hard;
@@ -789,9 +794,11 @@ Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOption
     return image.values[image.index(rep.out_lo[0] + c[0], rep.out_lo[1] + c[1], rep.out_lo[2] + c[2])];
   };
 
-  // An automatic enamel cut, again from the tooth's voxels alone (dentin and enamel values).
-  if (thr.enamel_automatic) {
-    const double floor_value = dentinFloor(thr);
+  // Automatic caries and enamel cuts, again from the tooth's voxels alone: caries, dentin and
+  // enamel values (and their edges), without the air and soft tissue that swamp the ROI's histogram.
+  if (thr.enamel_automatic || thr.caries_automatic) {
+    const double lo = thr.caries_automatic ? thr.hard : dentinFloor(thr);
+    const double hi = thr.enamel_automatic ? std::numeric_limits<double>::infinity() : thr.enamel;
     const Histogram h = robustHistogram([&](auto&& f) {
       for (uint64_t o = 0; o < n_out; ++o) {
         const std::array<int64_t, 3> c = coordsOf(o, od);
@@ -799,10 +806,14 @@ Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOption
                                     roi.d[0] * ((out_local.lo[1] + c[1]) + int64_t{roi.d[1]} * (out_local.lo[2] + c[2])));
         if (!tooth.test(l)) continue;
         const float v = valueAt(o);
-        if (v >= floor_value) f(v);
+        if (v >= lo && v < hi) f(v);
       }
     });
-    if (h.total > 0) thr.enamel = std::max(otsuThresholds(h, 2).front(), std::nextafter(floor_value, 1e300));
+    if (h.total > 0) {
+      const std::vector<double> cuts = otsuThresholds(h, thr.enamel_automatic && thr.caries_automatic ? 3 : 2);
+      if (thr.caries_automatic) thr.caries_below = std::max(cuts.front(), std::nextafter(thr.hard, 1e300));
+      if (thr.enamel_automatic) thr.enamel = std::max(cuts.back(), std::nextafter(dentinFloor(thr), 1e300));
+    }
     if (Status s = checkOrder(thr, image.unit, where); !s) return s.error();
   }
   rep.dentin_above = thr.hard;

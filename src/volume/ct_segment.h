@@ -132,7 +132,10 @@ Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOption
 //   4 with caries and no caries_below (background | caries | dentin | enamel). A histogram of a
 //   ROI is mostly air and soft tissue, which pulls Otsu's upper cut off the dentin/enamel valley, so
 //   an automatic enamel_above is then recomputed by 2-class Otsu over the tooth's own voxels (those
-//   at or above the dentin cut). Given thresholds replace automatic ones one by one; a preset gives
+//   at or above the dentin cut); with caries, an automatic caries_below and enamel_above by 3-class
+//   Otsu over the tooth's voxels at or above dentin_above. A small lesion is a small class, and the
+//   blurred edges of every surface fill the same value range, so an automatic caries_below sits
+//   near the lesion's own value and finds little of it: give caries_below for caries work. Given thresholds replace automatic ones one by one; a preset gives
 //   all of them.
 // Tooth: hard = value >= dentin_above. Without a seed, the largest 6-connected hard component.
 //   With one, its component is cut at narrow joins: an exact Euclidean distance transform of the
