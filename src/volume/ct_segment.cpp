@@ -5,9 +5,10 @@
 //   2. Small tools (bits, progress, boxes, scanner geometry, messages)
 //   3. Histograms and multi-level Otsu
 //   4. The hard mask and its pieces
-//   5. Cutting the seeded tooth from its neighbours (distance transform, flood by dynamics)
-//   6. Classes, partial volume and caries on the output box
-//   7. Thresholds: presets, given and automatic
+//   5. The tooth: the largest piece, or the seeded piece cut from its neighbours (distance
+//      transform, flood by dynamics)
+//   6. Rules on the output box: outside, partial volume, edges, caries
+//   7. Thresholds (presets, given, automatic, refined on the tooth), classes, the ROI box
 //   8. segmentTooth
 #include "volume/ct_segment.h"
 
@@ -96,6 +97,11 @@ struct Box {
 std::array<int64_t, 3> coordsOf(uint64_t l, const std::array<int32_t, 3>& d) {
   const uint64_t row = l / uint64_t(d[0]);
   return {int64_t(l - row * uint64_t(d[0])), int64_t(row % uint64_t(d[1])), int64_t(row / uint64_t(d[1]))};
+}
+
+// The local index of local (x, y, z).
+uint64_t localIndex(const std::array<int64_t, 3>& c, const std::array<int32_t, 3>& d) {
+  return uint64_t(c[0] + d[0] * (c[1] + int64_t{d[1]} * c[2]));
 }
 
 // Calls f(j) for each face neighbour j of local index l inside a grid of dims d.
@@ -309,7 +315,7 @@ Piece floodPiece(const Bits& mask, Bits& seen, const std::array<int32_t, 3>& d, 
   return piece;
 }
 
-// ---- 5. cutting the seeded tooth ------------------------------------------------------------
+// ---- 5. the tooth ---------------------------------------------------------------------------
 
 // Squared distance along one line to the nearest site: d[p] = min_q ((p - q) s)^2 + f[q], f[q]
 // infinite where q is no site (Felzenszwalb & Huttenlocher's lower envelope of parabolas).
@@ -450,7 +456,74 @@ Result<std::vector<uint8_t>> cutTooth(std::vector<uint8_t> piece, const std::arr
   return piece;
 }
 
-// ---- 6. classes, partial volume and caries --------------------------------------------------
+// The 0/1 grid of `mask` over a local box of the ROI.
+std::vector<uint8_t> gridOf(const Bits& mask, const std::array<int32_t, 3>& roi_d, const Box& sub) {
+  std::vector<uint8_t> out(sub.count());
+  size_t i = 0;
+  for (int64_t z = sub.lo[2]; z <= sub.hi[2]; ++z)
+    for (int64_t y = sub.lo[1]; y <= sub.hi[1]; ++y)
+      for (int64_t x = sub.lo[0]; x <= sub.hi[0]; ++x, ++i)
+        out[i] = mask.test(localIndex({x, y, z}, roi_d)) ? 1 : 0;
+  return out;
+}
+
+// The tooth's voxels in the ROI and their bounding box (ROI-local).
+struct ToothMask {
+  Bits bits;
+  Box box;
+};
+
+// The seed's hard piece cut at narrow joins (cutTooth), or without a seed the largest hard piece.
+Result<ToothMask> findTooth(const RoiView& roi, const Bits& hard, std::optional<uint64_t> seed,
+                            const std::array<double, 3>& pitch, const ToothSegmentOptions& options, const Stage& stage,
+                            std::deque<uint64_t>& queue, ToothSegmentReport& rep) {
+  const uint64_t n_roi = roi.box.count();
+  ToothMask tooth{Bits(n_roi), Box{}};
+  if (!seed) {
+    Bits seen(n_roi);
+    uint64_t best = 0, best_start = 0;
+    for (uint64_t l = 0; l < n_roi; ++l) {
+      if (!hard.test(l) || seen.test(l)) continue;
+      const Piece p = floodPiece(hard, seen, roi.d, l, queue);
+      if (p.voxels > best) {
+        best = p.voxels;
+        best_start = l;
+      }
+    }
+    const Piece largest = floodPiece(hard, tooth.bits, roi.d, best_start, queue);
+    tooth.box = largest.box;
+    rep.hard_component_voxels = rep.tooth_voxels = largest.voxels;
+    return tooth;
+  }
+  const Piece piece = floodPiece(hard, tooth.bits, roi.d, *seed, queue);
+  rep.hard_component_voxels = piece.voxels;
+  if (!stage.report(0.2)) return cancelled(options.where);
+  const std::array<int32_t, 3> pd = piece.box.dims();
+  const std::array<int64_t, 3> sc = coordsOf(*seed, roi.d);
+  const uint64_t seed_in_piece = localIndex({sc[0] - piece.box.lo[0], sc[1] - piece.box.lo[1], sc[2] - piece.box.lo[2]}, pd);
+  Result<std::vector<uint8_t>> kept = cutTooth(gridOf(tooth.bits, roi.d, piece.box), pd, pitch, seed_in_piece,
+                                               options.split_h_mm, Stage{stage.interrupter, stage.begin + 0.2 * (stage.end - stage.begin), stage.end}, options.where);
+  if (!kept) return kept.error();
+  tooth.bits = Bits(n_roi);
+  tooth.box.lo = {roi.d[0], roi.d[1], roi.d[2]};
+  size_t i = 0;
+  for (int64_t z = piece.box.lo[2]; z <= piece.box.hi[2]; ++z)
+    for (int64_t y = piece.box.lo[1]; y <= piece.box.hi[1]; ++y)
+      for (int64_t x = piece.box.lo[0]; x <= piece.box.hi[0]; ++x, ++i) {
+        if (!(*kept)[i]) continue;
+        tooth.bits.set(localIndex({x, y, z}, roi.d));
+        ++rep.tooth_voxels;
+        const int64_t c[3] = {x, y, z};
+        for (size_t a = 0; a < 3; ++a) {
+          tooth.box.lo[a] = std::min(tooth.box.lo[a], c[a]);
+          tooth.box.hi[a] = std::max(tooth.box.hi[a], c[a]);
+        }
+      }
+  rep.neighbour_voxels_cut = piece.voxels - rep.tooth_voxels;
+  return tooth;
+}
+
+// ---- 6. rules on the output box -------------------------------------------------------------
 
 // One byte a voxel of the output box: the class in bits 0-1, then flag bits.
 constexpr uint8_t kClassMask = 0x03;
@@ -517,6 +590,134 @@ struct ClassMeans {
   std::array<double, 4> mean{};
   double midpoint(uint8_t dark, uint8_t bright) const { return 0.5 * (mean[dark] + mean[bright]); }
 };
+
+// The output box's cells (one byte each: class and flags) over the image's grey values.
+struct BoxCells {
+  const GreyImage& image;
+  std::array<int64_t, 3> lo;   // the image voxel of cell 0
+  std::array<int32_t, 3> d;    // cells along i, j, k
+  std::vector<uint8_t> cells;  // (d[0] * d[1] * d[2]), i fastest
+  float value(uint64_t o) const {
+    const std::array<int64_t, 3> c = coordsOf(o, d);
+    return image.values[image.index(lo[0] + c[0], lo[1] + c[1], lo[2] + c[2])];
+  }
+};
+
+// The partial-volume rule (see the header); decisions from the classes before any change, applied
+// at once. Returns the voxels reassigned.
+uint64_t applyPartialVolume(BoxCells& box, int w, bool caries, const ClassMeans& means, std::deque<uint64_t>& queue) {
+  std::vector<uint8_t>& cells = box.cells;
+  // Only the outside counts as the darker class: enamel never faces the pulp, and noise specks
+  // of enamel near the pulp wall must not pull dentin into enamel.
+  markOutside(cells, box.d, queue);
+  dilateInto(cells, box.d, w, kNearEmpty, [](uint8_t c) { return (c & kOutside) != 0; });
+  dilateInto(cells, box.d, w, kNearEnamel, [](uint8_t c) { return classOf(c) == kEnamel; });
+  if (caries) dilateInto(cells, box.d, w, kNearHard, [](uint8_t c) { return classOf(c) >= kDentin; });
+  std::vector<std::pair<uint64_t, uint8_t>> changes;
+  for (uint64_t o = 0; o < cells.size(); ++o) {
+    const uint8_t c = cells[o], cls = classOf(c);
+    if (!(c & kNearEmpty)) continue;
+    uint8_t bright = 0;
+    if (cls == kDentin && (c & kNearEnamel)) bright = kEnamel;
+    if (cls == kCaries && (c & kNearHard)) bright = (c & kNearEnamel) ? kEnamel : kDentin;
+    if (bright == 0) continue;
+    changes.emplace_back(o, double(box.value(o)) > means.midpoint(0, bright) ? bright : uint8_t(0));
+  }
+  for (const auto& [o, cls] : changes) cells[o] = uint8_t((cells[o] & ~kClassMask) | cls);
+  for (uint8_t& c : cells) c = classOf(c);
+  return changes.size();
+}
+
+// Mean value of the empty space facing the tooth: [0] the outside, [1] enclosed space; `fallback`
+// where there is none. Cut-away hard tissue (value >= hard) is in neither.
+std::array<double, 2> darkMeans(const BoxCells& box, double hard, double fallback) {
+  double sum[2] = {0, 0}, cnt[2] = {0, 0};
+  for (uint64_t o = 0; o < box.cells.size(); ++o) {
+    if (classOf(box.cells[o]) != 0) continue;
+    const float v = box.value(o);
+    if (!(v < hard)) continue;  // cut-away hard tissue and non-finite values
+    const int side = (box.cells[o] & kOutside) ? 0 : 1;
+    sum[side] += double(v);
+    cnt[side] += 1;
+  }
+  std::array<double, 2> out{fallback, fallback};
+  for (size_t side = 0; side < 2; ++side)
+    if (cnt[side] > 0) out[side] = sum[side] / cnt[side];
+  return out;
+}
+
+// Edges: a tooth voxel facing empty space is kept when its value is at least half-way from the
+// mean of that space to its class's mean, peeled up to `layers` times. One global cut is half-way
+// between air and dentin, which leaves a rim of dentin in the pulp, whose soft tissue is far
+// brighter than air. Needs kOutside marked; returns the voxels emptied.
+uint64_t applyEdgeRule(BoxCells& box, int layers, const std::array<double, 2>& dark, const ClassMeans& means) {
+  std::vector<uint8_t>& cells = box.cells;
+  uint64_t emptied = 0;
+  for (int pass = 0; pass < layers; ++pass) {
+    std::vector<std::pair<uint64_t, uint8_t>> changes;
+    for (uint64_t o = 0; o < cells.size(); ++o) {
+      const uint8_t cls = classOf(cells[o]);
+      if (cls == 0) continue;
+      bool faces_out = false, faces_in = false;
+      forEachFaceNeighbour(o, box.d, [&](uint64_t j) {
+        if (classOf(cells[j]) != 0) return;
+        if (cells[j] & kOutside) faces_out = true;
+        else faces_in = true;
+      });
+      if (!faces_out && !faces_in) continue;
+      if (double(box.value(o)) < 0.5 * (dark[faces_in ? 1 : 0] + means.mean[cls]))
+        changes.emplace_back(o, faces_out ? kOutside : uint8_t(0));
+    }
+    if (changes.empty()) break;
+    for (const auto& [o, mark] : changes) cells[o] = mark;
+    emptied += changes.size();
+  }
+  return emptied;
+}
+
+// Caries: 6-connected pieces of caries within w of the outside (open to the surface) and holding a
+// voxel whose six neighbours are all caries (thicker than an edge rim) stay; the rest become dentin
+// above the midpoint of the dentin mean and the mean of the space they lie by, else empty. Needs
+// kOutside marked; returns the caries voxels rejected.
+uint64_t keepOpenCaries(BoxCells& box, int w, const std::array<double, 2>& dark, const ClassMeans& means,
+                        std::deque<uint64_t>& queue) {
+  std::vector<uint8_t>& cells = box.cells;
+  dilateInto(cells, box.d, w, kNearEmpty, [](uint8_t c) { return (c & kOutside) != 0; });
+  uint64_t rejected = 0;
+  std::vector<uint64_t> piece;
+  for (uint64_t s = 0; s < cells.size(); ++s) {
+    if (classOf(cells[s]) != kCaries || (cells[s] & kScratchA)) continue;
+    piece.clear();
+    bool open = false, thick = false;
+    cells[s] |= kScratchA;
+    queue.push_back(s);
+    while (!queue.empty()) {
+      const uint64_t o = queue.front();
+      queue.pop_front();
+      piece.push_back(o);
+      open = open || (cells[o] & kNearEmpty);
+      int caries_faces = 0;
+      forEachFaceNeighbour(o, box.d, [&](uint64_t j) {
+        if (classOf(cells[j]) != kCaries) return;
+        ++caries_faces;
+        if (!(cells[j] & kScratchA)) {
+          cells[j] |= kScratchA;
+          queue.push_back(j);
+        }
+      });
+      thick = thick || caries_faces == 6;
+    }
+    if (open && thick) continue;
+    const double split = 0.5 * (dark[open ? 0 : 1] + means.mean[kDentin]);
+    for (uint64_t o : piece) {
+      const uint8_t cls = double(box.value(o)) > split ? kDentin : 0;
+      cells[o] = uint8_t((cells[o] & ~kClassMask) | cls);
+    }
+    rejected += piece.size();
+  }
+  for (uint8_t& c : cells) c = classOf(c);
+  return rejected;
+}
 
 }  // namespace
 
@@ -596,6 +797,53 @@ Result<Thresholds> chooseThresholds(const RoiView& roi, const ToothSegmentOption
   return t;
 }
 
+// Marks a tooth voxel of the output box before it has a class.
+constexpr uint8_t kToothMark = kDentin;
+
+// Automatic caries and enamel cuts, again from the tooth's voxels alone (cells marked kToothMark):
+// caries, dentin and enamel values and their edges, without the air and soft tissue that swamp the
+// ROI's histogram.
+Status refineOnTooth(Thresholds& thr, const BoxCells& box, GreyUnit unit, const std::string& where) {
+  if (!thr.enamel_automatic && !thr.caries_automatic) return Ok{};
+  const double lo = thr.caries_automatic ? thr.hard : dentinFloor(thr);
+  const double hi = thr.enamel_automatic ? std::numeric_limits<double>::infinity() : thr.enamel;
+  const Histogram h = robustHistogram([&](auto&& f) {
+    for (uint64_t o = 0; o < box.cells.size(); ++o) {
+      if (box.cells[o] != kToothMark) continue;
+      const float v = box.value(o);
+      if (v >= lo && v < hi) f(v);
+    }
+  });
+  if (h.total > 0) {
+    const std::vector<double> cuts = otsuThresholds(h, thr.enamel_automatic && thr.caries_automatic ? 3 : 2);
+    if (thr.caries_automatic) thr.caries_below = std::max(cuts.front(), std::nextafter(thr.hard, 1e300));
+    if (thr.enamel_automatic) thr.enamel = std::max(cuts.back(), std::nextafter(dentinFloor(thr), 1e300));
+  }
+  return checkOrder(thr, unit, where);
+}
+
+// Classes of the tooth's cells (marked kToothMark) by value, and each class's mean value; class 0's
+// mean is over the empty cells below the hard threshold (cut-away hard tissue is in no mean).
+ClassMeans classify(BoxCells& box, const Thresholds& thr) {
+  std::array<double, 4> sum{}, cnt{};
+  const double dentin_floor = dentinFloor(thr);
+  for (uint64_t o = 0; o < box.cells.size(); ++o) {
+    const float v = box.value(o);
+    uint8_t cls = 0;
+    if (box.cells[o] == kToothMark)
+      cls = v >= thr.enamel ? kEnamel : v >= dentin_floor ? kDentin : kCaries;
+    else if (!(v < thr.hard))
+      continue;
+    box.cells[o] = cls;
+    sum[cls] += double(v);
+    cnt[cls] += 1;
+  }
+  ClassMeans means;
+  const double fallback[4] = {thr.hard, thr.hard, dentin_floor, thr.enamel};
+  for (size_t c = 0; c < 4; ++c) means.mean[c] = cnt[c] > 0 ? sum[c] / cnt[c] : fallback[c];
+  return means;
+}
+
 std::string thresholdsFrom(const Thresholds& t) {
   const bool automatic = t.from_hard.rfind("automatic", 0) == 0 && t.enamel_automatic &&
                          (!t.caries_below || t.from_caries.rfind("automatic", 0) == 0);
@@ -643,16 +891,6 @@ Result<Box> roiBox(const GreyImage& image, const std::array<double, 12>& inv, co
   return box;
 }
 
-// The 0/1 grid of `mask` over a local box of the ROI.
-std::vector<uint8_t> gridOf(const Bits& mask, const std::array<int32_t, 3>& roi_d, const Box& sub) {
-  std::vector<uint8_t> out(sub.count());
-  size_t i = 0;
-  for (int64_t z = sub.lo[2]; z <= sub.hi[2]; ++z)
-    for (int64_t y = sub.lo[1]; y <= sub.hi[1]; ++y)
-      for (int64_t x = sub.lo[0]; x <= sub.hi[0]; ++x, ++i)
-        out[i] = mask.test(uint64_t(x + roi_d[0] * (y + int64_t{roi_d[1]} * z))) ? 1 : 0;
-  return out;
-}
 
 }  // namespace
 
@@ -721,7 +959,7 @@ Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOption
     for (size_t a = 0; a < 3; ++a)
       if (c[a] < roi.box.lo[a] || c[a] > roi.box.hi[a])
         return makeError(where, "the seed " + mmPoint(s) + " is outside the ROI");
-    const uint64_t l = uint64_t((c[0] - roi.box.lo[0]) + roi.d[0] * ((c[1] - roi.box.lo[1]) + int64_t{roi.d[1]} * (c[2] - roi.box.lo[2])));
+    const uint64_t l = localIndex({c[0] - roi.box.lo[0], c[1] - roi.box.lo[1], c[2] - roi.box.lo[2]}, roi.d);
     if (!hard.test(l))
       return makeError(where, "the seed " + mmPoint(s) + " is not in hard tissue: value " +
                                   num(image.values[image.index(c[0], c[1], c[2])]) + unit + " (dentin_above " +
@@ -731,51 +969,10 @@ Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOption
   }
 
   // The tooth: the seed's piece cut at narrow joins, or the largest piece.
-  Bits tooth(n_roi);
-  Box tooth_box;
   std::deque<uint64_t> queue;
-  if (seed_local) {
-    const Piece piece = floodPiece(hard, tooth, roi.d, *seed_local, queue);
-    rep.hard_component_voxels = piece.voxels;
-    if (!job.report(0.2)) return cancelled(where);
-    const std::array<int32_t, 3> pd = piece.box.dims();
-    const std::array<int64_t, 3> sc = coordsOf(*seed_local, roi.d);
-    const uint64_t seed_in_piece = uint64_t((sc[0] - piece.box.lo[0]) +
-                                            pd[0] * ((sc[1] - piece.box.lo[1]) + int64_t{pd[1]} * (sc[2] - piece.box.lo[2])));
-    Result<std::vector<uint8_t>> kept = cutTooth(gridOf(tooth, roi.d, piece.box), pd, image.pitch_mm, seed_in_piece,
-                                                 options.split_h_mm, Stage{interrupter, 0.2, 0.6}, where);
-    if (!kept) return kept.error();
-    tooth = Bits(n_roi);
-    tooth_box.lo = {roi.d[0], roi.d[1], roi.d[2]};
-    size_t i = 0;
-    for (int64_t z = piece.box.lo[2]; z <= piece.box.hi[2]; ++z)
-      for (int64_t y = piece.box.lo[1]; y <= piece.box.hi[1]; ++y)
-        for (int64_t x = piece.box.lo[0]; x <= piece.box.hi[0]; ++x, ++i) {
-          if (!(*kept)[i]) continue;
-          tooth.set(uint64_t(x + roi.d[0] * (y + int64_t{roi.d[1]} * z)));
-          ++rep.tooth_voxels;
-          const int64_t c[3] = {x, y, z};
-          for (size_t a = 0; a < 3; ++a) {
-            tooth_box.lo[a] = std::min(tooth_box.lo[a], c[a]);
-            tooth_box.hi[a] = std::max(tooth_box.hi[a], c[a]);
-          }
-        }
-    rep.neighbour_voxels_cut = piece.voxels - rep.tooth_voxels;
-  } else {
-    Bits seen(n_roi);
-    uint64_t best = 0, best_start = 0;
-    for (uint64_t l = 0; l < n_roi; ++l) {
-      if (!hard.test(l) || seen.test(l)) continue;
-      const Piece p = floodPiece(hard, seen, roi.d, l, queue);
-      if (p.voxels > best) {
-        best = p.voxels;
-        best_start = l;
-      }
-    }
-    const Piece p = floodPiece(hard, tooth, roi.d, best_start, queue);
-    tooth_box = p.box;
-    rep.hard_component_voxels = rep.tooth_voxels = p.voxels;
-  }
+  Result<ToothMask> found = findTooth(roi, hard, seed_local, image.pitch_mm, options, Stage{interrupter, 0.1, 0.6}, queue, rep);
+  if (!found) return found.error();
+  const Box& tooth_box = found->box;
   hard = Bits();
   if (!job.report(0.6)) return cancelled(where);
 
@@ -789,172 +986,38 @@ Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOption
   }
   const std::array<int32_t, 3> od = out_local.dims();
   const uint64_t n_out = out_local.count();
-  auto valueAt = [&](uint64_t o) {
-    const std::array<int64_t, 3> c = coordsOf(o, od);
-    return image.values[image.index(rep.out_lo[0] + c[0], rep.out_lo[1] + c[1], rep.out_lo[2] + c[2])];
-  };
-
-  // Automatic caries and enamel cuts, again from the tooth's voxels alone: caries, dentin and
-  // enamel values (and their edges), without the air and soft tissue that swamp the ROI's histogram.
-  if (thr.enamel_automatic || thr.caries_automatic) {
-    const double lo = thr.caries_automatic ? thr.hard : dentinFloor(thr);
-    const double hi = thr.enamel_automatic ? std::numeric_limits<double>::infinity() : thr.enamel;
-    const Histogram h = robustHistogram([&](auto&& f) {
-      for (uint64_t o = 0; o < n_out; ++o) {
-        const std::array<int64_t, 3> c = coordsOf(o, od);
-        const uint64_t l = uint64_t((out_local.lo[0] + c[0]) +
-                                    roi.d[0] * ((out_local.lo[1] + c[1]) + int64_t{roi.d[1]} * (out_local.lo[2] + c[2])));
-        if (!tooth.test(l)) continue;
-        const float v = valueAt(o);
-        if (v >= lo && v < hi) f(v);
-      }
-    });
-    if (h.total > 0) {
-      const std::vector<double> cuts = otsuThresholds(h, thr.enamel_automatic && thr.caries_automatic ? 3 : 2);
-      if (thr.caries_automatic) thr.caries_below = std::max(cuts.front(), std::nextafter(thr.hard, 1e300));
-      if (thr.enamel_automatic) thr.enamel = std::max(cuts.back(), std::nextafter(dentinFloor(thr), 1e300));
-    }
-    if (Status s = checkOrder(thr, image.unit, where); !s) return s.error();
+  BoxCells box{image, rep.out_lo, od, std::vector<uint8_t>(n_out, 0)};
+  {
+    size_t o = 0;
+    for (int64_t z = out_local.lo[2]; z <= out_local.hi[2]; ++z)
+      for (int64_t y = out_local.lo[1]; y <= out_local.hi[1]; ++y)
+        for (int64_t x = out_local.lo[0]; x <= out_local.hi[0]; ++x, ++o)
+          if (found->bits.test(localIndex({x, y, z}, roi.d))) box.cells[o] = kToothMark;
   }
+  found->bits = Bits();
+
+  // Thresholds refined on the tooth, then classes and their means.
+  if (Status s = refineOnTooth(thr, box, image.unit, where); !s) return s.error();
   rep.dentin_above = thr.hard;
   rep.enamel_above = thr.enamel;
   rep.caries_below = thr.caries_below;
   rep.thresholds_from = thresholdsFrom(thr);
-
-  // Classes, and the class means the partial-volume and caries rules split at.
-  std::vector<uint8_t> cells(n_out, 0);
-  std::array<double, 4> sum{}, cnt{};
-  {
-    const double dentin_floor = dentinFloor(thr);
-    size_t o = 0;
-    for (int64_t z = out_local.lo[2]; z <= out_local.hi[2]; ++z)
-      for (int64_t y = out_local.lo[1]; y <= out_local.hi[1]; ++y)
-        for (int64_t x = out_local.lo[0]; x <= out_local.hi[0]; ++x, ++o) {
-          const float v = valueAt(o);
-          uint8_t cls = 0;
-          if (tooth.test(uint64_t(x + roi.d[0] * (y + int64_t{roi.d[1]} * z))))
-            cls = v >= thr.enamel ? kEnamel : v >= dentin_floor ? kDentin : kCaries;
-          else if (!(v >= thr.hard) && std::isfinite(v))
-            cls = 0;
-          else
-            continue;  // hard but cut away: in no class's mean
-          cells[o] = cls;
-          sum[cls] += double(v);
-          cnt[cls] += 1;
-        }
-  }
-  tooth = Bits();
-  ClassMeans means;
-  const double fallback[4] = {thr.hard, thr.hard, dentinFloor(thr), thr.enamel};
-  for (size_t c = 0; c < 4; ++c) means.mean[c] = cnt[c] > 0 ? sum[c] / cnt[c] : fallback[c];
+  const ClassMeans means = classify(box, thr);
   if (!job.report(0.7)) return cancelled(where);
 
-  // Partial volume: decisions from the classes before any change, applied at once.
+  // Partial volume, then the outside again (the rule empties the rim), then edges and caries.
   const int w = options.partial_volume_voxels;
-  if (w > 0) {
-    // Only the outside counts as the darker class: enamel never faces the pulp, and noise specks
-    // of enamel near the pulp wall must not pull dentin into enamel.
-    markOutside(cells, od, queue);
-    dilateInto(cells, od, w, kNearEmpty, [](uint8_t c) { return (c & kOutside) != 0; });
-    dilateInto(cells, od, w, kNearEnamel, [](uint8_t c) { return classOf(c) == kEnamel; });
-    if (options.caries)
-      dilateInto(cells, od, w, kNearHard, [](uint8_t c) { return classOf(c) >= kDentin; });
-    std::vector<std::pair<uint64_t, uint8_t>> changes;
-    for (uint64_t o = 0; o < n_out; ++o) {
-      const uint8_t c = cells[o], cls = classOf(c);
-      if (!(c & kNearEmpty)) continue;
-      uint8_t bright = 0;
-      if (cls == kDentin && (c & kNearEnamel)) bright = kEnamel;
-      if (cls == kCaries && (c & kNearHard)) bright = (c & kNearEnamel) ? kEnamel : kDentin;
-      if (bright == 0) continue;
-      changes.emplace_back(o, double(valueAt(o)) > means.midpoint(0, bright) ? bright : uint8_t(0));
-    }
-    for (const auto& [o, cls] : changes) cells[o] = uint8_t((cells[o] & ~kClassMask) | cls);
-    rep.partial_volume_voxels = changes.size();
-    for (uint8_t& c : cells) c = classOf(c);
-  }
+  if (w > 0) rep.partial_volume_voxels = applyPartialVolume(box, w, options.caries, means, queue);
   if (!job.report(0.8)) return cancelled(where);
 
-  // The outside again, now that the partial-volume rule has emptied the rim.
-  markOutside(cells, od, queue);
-
-  // Edges: a tooth voxel facing empty space is kept when its value is at least half-way from the
-  // mean of that space to its class's mean. One global cut is half-way between air and dentin,
-  // which leaves a rim of dentin in the pulp, whose soft tissue is far brighter than air.
-  double dark_mean[2] = {means.mean[0], means.mean[0]};  // facing the outside, facing enclosed space
-  {
-    double dsum[2] = {0, 0}, dcnt[2] = {0, 0};
-    for (uint64_t o = 0; o < n_out; ++o) {
-      if (classOf(cells[o]) != 0) continue;
-      const float v = valueAt(o);
-      if (!(v < thr.hard)) continue;  // cut-away hard tissue and non-finite values
-      const int side = (cells[o] & kOutside) ? 0 : 1;
-      dsum[side] += double(v);
-      dcnt[side] += 1;
-    }
-    for (int side = 0; side < 2; ++side)
-      if (dcnt[side] > 0) dark_mean[side] = dsum[side] / dcnt[side];
-  }
-  for (int pass = 0; pass < w; ++pass) {
-    std::vector<std::pair<uint64_t, uint8_t>> changes;
-    for (uint64_t o = 0; o < n_out; ++o) {
-      const uint8_t cls = classOf(cells[o]);
-      if (cls == 0) continue;
-      bool faces_out = false, faces_in = false;
-      forEachFaceNeighbour(o, od, [&](uint64_t j) {
-        if (classOf(cells[j]) != 0) return;
-        if (cells[j] & kOutside) faces_out = true;
-        else faces_in = true;
-      });
-      if (!faces_out && !faces_in) continue;
-      const double dark = dark_mean[faces_in ? 1 : 0];
-      if (double(valueAt(o)) < 0.5 * (dark + means.mean[cls]))
-        changes.emplace_back(o, faces_out ? kOutside : uint8_t(0));
-    }
-    if (changes.empty()) break;
-    for (const auto& [o, mark] : changes) cells[o] = mark;
-    rep.edge_voxels += changes.size();
-  }
-
-  // Caries: pieces open to the surface and thicker than an edge rim; the rest split at the midpoint.
-  if (options.caries) {
-    dilateInto(cells, od, std::max(w, 1), kNearEmpty, [](uint8_t c) { return (c & kOutside) != 0; });
-    std::vector<uint64_t> piece;
-    for (uint64_t s = 0; s < n_out; ++s) {
-      if (classOf(cells[s]) != kCaries || (cells[s] & kScratchA)) continue;
-      piece.clear();
-      bool open = false, thick = false;
-      cells[s] |= kScratchA;
-      queue.push_back(s);
-      while (!queue.empty()) {
-        const uint64_t o = queue.front();
-        queue.pop_front();
-        piece.push_back(o);
-        open = open || (cells[o] & kNearEmpty);
-        int caries_faces = 0;
-        forEachFaceNeighbour(o, od, [&](uint64_t j) {
-          if (classOf(cells[j]) != kCaries) return;
-          ++caries_faces;
-          if (!(cells[j] & kScratchA)) {
-            cells[j] |= kScratchA;
-            queue.push_back(j);
-          }
-        });
-        thick = thick || caries_faces == 6;
-      }
-      if (open && thick) continue;
-      const double split = 0.5 * (dark_mean[open ? 0 : 1] + means.mean[kDentin]);
-      for (uint64_t o : piece) {
-        const uint8_t cls = double(valueAt(o)) > split ? kDentin : 0;
-        cells[o] = uint8_t((cells[o] & ~kClassMask) | cls);
-      }
-      rep.caries_rejected_voxels += piece.size();
-    }
-    for (uint8_t& c : cells) c = classOf(c);
-  }
+  markOutside(box.cells, box.d, queue);
+  const std::array<double, 2> dark = darkMeans(box, thr.hard, means.mean[0]);
+  rep.edge_voxels = applyEdgeRule(box, w, dark, means);
+  if (options.caries) rep.caries_rejected_voxels = keepOpenCaries(box, std::max(w, 1), dark, means, queue);
   if (!job.report(0.85)) return cancelled(where);
 
   // Islands, through importLabels' own rule, on voxel codes.
+  std::vector<uint8_t>& cells = box.cells;
   for (uint8_t& c : cells) {
     c = classOf(c);
     c = c == kEnamel ? makeVoxel(Material::Enamel) : c == kDentin ? makeVoxel(Material::Dentin)
