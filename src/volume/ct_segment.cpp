@@ -498,6 +498,10 @@ Result<ToothMask> findTooth(const RoiView& roi, const Bits& hard, std::optional<
   const Piece piece = floodPiece(hard, tooth.bits, roi.d, *seed, queue);
   rep.hard_component_voxels = piece.voxels;
   if (!stage.report(0.2)) return cancelled(options.where);
+  // The flood order holds 32-bit indices into the piece's box.
+  if (piece.box.count() > std::numeric_limits<uint32_t>::max())
+    return makeError(options.where, "the seed's hard tissue spans " + std::to_string(piece.box.count()) +
+                                        " voxels, more than the cut handles (2^32): set an ROI around the tooth");
   const std::array<int32_t, 3> pd = piece.box.dims();
   const std::array<int64_t, 3> sc = coordsOf(*seed, roi.d);
   const uint64_t seed_in_piece = localIndex({sc[0] - piece.box.lo[0], sc[1] - piece.box.lo[1], sc[2] - piece.box.lo[2]}, pd);

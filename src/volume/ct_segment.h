@@ -74,7 +74,7 @@ struct ToothSegmentOptions {
   // blurred periodontal gap (<= 0.2 mm), so neighbours part.
   double split_h_mm = 0.3;
   // Partial-volume width [voxels]: an intermediate-class voxel within this many voxels (box
-  // distance) of both a darker and a brighter class is an edge blur, not a tissue. 2 covers the
+  // distance) of both the outside and a brighter class is an edge blur, not a tissue. 2 covers the
   // 10-90 % rise of an edge blurred by a Gaussian of sigma up to about 1 voxel. It is also the
   // number of layers the edge rule may peel. 0 turns both rules off (plain thresholds).
   int partial_volume_voxels = 2;
@@ -135,8 +135,9 @@ Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOption
 //   at or above the dentin cut); with caries, an automatic caries_below and enamel_above by 3-class
 //   Otsu over the tooth's voxels at or above dentin_above. A small lesion is a small class, and the
 //   blurred edges of every surface fill the same value range, so an automatic caries_below sits
-//   near the lesion's own value and finds little of it: give caries_below for caries work. Given thresholds replace automatic ones one by one; a preset gives
-//   all of them.
+//   near the lesion's own value and finds little of it: give caries_below for caries work.
+//   Given thresholds replace automatic ones one by one. A preset gives all of them; with caries its
+//   caries_above becomes dentin_above and its dentin_above becomes caries_below.
 // Tooth: hard = value >= dentin_above. Without a seed, the largest 6-connected hard component.
 //   With one, its component is cut at narrow joins: an exact Euclidean distance transform of the
 //   component (pitch honoured), then a flood in decreasing distance (a counting sort over distance
