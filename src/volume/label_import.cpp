@@ -7,7 +7,7 @@
 //   4. Filling enclosed empty space (breadth-first from the border)
 //   5. Placement without resampling
 //   6. Placement with resampling
-//   7. importLabels
+//   7. importLabels (and cleanSmallPieces, section 3's clean-up for other callers)
 //   8. exportLabels
 #include "volume/label_import.h"
 
@@ -763,6 +763,12 @@ Result<ToothVolume> importLabels(const LabelImage& image, const LabelImportOptio
   }
   interrupter.end();
   return tooth;
+}
+
+Status cleanSmallPieces(std::vector<Voxel>& codes, const std::array<int32_t, 3>& dims, int64_t min_voxels,
+                        PieceCleanup& report, Interrupter& interrupter, const std::string& where) {
+  assert(codes.size() == size_t(int64_t{dims[0]} * dims[1] * dims[2]));
+  return relabelSmallPieces(codes, dims, min_voxels, report, Stage{interrupter, 0.0, 1.0}, where);
 }
 
 // ---- 8. exportLabels ------------------------------------------------------------------------

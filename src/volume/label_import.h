@@ -2,7 +2,8 @@
 //
 // Contents
 //   1. Label maps ("1=caries,2=enamel,3=dentin")
-//   2. importLabels: a LabelImage into a ToothVolume (what it changed in a LabelImportReport)
+//   2. importLabels: a LabelImage into a ToothVolume (what it changed in a LabelImportReport);
+//      cleanSmallPieces, its small-piece clean-up on its own (for ct_segment)
 //   3. exportLabels: a ToothVolume back into a LabelImage (Material codes as labels)
 #pragma once
 
@@ -12,6 +13,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/interrupter.h"
 #include "core/result.h"
@@ -108,6 +110,13 @@ struct LabelImportReport {
 // what the clean-up changed (reset first, also on error).
 Result<ToothVolume> importLabels(const LabelImage& image, const LabelImportOptions& options,
                                  Interrupter& interrupter = nullInterrupter(), LabelImportReport* report = nullptr);
+
+// The small-piece clean-up of importLabels (min_piece_voxels, described above), for other makers of
+// voxel grids (ct_segment). `codes` holds one voxel per grid cell, i fastest, each empty (0) or full
+// (makeVoxel(tissue, DS_FILL_FULL)); min_voxels > 0. Progress goes to `interrupter` as [0, 1]; a cancel
+// is an error "WHERE: import cancelled". `report` accumulates (it is not reset).
+Status cleanSmallPieces(std::vector<Voxel>& codes, const std::array<int32_t, 3>& dims, int64_t min_voxels,
+                        PieceCleanup& report, Interrupter& interrupter, const std::string& where);
 
 // ---- 3. export ------------------------------------------------------------------------------
 enum class ExportRegion {

@@ -1,0 +1,173 @@
+// One tooth out of a scanner's grey-value volume (CT, CBCT, micro-CT): thresholds, the tooth's own voxels, tissue labels for importLabels.
+//
+// Contents
+//   1. Scanner presets (named thresholds)
+//   2. ToothSegmentOptions, ToothSegmentReport
+//   3. segmentTooth: a GreyImage into a LabelImage of enamel, dentin and caries
+//   4. The steps and their rules
+//
+// Pulp is not labelled here. Its grey values are those of soft tissue, and telling an enclosed pulp
+// chamber from the air around the tooth is a question of shape, not of value: importLabels does it
+// with fill_enclosed = pulp and a seal (seal_mm about 0.3 mm closes the apical foramina), so the
+// output of segmentTooth goes into importLabels with the map "1=enamel,2=dentin,4=caries".
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/interrupter.h"
+#include "core/result.h"
+#include "io/grey_image.h"
+#include "io/nifti_labels.h"
+
+namespace dentsim {
+
+// ---- 1. presets -----------------------------------------------------------------------------
+// Thresholds for a kind of scanner, in its unit. They are starting points from published tissue
+// values, not calibrations: a given threshold still overrides a preset's.
+struct ToothSegmentPreset {
+  const char* name;          // what --preset takes ("ct-hu")
+  const char* description;   // one line for --help
+  GreyUnit unit;             // the image must be in this unit
+  double dentin_above;       // hard tissue starts here (without caries)
+  double enamel_above;       // enamel starts here
+  double caries_above;       // with caries: hard tissue (caries included) starts here
+};
+
+// Every preset, in the order --help lists them.
+const std::vector<ToothSegmentPreset>& toothSegmentPresets();
+
+// "ct-hu, cbct-hu" for messages and help.
+std::string toothSegmentPresetNames();
+
+// ---- 2. options and report ------------------------------------------------------------------
+// A box in scanner space [mm]: its two corners, inclusive, in any order per axis.
+struct MmBox {
+  std::array<double, 3> lo{0, 0, 0}, hi{0, 0, 0};
+};
+
+// Thresholds are grey values in the image's unit (HU or raw); a voxel belongs to the class whose
+// lower threshold it reaches. Without caries:  background < dentin_above <= dentin < enamel_above
+// <= enamel. With caries, three cuts:  background < dentin_above <= caries < caries_below <= dentin <
+// enamel_above <= enamel, so dentin_above is always where hard tissue starts.
+struct ToothSegmentOptions {
+  std::optional<MmBox> roi;                      // crop to this box first (scanner mm); unset: whole image
+  std::optional<std::array<double, 3>> seed_mm;  // a point in the tooth (scanner mm): keep only its tooth
+  std::optional<double> dentin_above;            // hard tissue starts here [image unit]; unset: automatic
+  std::optional<double> enamel_above;            // enamel starts here [image unit]; unset: automatic
+  std::string preset;                            // a name from toothSegmentPresets(); empty: none
+  bool caries = false;                           // find caries (demineralised tissue open to the surface)
+  std::optional<double> caries_below;            // with caries: dentin starts here [image unit]; unset: automatic
+  // Pieces of one tissue (or holes) smaller than this are relabelled [mm^3]. 0.01 mm^3 is a cube of
+  // 0.22 mm: below any structure the simulator cuts (enamel is 0.3..2.5 mm thick, a bur tip 0.5 mm)
+  // and above the specks that noise leaves: 10 voxels at 0.1 mm (CBCT), 250 at 34 um (micro-CT),
+  // none at 0.3 mm, where one voxel is already larger. 0: off.
+  double min_island_mm3 = 0.01;
+  // The seeded tooth is cut from its neighbours where the hard tissue narrows: two bulges of the
+  // hard mask stay apart when the lower one's inscribed-ball radius exceeds the join's by h or more
+  // [mm]. 0.3 mm is below the half-thickness of a root's dentin wall (about 1 mm) and of the
+  // alveolar bone, so a tooth's own parts merge, and above the radius of a contact point or a
+  // blurred periodontal gap (<= 0.2 mm), so neighbours part.
+  double split_h_mm = 0.3;
+  // Partial-volume width [voxels]: an intermediate-class voxel within this many voxels (box
+  // distance) of both the outside and a brighter class is an edge blur, not a tissue. 2 covers the
+  // 10-90 % rise of an edge blurred by a Gaussian of sigma up to about 1 voxel. It is also the
+  // number of layers the edge rule may peel. 0 turns both rules off (plain thresholds).
+  int partial_volume_voxels = 2;
+  int margin_voxels = 3;  // empty voxels kept around the tooth's bounding box (within the ROI)
+  std::string where;      // names the source in errors
+};
+
+// What was chosen and how: what `dentsim voxelize` and `info` print.
+struct ToothSegmentReport {
+  double dentin_above = 0, enamel_above = 0;  // the thresholds used [image unit]
+  std::optional<double> caries_below;         // with caries [image unit]
+  GreyUnit unit = GreyUnit::Raw;
+  // "automatic (...)", "given", "preset NAME", or per threshold when they differ.
+  std::string thresholds_from;
+  std::array<int64_t, 3> roi_lo{}, roi_hi{};  // the ROI as an inclusive voxel box of the image
+  std::array<int64_t, 3> out_lo{}, out_hi{};  // the output's inclusive voxel box of the image
+  uint64_t enamel_voxels = 0, dentin_voxels = 0, caries_voxels = 0;  // in the output
+  uint64_t islands_removed = 0, island_voxels = 0;  // pieces (tissue and holes) relabelled
+  uint64_t partial_volume_voxels = 0;         // voxels reassigned by the partial-volume rule
+  uint64_t edge_voxels = 0;                   // tooth voxels emptied by the edge rule
+  uint64_t caries_rejected_voxels = 0;        // caries-range voxels not open to the surface or too thin
+  bool seeded = false;
+  uint64_t hard_component_voxels = 0;         // the connected hard tissue the tooth came from
+  uint64_t neighbour_voxels_cut = 0;          // hard voxels of that component cut away from the tooth
+  uint64_t tooth_voxels = 0;                  // hard voxels of the tooth before classification
+  double min_island_voxels = 0;               // min_island_mm3 in voxels
+};
+
+// ---- 3. entry point -------------------------------------------------------------------------
+// Labels one tooth of `image` with the tissue table's nifti_label codes: 1 enamel, 2 dentin,
+// 4 caries, 0 anything else (air, soft tissue, pulp, bone, other teeth). The output is the tooth's
+// voxel bounding box plus margin_voxels on each side, clipped to the ROI; its pitch is the image's
+// and its scanner_from_voxel the image's with the offset moved to the box's first voxel.
+//
+// Errors (one line, naming options.where): an empty image or one whose values do not match its
+// dims; an ROI outside the image or holding no voxel centre; an unknown preset or one for another
+// unit; thresholds out of order (naming the values and unit); no voxel reaching the hard-tissue
+// threshold; a seed outside the image or the ROI, or not in hard tissue; a cancel through
+// `interrupter`. `report`, when given, is reset first and filled as the steps run.
+//
+// Memory: three bits a voxel of the ROI (hard mask, tooth, pieces seen); with a seed, about 10 bytes
+// a voxel of the seeded piece's bounding box while it is cut (a float distance, then a 16-bit
+// depth, the flood order and a region id); one byte a voxel of the output box for the classes,
+// and the output's 2. No copy of the grey values is made.
+Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOptions& options,
+                                Interrupter& interrupter = nullInterrupter(), ToothSegmentReport* report = nullptr);
+
+// ---- 4. rules -------------------------------------------------------------------------------
+// ROI: the 8 corners of the mm box go through the inverse of scanner_from_voxel (any direction
+//   matrix, flips and swaps included); the voxels kept are the index bounding box of the results,
+//   rounded inwards to voxel centres and clipped to the image.
+// Thresholds: automatic ones come from multi-level Otsu, an exact search over a 256-bin histogram
+//   of the ROI between its 0.1 and 99.9 percentiles (values outside fall into the end bins, so a
+//   few metal or dead voxels do not stretch the bins): 3 classes (background | dentin | enamel), or
+//   4 with caries and no caries_below (background | caries | dentin | enamel). A histogram of a
+//   ROI is mostly air and soft tissue, which pulls Otsu's upper cut off the dentin/enamel valley, so
+//   an automatic enamel_above is then recomputed by 2-class Otsu over the tooth's own voxels (those
+//   at or above the dentin cut); with caries, an automatic caries_below and enamel_above by 3-class
+//   Otsu over the tooth's voxels at or above dentin_above. A small lesion is a small class, and the
+//   blurred edges of every surface fill the same value range, so an automatic caries_below sits
+//   near the lesion's own value and finds little of it: give caries_below for caries work.
+//   Given thresholds replace automatic ones one by one. A preset gives all of them; with caries its
+//   caries_above becomes dentin_above and its dentin_above becomes caries_below.
+// Tooth: hard = value >= dentin_above. Without a seed, the largest 6-connected hard component.
+//   With one, its component is cut at narrow joins: an exact Euclidean distance transform of the
+//   component (pitch honoured), then a flood in decreasing distance (a counting sort over distance
+//   steps of 1/16 of the smallest pitch), where two regions meeting at a saddle merge when the
+//   lower peak stands less than split_h_mm above it. The tooth is the seed's region.
+// Tissues: in the tooth, value >= enamel_above is enamel, the rest dentin (with caries, below
+//   caries_below caries).
+// Partial volume: a blurred enamel-air edge passes through dentin values (and caries values), a
+//   false dentin rim on the enamel. A dentin voxel within partial_volume_voxels of both the outside
+//   (non-tooth voxels connected to the box's border through non-tooth voxels; not the pulp) and enamel, or a caries voxel within it of both the outside and dentin or
+//   enamel, becomes the brighter tissue when its value is above the midpoint of the two classes'
+//   mean values in the output box, else empty.
+// Edges: a tooth voxel facing empty space (a face neighbour) becomes empty when its value is below
+//   the midpoint of that space's mean and its class's mean, for up to partial_volume_voxels
+//   layers. The space is the outside (empty connected to the box's border) or enclosed
+//   space (a closed pulp chamber): the pulp's soft tissue is much brighter than air, and one
+//   global cut half-way from air to dentin leaves a rim of false dentin a voxel thick in the pulp.
+// Caries: a 6-connected piece of caries voxels is kept when it lies within partial_volume_voxels of
+//   the empty space connected to the box's border (a lesion opens to the surface) and holds a voxel
+//   whose six neighbours are all caries (thicker than an edge rim); other caries-range voxels become
+//   dentin above the midpoint of the dentin mean and the mean of the empty space the piece lies
+//   by (the outside when it is open, else enclosed space), else empty.
+// Islands: last, importLabels' small-piece rule (cleanSmallPieces) with min_island_mm3 in voxels,
+//   rounded up: a piece takes the tissue most of its faces touch.
+
+namespace internal {
+// Exact multi-level Otsu over a histogram: the cuts b_1 < ... < b_{classes-1} (class j holds bins
+// [b_j, b_{j+1}), b_0 = 0, b_classes = counts.size(), each at least one bin) that maximise the
+// between-class variance. 2 <= classes <= counts.size(). Exposed for tests.
+std::vector<size_t> otsuCuts(const std::vector<double>& counts, int classes);
+}  // namespace internal
+
+}  // namespace dentsim
