@@ -1,4 +1,4 @@
-// `dentsim info FILE.dvol [--json]`: grid, bytes, brick and octree node counts, tissue volumes.
+// `dentsim info FILE.dvol [--json]`: grid, bytes, brick and octree node counts, tissue volumes, and what a scan's segmentation chose.
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -71,6 +71,17 @@ nlohmann::json describe(const std::string& path, const ToothVolume& t) {
     bounds[m == 0 ? std::string("tooth") : materialName(Material(m))] = {{"lo_mm", lo}, {"hi_mm", hi}};
   }
   j["bounds"] = bounds;
+  // What the voxelization chose (a scan's thresholds, its tooth's box), one entry a line.
+  if (!t.source_note.empty()) {
+    nlohmann::json lines = nlohmann::json::array();
+    size_t at = 0;
+    while (at <= t.source_note.size()) {
+      const size_t end = std::min(t.source_note.find('\n', at), t.source_note.size());
+      if (end > at) lines.push_back(t.source_note.substr(at, end - at));
+      at = end + 1;
+    }
+    j["source_note"] = lines;
+  }
   return j;
 }
 
@@ -133,6 +144,10 @@ void printText(const nlohmann::json& j) {
       rows += std::string(r ? ", " : "") + "xyz"[r] + " = source " + row;
     }
     std::printf("  turned    %s\n", rows.c_str());
+  }
+  if (j.contains("source_note")) {
+    std::printf("made from\n");
+    for (const auto& line : j["source_note"]) std::printf("  %s\n", line.get<std::string>().c_str());
   }
 }
 

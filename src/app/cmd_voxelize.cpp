@@ -15,8 +15,11 @@
 #include "app/terminal_progress.h"
 #include "gpu/gpu_voxelizer.h"
 #include "io/mesh_units.h"
+#include "io/dicom_series.h"
+#include "io/grey_volume_file.h"
 #include "io/nifti_labels.h"
 #include "io/stl_file.h"
+#include "volume/ct_segment.h"
 #include "volume/label_import.h"
 #include "volume/mesh_voxelizer.h"
 #include "volume/tissue_table.h"
@@ -49,6 +52,16 @@ struct VoxelizeOptions {
   std::string fill_enclosed; // tissue for empty space the tooth encloses; empty: none
   double seal_mm = 0.2;       // closing radius for --fill-enclosed [mm]; about the apical foramen radius
   long long min_piece = 0;    // labels: relabel pieces of one tissue smaller than this [voxels]; 0: off
+  // A scanner's grey values: a DICOM series, or a NIfTI/NRRD volume, segmented into tissues
+  std::string dicom;          // folder of a DICOM series (or one multi-frame file)
+  std::string series;         // the Series Instance UID to read from a folder holding several
+  std::string ct;             // .nii, .nii.gz, .nrrd or .nhdr grey-value volume
+  std::string roi;            // "x0,y0,z0:x1,y1,z1" in the scan's mm
+  std::vector<double> seed;   // x,y,z in the scan's mm
+  std::optional<double> enamel_above, dentin_above, caries_below;  // thresholds [the scan's unit]
+  std::string scanner;        // a named preset of thresholds
+  bool find_caries = false;   // label demineralised tissue open to the surface as caries
+  double min_island_mm3 = ToothSegmentOptions{}.min_island_mm3;
   std::string output;        // .dvol path
   // The tooth's frame, in the input's coordinates; empty: found (crown) or not known (mesial, buccal)
   std::vector<double> crown_axis, mesial_axis, buccal_axis;
@@ -279,6 +292,134 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
   return 0;
 }
 
+// "x0,y0,z0:x1,y1,z1" [mm] into a box; false when it is not six finite numbers in that shape.
+bool parseRoi(const std::string& text, MmBox* box) {
+  const size_t colon = text.find(':');
+  if (colon == std::string::npos || text.find(':', colon + 1) != std::string::npos) return false;
+  auto corner = [](const std::string& part, std::array<double, 3>* out) {
+    size_t at = 0;
+    for (int a = 0; a < 3; ++a) {
+      const size_t comma = a < 2 ? part.find(',', at) : part.size();
+      if (comma == std::string::npos) return false;
+      const std::string item = part.substr(at, comma - at);
+      char* end = nullptr;
+      (*out)[size_t(a)] = std::strtod(item.c_str(), &end);
+      if (item.empty() || end != item.c_str() + item.size() || !std::isfinite((*out)[size_t(a)])) return false;
+      at = comma + 1;
+    }
+    return true;
+  };
+  return corner(text.substr(0, colon), &box->lo) && corner(text.substr(colon + 1), &box->hi);
+}
+
+std::string greyValue(double v, GreyUnit unit) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.6g %s", v, greyUnitName(unit));
+  return buf;
+}
+
+// What the segmentation chose, in the lines `voxelize` prints and the volume file keeps for `info`.
+std::vector<std::string> segmentationLines(const std::string& source, const GreyImage& scan,
+                                           const ToothSegmentReport& r) {
+  std::vector<std::string> lines;
+  char buf[512];
+  std::snprintf(buf, sizeof buf, "scan: %s, %d x %d x %d voxels of %.4g x %.4g x %.4g mm, %s%s%s", source.c_str(),
+                scan.dims[0], scan.dims[1], scan.dims[2], scan.pitch_mm[0], scan.pitch_mm[1], scan.pitch_mm[2],
+                scan.unit == GreyUnit::Hounsfield ? "Hounsfield units" : "raw values",
+                scan.manufacturer.empty() ? "" : ", ", (scan.manufacturer + " " + scan.model).c_str());
+  lines.push_back(buf);
+  std::string t = "thresholds (" + r.thresholds_from + "): dentin from " + greyValue(r.dentin_above, r.unit) +
+                  ", enamel from " + greyValue(r.enamel_above, r.unit);
+  if (r.caries_below) t += ", caries below " + greyValue(*r.caries_below, r.unit);
+  lines.push_back(t);
+  std::snprintf(buf, sizeof buf, "tooth: voxels %lld..%lld, %lld..%lld, %lld..%lld of the scan%s",
+                (long long)r.out_lo[0], (long long)r.out_hi[0], (long long)r.out_lo[1], (long long)r.out_hi[1],
+                (long long)r.out_lo[2], (long long)r.out_hi[2],
+                r.seeded ? (", grown from the seed; " + std::to_string(r.neighbour_voxels_cut) +
+                            " hard voxels of neighbours or bone cut away at the narrowest joins").c_str()
+                         : ", the largest piece of hard tissue");
+  lines.push_back(buf);
+  std::snprintf(buf, sizeof buf, "clean-up: %llu partial-volume voxels reassigned, %llu islands under %.3g mm^3 (%llu voxels) relabelled",
+                (unsigned long long)r.partial_volume_voxels, (unsigned long long)r.islands_removed,
+                r.min_island_voxels > 0 ? r.min_island_voxels * scan.pitch_mm[0] * scan.pitch_mm[1] * scan.pitch_mm[2] : 0.0,
+                (unsigned long long)r.island_voxels);
+  lines.push_back(buf);
+  return lines;
+}
+
+int runVoxelizeScan(const VoxelizeOptions& o) {
+  auto hint = axesHint(o);
+  if (!hint) return fail(hint.message());
+  ToothSegmentOptions seg;
+  const std::string source = o.dicom.empty() ? o.ct : o.dicom;
+  seg.where = source;
+  if (!o.roi.empty()) {
+    MmBox box;
+    if (!parseRoi(o.roi, &box)) return fail("--roi: expected x0,y0,z0:x1,y1,z1 in mm, not '" + o.roi + "'");
+    seg.roi = box;
+  }
+  if (!o.seed.empty()) {
+    if (o.seed.size() != 3) return fail("--seed: expected three numbers x,y,z in mm");
+    seg.seed_mm = std::array<double, 3>{o.seed[0], o.seed[1], o.seed[2]};
+  }
+  seg.dentin_above = o.dentin_above;
+  seg.enamel_above = o.enamel_above;
+  seg.caries_below = o.caries_below;
+  seg.caries = o.find_caries;
+  seg.preset = o.scanner;
+  seg.min_island_mm3 = o.min_island_mm3;
+
+  TerminalProgress progress;
+  Result<GreyImage> scan = Error{};
+  DicomSeriesInfo dicom_info;
+  if (!o.dicom.empty()) {
+    DicomReadOptions read;
+    read.series_uid = o.series;
+    scan = readDicomSeries(o.dicom, read, progress, &dicom_info);
+  } else {
+    scan = readGreyVolume(o.ct);
+  }
+  if (!scan) return fail(scan.message());
+  if (o.voxel_size > 0.0) {  // the header's pitch is wrong: rescale it, directions kept
+    for (size_t a = 0; a < 3; ++a) {
+      for (size_t r = 0; r < 3; ++r) scan->scanner_from_voxel[4 * r + a] *= o.voxel_size / scan->pitch_mm[a];
+      scan->pitch_mm[a] = o.voxel_size;
+    }
+  }
+  ToothSegmentReport report;
+  Result<LabelImage> labels = segmentTooth(*scan, seg, progress, &report);
+  if (!labels) return fail(labels.message());
+  std::string described = o.dicom.empty() ? o.ct : o.dicom + " (" + std::to_string(dicom_info.files) + " DICOM files)";
+  const std::vector<std::string> lines = segmentationLines(described, *scan, report);
+  scan = Error{};  // frees the grey values before the import
+
+  LabelImportOptions import;
+  import.map = parseLabelMap("1=enamel,2=dentin,4=caries").value();
+  import.where = source;
+  import.level = o.level > 0 ? o.level : 9;
+  Material fill = Material::Pulp;
+  if (!o.fill_enclosed.empty() && (!parseMaterial(o.fill_enclosed, &fill) || fill == Material::Empty))
+    return fail("--fill-enclosed: unknown tissue '" + o.fill_enclosed + "' (expected " + tissueNameList() + ")");
+  import.fill_enclosed = fill;
+  import.seal_mm = o.seal_mm;
+  import.approve = [&o](const dentsim::VoxelizeCost& cost) { return planJob(cost, o.force); };
+  Result<ToothVolume> tooth = importLabels(*labels, import, progress);
+  if (!tooth) return fail(tooth.message());
+  labels = Error{};
+  if (Status st = standToothUp(*tooth, *hint); !st) return fail(st.message());
+  char pulp[128];
+  std::snprintf(pulp, sizeof pulp, "pulp: the space the dentin encloses, sealed %.3g mm at open apices; level %d",
+                o.seal_mm, tooth->frame.level);
+  for (const std::string& line : lines) tooth->source_note += line + "\n";
+  tooth->source_note += pulp;
+  if (Status saved = saveTooth(o.output, *tooth); !saved) return fail(saved.message());
+  printSummary(*tooth, o.output);
+  printFrame(*tooth);
+  for (const std::string& line : lines) std::printf("  %s\n", line.c_str());
+  std::printf("  %s\n", pulp);
+  return 0;
+}
+
 // Options the chosen input cannot use, each refused with the reason; `given` says whether the user
 // gave an option (CLI::App::count()), since a default value looks the same as one given.
 Status checkVoxelizeOptions(const VoxelizeOptions& o, const std::function<bool(const char*)>& given) {
@@ -288,29 +429,54 @@ Status checkVoxelizeOptions(const VoxelizeOptions& o, const std::function<bool(c
                                  "sets the grid's voxel, --level its size; with STL layers give one of the two");
         !st)
       return st;
-  } else if (!o.labels.empty()) {
-    for (const char* stl_only : {"--units", "--scale", "--subsamples", "--hole-radius", "--cpu", "--device"})
-      if (Status st = refuseOption(given(stl_only), stl_only, "applies to STL layers; --labels has its own grid"); !st)
+  } else if (!o.labels.empty() || !o.dicom.empty() || !o.ct.empty()) {
+    const char* source = !o.labels.empty() ? "--labels" : !o.dicom.empty() ? "--dicom" : "--ct";
+    for (const char* stl_only : {"--units", "--scale", "--subsamples", "--hole-radius", "--cpu", "--device", "--frame-of"})
+      if (Status st = refuseOption(given(stl_only), stl_only,
+                                   std::string("applies to STL layers; ") + source + " has its own grid");
+          !st)
         return st;
   }
+  const bool scan = !o.dicom.empty() || !o.ct.empty();
+  for (const char* scan_only : {"--roi", "--seed", "--enamel-above", "--dentin-above", "--caries-below", "--scanner",
+                                "--find-caries", "--min-island-mm3"})
+    if (Status st = refuseOption(given(scan_only) && !scan, scan_only,
+                                 "segments a scan's grey values; give --dicom DIR or --ct FILE");
+        !st)
+      return st;
+  if (Status st = refuseOption(given("--series") && o.dicom.empty(), "--series", "picks a series of --dicom"); !st)
+    return st;
+  if (Status st = refuseOption(given("--caries-below") && !o.find_caries, "--caries-below",
+                               "sets where caries ends; give --find-caries");
+      !st)
+    return st;
+  if (scan)
+    for (const char* labels_only : {"--label-map", "--min-piece"})
+      if (Status st = refuseOption(given(labels_only), labels_only,
+                                   std::string("applies to --labels; a scan's tissues come from its grey values") +
+                                       (std::string(labels_only) == "--min-piece" ? " (islands: --min-island-mm3)" : ""));
+          !st)
+        return st;
   if (Status st = refuseOption(given("--tooth-material") && o.tooth.empty(), "--tooth-material",
                                "is the tissue of --tooth; no --tooth is given");
       !st)
     return st;
-  return refuseOption(given("--seal-mm") && o.fill_enclosed.empty(), "--seal-mm",
+  return refuseOption(given("--seal-mm") && o.fill_enclosed.empty() && !scan, "--seal-mm",
                       "seals openings for --fill-enclosed; no --fill-enclosed is given");
 }
 
 int runVoxelize(const VoxelizeOptions& o) {
   const bool meshes = !(o.enamel.empty() && o.dentin.empty() && o.pulp.empty() && o.caries.empty() && o.tooth.empty());
-  if (meshes && !o.labels.empty()) return fail("give either STL layers or --labels, not both");
-  if (Status st = checkOutputsAreNotInputs({o.enamel, o.dentin, o.pulp, o.caries, o.tooth, o.labels, o.frame_of}, {o.output}); !st)
+  const int sources = int(meshes) + int(!o.labels.empty()) + int(!o.dicom.empty()) + int(!o.ct.empty());
+  if (sources > 1) return fail("give one source: STL layers, --labels, --dicom or --ct");
+  if (Status st = checkOutputsAreNotInputs({o.enamel, o.dentin, o.pulp, o.caries, o.tooth, o.labels, o.frame_of, o.dicom, o.ct}, {o.output}); !st)
     return fail(st.message());
   if (meshes && (o.min_piece != 0 || !o.label_map.empty() || !o.fill_enclosed.empty()))
     return fail("--min-piece, --label-map and --fill-enclosed apply to --labels, not to STL layers");
-  if (!meshes && o.labels.empty())
-    return fail("nothing to voxelize: give --enamel/--dentin/--pulp/--caries STL layers, --tooth, or --labels");
+  if (sources == 0)
+    return fail("nothing to voxelize: give --enamel/--dentin/--pulp/--caries STL layers, --tooth, --labels, --dicom or --ct");
   if (meshes) return runVoxelizeMeshes(o);
+  if (!o.dicom.empty() || !o.ct.empty()) return runVoxelizeScan(o);
   if (!o.frame_of.empty()) return fail("--frame-of applies to STL layers; --labels keeps the label volume's grid");
   if (o.label_map.empty()) return fail("--labels needs --label-map");
   if (o.min_piece < 0) return fail("--min-piece must be 0 or more voxels, not " + std::to_string(o.min_piece));
@@ -359,7 +525,7 @@ int runVoxelize(const VoxelizeOptions& o) {
 
 void addVoxelizeCommand(CLI::App& root, Action& action) {
   auto opts = std::make_shared<VoxelizeOptions>();
-  CLI::App* cmd = root.add_subcommand("voxelize", "Build a .dvol tooth from STL tissue layers or a segmented CT label volume");
+  CLI::App* cmd = root.add_subcommand("voxelize", "Build a .dvol tooth from STL tissue layers, a segmented CT label volume, or a scan (DICOM, NIfTI, NRRD)");
   cmd->add_option("--enamel", opts->enamel, "Enamel surface (STL)");
   cmd->add_option("--dentin", opts->dentin, "Dentin surface (STL)");
   cmd->add_option("--pulp", opts->pulp, "Pulp surface (STL)");
@@ -380,18 +546,37 @@ void addVoxelizeCommand(CLI::App& root, Action& action) {
   cmd->add_option("--device", opts->device, "Vulkan device index or name substring (also DENTSIM_DEVICE)");
   cmd->add_option("--labels", opts->labels, "Label volume (.nii or .nii.gz)");
   cmd->add_option("--label-map", opts->label_map, "Label to tissue, e.g. 1=caries,2=enamel,3=dentin");
+  cmd->add_option("--dicom", opts->dicom, "A scan's DICOM series: its folder (CT, CBCT, micro-CT), segmented into tissues");
+  cmd->add_option("--series", opts->series, "With --dicom: the Series Instance UID to read from a folder holding several");
+  cmd->add_option("--ct", opts->ct, "A scan's grey values as NIfTI or NRRD (.nii, .nii.gz, .nrrd, .nhdr), segmented into tissues");
+  cmd->add_option("--roi", opts->roi, "Scan: the box that holds the tooth, x0,y0,z0:x1,y1,z1 in the scan's mm");
+  cmd->add_option("--seed", opts->seed, "Scan: a point in the tooth x,y,z [mm]; the tooth is cut from its neighbours and the bone")
+      ->delimiter(',')
+      ->expected(3)
+      ->check(finiteIn(-1e6, 1e6, "mm"));
+  cmd->add_option("--dentin-above", opts->dentin_above, "Scan: hard tissue (dentin) from this grey value up [HU or raw]")
+      ->check(finiteIn(-1e9, 1e9, ""));
+  cmd->add_option("--enamel-above", opts->enamel_above, "Scan: enamel from this grey value up [HU or raw]")
+      ->check(finiteIn(-1e9, 1e9, ""));
+  cmd->add_option("--caries-below", opts->caries_below, "Scan, with --find-caries: hard tissue below this is caries [HU or raw]")
+      ->check(finiteIn(-1e9, 1e9, ""));
+  cmd->add_option("--scanner", opts->scanner, "Scan: thresholds of a named preset (" + toothSegmentPresetNames() + ")");
+  cmd->add_flag("--find-caries", opts->find_caries, "Scan: label demineralised tissue open to the surface as caries");
+  cmd->add_option("--min-island-mm3", opts->min_island_mm3, "Scan: relabel pieces of one tissue smaller than this [mm^3]")
+      ->check(finiteIn(0.0, 1000.0, "mm^3"))
+      ->capture_default_str();
   cmd->add_option("--voxel-size", opts->voxel_size,
                   "STL: voxel edge of the output grid [mm]; labels: true voxel size of the label volume, when its "
                   "header is wrong")
       ->check(finiteIn(kMinVoxelMm, kMaxVoxelMm, "mm"));
-  cmd->add_option("--level", opts->level, "Fit the tooth into a 2^N grid (STL default 9)")
+  cmd->add_option("--level", opts->level, "Fit the tooth into a 2^N grid (STL and scans default 9)")
       ->check(CLI::Range(DS_MIN_LEVEL, DS_MAX_LEVEL));
   // Checked in runVoxelizeMeshes rather than with CLI11's excludes(), so a clash is a one-line error.
   cmd->add_option("--frame-of", opts->frame_of,
                   "STL: voxelize into the grid of this volume (.dvol: same level, voxel size and origin), so the "
                   "two compare voxel for voxel; excludes --level and --voxel-size");
   cmd->add_option("--fill-enclosed", opts->fill_enclosed,
-                  "Tissue for empty space the tooth encloses (e.g. pulp)");
+                  "Tissue for empty space the tooth encloses (e.g. pulp; scans: pulp unless given)");
   cmd->add_option("--seal-mm", opts->seal_mm,
                   "With --fill-enclosed: seal openings (root canal apices) narrower than about twice this "
                   "radius before filling; 0 fills only fully closed space [mm]")

@@ -168,7 +168,7 @@ std::vector<uint8_t> encodeVolumeFile(const VolumeFileData& d) {
   out.resize(kHeaderBytes + packed);  // ZSTD_compress cannot fail with a bound-sized buffer
 
   std::memcpy(out.data(), kMagic, sizeof(kMagic));
-  put<uint32_t>(out, kVersionAt, kVolumeFileVersion);
+  put<uint32_t>(out, kVersionAt, 2);  // 3 below, only with a source note
   put<uint32_t>(out, kHeaderBytesAt, uint32_t(kHeaderBytes));
   put<int32_t>(out, kLevelAt, f.level);
   put<double>(out, kVoxelAt, f.voxel_mm);

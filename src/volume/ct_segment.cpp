@@ -777,15 +777,17 @@ Result<Thresholds> chooseThresholds(const RoiView& roi, const ToothSegmentOption
     if (v && !std::isfinite(*v)) return makeError(o.where, "a threshold is not a finite number");
 
   if (!hard || !enamel || (o.caries && !caries_below)) {
-    const int classes = o.caries && !caries_below ? 4 : 3;
+    // Three classes even with caries: a lesion is a small share of a ROI, too small for a class of its
+    // own (4-class Otsu cuts through the lesion's own values); its cut comes from the tooth's dentin.
+    const int classes = 3;
     const Histogram h = robustHistogram([&](auto&& f) { roi.forEach([&](uint64_t, float v) { f(v); }); });
     if (h.total == 0) return makeError(o.where, "the ROI holds no finite grey value");
     const std::vector<double> cuts = otsuThresholds(h, classes);
     const std::string how = "automatic (" + std::to_string(classes) + "-class Otsu on the ROI's histogram)";
     if (!hard) { hard = cuts.front(); t.from_hard = how; }
     if (o.caries && !caries_below) {
-      caries_below = cuts[1];
-      t.from_caries = "automatic (3-class Otsu on the tooth's histogram)";
+      caries_below = 0.5 * (cuts.front() + cuts.back());  // a placeholder until the tooth is known
+      t.from_caries = "automatic (3 sigma below the tooth's dentin peak)";
       t.caries_automatic = true;
     }
     if (!enamel) {
@@ -809,19 +811,38 @@ constexpr uint8_t kToothMark = kDentin;
 // ROI's histogram.
 Status refineOnTooth(Thresholds& thr, const BoxCells& box, GreyUnit unit, const std::string& where) {
   if (!thr.enamel_automatic && !thr.caries_automatic) return Ok{};
-  const double lo = thr.caries_automatic ? thr.hard : dentinFloor(thr);
-  const double hi = thr.enamel_automatic ? std::numeric_limits<double>::infinity() : thr.enamel;
-  const Histogram h = robustHistogram([&](auto&& f) {
-    for (uint64_t o = 0; o < box.cells.size(); ++o) {
-      if (box.cells[o] != kToothMark) continue;
-      const float v = box.value(o);
-      if (v >= lo && v < hi) f(v);
+  const auto toothValues = [&](double lo, double hi) {
+    return robustHistogram([&](auto&& f) {
+      for (uint64_t o = 0; o < box.cells.size(); ++o) {
+        if (box.cells[o] != kToothMark) continue;
+        const float v = box.value(o);
+        if (v >= lo && v < hi) f(v);
+      }
+    });
+  };
+  if (thr.enamel_automatic) {
+    const Histogram h = toothValues(thr.caries_automatic ? thr.hard : dentinFloor(thr), std::numeric_limits<double>::infinity());
+    if (h.total > 0) {
+      const double floor = thr.caries_automatic ? thr.hard : dentinFloor(thr);
+      thr.enamel = std::max(otsuThresholds(h, 2).back(), std::nextafter(floor, 1e300));
     }
-  });
-  if (h.total > 0) {
-    const std::vector<double> cuts = otsuThresholds(h, thr.enamel_automatic && thr.caries_automatic ? 3 : 2);
-    if (thr.caries_automatic) thr.caries_below = std::max(cuts.front(), std::nextafter(thr.hard, 1e300));
-    if (thr.enamel_automatic) thr.enamel = std::max(cuts.back(), std::nextafter(dentinFloor(thr), 1e300));
+  }
+  if (thr.caries_automatic) {
+    // Sound dentin is the peak of the tooth's values below enamel (it outnumbers a lesion and the
+    // blurred edges), and its spread is read from the peak's upper half, where neither lesion nor
+    // edges reach: half width at half maximum = 1.1774 sigma. Demineralised tissue lies more than
+    // 3 sigma below sound dentin, and at least at the hard-tissue cut.
+    const Histogram h = toothValues(thr.hard, thr.enamel);
+    if (h.total > 0) {
+      size_t peak = 0;
+      for (size_t b = 1; b < h.count.size(); ++b)
+        if (h.count[b] > h.count[peak]) peak = b;
+      size_t half = peak;
+      while (half + 1 < h.count.size() && h.count[half] > 0.5 * h.count[peak]) ++half;
+      const double sigma = std::max(h.width, (h.centre(half) - h.centre(peak)) / 1.1774);
+      thr.caries_below = std::clamp(h.centre(peak) - 3.0 * sigma, std::nextafter(thr.hard, 1e300),
+                                    std::nextafter(thr.enamel, -1e300));
+    }
   }
   return checkOrder(thr, unit, where);
 }
@@ -852,8 +873,8 @@ std::string thresholdsFrom(const Thresholds& t) {
   const bool automatic = t.from_hard.rfind("automatic", 0) == 0 && t.enamel_automatic &&
                          (!t.caries_below || t.from_caries.rfind("automatic", 0) == 0);
   if (automatic)
-    return t.caries_below ? "automatic (4-class Otsu on the ROI's histogram, caries_below and enamel_above by "
-                            "3-class Otsu on the tooth's)"
+    return t.caries_below ? "automatic (3-class Otsu on the ROI's histogram, enamel_above by 2-class Otsu on the "
+                            "tooth's, caries_below 3 sigma below the tooth's dentin peak)"
                           : "automatic (3-class Otsu on the ROI's histogram, enamel_above by 2-class Otsu on the tooth's)";
   const bool same = t.from_hard == t.from_enamel && (!t.caries_below || t.from_caries == t.from_hard);
   if (same) return t.from_hard;
@@ -976,6 +997,13 @@ Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOption
   std::deque<uint64_t> queue;
   Result<ToothMask> found = findTooth(roi, hard, seed_local, image.pitch_mm, options, Stage{interrupter, 0.1, 0.6}, queue, rep);
   if (!found) return found.error();
+  // A ROI of air or soft tissue alone still splits into "classes" of noise; what it calls a tooth is
+  // then a speck. No tooth is smaller than min_tooth_mm3, so a speck is an error, not a tooth.
+  const double tooth_mm3 = double(rep.tooth_voxels) * image.pitch_mm[0] * image.pitch_mm[1] * image.pitch_mm[2];
+  if (tooth_mm3 < options.min_tooth_mm3)
+    return makeError(where, std::string(rep.seeded ? "the seed's tooth" : "the largest piece of hard tissue") + " is only " +
+                                num(tooth_mm3) + " mm^3 (hard from " + num(thr.hard) + unit +
+                                "): no tooth here; check the ROI, or give the thresholds");
   const Box& tooth_box = found->box;
   hard = Bits();
   if (!job.report(0.6)) return cancelled(where);

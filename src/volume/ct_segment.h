@@ -79,6 +79,9 @@ struct ToothSegmentOptions {
   // number of layers the edge rule may peel. 0 turns both rules off (plain thresholds).
   int partial_volume_voxels = 2;
   int margin_voxels = 3;  // empty voxels kept around the tooth's bounding box (within the ROI)
+  // A tooth smaller than this is an error [mm^3]: the smallest permanent tooth's crown alone is over
+  // 100 mm^3, so 1 mm^3 is a speck of noise, which is what a ROI of air splits into.
+  double min_tooth_mm3 = 1.0;
   std::string where;      // names the source in errors
 };
 
@@ -128,14 +131,14 @@ Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOption
 //   rounded inwards to voxel centres and clipped to the image.
 // Thresholds: automatic ones come from multi-level Otsu, an exact search over a 256-bin histogram
 //   of the ROI between its 0.1 and 99.9 percentiles (values outside fall into the end bins, so a
-//   few metal or dead voxels do not stretch the bins): 3 classes (background | dentin | enamel), or
-//   4 with caries and no caries_below (background | caries | dentin | enamel). A histogram of a
-//   ROI is mostly air and soft tissue, which pulls Otsu's upper cut off the dentin/enamel valley, so
-//   an automatic enamel_above is then recomputed by 2-class Otsu over the tooth's own voxels (those
-//   at or above the dentin cut); with caries, an automatic caries_below and enamel_above by 3-class
-//   Otsu over the tooth's voxels at or above dentin_above. A small lesion is a small class, and the
-//   blurred edges of every surface fill the same value range, so an automatic caries_below sits
-//   near the lesion's own value and finds little of it: give caries_below for caries work.
+//   few metal or dead voxels do not stretch the bins): 3 classes (background | dentin | enamel), with
+//   caries too (a lesion is too small a share of a ROI to be a class of its own: 4-class Otsu cuts
+//   through the lesion's values). A histogram of a ROI is mostly air and soft tissue, which pulls
+//   Otsu's upper cut off the dentin/enamel valley, so an automatic enamel_above is then recomputed by
+//   2-class Otsu over the tooth's own voxels (those at or above the hard-tissue cut). An automatic
+//   caries_below is 3 sigma below the peak of the tooth's values below enamel (sound dentin, which
+//   outnumbers a lesion and the blurred edges), sigma read from the peak's upper half width (where
+//   neither lesion nor edges reach), and at least the hard-tissue cut.
 //   Given thresholds replace automatic ones one by one. A preset gives all of them; with caries its
 //   caries_above becomes dentin_above and its dentin_above becomes caries_below.
 // Tooth: hard = value >= dentin_above. Without a seed, the largest 6-connected hard component.

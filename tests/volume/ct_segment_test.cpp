@@ -491,13 +491,11 @@ TEST(CtSegment, CariesBlobAtTheSurfaceIsFoundAndTheEdgeRimIsNot) {
     EXPECT_EQ(far, 0u);
     EXPECT_LT(*rep.caries_below, rep.enamel_above);
     EXPECT_GT(*rep.caries_below, rep.dentin_above);
-    // The automatic cuts come from a histogram where 428 caries voxels sit among ~40000 of
-    // dentin, enamel and their blurred edges: 4-class Otsu puts the caries/dentin cut near the
-    // lesion's own value, so it finds little or nothing. Only the given cuts must find the lesion.
-    if (automatic) continue;
-    // The partial-volume rule takes the lesion's rim where it meets both air and dentin.
+    // The partial-volume rule takes the lesion's rim where it meets both air and dentin. The
+    // automatic cut (3 sigma below the dentin peak: 1231 HU here, against the lesion's 800) also
+    // takes a few dentin voxels at the lesion's edge, none far from it (checked above).
     EXPECT_GT(hit, truth * 3 / 10);
-    EXPECT_GE(double(hit), 0.9 * double(rep.caries_voxels));
+    EXPECT_GE(double(hit), (automatic ? 0.8 : 0.9) * double(rep.caries_voxels));
     EXPECT_GE(dice(ph, *r, rep, 1, {kEnamelA}), 0.95);
   }
 }
