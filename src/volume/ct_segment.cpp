@@ -792,7 +792,7 @@ Result<Thresholds> chooseThresholds(const RoiView& roi, const ToothSegmentOption
     }
     if (!enamel) {
       enamel = cuts.back();
-      t.from_enamel = "automatic (2-class Otsu on the tooth's histogram)";
+      t.from_enamel = "automatic (half-way between the tooth's dentin and enamel peaks)";
       t.enamel_automatic = true;
     }
   }
@@ -823,8 +823,18 @@ Status refineOnTooth(Thresholds& thr, const BoxCells& box, GreyUnit unit, const 
   if (thr.enamel_automatic) {
     const Histogram h = toothValues(thr.caries_automatic ? thr.hard : dentinFloor(thr), std::numeric_limits<double>::infinity());
     if (h.total > 0) {
+      // Otsu splits dentin from enamel, but the blurred edges of the surface (values between air and
+      // dentin) pull its cut down. The cut is then half-way between the two sides' peaks: where a
+      // blurred dentin-enamel edge crosses half its step, whatever the edges and the classes' sizes.
       const double floor = thr.caries_automatic ? thr.hard : dentinFloor(thr);
-      thr.enamel = std::max(otsuThresholds(h, 2).back(), std::nextafter(floor, 1e300));
+      const double otsu = otsuThresholds(h, 2).back();
+      size_t below = 0, above = h.count.size() - 1;
+      for (size_t b = 0; b < h.count.size(); ++b) {
+        if (h.centre(b) < otsu && h.count[b] > h.count[below]) below = b;
+        if (h.centre(b) >= otsu && (h.centre(above) < otsu || h.count[b] > h.count[above])) above = b;
+      }
+      const double cut = h.centre(above) > otsu && h.centre(below) < otsu ? 0.5 * (h.centre(below) + h.centre(above)) : otsu;
+      thr.enamel = std::max(cut, std::nextafter(floor, 1e300));
     }
   }
   if (thr.caries_automatic) {
@@ -873,9 +883,9 @@ std::string thresholdsFrom(const Thresholds& t) {
   const bool automatic = t.from_hard.rfind("automatic", 0) == 0 && t.enamel_automatic &&
                          (!t.caries_below || t.from_caries.rfind("automatic", 0) == 0);
   if (automatic)
-    return t.caries_below ? "automatic (3-class Otsu on the ROI's histogram, enamel_above by 2-class Otsu on the "
-                            "tooth's, caries_below 3 sigma below the tooth's dentin peak)"
-                          : "automatic (3-class Otsu on the ROI's histogram, enamel_above by 2-class Otsu on the tooth's)";
+    return std::string("automatic (3-class Otsu on the ROI's histogram, enamel_above half-way between the tooth's "
+                       "dentin and enamel peaks") +
+           (t.caries_below ? ", caries_below 3 sigma below the tooth's dentin peak)" : ")");
   const bool same = t.from_hard == t.from_enamel && (!t.caries_below || t.from_caries == t.from_hard);
   if (same) return t.from_hard;
   std::string out = "dentin_above " + t.from_hard;

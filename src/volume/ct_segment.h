@@ -134,8 +134,11 @@ Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOption
 //   few metal or dead voxels do not stretch the bins): 3 classes (background | dentin | enamel), with
 //   caries too (a lesion is too small a share of a ROI to be a class of its own: 4-class Otsu cuts
 //   through the lesion's values). A histogram of a ROI is mostly air and soft tissue, which pulls
-//   Otsu's upper cut off the dentin/enamel valley, so an automatic enamel_above is then recomputed by
-//   2-class Otsu over the tooth's own voxels (those at or above the hard-tissue cut). An automatic
+//   Otsu's upper cut off the dentin/enamel valley, so an automatic enamel_above is then recomputed on
+//   the tooth's own voxels (those at or above the hard-tissue cut): 2-class Otsu splits them, and the
+//   cut is half-way between the highest bins on either side (dentin's and enamel's peaks), where a
+//   blurred dentin-enamel edge crosses half its step; the surface's blurred edges, which pull Otsu's
+//   cut towards dentin, do not move the peaks. An automatic
 //   caries_below is 3 sigma below the peak of the tooth's values below enamel (sound dentin, which
 //   outnumbers a lesion and the blurred edges), sigma read from the peak's upper half width (where
 //   neither lesion nor edges reach), and at least the hard-tissue cut.

@@ -225,7 +225,8 @@ TEST(CtSegment, AutomaticThresholdsLieBetweenClassesAndDiceIsHigh) {
   EXPECT_GT(rep.enamel_above, 1500.0);
   EXPECT_LT(rep.enamel_above, 2800.0);
   EXPECT_EQ(rep.thresholds_from,
-            "automatic (3-class Otsu on the ROI's histogram, enamel_above by 2-class Otsu on the tooth's)");
+            "automatic (3-class Otsu on the ROI's histogram, enamel_above half-way between the tooth's dentin and "
+            "enamel peaks)");
   const double de = dice(ph, *r, rep, 1, {kEnamelA}), dd = dice(ph, *r, rep, 2, {kDentinA});
   std::printf("automatic: dentin_above %.0f, enamel_above %.0f HU; Dice enamel %.4f, dentin %.4f; partial volume %llu\n",
               rep.dentin_above, rep.enamel_above, de, dd, (unsigned long long)rep.partial_volume_voxels);
