@@ -323,10 +323,12 @@ std::vector<std::string> segmentationLines(const std::string& source, const Grey
                                            const ToothSegmentReport& r) {
   std::vector<std::string> lines;
   char buf[512];
+  std::string scanner = scan.manufacturer;
+  if (!scan.model.empty()) scanner += (scanner.empty() ? "" : " ") + scan.model;
   std::snprintf(buf, sizeof buf, "scan: %s, %d x %d x %d voxels of %.4g x %.4g x %.4g mm, %s%s%s", source.c_str(),
                 scan.dims[0], scan.dims[1], scan.dims[2], scan.pitch_mm[0], scan.pitch_mm[1], scan.pitch_mm[2],
-                scan.unit == GreyUnit::Hounsfield ? "Hounsfield units" : "raw values",
-                scan.manufacturer.empty() ? "" : ", ", (scan.manufacturer + " " + scan.model).c_str());
+                scan.unit == GreyUnit::Hounsfield ? "Hounsfield units" : "raw values", scanner.empty() ? "" : ", from ",
+                scanner.c_str());
   lines.push_back(buf);
   std::string t = "thresholds (" + r.thresholds_from + "): dentin from " + greyValue(r.dentin_above, r.unit) +
                   ", enamel from " + greyValue(r.enamel_above, r.unit);
