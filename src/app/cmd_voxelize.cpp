@@ -382,11 +382,9 @@ int runVoxelizeScan(const VoxelizeOptions& o) {
     scan = readGreyVolume(o.ct);
   }
   if (!scan) return fail(scan.message());
-  if (o.voxel_size > 0.0) {  // the header's pitch is wrong: rescale it, directions kept
-    for (size_t a = 0; a < 3; ++a) {
-      for (size_t r = 0; r < 3; ++r) scan->scanner_from_voxel[4 * r + a] *= o.voxel_size / scan->pitch_mm[a];
-      scan->pitch_mm[a] = o.voxel_size;
-    }
+  if (o.voxel_size > 0.0) {  // the header's pitch is wrong
+    scan->pitch_mm = {o.voxel_size, o.voxel_size, o.voxel_size};
+    scan->scanner_from_voxel = scannerWithPitch(scan->scanner_from_voxel, scan->pitch_mm);
   }
   ToothSegmentReport report;
   Result<LabelImage> labels = segmentTooth(*scan, seg, progress, &report);

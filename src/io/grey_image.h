@@ -2,11 +2,23 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
 
 namespace dentsim {
+
+// A scanner matrix (3 x 4, as in GreyImage and LabelImage) with each voxel axis rescaled to `pitch`,
+// direction, sign and offset kept: a header's wrong pitch replaced by the true one (--voxel-size).
+inline std::array<double, 12> scannerWithPitch(const std::array<double, 12>& m, const std::array<double, 3>& pitch) {
+  std::array<double, 12> out = m;
+  for (size_t c = 0; c < 3; ++c) {
+    const double len = std::sqrt(m[c] * m[c] + m[4 + c] * m[4 + c] + m[8 + c] * m[8 + c]);
+    for (size_t r = 0; r < 3; ++r) out[4 * r + c] = len > 0 ? m[4 * r + c] / len * pitch[c] : 0.0;
+  }
+  return out;
+}
 
 // What a grey value measures. A DICOM CT series with rescale type HU (or modality CT and no
 // rescale type) is in Hounsfield units; everything else (most CBCT and micro-CT exports, NIfTI and

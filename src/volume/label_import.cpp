@@ -561,15 +561,6 @@ double tissueSurfaceMm2(const std::vector<uint8_t>& codes, const std::array<int3
 // ---- 7. import helpers ----------------------------------------------------------------------
 
 // The source matrix with each column rescaled to `pitch` (direction and sign kept, offset kept).
-std::array<double, 12> withPitch(const std::array<double, 12>& m, const std::array<double, 3>& pitch) {
-  std::array<double, 12> out = m;
-  for (size_t c = 0; c < 3; ++c) {
-    const double len = std::sqrt(m[c] * m[c] + m[4 + c] * m[4 + c] + m[8 + c] * m[8 + c]);
-    for (size_t r = 0; r < 3; ++r) out[4 * r + c] = len > 0 ? m[4 * r + c] / len * pitch[c] : 0.0;
-  }
-  return out;
-}
-
 int levelFor(double voxels_per_side) {
   int level = DS_MIN_LEVEL;
   while (level <= DS_MAX_LEVEL && double(int64_t{1} << level) < voxels_per_side) ++level;
@@ -645,7 +636,7 @@ Result<ToothVolume> importLabels(const LabelImage& image, const LabelImportOptio
   std::array<double, 12> scanner = image.scanner_from_voxel;
   if (options.source_pitch_mm) {
     pitch = {*options.source_pitch_mm, *options.source_pitch_mm, *options.source_pitch_mm};
-    scanner = withPitch(scanner, pitch);
+    scanner = scannerWithPitch(scanner, pitch);
   }
   auto same = [](double a, double b) { return std::fabs(a - b) <= 1e-9 * std::max(a, b); };
   const bool isotropic = same(pitch[0], pitch[1]) && same(pitch[0], pitch[2]);

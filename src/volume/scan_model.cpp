@@ -69,11 +69,8 @@ Result<GreyImage> simulateScan(const LabelImage& labels, const std::map<int32_t,
   g.pitch_mm = labels.pitch_mm;
   g.scanner_from_voxel = labels.scanner_from_voxel;
   if (pitch_mm > 0) {
-    for (int a = 0; a < 3; ++a) {
-      const double old = g.pitch_mm[size_t(a)];
-      for (int r = 0; r < 3; ++r) g.scanner_from_voxel[size_t(4 * r + a)] *= pitch_mm / old;
-      g.pitch_mm[size_t(a)] = pitch_mm;
-    }
+    g.pitch_mm = {pitch_mm, pitch_mm, pitch_mm};
+    g.scanner_from_voxel = scannerWithPitch(g.scanner_from_voxel, g.pitch_mm);
   }
   g.unit = model.unit;
   g.modality = "CT";
