@@ -90,6 +90,11 @@ Result<std::vector<std::string>> writeDicomSeries(const std::string& dir, const 
 //   "gantry tilt" (with the angle), as is a non-zero Gantry/Detector Tilt.
 // - Pixels: one sample (MONOCHROME1 or 2), 8 to 16 bits stored (32 allowed), signed or not; bits above
 //   Bits Stored are masked and the sign extended. A transfer syntax GDCM cannot decode is named.
-// - The float volume must fit options.max_bytes (the input budget), checked before allocating.
+// - The float volume must fit options.max_bytes (twice the input budget), checked before allocating.
+// - Every read runs first in a forked child whose data segment may grow by max_bytes + 256 MB: GDCM's
+//   assertions (Debian keeps them) and its allocation of a forged element length end the child, not
+//   dentsim, and the file it was on is named. Call these from a process with no other threads
+//   running (the command line), as a forked child inherits only the caller's thread and any lock
+//   another thread held stays locked in it.
 
 }  // namespace dentsim

@@ -1,6 +1,7 @@
 // DICOM series through GDCM: written and read back, checked against pydicom (an independent reader), real sample files, and broken series.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -266,6 +267,21 @@ TEST(DicomSamples, LosslessCompressionGivesTheUncompressedValues) {
     expectSameAsPydicom(*g, want, name);
     EXPECT_NE(info.transfer_syntax.find("JPEG"), std::string::npos) << info.transfer_syntax;
   }
+}
+
+// MR_small's JPEG-LS file relabelled JPIP Referenced (same UID length, so the header stays whole): its
+// pixels are JPEG-LS, which no JPIP decoder reads, and the error names the transfer syntax.
+TEST(DicomSamples, ACompressionGdcmCannotDecodeIsNamed) {
+  const std::string dir = samplesDir();
+  if (dir.empty()) GTEST_SKIP() << "pydicom's sample files (python3-pydicom with numpy) are not installed";
+  std::vector<uint8_t> bytes = test::readBytes(dir + "/MR_small_jpeg_ls_lossless.dcm");
+  const std::string from = "1.2.840.10008.1.2.4.80", to = "1.2.840.10008.1.2.4.94";
+  auto at = std::search(bytes.begin(), bytes.end(), from.begin(), from.end());
+  ASSERT_NE(at, bytes.end());
+  std::copy(to.begin(), to.end(), at);
+  TempDir tmp;
+  std::ofstream(tmp.file("jpip.dcm"), std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  expectOneLineError(readDicomFile(tmp.file("jpip.dcm")), "cannot decode its pixel data (transfer syntax JPIP Referenced");
 }
 
 TEST(DicomSamples, DamagedAndUnsuitableFilesAreOneLine) {
