@@ -213,6 +213,7 @@ TEST(CtScanTooth2, TheCommandsMakeAToothThatOpensInTheSimulator) {
   EXPECT_NE(info.output.find("DICOM files), " + std::string(kStride == 1 ? "600 x 600 x 400" : "300 x 300 x 200")),
             std::string::npos)
       << info.output;
+  const test::NoLeakCheckForGpuChild gpu_child;  // the run drives lavapipe (test_support.h says why)
   const auto run = test::runDentsim("run --headless --tooth " + tooth +
                                     " --no-sound --shot 0.05 --exit-after 0.1 --width 640 --height 480 --out " + out);
   ASSERT_EQ(run.exit_code, 0) << run.output;
