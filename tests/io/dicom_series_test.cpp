@@ -269,6 +269,29 @@ TEST(DicomSamples, LosslessCompressionGivesTheUncompressedValues) {
   }
 }
 
+// A multi-frame file is a volume of its own: rtdose.dcm holds 15 frames of 10 x 10, stepped 5 mm by its
+// Grid Frame Offset Vector, with values scaled by Dose Grid Scaling (1e-6), which GDCM reads as the
+// slope; pydicom gives the stored values.
+TEST(DicomSamples, AMultiFrameFileIsAVolume) {
+  const std::string dir = samplesDir();
+  if (dir.empty()) GTEST_SKIP() << "pydicom's sample files (python3-pydicom with numpy) are not installed";
+  Result<GreyImage> g = readDicomSeries(dir + "/rtdose.dcm");
+  ASSERT_TRUE(g) << g.message();
+  const auto want = pydicomSays(dir + "/rtdose.dcm");
+  ASSERT_FALSE(want.contains("error")) << want.dump();
+  EXPECT_EQ(g->dims, (std::array<int32_t, 3>{want["columns"].get<int>(), want["rows"].get<int>(), want["frames"].get<int>()}));
+  EXPECT_EQ(g->dims[2], 15);
+  EXPECT_NEAR(g->pitch_mm[2], 5.0, 1e-9);
+  EXPECT_NEAR(g->pitch_mm[0], want["PixelSpacing"][1].get<double>(), 1e-9);
+  for (int r = 0; r < 3; ++r)
+    EXPECT_NEAR(g->scanner_from_voxel[size_t(4 * r + 3)], want["ImagePositionPatient"][r].get<double>(), 1e-6);
+  double sum = 0;
+  for (float v : g->values) sum += v;
+  EXPECT_NEAR(sum, want["sum"].get<double>() * 1e-6, 1e-3);
+  EXPECT_NEAR(g->values[0], want["first"][0].get<double>() * 1e-6, 1e-6);
+  EXPECT_EQ(g->unit, GreyUnit::Raw);  // a dose, not a CT
+}
+
 // MR_small's JPEG-LS file relabelled JPIP Referenced (same UID length, so the header stays whole): its
 // pixels are JPEG-LS, which no JPIP decoder reads, and the error names the transfer syntax.
 TEST(DicomSamples, ACompressionGdcmCannotDecodeIsNamed) {
