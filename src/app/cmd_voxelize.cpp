@@ -389,6 +389,11 @@ int runVoxelizeScan(const VoxelizeOptions& o) {
   ToothSegmentReport report;
   Result<LabelImage> labels = segmentTooth(*scan, seg, progress, &report);
   if (!labels) return fail(labels.message());
+  if (report.seeded && 2 * report.tooth_voxels < report.hard_component_voxels)
+    std::fprintf(stderr, "dentsim: warning: the seed's tooth keeps %.1f %% of the hard tissue joined to it; where the tooth stands "
+                         "alone (an extracted tooth, a micro-CT), leave out --seed: the cut at narrow joins can split a "
+                         "tooth's own walls\n",
+                 100.0 * double(report.tooth_voxels) / double(report.hard_component_voxels));
   std::string described = o.dicom.empty() ? o.ct : o.dicom + " (" + std::to_string(dicom_info.files) + " DICOM files)";
   const std::vector<std::string> lines = segmentationLines(described, *scan, report);
   scan = Error{};  // frees the grey values before the import
