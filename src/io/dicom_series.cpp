@@ -13,7 +13,6 @@
 #include <gdcmDataSet.h>
 #include <gdcmExplicitDataElement.h>
 #include <gdcmImplicitDataElement.h>
-#include <gdcmDirectory.h>
 #include <gdcmFile.h>
 #include <gdcmImage.h>
 #include <gdcmImageReader.h>
@@ -467,6 +466,27 @@ Status checkSameGrid(const std::string& where, const std::vector<SliceHeader>& s
   return Ok{};
 }
 
+// The regular files below `dir`, sorted. Only regular files: a FIFO or a device among the slices
+// would block the first read of it, and links to folders are not followed, so a link back up the
+// tree cannot loop. A scanner's series holds thousands of files at most; more is not a series.
+constexpr size_t kMaxSeriesFiles = 100000;
+
+Result<std::vector<std::string>> seriesFiles(const std::string& dir) {
+  std::vector<std::string> files;
+  std::error_code ec;
+  for (fs::recursive_directory_iterator it(dir, fs::directory_options::skip_permission_denied, ec), end;
+       !ec && it != end; it.increment(ec)) {
+    std::error_code type_ec;
+    if (!it->is_regular_file(type_ec)) continue;
+    if (files.size() == kMaxSeriesFiles)
+      return makeError(dir, "over " + std::to_string(kMaxSeriesFiles) + " files below it; give the series' own folder");
+    files.push_back(it->path().string());
+  }
+  if (ec) return makeError(dir, "cannot list the folder: " + ec.message());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
 Result<GreyImage> readSeries(const std::string& path, const DicomReadOptions& options, Interrupter& interrupter,
                              DicomSeriesInfo* info) {
   std::error_code ec;
@@ -478,10 +498,9 @@ Result<GreyImage> readSeries(const std::string& path, const DicomReadOptions& op
   }
   if (!fs::is_directory(path, ec)) return makeError(path, "neither a folder of DICOM files nor a file");
 
-  gdcm::Directory dir;
-  dir.Load(path, true);
-  std::vector<std::string> files = dir.GetFilenames();
-  std::sort(files.begin(), files.end());
+  Result<std::vector<std::string>> listed = seriesFiles(path);
+  if (!listed) return listed.error();
+  const std::vector<std::string>& files = *listed;
   interrupter.start("reading DICOM headers");
   std::map<std::string, std::vector<SliceHeader>> groups;
   for (size_t n = 0; n < files.size(); ++n) {

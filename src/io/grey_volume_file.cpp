@@ -6,8 +6,13 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <memory>
+#include <sstream>
+#include <vector>
 
 #include "io/atomic_file.h"
 #include "io/nifti_labels.h"
@@ -61,11 +66,59 @@ void toFloats(const void* data, size_t n, std::vector<float>& out) {
   }
 }
 
+// A detached header names its data files, and Teem opens them even to read the header alone:
+// standard input ("-"), a FIFO or a device would block it, so each named file must be a regular
+// file, as every input is. The names are read from the header's "data file" field in its three
+// forms: one name, LIST (the names on the lines after it), and a printf format with min max step.
+Status checkDataFiles(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  std::vector<std::string> names;
+  bool list = false;
+  for (int lines = 0; std::getline(in, line) && lines < 10000; ++lines) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (list) {
+      if (!line.empty()) names.push_back(line);
+      continue;
+    }
+    if (line.empty()) break;  // the end of the header: attached data follows
+    const size_t colon = line.find(':');
+    if (colon == std::string::npos || line[0] == '#') continue;
+    const std::string field = line.substr(0, colon);
+    if (field != "data file" && field != "datafile") continue;
+    std::istringstream value(line.substr(colon + 1));
+    std::string first;
+    value >> first;
+    if (first == "LIST") {
+      list = true;
+    } else if (first.find('%') != std::string::npos) {
+      long lo = 0, hi = -1, step = 0;
+      if (!(value >> lo >> hi >> step) || step == 0 || (hi - lo) / step < 0 || (hi - lo) / step > 100000)
+        continue;  // Teem refuses it itself
+      for (long n = lo; step > 0 ? n <= hi : n >= hi; n += step) {
+        char name[4096];
+        std::snprintf(name, sizeof name, first.c_str(), int(n));
+        names.push_back(name);
+      }
+    } else {
+      names.push_back(first);
+    }
+  }
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  for (const std::string& name : names) {
+    if (name == "-") return makeError(path, "its data file is standard input; name a file");
+    const std::filesystem::path data = std::filesystem::path(name).is_absolute() ? std::filesystem::path(name) : folder / name;
+    if (Status s = requireRegularFile(data.string()); !s) return makeError(path, "data file " + s.message());
+  }
+  return Ok{};
+}
+
 }  // namespace
 
 Result<GreyImage> readNrrdGrey(const std::string& path, uint64_t max_bytes) {
   nrrdStateVerboseIO = 0;  // Teem's warnings on stderr; its errors come back through biff into one line
   if (Status s = requireRegularFile(path); !s) return s.error();
+  if (Status s = checkDataFiles(path); !s) return s.error();
   // 1. The header alone.
   NrrdPtr header(nrrdNew());
   {

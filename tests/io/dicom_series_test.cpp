@@ -1,6 +1,8 @@
 // DICOM series through GDCM: written and read back, checked against pydicom (an independent reader), real sample files, and broken series.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -191,6 +193,12 @@ TEST(DicomSeries, OtherBrokenFolders) {
   Result<GreyImage> ok = readDicomSeries(tmp.file("ct"), {}, nullInterrupter(), &info);
   ASSERT_TRUE(ok) << ok.message();
   EXPECT_EQ(info.files_skipped, 1);
+  // A FIFO among the slices is not read (it would block), and a link to a folder above is not followed.
+  ASSERT_EQ(::mkfifo(tmp.file("ct/pipe").c_str(), 0600), 0);
+  fs::create_directory_symlink(tmp.path(), tmp.file("ct/up"));
+  Result<GreyImage> beside = readDicomSeries(tmp.file("ct"));
+  ASSERT_TRUE(beside) << beside.message();
+  EXPECT_EQ(beside->dims[2], 7);
   // Only junk: no image.
   fs::create_directories(tmp.file("junk"));
   std::ofstream(tmp.file("junk/a.dcm")) << "not a scan";

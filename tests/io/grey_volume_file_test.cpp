@@ -1,6 +1,8 @@
 // Grey-value volumes from NRRD (hand-written files: attached, detached, gzip, spacing only) and NIfTI (scaled and not), against the values written.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <cstring>
 #include <fstream>
 
@@ -85,6 +87,32 @@ TEST(GreyVolumeFile, BrokenNrrdIsOneLine) {
   }
   Result<GreyImage> big = readNrrdGrey(tmp.file("four.nrrd"), 50);
   ASSERT_FALSE(big);
+}
+
+// Teem opens a detached header's data files even to read the header: standard input, a FIFO or a
+// missing file among them is refused before Teem sees the header, so nothing blocks.
+TEST(GreyVolumeFile, DetachedDataMustBeRegularFiles) {
+  TempDir tmp;
+  ASSERT_EQ(::mkfifo(tmp.file("pipe.raw").c_str(), 0600), 0);
+  const std::string head = "NRRD0004\ntype: short\ndimension: 3\nsizes: 4 3 2\nencoding: raw\nendian: little\n";
+  write(tmp.file("fifo.nhdr"), head + "data file: pipe.raw\n\n");
+  write(tmp.file("stdin.nhdr"), head + "data file: -\n\n");
+  write(tmp.file("list.nhdr"), head + "data file: LIST 2\nfirst.raw\npipe.raw\n");
+  write(tmp.file("first.raw"), shorts().substr(0, 24));
+  write(tmp.file("format.nhdr"), head + "data file: part%d.raw 1 2 1 2\n\n");
+  write(tmp.file("part1.raw"), shorts().substr(0, 24));
+  for (auto [name, words] : {std::pair{"fifo.nhdr", "data file " + tmp.file("pipe.raw") + ": not a regular file (a FIFO)"},
+                             {"stdin.nhdr", std::string("its data file is standard input")},
+                             {"list.nhdr", "data file " + tmp.file("pipe.raw") + ": not a regular file (a FIFO)"},
+                             {"format.nhdr", "data file " + tmp.file("part2.raw")}}) {
+    Result<GreyImage> g = readGreyVolume(tmp.file(name));
+    ASSERT_FALSE(g) << name;
+    EXPECT_NE(g.message().find(words), std::string::npos) << g.message();
+  }
+  write(tmp.file("part2.raw"), shorts().substr(24));
+  Result<GreyImage> both = readGreyVolume(tmp.file("format.nhdr"));
+  ASSERT_TRUE(both) << both.message();
+  expectCounting(*both);
 }
 
 // NIfTI grey values take the scaling that labels refuse: stored * scl_slope + scl_inter.
