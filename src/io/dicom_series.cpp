@@ -297,12 +297,15 @@ void toFloats(const char* bytes, size_t count, int bits_stored, bool is_signed, 
         value = double(is_signed && (low >> (bits_stored - 1)) ? low - (int64_t{1} << bits_stored) : low);
       }
     }
-    out[n] = float(value * slope + intercept);
+    const float v = float(value * slope + intercept);
+    out[n] = std::isfinite(v) ? v : 0.0f;  // as the NIfTI and NRRD readers: NaN and infinity read as 0
   }
 }
 
 // Decodes every frame of `path` into `out` (rows * columns * frames floats), applying its rescale.
-Status decodePixels(const std::string& path, const SliceHeader& h, float* out, DicomSeriesInfo* info) {
+// `frame_step_mm`, when given, receives GDCM's spacing between frames (0 when it has none).
+Status decodePixels(const std::string& path, const SliceHeader& h, float* out, DicomSeriesInfo* info,
+                    double* frame_step_mm = nullptr) {
   noteFile(path);
   gdcm::ImageReader reader;
   reader.SetFileName(path.c_str());
@@ -355,6 +358,7 @@ Status decodePixels(const std::string& path, const SliceHeader& h, float* out, D
     default:
       return makeError(path, std::string("pixel type ") + pf.GetScalarTypeAsString() + " is not a scan's grey value");
   }
+  if (frame_step_mm) *frame_step_mm = image.GetNumberOfDimensions() >= 3 ? image.GetSpacing(2) : 0.0;
   if (info) {
     info->rescale_slope = slope;
     info->rescale_intercept = intercept;
@@ -406,7 +410,8 @@ Result<GreyImage> readOneFile(const std::string& path, uint64_t max_bytes, Dicom
   GreyImage image;
   image.dims = {h.columns, h.rows, h.frames};
   image.values.resize(voxels);
-  if (Status s = decodePixels(path, h, image.values.data(), info); !s) return s.error();
+  double frame_step = 0.0;
+  if (Status s = decodePixels(path, h, image.values.data(), info, &frame_step); !s) return s.error();
   copyDescription(h, image);
   if (!h.has_spacing) h.spacing = {1.0, 1.0};
   // A multi-frame file's frames step along the normal by GDCM's spacing (from its functional groups
@@ -415,11 +420,7 @@ Result<GreyImage> readOneFile(const std::string& path, uint64_t max_bytes, Dicom
   const Vec c{h.orientation[3], h.orientation[4], h.orientation[5]};
   const Vec n = cross(r, c);
   double dz = h.slice_thickness > 0 ? h.slice_thickness : 1.0;
-  if (h.frames > 1) {
-    gdcm::ImageReader reader;
-    reader.SetFileName(path.c_str());
-    if (reader.Read() && reader.GetImage().GetSpacing(2) > 0) dz = reader.GetImage().GetSpacing(2);
-  }
+  if (h.frames > 1 && frame_step > 0) dz = frame_step;
   image.pitch_mm = {h.spacing[1], h.spacing[0], dz};
   image.scanner_from_voxel = scannerMatrix(h, h.position, {n[0] * dz, n[1] * dz, n[2] * dz});
   if (info) {
