@@ -105,7 +105,7 @@ int runDemo(const DemoOptions& o) {
   so.frame_every_s = 20.0;
   // The score screen stays up a few seconds, then the window closes by itself (unless --stay).
   so.linger_s = o.stay ? -1.0 : kScoreScreenS;
-  so.on_scored = [&o](const Task& task, const nlohmann::ordered_json& report, const std::string& session,
+  so.on_scored = [&o](const Task& task, nlohmann::ordered_json& report, const std::string& session,
                       const std::string& final_file) { recordAttemptOrWarn(o.learning, task, report, session, final_file); };
   auto run = runSimulator(so);
   if (!run && gpu::isNoDeviceError(run.error())) {
@@ -189,6 +189,7 @@ int runCpuDemo(const DemoOptions& o) {
   if (!score) return fail(score.message());
   for (const std::string& w : score->warnings) std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
   const std::string report_path = (fs::path(o.out) / "score.json").string();
+  if (Status st = stampStatementId(o.learning, *task, score->report, session_path, final_path); !st) return fail(st.message());
   if (Status st = writeScoreReport(report_path, score->report); !st) return fail(st.message());
   const std::string png_path = (fs::path(o.out) / "score.png").string();
   if (Status st = writeScoreImage(png_path, *task, initial, *tooth, *score, nullptr); !st) return fail(st.message());

@@ -111,7 +111,8 @@ int runReport(const ReportCliOptions& o) {
   std::printf("wrote %s: %zu attempts by %zu students at %zu tasks, %zu to look at, %zu pictures", o.output.c_str(),
               report.attempts.size(), report.students.size(), report.tasks.size(), report.flags.size(), pictures.size());
   if (skipped > 0) std::printf(" (%d statements without a score left out)", skipped);
-  if (report.duplicates > 0) std::printf(" (%d statements given twice counted once)", report.duplicates);
+  if (report.duplicates > 0) std::printf(" (%d statements or score reports given twice counted once)", report.duplicates);
+  if (report.merged > 0) std::printf(" (%d score reports and their statements counted once)", report.merged);
   std::printf("\n");
   return 0;
 }

@@ -200,7 +200,7 @@ void addRunCommand(CLI::App& root, Action& action) {
       if (!usable) return fail(usable.message());
       if (Status st = checkRunFiles(*o, *overwrite); !st) return fail(st.message());
       if (Status st = checkLearningOptions(*learning); !st) return fail(st.message());
-      o->on_scored = [learning](const Task& task, const nlohmann::ordered_json& report, const std::string& session,
+      o->on_scored = [learning](const Task& task, nlohmann::ordered_json& report, const std::string& session,
                                 const std::string& final_file) { recordAttemptOrWarn(*learning, task, report, session, final_file); };
       auto r = runSimulator(*o);
       if (!r) return fail(r.message());

@@ -1,12 +1,14 @@
 // The learning records on the command line: settings from flags, config and environment; the attempt hook; sending; `dentsim outbox`.
 #include "app/learning_cli.h"
 
+#include <cassert>
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <utility>
 
 #include "app/commands.h"
 #include "eval/learning_record.h"
@@ -110,6 +112,23 @@ Result<std::string> hashHex(const std::string& path) {
   return std::string(text);
 }
 
+// What names the attempt (AttemptFacts without its timestamp): its session, else its final tooth.
+Result<AttemptFacts> attemptFacts(const std::string& session_file, const std::string& final_file) {
+  AttemptFacts facts;
+  if (!session_file.empty()) {
+    auto h = hashHex(session_file);
+    if (!h) return h.error();
+    facts.session_hash = *h;
+    facts.attempt_key = *h;
+  } else {
+    if (final_file.empty()) return Error{"learning record: no session or final tooth was saved to name the attempt by (give --out)"};
+    auto h = hashHex(final_file);
+    if (!h) return h.error();
+    facts.attempt_key = *h;
+  }
+  return facts;
+}
+
 }  // namespace
 
 void addLearningOptions(CLI::App* cmd, LearningCliOptions& o, const std::string& course_flag) {
@@ -125,27 +144,30 @@ Status recordAttempt(const LearningCliOptions& o, const Task& task, const nlohma
   auto settings = resolveSettings(o);
   if (!settings) return settings.error();
   if (settings->learner.student.empty()) return Ok{};  // nobody to record it for
-  AttemptFacts facts;
-  if (!session_file.empty()) {
-    auto h = hashHex(session_file);
-    if (!h) return h.error();
-    facts.session_hash = *h;
-    facts.attempt_key = *h;
-  } else {
-    if (final_file.empty()) return Error{"learning record: no session or final tooth was saved to name the attempt by (give --out)"};
-    auto h = hashHex(final_file);
-    if (!h) return h.error();
-    facts.attempt_key = *h;
-  }
-  facts.timestamp = utcNow();
-  auto statement = buildStatement(task, report, settings->learner, facts);
+  auto facts = attemptFacts(session_file, final_file);
+  if (!facts) return facts.error();
+  facts->timestamp = utcNow();
+  auto statement = buildStatement(task, report, settings->learner, *facts);
   if (!statement) return statement.error();
+  // A stamped report names this statement: stamped with other files or another student, it would not.
+  assert(!report.contains("statement_id") || report["statement_id"] == (*statement)["id"]);
   auto added = appendToOutbox(settings->outbox, *statement);
   if (!added) return added.error();
   const std::string id = (*statement)["id"].get<std::string>();
   const std::string verb = (*statement)["verb"]["id"].get<std::string>();
   std::printf("learning record %s (%s) %s %s\n", id.c_str(), verb.substr(verb.rfind('/') + 1).c_str(),
               *added ? "added to" : "already in", settings->outbox.c_str());
+  return Ok{};
+}
+
+Status stampStatementId(const LearningCliOptions& o, const Task& task, nlohmann::ordered_json& report,
+                        const std::string& session_file, const std::string& final_file) {
+  auto settings = resolveSettings(o);
+  if (!settings) return settings.error();
+  if (settings->learner.student.empty()) return Ok{};  // no statement to name
+  auto facts = attemptFacts(session_file, final_file);
+  if (!facts) return facts.error();
+  report["statement_id"] = statementId(facts->attempt_key, task.name, settings->learner.student);
   return Ok{};
 }
 
@@ -159,6 +181,15 @@ void recordAttemptOrWarn(const LearningCliOptions& o, const Task& task, const nl
                          const std::string& session_file, const std::string& final_file) {
   if (Status st = recordAttempt(o, task, report, session_file, final_file); !st)
     std::fprintf(stderr, "dentsim: warning: the attempt was not recorded: %s\n", st.message().c_str());
+}
+
+void recordAttemptOrWarn(const LearningCliOptions& o, const Task& task, nlohmann::ordered_json& report,
+                         const std::string& session_file, const std::string& final_file) {
+  if (Status st = stampStatementId(o, task, report, session_file, final_file); !st) {
+    std::fprintf(stderr, "dentsim: warning: the attempt was not recorded: %s\n", st.message().c_str());
+    return;
+  }
+  recordAttemptOrWarn(o, task, std::as_const(report), session_file, final_file);
 }
 
 Status sendPendingIfConfigured(const LearningCliOptions& o) {

@@ -35,11 +35,22 @@ void addLearningOptions(CLI::App* cmd, LearningCliOptions& o, const std::string&
 Status recordAttempt(const LearningCliOptions& o, const Task& task, const nlohmann::ordered_json& report,
                      const std::string& session_file, const std::string& final_file);
 
+// Names the attempt's statement in its score report before the report is written: the report gains
+// "statement_id", the id recordAttempt gives the statement (eval/learning_record.h's statementId), so
+// that a class report holding both counts the attempt once. Does nothing without a student. Same
+// inputs and errors as recordAttempt; call it with the same ones.
+Status stampStatementId(const LearningCliOptions& o, const Task& task, nlohmann::ordered_json& report,
+                        const std::string& session_file, const std::string& final_file);
+
 // Checks the settings (config file, --lrs) before a long run, so that a mistake is named before the
 // drilling rather than after it.
 Status checkLearningOptions(const LearningCliOptions& o);
-// recordAttempt for the simulator's on_scored: a failure is a warning line, so that the run and
-// the files it wrote stand.
+// stampStatementId and recordAttempt for the simulator's on_scored, which writes score.json again
+// when the report gained its statement id. A failure is a warning line, so that the run and the
+// files it wrote stand.
+void recordAttemptOrWarn(const LearningCliOptions& o, const Task& task, nlohmann::ordered_json& report,
+                         const std::string& session_file, const std::string& final_file);
+// The same for a hook that hands a report it may not change: recorded, and the report not stamped.
 void recordAttemptOrWarn(const LearningCliOptions& o, const Task& task, const nlohmann::ordered_json& report,
                          const std::string& session_file, const std::string& final_file);
 

@@ -201,7 +201,12 @@ Status Simulator::scoreNow() {
   note(score->summary);
   for (const std::string& w : score->warnings) note("warning: " + w);
   for (std::string& f : score->written) out_.written.push_back(std::move(f));
-  if (o_.on_scored) o_.on_scored(*task_, score->report, cut.session_file, final_saved_ ? outPath("final.dvol") : "");
+  if (o_.on_scored) {
+    o_.on_scored(*task_, score->report, cut.session_file, final_saved_ ? outPath("final.dvol") : "");
+    // The score report names its learning record's statement, so that a class report counts it once.
+    if (final_saved_ && score->report.contains("statement_id"))
+      if (Status st = writeScoreReport(outPath("score.json"), score->report); !st) return st;
+  }
   return Ok{};
 }
 

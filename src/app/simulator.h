@@ -64,8 +64,9 @@ struct SimulatorOptions {
   bool score_at_end = false;            // score the cut when the script ends, write score files, show it
   // Called with every cut the run scores (at the script's end or by the panel's Score button): the
   // task, the score report, the session holding the whole cut (empty: none) and the final tooth
-  // file (empty: not saved). The commands hand it app/learning_cli.h's recordAttempt.
-  std::function<void(const Task&, const nlohmann::ordered_json& report, const std::string& session_file,
+  // file (empty: not saved). The commands hand it app/learning_cli.h's recordAttempt. The hook may
+  // add the learning record's "statement_id" to the report; score.json is then written again with it.
+  std::function<void(const Task&, nlohmann::ordered_json& report, const std::string& session_file,
                      const std::string& final_file)>
       on_scored;
   bool exit_at_end = false;             // quit one frame after the script ends (windowed too)

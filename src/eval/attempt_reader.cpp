@@ -18,7 +18,7 @@
 namespace dentsim {
 
 namespace fs = std::filesystem;
-using json = nlohmann::json;
+using json = nlohmann::ordered_json;  // ordered: a report's parts keep their order on the page
 
 namespace {
 
@@ -156,6 +156,60 @@ std::string studentFromLayout(const std::string& path) {
 
 // ---- 2. score reports -----------------------------------------------------------------------------
 
+namespace {
+
+// A finite number at `key` of an object; none otherwise (missing, null, text, not an object).
+std::optional<double> numberAt(const json& j, const char* key) {
+  if (!j.is_object()) return std::nullopt;
+  const auto it = j.find(key);
+  if (it == j.end() || !it->is_number() || !std::isfinite(it->get<double>())) return std::nullopt;
+  return it->get<double>();
+}
+
+// A surface agreement needs its band and its share within; the other shares are the picture's.
+// No samples (no ideal surface to measure at) is no agreement, not 0 % of one.
+std::optional<AttemptAgreement> agreementOf(const json& j) {
+  const auto band = numberAt(j, "band_mm"), within = numberAt(j, "within_percent"), samples = numberAt(j, "samples");
+  if (!band || !within || (samples && *samples <= 0)) return std::nullopt;
+  return AttemptAgreement{*band, *within};
+}
+
+}  // namespace
+
+std::vector<AttemptPart> readParts(const json& components, const json& deductions) {
+  std::vector<AttemptPart> parts;
+  if (components.is_object())
+    for (const auto& [name, c] : components.items()) {
+      // A component not scored says so with "points": null; one with no "points" key is not a part.
+      if (!c.is_object() || !c.contains("points") || !(c["points"].is_null() || numberAt(c, "points"))) continue;
+      AttemptPart p;
+      p.name = name;
+      p.max = numberAt(c, "max");
+      if (!p.max) continue;
+      p.points = numberAt(c, "points");
+      p.earned_share = numberAt(c, "earned_share");
+      parts.push_back(std::move(p));
+    }
+  if (deductions.is_object())
+    for (const auto& [name, d] : deductions.items()) {
+      if (!d.is_object()) continue;
+      AttemptPart p;
+      p.name = name;
+      p.deduction = true;
+      if (d.contains("points") && (d["points"].is_null() || numberAt(d, "points"))) {
+        p.points = numberAt(d, "points");
+      } else if (d.value("applied", json()).is_boolean() && numberAt(d, "cap")) {
+        // A cap that did not apply took nothing off, and there is nothing to show for it.
+        if (!d["applied"].get<bool>()) continue;
+        p.cap = numberAt(d, "cap");
+      } else {
+        continue;
+      }
+      parts.push_back(std::move(p));
+    }
+  return parts;
+}
+
 Result<ClassAttempt> parseScoreReport(const std::string& text, const std::string& path, double file_time_s,
                                  const std::string& picture, const AttemptReadOptions& options) {
   const json j = json::parse(text, nullptr, false);
@@ -197,6 +251,14 @@ Result<ClassAttempt> parseScoreReport(const std::string& text, const std::string
     if (!t) return Error{path + ": timestamp: not an ISO 8601 date and time"};
     a.time_s = *t;
   }
+  const json id = j.value("statement_id", json());
+  if (!id.is_null() && !id.is_string()) return Error{path + ": statement_id: not a string"};
+  if (id.is_string()) a.statement_id = id.get<std::string>();
+  // What the page shows of why: the parts, the time taken, the surface agreement.
+  a.total_max = numberAt(j, "total_max");
+  a.parts = readParts(j.value("components", json()), j.value("deductions", json()));
+  a.duration_s = numberAt(j.value("session", json()), "elapsed_s");
+  a.agreement = agreementOf(j.value("surface_agreement", json()));
   a.picture = picture;
   return a;
 }
@@ -245,6 +307,7 @@ Result<std::optional<ClassAttempt>> parseStatement(const json& st, const std::st
   const json raw = score.value("raw", json()), scaled = score.value("scaled", json());
   if (raw.is_null() && scaled.is_null()) return std::optional<ClassAttempt>{};
   ClassAttempt a;
+  a.from_statement = true;
   if (!raw.is_null()) {
     if (!raw.is_number() || !(raw.get<double>() >= 0 && raw.get<double>() <= 100))
       return Error{"result.score.raw: not a number in [0, 100]"};
@@ -311,6 +374,12 @@ Result<std::optional<ClassAttempt>> parseStatement(const json& st, const std::st
     } else if (endsWith(key, "/task-kind")) {
       if (!value.is_string()) return Error{"result.extensions " + key + ": not a task kind"};
       a.task_kind = value.get<std::string>();
+    } else if (endsWith(key, "/total-max")) {
+      a.total_max = numberAt(ext, key.c_str());
+    } else if (endsWith(key, "/parts")) {
+      if (value.is_object()) a.parts = readParts(value.value("components", json()), value.value("deductions", json()));
+    } else if (endsWith(key, "/surface-agreement")) {
+      a.agreement = agreementOf(value);
     } else if (endsWith(key, "/score-picture")) {
       if (!value.is_string()) return Error{"result.extensions " + key + ": not a path"};
       const fs::path p = value.get<std::string>();

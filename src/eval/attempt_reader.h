@@ -6,6 +6,9 @@
 // (the student is the folder two above the file); the time is the file's modification time. An
 // outbox is JSON lines, one xAPI 1.0.3 statement per line; statements with no score (launched,
 // attempted) are counted and left out. Every error is one line naming the file (and the line).
+// The score's parts, the time taken and the surface agreement come from the report's keys, or from
+// a statement's result extensions (eval/learning_record.h) that copy them; they are read leniently,
+// since the scoring's parts change between versions: what is not a number is left out.
 #pragma once
 
 #include <cstdint>
@@ -13,9 +16,27 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "core/result.h"
 
 namespace dentsim {
+
+// One part of the score: a component of the paper's table, or a deduction from the total.
+struct AttemptPart {
+  std::string name;                    // the report's key: "undercut", "time", "force", "healthy", "pulp_exposure"
+  bool deduction = false;              // taken off the total (the report's `deductions`), not earned
+  std::optional<double> points;        // a component's points earned, a deduction's points taken off [points]; none: not scored, or a cap
+  std::optional<double> max;           // a component's most [points]; none for a deduction
+  std::optional<double> cap;           // a cap that applied: the total was held to this [points of total_max]
+  std::optional<double> earned_share;  // a part earned in proportion to the work done: the share that counted, [0, 1]
+};
+
+// How well the student's surface matches the ideal cavity's (docs/SCORING.md, surface agreement).
+struct AttemptAgreement {
+  double band_mm = 0.0;                // the tolerance band, plus or minus [mm]
+  double within_percent = 0.0;         // the ideal surface's share matched within the band [%]
+};
 
 // One scored attempt at a task, from either source.
 struct ClassAttempt {
@@ -33,7 +54,11 @@ struct ClassAttempt {
   bool guided = false;                 // a guide's spring pulled the drill (a report's "guided", a statement's guided extension)
   std::string picture;                 // the score picture's file; empty when there is none
   std::string source;                  // where it was read: "path" or "path:line"
-  std::string statement_id;            // the statement's "id" (a UUID); empty for a score report
+  std::string statement_id;            // the statement's "id" (a UUID), or the score report's "statement_id"; empty: none
+  bool from_statement = false;         // read from an outbox's statement; false: a score report
+  std::optional<double> total_max;     // what the scored parts could give [points]: the report's total_max, a statement's total-max
+  std::vector<AttemptPart> parts;      // components, then deductions, in the report's order; empty when not said
+  std::optional<AttemptAgreement> agreement;  // cavity and access: the surface agreement, when said
 };
 
 // What a caller knows about score reports that the reports do not say.
@@ -56,6 +81,11 @@ Result<ClassAttempt> parseScoreReport(const std::string& text, const std::string
 // `folder`; `file_time_s` stands in for a statement's missing timestamp.
 Result<std::vector<ClassAttempt>> parseStatements(const std::string& text, const std::string& path, const std::string& folder,
                                              double file_time_s, int* skipped);
+// The parts of a score from a report's `components` and `deductions` objects (or the same two in a
+// statement's parts extension). A component needs a number `max` and a number or null `points`; a
+// deduction a number or null `points`, or a `cap` and `applied` (kept only when it applied).
+// Anything else is left out: a field a later version adds does not make a report unreadable.
+std::vector<AttemptPart> readParts(const nlohmann::ordered_json& components, const nlohmann::ordered_json& deductions);
 // An ISO 8601 date and time ("2026-11-27T08:15:00.5Z", "...+01:00"; no zone means UTC) in seconds
 // since 1970-01-01 UTC; none when the text is not one.
 std::optional<double> parseIsoTime(const std::string& text);

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <set>
 #include <tuple>
@@ -48,14 +49,59 @@ std::vector<std::string> reasonsFor(const ClassAttempt& a, const std::optional<d
 
 }  // namespace
 
+std::optional<double> pointsLost(const AttemptPart& part) {
+  if (!part.points) return std::nullopt;
+  if (part.deduction) return std::max(0.0, *part.points);
+  return part.max ? std::optional<double>(std::max(0.0, *part.max - *part.points)) : std::nullopt;
+}
+
+std::optional<double> lostShare(const AttemptPart& part, const std::optional<double>& total_max) {
+  if (part.cap) return 1.0;
+  const std::optional<double> lost = pointsLost(part);
+  if (!lost) return std::nullopt;
+  const double whole = part.deduction ? total_max.value_or(100.0) : part.max.value_or(0.0);
+  return whole > 0 ? std::clamp(*lost / whole, 0.0, 1.0) : 0.0;
+}
+
+void mergeStatement(ClassAttempt& report, const ClassAttempt& statement) {
+  report.student = statement.student;
+  report.student_name = statement.student_name;
+  report.time_s = statement.time_s;
+  // A verdict belongs to the score it was given for; a report scored again keeps its own "scored".
+  if (std::abs(statement.score - report.score) < 1e-6) {
+    report.verb = statement.verb;
+    report.success = statement.success;
+  }
+  if (!report.duration_s) report.duration_s = statement.duration_s;
+  if (!report.total_max) report.total_max = statement.total_max;
+  if (report.parts.empty()) report.parts = statement.parts;
+  if (!report.agreement) report.agreement = statement.agreement;
+  if (report.task_kind.empty()) report.task_kind = statement.task_kind;
+  if (report.picture.empty()) report.picture = statement.picture;
+  report.source += ", " + statement.source;
+}
+
 ClassReport buildClassReport(std::vector<ClassAttempt> attempts, const ClassReportOptions& options) {
   ClassReport r;
-  // The outbox gives each statement an id; the same id twice is one attempt read twice.
-  std::set<std::string> ids;
+  // Reports first, so that the rule does not hang on the order the files were named in.
+  std::stable_partition(attempts.begin(), attempts.end(), [](const ClassAttempt& a) { return !a.from_statement; });
+  std::map<std::string, size_t> report_of;  // statement id -> its score report's place in `kept`
+  std::set<std::string> statement_ids;
   std::vector<ClassAttempt> kept;
   for (ClassAttempt& a : attempts) {
-    if (!a.statement_id.empty() && !ids.insert(a.statement_id).second) ++r.duplicates;
-    else kept.push_back(std::move(a));
+    if (a.statement_id.empty()) {
+      kept.push_back(std::move(a));
+    } else if (!a.from_statement) {
+      if (report_of.emplace(a.statement_id, kept.size()).second) kept.push_back(std::move(a));
+      else ++r.duplicates;  // the same report twice: a copied folder
+    } else if (!statement_ids.insert(a.statement_id).second) {
+      ++r.duplicates;  // the same statement twice: two copies of an outbox
+    } else if (const auto it = report_of.find(a.statement_id); it != report_of.end()) {
+      mergeStatement(kept[it->second], a);
+      ++r.merged;
+    } else {
+      kept.push_back(std::move(a));
+    }
   }
   attempts = std::move(kept);
   std::map<std::string, std::string> kinds;  // built-in kinds looked up once per task

@@ -49,16 +49,33 @@ struct FlaggedAttempt {
 };
 
 struct ClassReport {
-  std::vector<ClassAttempt> attempts;           // by time, then student, then source
+  std::vector<ClassAttempt> attempts;      // by time, then student, then source; one per attempt (see buildClassReport)
   std::vector<TaskSummary> tasks;          // by name
   std::vector<StudentSummary> students;    // by name (ASCII case folded), then id
   std::vector<FlaggedAttempt> flags;       // in the attempts' order
   double first_s = 0.0, last_s = 0.0;      // the earliest and latest attempt [s since the epoch]
-  int duplicates = 0;                      // statements left out for an id seen before (two copies of an outbox)
+  int duplicates = 0;                      // statements or reports left out for an id seen before (two copies of an outbox)
+  int merged = 0;                          // statements merged into the score report that carries their id
 };
 
-// A statement whose id came before (in the order given) is counted in `duplicates` and left out.
+// One attempt, one row. A score report whose `statement_id` is a statement's id is the same attempt:
+// the two merge into one row (mergeStatement). Among reports, and among statements, an id that came
+// before (in the order given) is a copy, counted in `duplicates` and left out.
 ClassReport buildClassReport(std::vector<ClassAttempt> attempts, const ClassReportOptions& options);
+
+// A score report and its statement as one attempt. The report keeps its score (it may have been
+// scored again since), picture, parts, agreement, kind and source; the statement gives the student
+// (its id was made from the account), the name, the time it was scored, and its verdict (verb and
+// success) when it was given for the report's score. What the report lacks (time taken, parts,
+// agreement) the statement fills in; `source` names both files.
+void mergeStatement(ClassAttempt& report, const ClassAttempt& statement);
+
+// What a part cost [points]: a component's max less its points, a deduction's points; none when it
+// was not scored, and none for a cap that applied (the part alone does not say what it took).
+std::optional<double> pointsLost(const AttemptPart& part);
+// A part's loss in [0, 1], for the page's colours: a component's of its own max, a deduction's of
+// the attempt's total_max (100 when not said); 1 for a cap that applied; none when not scored.
+std::optional<double> lostShare(const AttemptPart& part, const std::optional<double>& total_max);
 
 // The indices (into report.attempts, oldest first) of one student's attempts at one task.
 std::vector<size_t> attemptsOf(const ClassReport& report, const std::string& student, const std::string& task);

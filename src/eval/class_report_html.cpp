@@ -1,6 +1,6 @@
 // Writes the class report's page: HTML tables, SVG progress plots and histograms, pictures inlined as base64 PNG.
 //
-// Contents: 1. text helpers  2. the progress plot  3. the histogram  4. the page
+// Contents: 1. text helpers  2. the progress plot  3. the histogram  4. the points lost  5. the page
 #include "eval/class_report_html.h"
 
 #include <algorithm>
@@ -56,6 +56,9 @@ std::string timeText(double time_s, const char* format) {
   std::strftime(text, sizeof text, format, &tm);
   return text;
 }
+
+// What the page writes where a value is not known.
+constexpr const char* kNone = "\u2014";
 
 std::string num(double v, int digits = 1) {
   char text[48];
@@ -228,12 +231,77 @@ std::string histogramSvg(const TaskSummary& task) {
   return svg;
 }
 
-// ---- 4. the page ----------------------------------------------------------------------------------
+// ---- 4. the points lost ---------------------------------------------------------------------------
+
+namespace {
+
+// "pulp_exposure" -> "pulp exposure": the report's keys, read as words.
+std::string partLabel(const std::string& name) {
+  std::string label = name;
+  std::replace(label.begin(), label.end(), '_', ' ');
+  return label;
+}
+
+// The colour class of a share lost: none lost, then four steps to all of it.
+const char* lossClass(double share) {
+  if (share < 1e-3) return "kept";
+  if (share <= 0.2) return "lost-1";
+  if (share <= 0.5) return "lost-2";
+  if (share <= 0.8) return "lost-3";
+  return "lost-4";
+}
+
+// One part as words: "undercut 5.0 of 25", "healthy 0.6 off", "pulp exposure: total capped at 50".
+std::string partText(const AttemptPart& p) {
+  const std::string label = partLabel(p.name);
+  if (p.cap) return label + ": total capped at " + num(*p.cap);
+  if (!p.points) return label + " not scored";
+  if (p.deduction) return label + " " + num(*p.points) + " off";
+  std::string text = label + " " + num(*p.points) + " of " + num(*p.max, *p.max == std::round(*p.max) ? 0 : 1);
+  // A part earned in proportion to the work done says how much of it counted: a token cut earns little.
+  if (p.earned_share && *p.earned_share < 1.0) text += " (" + num(100.0 * *p.earned_share, 0) + " % earned)";
+  return text;
+}
+
+}  // namespace
+
+std::string partsHtml(const ClassAttempt& a) {
+  if (a.parts.empty()) return kNone;
+  std::string marks, all;
+  struct Loss { std::string text; double points; };
+  std::vector<Loss> losses;
+  std::vector<std::string> unscored;
+  for (const AttemptPart& p : a.parts) {
+    const std::optional<double> share = lostShare(p, a.total_max);
+    const std::optional<double> lost = pointsLost(p);
+    const std::string state = p.cap ? "lost capped" : !share ? "unscored" : std::string(*share < 1e-3 ? "" : "lost ") + lossClass(*share);
+    const std::string text = partText(p);
+    all += (all.empty() ? "" : "; ") + text;
+    marks += "<span class=\"part " + state + (p.deduction ? " deduction" : "") + "\" data-part=\"" + htmlEscape(p.name) +
+             "\" data-lost=\"" + (lost ? num(*lost, 2) : std::string(p.cap ? "cap" : "")) + "\" title=\"" + htmlEscape(text) + "\"></span>";
+    if (p.cap) losses.push_back({partLabel(p.name) + " capped at " + num(*p.cap), 1e9});
+    else if (!share) unscored.push_back(partLabel(p.name));
+    else if (lost && *lost >= 0.05) losses.push_back({partLabel(p.name) + " \u2212" + num(*lost), *lost});
+  }
+  // The words say why, the biggest loss first; the marks keep the report's order.
+  std::stable_sort(losses.begin(), losses.end(), [](const Loss& x, const Loss& y) { return x.points > y.points; });
+  std::string why;
+  for (const Loss& l : losses) why += (why.empty() ? "" : ", ") + l.text;
+  if (why.empty()) why = "none lost";
+  if (!unscored.empty()) {
+    why += "; not scored:";
+    for (size_t i = 0; i < unscored.size(); ++i) why += (i ? ", " : " ") + unscored[i];
+  }
+  return "<span class=\"heat\" role=\"img\" aria-label=\"" + htmlEscape("parts: " + all) + "\">" + marks +
+         "</span><span class=\"why\">" + htmlEscape(why) + "</span>";
+}
+
+// ---- 5. the page ----------------------------------------------------------------------------------
 
 namespace {
 
 constexpr const char* kStyle = R"(
-body { font: 15px/1.4 system-ui, sans-serif; color: #222; background: #fff; margin: 24px; max-width: 1200px; }
+body { font: 15px/1.4 system-ui, sans-serif; color: #222; background: #fff; margin: 24px; max-width: 1400px; }
 h1 { margin-bottom: 4px; } h2 { border-bottom: 1px solid #ccc; margin-top: 32px; }
 table { border-collapse: collapse; margin: 8px 0; }
 th, td { border: 1px solid #ccc; padding: 3px 8px; text-align: left; }
@@ -249,14 +317,29 @@ figure { margin: 0; border: 1px solid #ccc; padding: 6px; width: 360px; }
 figure img { width: 100%; height: auto; display: block; }
 figcaption { font-size: 13px; margin-top: 4px; }
 .nopic { color: #888; font-style: italic; padding: 40px 0; text-align: center; }
+.heat { display: inline-flex; gap: 2px; vertical-align: middle; margin-right: 6px; }
+.part { display: inline-block; width: 14px; height: 14px; border-radius: 2px; box-sizing: border-box; }
+.part.deduction { border-radius: 7px; }
+.part.kept { background: #2e9d57; } .part.lost-1 { background: #f2c94c; } .part.lost-2 { background: #ee9a3a; }
+.part.lost-3 { background: #dd5a2b; } .part.lost-4 { background: #b3241c; } .part.capped { background: #5e1410; }
+.part.unscored { background: #fff; border: 1px dashed #999; }
+.why { font-size: 13px; color: #444; }
+td.parts { min-width: 240px; } td.date, td.num { white-space: nowrap; }
+td.from { font-size: 13px; color: #555; overflow-wrap: anywhere; }
+.key .part { vertical-align: -2px; margin: 0 3px 0 8px; }
 )";
 
 std::string cell(const std::string& text, bool number = false) {
   return std::string(number ? "<td class=\"num\">" : "<td>") + htmlEscape(text) + "</td>";
 }
 
+// A cell of a given class ("date", "from").
+std::string cellOf(const char* css_class, const std::string& text) {
+  return std::string("<td class=\"") + css_class + "\">" + htmlEscape(text) + "</td>";
+}
+
 std::string durationText(const std::optional<double>& s) {
-  if (!s) return "";
+  if (!s) return kNone;
   const int total = int(std::lround(*s));
   char text[32];
   std::snprintf(text, sizeof text, "%d:%02d", total / 60, total % 60);
@@ -267,6 +350,11 @@ std::string studentName(const ClassReport& r, const std::string& id) {
   for (const StudentSummary& s : r.students)
     if (s.id == id) return s.name;
   return id;
+}
+
+std::string agreementText(const std::optional<AttemptAgreement>& a) {
+  if (!a) return kNone;
+  return num(a->within_percent) + " % within \u00b1" + num(a->band_mm, 2) + " mm";
 }
 
 void studentsSection(std::string& html, const ClassReport& r) {
@@ -296,23 +384,33 @@ void flaggedSection(std::string& html, const ClassReport& r) {
     return;
   }
   html += "<p>Attempts that exposed the pulp (not a fault in an access cavity), failed, or fell below the pass mark.</p>";
-  html += "<table class=\"flagged\"><tr><th>student</th><th>task</th><th>date (UTC)</th><th>score</th><th>why</th><th>from</th></tr>";
+  html += "<table class=\"flagged\"><tr><th>student</th><th>task</th><th>date (UTC)</th><th>score</th><th>why</th>"
+          "<th>points lost</th><th>from</th></tr>";
   for (const FlaggedAttempt& f : r.flags) {
     const ClassAttempt& a = r.attempts[f.attempt];
     std::string why;
     for (const std::string& reason : f.reasons) why += (why.empty() ? "" : ", ") + reason;
-    html += "<tr class=\"flagged\">" + cell(studentName(r, a.student)) + cell(a.task_title) + cell(utcText(a.time_s)) +
-            cell(num(a.score), true) + cell(why) + cell(a.source) + "</tr>";
+    html += "<tr class=\"flagged\">" + cell(studentName(r, a.student)) + cell(a.task_title) + cellOf("date", utcText(a.time_s)) +
+            cell(num(a.score), true) + cell(why) + "<td class=\"parts\">" + partsHtml(a) + "</td>" + cellOf("from", a.source) + "</tr>";
   }
   html += "</table>";
 }
 
 void attemptsSection(std::string& html, const ClassReport& r) {
-  html += "<h2>All attempts</h2><table class=\"attempts\"><tr><th>date (UTC)</th><th>student</th><th>task</th><th>score</th>"
-          "<th>time taken</th><th>result</th><th>from</th></tr>";
+  html += "<h2>All attempts</h2>";
+  html += "<p class=\"key\">Points lost: one mark per part of the score, in the report's order, squares for the parts "
+          "earned and dots for the deductions:<span class=\"part kept\"></span>none lost<span class=\"part lost-1\"></span>"
+          "up to a fifth<span class=\"part lost-2\"></span>up to half<span class=\"part lost-3\"></span>up to four fifths"
+          "<span class=\"part lost-4\"></span>more<span class=\"part capped\"></span>the total capped"
+          "<span class=\"part unscored\"></span>not scored. A deduction counts against the whole score. "
+          "Hover a mark for its points. Surface agreement: the share of the ideal cavity's surface the student's "
+          "matches within the band.</p>";
+  html += "<table class=\"attempts\"><tr><th>date (UTC)</th><th>student</th><th>task</th><th>score</th>"
+          "<th>points lost</th><th>time taken</th><th>surface agreement</th><th>result</th><th>from</th></tr>";
   for (const ClassAttempt& a : r.attempts)
-    html += "<tr>" + cell(utcText(a.time_s)) + cell(studentName(r, a.student)) + cell(a.task_title) + cell(num(a.score), true) +
-            cell(durationText(a.duration_s), true) + cell(a.guided ? a.verb + " (guided)" : a.verb) + cell(a.source) + "</tr>";
+    html += "<tr>" + cellOf("date", utcText(a.time_s)) + cell(studentName(r, a.student)) + cell(a.task_title) + cell(num(a.score), true) +
+            "<td class=\"parts\">" + partsHtml(a) + "</td>" + cell(durationText(a.duration_s), true) +
+            cell(agreementText(a.agreement), true) + cell(a.guided ? a.verb + " (guided)" : a.verb) + cellOf("from", a.source) + "</tr>";
   html += "</table>";
 }
 

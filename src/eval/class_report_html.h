@@ -35,6 +35,11 @@ std::string utcText(double time_s);
 std::string progressSvg(const ClassReport& report, const TaskSummary& task);
 // One task's histogram of scores in ten bins, each bar with its count, the pass mark dashed.
 std::string histogramSvg(const TaskSummary& task);
+// One attempt's points lost: a mark per part (class "part", then "kept", "lost lost-1".."lost lost-4",
+// "lost capped" or "unscored"; data-part the report's key, data-lost the points lost), the parts in
+// words for screen readers (aria-label), and the losses in words, biggest first; an em dash when
+// the attempt names no parts.
+std::string partsHtml(const ClassAttempt& attempt);
 // The i-th student's line colour ("#1f77b4"); colours repeat after ten, with a dash from the 11th.
 std::string studentColour(size_t i);
 

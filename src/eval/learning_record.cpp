@@ -105,7 +105,42 @@ ojson numberAt(const ojson& report, std::initializer_list<const char*> path) {
   return at->is_number() ? *at : ojson(nullptr);
 }
 
-// The extensions a teacher's report reads: what was cut, how hard, on which session.
+// The score's parts as the class report reads them (eval/attempt_reader.h, readParts): each
+// component's points, max and earned share (a part earned in proportion to the work done), each
+// deduction's points, or its cap and whether it applied. The
+// formulas and the values they use stay in the score report. Null when the report has neither.
+ojson partsOf(const ojson& report) {
+  const ojson* components = report.contains("components") ? &report["components"] : nullptr;
+  const ojson* deductions = report.contains("deductions") ? &report["deductions"] : nullptr;
+  if ((!components || !components->is_object()) && (!deductions || !deductions->is_object())) return nullptr;
+  // Only the keys that say what a part earned or cost; a part without them is copied as {}.
+  auto cut = [](const ojson* parts, std::initializer_list<const char*> keys) {
+    ojson out = ojson::object();
+    if (!parts || !parts->is_object()) return out;
+    for (const auto& [name, part] : parts->items()) {
+      if (!part.is_object()) continue;
+      ojson kept = ojson::object();
+      for (const char* k : keys)
+        if (part.contains(k) && (part[k].is_number() || part[k].is_boolean() || part[k].is_null())) kept[k] = part[k];
+      out[name] = std::move(kept);
+    }
+    return out;
+  };
+  return {{"components", cut(components, {"points", "max", "earned_share"})},
+          {"deductions", cut(deductions, {"points", "cap", "applied"})}};
+}
+
+// The surface agreement's shares (the per-wall figures stay in the report); null when the report has none.
+ojson surfaceAgreementOf(const ojson& report) {
+  if (!report.contains("surface_agreement") || !report["surface_agreement"].is_object()) return nullptr;
+  const ojson& sa = report["surface_agreement"];
+  ojson out = ojson::object();
+  for (const char* k : {"band_mm", "samples", "within_percent", "beyond_percent", "short_percent"})
+    if (sa.contains(k) && sa[k].is_number()) out[k] = sa[k];
+  return out.contains("band_mm") && out.contains("within_percent") ? out : ojson(nullptr);
+}
+
+// The extensions a teacher's report reads: what was cut, how hard, on which session, and why it scored so.
 ojson resultExtensions(const Task& task, const ojson& report, const AttemptFacts& facts) {
   ojson removed = ojson::object();
   for (Material m : kScoredTissues) removed[materialName(m)] = numberAt(report, {"volumes", materialName(m).c_str(), "removed_mm3"});
@@ -138,6 +173,9 @@ ojson resultExtensions(const Task& task, const ojson& report, const AttemptFacts
   ext[extensionIri("pulp-exposed")] = pulp_exposed;
   ext[extensionIri("task-kind")] = taskKindName(task.kind);
   ext[extensionIri("total-max")] = numberAt(report, {"total_max"});
+  ext[extensionIri("parts")] = partsOf(report);
+  const ojson agreement = surfaceAgreementOf(report);
+  if (!agreement.is_null()) ext[extensionIri("surface-agreement")] = agreement;
   return ext;
 }
 

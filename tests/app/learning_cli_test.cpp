@@ -1,4 +1,4 @@
-// Learning records end to end: scored attempts by three students become ten xAPI statements that an independent validator accepts and a stand-in LRS receives exactly once each, also across a run with the LRS down.
+// Learning records end to end: scored attempts by three students become ten xAPI statements that an independent validator accepts and a stand-in LRS receives exactly once each, also across a run with the LRS down; their score reports name them, so a class report counts each attempt once.
 //
 // No real LRS could run here (the packaged ones need a database server), so tests/xapi/lrs_recorder.py
 // stands in: it records each request's method, path, headers and body, answers 409 for an id it
@@ -116,6 +116,9 @@ TEST_F(LearningCli, TenAttemptsByThreeStudentsReachTheLrsOnceEachAcrossADownedLr
     EXPECT_NE(r.output.find("dentsim: warning: LRS " + down), std::string::npos) << r.output;
   }
   ASSERT_EQ(readJsonLines(outbox_).size(), 4u);
+  // Each demo's score report names its statement, so that a class report counts the attempt once.
+  for (int i = 0; i < 4; ++i)
+    EXPECT_EQ(test::readJson(demoDir(i) + "/score.json").value("statement_id", ""), readJsonLines(outbox_)[size_t(i)]["id"]) << i;
 
   // Six more by `score`, the first while the LRS is still down: s1001 ends with four, the others three.
   const std::vector<std::pair<std::string, int>> plan = {{"s1002", 0}, {"s1003", 0}, {"s1001", 1},
@@ -169,6 +172,14 @@ TEST_F(LearningCli, TenAttemptsByThreeStudentsReachTheLrsOnceEachAcrossADownedLr
     received.insert(nlohmann::json::parse(q["body"].get<std::string>())["id"].get<std::string>());
   }
   EXPECT_EQ(received, ids);
+  // `score` names the statement in its report too: the last one scored is s1001's first attempt.
+  EXPECT_EQ(test::readJson(dir_.file("s.json")).value("statement_id", ""), statements[0]["id"]);
+  // The class report of this folder: the demos' four score reports and the ten statements are ten attempts.
+  const auto page = dentsim("report " + demoDir(0) + " " + demoDir(1) + " " + demoDir(2) + " " + demoDir(3) + " " + outbox_ +
+                            " -o " + dir_.file("class.html"));
+  ASSERT_EQ(page.exit_code, 0) << page.output;
+  EXPECT_NE(page.output.find("10 attempts by 3 students at 1 tasks"), std::string::npos) << page.output;
+  EXPECT_NE(page.output.find("(4 score reports and their statements counted once)"), std::string::npos) << page.output;
 
   // An independent validator (npm's xapi-validation) accepts all ten.
   if (runCommand("node --version").exit_code != 0) GTEST_SKIP() << "node is not installed: the statements were not validated";

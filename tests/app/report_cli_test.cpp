@@ -1,4 +1,4 @@
-// Tests of `dentsim report`: a class of synthetic score reports and an outbox becomes one page with the counts, plots and pictures it should have; bad input fails in one line and writes nothing; Chromium renders the page.
+// Tests of `dentsim report`: a class of synthetic score reports and an outbox becomes one page with the counts, plots, pictures and points lost it should have; a report and its statement count once; bad input fails in one line and writes nothing; Chromium renders the page.
 #include <sys/time.h>
 
 #include <gtest/gtest.h>
@@ -47,11 +47,12 @@ void writePicture(const std::string& path, uint8_t r, uint8_t g, uint8_t b) {
   ASSERT_TRUE(writePng(path, image).ok());
 }
 
-// A score report as `dentsim score` writes it, trimmed to what the page reads, its file dated `time_s`.
-void writeReport(const std::string& path, const std::string& task, double total, bool pulp, long time_s) {
+// A score report as `dentsim score` writes it, trimmed to what the page reads, its file dated
+// `time_s`; `extra` goes in at the end (",\"statement_id\":...").
+void writeReport(const std::string& path, const std::string& task, double total, bool pulp, long time_s, const std::string& extra = "") {
   writeText(path, "{\"format\":\"dentsim-score\",\"version\":2,\"task\":{\"name\":\"" + task + "\",\"kind\":\"cavity\",\"title\":\"" + task +
                       " exercise\"},\"total\":" + std::to_string(total) + ",\"total_max\":100,\"pulp_exposed\":" +
-                      (pulp ? "true" : "false") + "}\n");
+                      (pulp ? "true" : "false") + extra + "}\n");
   const timeval times[2] = {{time_s, 0}, {time_s, 0}};
   ASSERT_EQ(::utimes(path.c_str(), times), 0) << path;
 }
@@ -66,13 +67,21 @@ std::string statement(const std::string& verb, const std::string& task, double r
          "}},\"timestamp\":\"" + when + "\"}\n";
 }
 
+// Alice's first try by its parts: the under-cut earned 5 of 25 (lost 20), the rest in full, 3 points
+// off for force; 4:32 taken; 62.5 % of the surface within 0.2 mm.
+constexpr const char* kAliceParts =
+    ",\"components\":{\"undercut\":{\"points\":5,\"max\":25},\"overcut\":{\"points\":25,\"max\":25},"
+    "\"tilt\":{\"points\":25,\"max\":25},\"time\":{\"points\":25,\"max\":25}},\"deductions\":{\"force\":{\"points\":3}},"
+    "\"session\":{\"elapsed_s\":271.5},\"surface_agreement\":{\"band_mm\":0.2,\"within_percent\":62.5,\"beyond_percent\":20,"
+    "\"short_percent\":17.5}";
+
 // The class: alice tried caries removal twice (40, then 70), bob a class II once (55, pulp exposed),
 // and carol's outbox holds a caries removal passed at 85 with its picture, a class II failed at 30,
 // and a launch with no score. With a pass mark of 50: alice's 40, bob's pulp and carol's 30 are flagged.
 class ReportCli : public ::testing::Test {
  protected:
   void SetUp() override {
-    writeReport(file("class/alice/try1/score.json"), "caries_removal", 40, false, 1795760000);
+    writeReport(file("class/alice/try1/score.json"), "caries_removal", 40, false, 1795760000, kAliceParts);
     writePicture(file("class/alice/try1/score.png"), 200, 30, 30);
     writeReport(file("class/alice/try2/score.json"), "caries_removal", 70, false, 1795763600);
     writePicture(file("class/alice/try2/score.png"), 30, 30, 200);
@@ -113,6 +122,15 @@ TEST_F(ReportCli, ScoreReportsAndAnOutboxMakeOnePageWithPlotsTablesAndPictures) 
   EXPECT_NE(html.find("below the pass mark of 50, failed"), std::string::npos);  // carol's 30
   EXPECT_NE(html.find("pulp exposed"), std::string::npos);                     // bob's
   EXPECT_NE(html.find(">4:30<"), std::string::npos);                            // carol's time taken
+  // Alice's first try says why: the under-cut lost most, in its table row and its flagged row.
+  EXPECT_EQ(countOf(html, "class=\"part lost lost-3\" data-part=\"undercut\" data-lost=\"20.00\""), 2u);
+  EXPECT_EQ(countOf(html, "data-part="), 10u);  // five parts, twice
+  EXPECT_NE(html.find(">undercut \u221220.0, force \u22123.0<"), std::string::npos);
+  EXPECT_NE(html.find(">4:32<"), std::string::npos);
+  EXPECT_NE(html.find(">62.5 % within \u00b10.20 mm<"), std::string::npos);
+  // The others say nothing of their parts or agreement; bob's report nothing of its time either.
+  EXPECT_EQ(countOf(html, "<td class=\"parts\">\u2014</td>"), 4u + 2u);  // all attempts, then the flagged
+  EXPECT_EQ(countOf(html, "<td class=\"num\">\u2014</td>"), 2u + 4u);    // alice's and bob's times; four agreements
 
   // The class's folder gives the same page as its files named one by one.
   const auto folder = runDentsim("report " + file("class") + " --pass-mark 50 -o " + file("folder.html"));
@@ -133,8 +151,35 @@ TEST_F(ReportCli, BadInputFailsInOneLineAndLeavesTheLastPageAlone) {
                            "missing/score.json", "no such file", fresh);
 }
 
-// Chromium renders the page: the DOM it built holds the plots' lines and bars and the pictures, and
-// its screenshot shows the first student's line colour, the histogram bars and carol's magenta picture.
+// One attempt, two files: a score report carries its statement's id, so a folder holding the report
+// and the outbox counts it once, as the statement's student; another id is another attempt.
+TEST_F(ReportCli, AReportAndItsStatementCountOnceAndAnotherAttemptApart) {
+  const std::string id = "0b6c6a57-2f7e-5b2e-9d1a-3c6f2e1d4a01";
+  writeReport(file("lab/try1/score.json"), "class1_cavity", 52, false, 1795760000, ",\"statement_id\":\"" + id + "\"" + kAliceParts);
+  writePicture(file("lab/try1/score.png"), 30, 200, 30);
+  const std::string same = "{\"id\":\"" + id + "\"," + statement("failed", "class1_cavity", 52, "2026-11-27T07:30:00Z", "").substr(1);
+  writeText(file("lab/outbox.jsonl"), same);
+  const auto once = runDentsim("report " + file("lab") + " -o " + file("once.html"));
+  ASSERT_EQ(once.exit_code, 0) << once.output;
+  EXPECT_NE(once.output.find("1 attempts by 1 students at 1 tasks"), std::string::npos) << once.output;
+  EXPECT_NE(once.output.find("(1 score reports and their statements counted once)"), std::string::npos) << once.output;
+  const std::string html = readText(file("once.html"));
+  EXPECT_NE(html.find("Carol &lt;O&#39;Brien&gt;"), std::string::npos);  // the statement's student, not the folder "lab"
+  EXPECT_EQ(countOf(html, "src=\"data:image/png;base64,"), 1u);          // the report's picture
+  EXPECT_EQ(countOf(html, "data-part=\"undercut\""), 2u);                // its parts, in both tables (it failed)
+  EXPECT_NE(html.find("score.json, " + file("lab/outbox.jsonl") + ":1"), std::string::npos);
+
+  const std::string other = "{\"id\":\"0b6c6a57-2f7e-5b2e-9d1a-3c6f2e1d4a02\"," +
+                            statement("passed", "class1_cavity", 80, "2026-11-28T07:30:00Z", "").substr(1);
+  writeText(file("lab/outbox.jsonl"), same + other);
+  const auto twice = runDentsim("report " + file("lab") + " -o " + file("twice.html"));
+  ASSERT_EQ(twice.exit_code, 0) << twice.output;
+  EXPECT_NE(twice.output.find("2 attempts by 1 students at 1 tasks"), std::string::npos) << twice.output;
+}
+
+// Chromium renders the page: the DOM it built holds the plots' lines and bars, the pictures and the
+// marks of the points lost, and its screenshot shows the first student's line colour, the histogram
+// bars, carol's magenta picture and alice's under-cut mark.
 TEST_F(ReportCli, ChromiumRendersThePlotsAndPictures) {
   const char* chromium = "/usr/bin/chromium";
   if (!fs::exists(chromium)) GTEST_SKIP() << "chromium is not installed (" << chromium << "): scripts/install-deps.sh installs it";
@@ -152,11 +197,14 @@ TEST_F(ReportCli, ChromiumRendersThePlotsAndPictures) {
   EXPECT_EQ(countOf(dom.output, "<polyline"), 4u);
   EXPECT_EQ(countOf(dom.output, "<rect class=\"bar\""), 5u);  // caries 40, 70, 85; class II 30, 55
   EXPECT_EQ(countOf(dom.output, "<img alt="), 4u);
+  EXPECT_EQ(countOf(dom.output, "data-part="), 10u);  // alice's first try: five parts, in both tables
+  EXPECT_EQ(countOf(dom.output, "<span class=\"part lost lost-3\" data-part=\"undercut\""), 2u);
+  EXPECT_EQ(countOf(dom.output, "role=\"img\" aria-label=\"parts: undercut 5.0 of 25;"), 2u);
   const auto taken = runCommand(browser + "--screenshot=" + shot + " file://" + page);
   ASSERT_EQ(taken.exit_code, 0) << taken.output;
   auto image = readPng(shot);
   ASSERT_TRUE(image.ok()) << image.message() << "\n" << taken.output;
-  size_t white = 0, line = 0, bar = 0, magenta = 0;
+  size_t white = 0, line = 0, bar = 0, magenta = 0, undercut = 0;
   auto near = [](std::array<uint8_t, 3> p, int red, int green, int blue) {
     return std::abs(p[0] - red) <= 6 && std::abs(p[1] - green) <= 6 && std::abs(p[2] - blue) <= 6;
   };
@@ -167,12 +215,14 @@ TEST_F(ReportCli, ChromiumRendersThePlotsAndPictures) {
       line += near(p, 0x1f, 0x77, 0xb4);   // studentColour(0)
       bar += near(p, 0x4a, 0x7f, 0xb5);    // the bars' fill
       magenta += near(p, 255, 0, 255);     // carol's picture
+      undercut += near(p, 0xdd, 0x5a, 0x2b);  // a part that lost up to four fifths
     }
   const size_t all = size_t(image->width) * size_t(image->height);
   EXPECT_LT(white, all * 98 / 100) << "the screenshot is blank";
   EXPECT_GT(line, 100u);
   EXPECT_GT(bar, 2000u);
   EXPECT_GT(magenta, 20000u);  // 360 x 180 px less the frame
+  EXPECT_GT(undercut, 400u);   // three 14 px marks: alice's two rows and the key
 }
 
 }  // namespace

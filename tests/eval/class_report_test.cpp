@@ -1,4 +1,4 @@
-// Tests of the class report's reading and model (attempt_reader, class_report) and of its page's text, plots and escaping (class_report_html).
+// Tests of the class report's reading and model (attempt_reader, class_report) and of its page's text, plots, points lost and escaping (class_report_html).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,6 +9,7 @@
 #include "eval/class_report.h"
 #include "eval/class_report_html.h"
 #include "eval/cut_score.h"
+#include "eval/learning_record.h"
 
 namespace dentsim {
 namespace {
@@ -169,6 +170,108 @@ TEST(StatementInput, AMalformedLineIsNamedByFileAndLine) {
   EXPECT_EQ(no_actor.message(), "o.jsonl:1: actor: missing or not an object");
 }
 
+// A cavity attempt made by hand: 5 of 25 for the under-cut, 20 of 25 for the over-cut (earned for
+// the 80 % of the ideal cut), tilt in full, time not scored (no target), 3 points off for force; the
+// pulp cap did not apply. Total 50 - 3 = 47 of 75.
+constexpr const char* kPartsReport =
+    R"({"format":"dentsim-score","version":2,"task":{"name":"class1_cavity","kind":"cavity","title":"Class I"},)"
+    R"("total":47,"total_max":75,"statement_id":"0b6c6a57-2f7e-5b2e-9d1a-3c6f2e1d4a01",)"
+    R"("components":{"undercut":{"points":5,"max":25,"formula":"25 * ...","completion_share":0.2},"overcut":{"points":20,"max":25,"table_points":25,"earned_share":0.8},)"
+    R"("tilt":{"points":25,"max":25},"time":{"points":null,"max":25}},)"
+    R"("deductions":{"force":{"points":3,"coefficient":1},"pulp_exposure":{"pulp_exposed":false,"cap":50,"cap_of_100":50,"applied":false}},)"
+    R"("session":{"elapsed_s":271.5},"surface_agreement":{"band_mm":0.2,"within_percent":62.5,"beyond_percent":20,"short_percent":17.5,"walls":{}}})";
+
+TEST(ScoreReportInput, ReadsThePartsTheTimeTheAgreementAndTheStatementId) {
+  auto a = parseScoreReport(kPartsReport, "/c/ann/1/score.json", 0, "", {});
+  ASSERT_TRUE(a.ok()) << a.message();
+  EXPECT_EQ(a->statement_id, "0b6c6a57-2f7e-5b2e-9d1a-3c6f2e1d4a01");
+  EXPECT_FALSE(a->from_statement);
+  EXPECT_EQ(a->total_max, std::optional<double>(75.0));
+  ASSERT_EQ(a->parts.size(), 5u);  // four components, then force; the cap that did not apply is left out
+  const char* names[] = {"undercut", "overcut", "tilt", "time", "force"};
+  for (size_t i = 0; i < 5; ++i) EXPECT_EQ(a->parts[i].name, names[i]);
+  EXPECT_EQ(a->parts[0].points, std::optional<double>(5.0));
+  EXPECT_EQ(a->parts[0].max, std::optional<double>(25.0));
+  EXPECT_FALSE(a->parts[3].points);  // time: not scored
+  EXPECT_TRUE(a->parts[4].deduction);
+  EXPECT_EQ(a->parts[4].points, std::optional<double>(3.0));
+  EXPECT_EQ(a->duration_s, std::optional<double>(271.5));
+  ASSERT_TRUE(a->agreement);
+  EXPECT_EQ(a->agreement->band_mm, 0.2);
+  EXPECT_EQ(a->agreement->within_percent, 62.5);
+  // An older report has none of them.
+  auto old = parseScoreReport(kReport, "/c/ann/2/score.json", 0, "", {});
+  ASSERT_TRUE(old.ok());
+  EXPECT_TRUE(old->parts.empty());
+  EXPECT_FALSE(old->duration_s);
+  EXPECT_FALSE(old->agreement);
+  EXPECT_TRUE(old->statement_id.empty());
+  // An agreement with no samples (no ideal surface to measure at) is none, not 0 %.
+  std::string unmeasured = kReport;
+  unmeasured.insert(unmeasured.size() - 1, R"(,"surface_agreement":{"band_mm":0.2,"samples":0,"within_percent":0})");
+  EXPECT_FALSE(parseScoreReport(unmeasured, "u.json", 0, "", {})->agreement);
+  std::string bad = kReport;
+  bad.insert(bad.size() - 1, R"(,"statement_id":7)");
+  EXPECT_EQ(parseScoreReport(bad, "b.json", 0, "", {}).message(), "b.json: statement_id: not a string");
+}
+
+TEST(ScoreReportInput, PartsAreReadLenientlyAndAnAppliedCapIsKept) {
+  const auto components = nlohmann::ordered_json::parse(
+      R"({"removal":{"points":40,"max":50},"note":"text","odd":{"max":10},"half":{"points":"x","max":10}})");
+  const auto deductions = nlohmann::ordered_json::parse(R"({"pulp_exposure":{"cap":50,"applied":true},"healthy":{"points":null},"x":[1]})");
+  const std::vector<AttemptPart> parts = readParts(components, deductions);
+  ASSERT_EQ(parts.size(), 3u);  // removal; the cap that applied; healthy not scored
+  EXPECT_EQ(parts[0].name, "removal");
+  EXPECT_EQ(parts[1].name, "pulp_exposure");
+  EXPECT_EQ(parts[1].cap, std::optional<double>(50.0));
+  EXPECT_FALSE(parts[1].points);
+  EXPECT_EQ(parts[2].name, "healthy");
+  EXPECT_FALSE(parts[2].points);
+  // What each cost: 10 of 50 is a fifth; a cap is all; a deduction counts against the whole score.
+  EXPECT_EQ(pointsLost(parts[0]), std::optional<double>(10.0));
+  EXPECT_EQ(lostShare(parts[0], 100.0), std::optional<double>(0.2));
+  EXPECT_EQ(lostShare(parts[1], 100.0), std::optional<double>(1.0));
+  EXPECT_FALSE(lostShare(parts[2], 100.0));
+  AttemptPart force;
+  force.name = "force";
+  force.deduction = true;
+  force.points = 3.0;
+  EXPECT_EQ(lostShare(force, 75.0), std::optional<double>(0.04));
+  EXPECT_EQ(lostShare(force, std::nullopt), std::optional<double>(0.03));  // out of 100 when not said
+}
+
+// A statement built from the hand-made report carries its parts, time and agreement, so that an
+// attempt read only from an outbox shows them too.
+TEST(StatementInput, ReadsThePartsTimeAndAgreementTheStatementCarries) {
+  Task t;
+  t.name = "class1_cavity";
+  t.kind = TaskKind::Cavity;
+  t.title = "Class I";
+  LearnerContext l;
+  l.student = "s01";
+  AttemptFacts f;
+  f.attempt_key = "00000000deadbeef";
+  f.timestamp = "2026-11-27T08:00:00Z";
+  auto st = buildStatement(t, nlohmann::ordered_json::parse(kPartsReport), l, f);
+  ASSERT_TRUE(st.ok()) << st.message();
+  auto read = parseStatements(st->dump(), "o.jsonl", ".", 0.0, nullptr);
+  ASSERT_TRUE(read.ok()) << read.message();
+  ASSERT_EQ(read->size(), 1u);
+  const ClassAttempt& a = (*read)[0];
+  EXPECT_TRUE(a.from_statement);
+  EXPECT_EQ(a.statement_id, statementId("00000000deadbeef", "class1_cavity", "s01"));
+  EXPECT_EQ(a.total_max, std::optional<double>(75.0));
+  ASSERT_EQ(a.parts.size(), 5u);
+  EXPECT_EQ(a.parts[0].name, "undercut");
+  EXPECT_EQ(a.parts[0].points, std::optional<double>(5.0));
+  EXPECT_EQ(a.parts[1].earned_share, std::optional<double>(0.8));
+  EXPECT_FALSE(a.parts[3].points);
+  EXPECT_TRUE(a.parts[4].deduction);
+  EXPECT_DOUBLE_EQ(*a.duration_s, 271.5);
+  ASSERT_TRUE(a.agreement);
+  EXPECT_EQ(a.agreement->within_percent, 62.5);
+}
+
 // Six attempts, counted by hand: alice 40 then 70 at caries removal, bob 95 (pulp exposed) at
 // caries removal and 55 (failed) at class II, carol 80 with the pulp open at the access cavity
 // (the exercise), and carol 45 at caries removal. Pass marks: 50 for all, 60 for class II.
@@ -278,17 +381,79 @@ TEST(ClassReportModel, FlagsPulpExposureFailuresAndScoresBelowThePassMark) {
 
 TEST(ClassReportModel, AStatementGivenTwiceCountsOnce) {
   std::vector<ClassAttempt> all(4);
-  const char* ids[] = {"a", "b", "a", ""};  // the third repeats the first; a score report has no id
+  const char* ids[] = {"a", "b", "a", ""};  // the third repeats the first; the fourth, a report, has no id
   for (size_t i = 0; i < all.size(); ++i) {
     all[i].student = "s";
     all[i].task = "caries_removal";
     all[i].statement_id = ids[i];
+    all[i].from_statement = i < 3;
     all[i].time_s = double(i);
   }
   const ClassReport r = buildClassReport(std::move(all), {});
   EXPECT_EQ(r.attempts.size(), 3u);
   EXPECT_EQ(r.duplicates, 1);
   EXPECT_EQ(r.attempts[2].time_s, 3.0);
+}
+
+// A score report and the statement with its id are one attempt, in whichever order they come: the
+// row keeps the report's score, picture and parts, and takes the statement's student, time and verdict.
+TEST(ClassReportModel, AReportAndItsStatementCountOnceAndOtherIdsApart) {
+  ClassAttempt report;
+  report.student = report.student_name = "try-folder";
+  report.task = report.task_title = "class1_cavity";
+  report.score = 52;
+  report.time_s = 5000;  // the file's time, copied later
+  report.verb = "scored";
+  report.picture = "ann/1/score.png";
+  report.parts.resize(1);
+  report.parts[0].name = "undercut";
+  report.parts[0].points = 5.0;
+  report.parts[0].max = 25.0;
+  report.source = "ann/1/score.json";
+  report.statement_id = "id-1";
+  ClassAttempt statement;
+  statement.from_statement = true;
+  statement.student = "s01";
+  statement.student_name = "Ann";
+  statement.task = statement.task_title = "class1_cavity";
+  statement.score = 52;
+  statement.time_s = 1000;
+  statement.verb = "failed";
+  statement.success = false;
+  statement.duration_s = 271.5;
+  statement.source = "outbox.jsonl:1";
+  statement.statement_id = "id-1";
+  for (bool statement_first : {false, true}) {
+    std::vector<ClassAttempt> both = statement_first ? std::vector<ClassAttempt>{statement, report} : std::vector<ClassAttempt>{report, statement};
+    const ClassReport r = buildClassReport(both, {});
+    ASSERT_EQ(r.attempts.size(), 1u);
+    EXPECT_EQ(r.merged, 1);
+    EXPECT_EQ(r.duplicates, 0);
+    const ClassAttempt& a = r.attempts[0];
+    EXPECT_EQ(a.student, "s01");
+    EXPECT_EQ(a.student_name, "Ann");
+    EXPECT_EQ(a.time_s, 1000.0);
+    EXPECT_EQ(a.verb, "failed");
+    EXPECT_EQ(a.picture, "ann/1/score.png");
+    EXPECT_EQ(a.parts.size(), 1u);
+    EXPECT_EQ(a.duration_s, std::optional<double>(271.5));  // the report had none: the statement's
+    EXPECT_EQ(a.source, "ann/1/score.json, outbox.jsonl:1");
+    ASSERT_EQ(r.flags.size(), 1u);  // failed, by the statement's verdict
+  }
+  // Scored again to another total since: the report's score stands and the old verdict is not shown.
+  ClassAttempt rescored = report;
+  rescored.score = 75;
+  EXPECT_EQ(buildClassReport({rescored, statement}, {}).attempts[0].verb, "scored");
+  // Two different attempts: two rows.
+  ClassAttempt other = statement;
+  other.statement_id = "id-2";
+  const ClassReport two = buildClassReport({report, other}, {});
+  EXPECT_EQ(two.attempts.size(), 2u);
+  EXPECT_EQ(two.merged, 0);
+  // The same report twice (a copied folder) is a copy.
+  const ClassReport copied = buildClassReport({report, report, statement}, {});
+  EXPECT_EQ(copied.attempts.size(), 1u);
+  EXPECT_EQ(copied.duplicates, 1);
 }
 
 TEST(ClassReportModel, ListsStudentsByNameWhateverTheCase) {
@@ -323,6 +488,42 @@ TEST(ClassReportHtml, EscapesEverythingThatCameFromAFile) {
   EXPECT_NE(html.find("Eve &quot;&lt;img src=x&gt;&quot;"), std::string::npos);
   EXPECT_NE(html.find("&lt;script&gt;alert(1)&lt;/script&gt;"), std::string::npos);
   EXPECT_NE(html.find("Caries &amp; &lt;co&gt;"), std::string::npos);
+}
+
+// The hand-made report: the under-cut lost 20 of 25 (a deep colour), the over-cut 5, tilt none,
+// time not scored, force 3 of the 75 off; its time and agreement are shown, and an older report
+// shows dashes where it says nothing.
+TEST(ClassReportHtml, EachAttemptShowsWhichPartLostPointsItsTimeAndItsAgreement) {
+  auto a = parseScoreReport(kPartsReport, "/c/ann/1/score.json", 0, "", {});
+  ASSERT_TRUE(a.ok()) << a.message();
+  const std::string parts = partsHtml(*a);
+  EXPECT_NE(parts.find(R"(<span class="part lost lost-3" data-part="undercut" data-lost="20.00" title="undercut 5.0 of 25">)"),
+            std::string::npos) << parts;
+  EXPECT_NE(parts.find(R"x(<span class="part lost lost-1" data-part="overcut" data-lost="5.00" title="overcut 20.0 of 25 (80 % earned)">)x"),
+            std::string::npos) << parts;
+  EXPECT_NE(parts.find(R"(<span class="part kept" data-part="tilt" data-lost="0.00")"), std::string::npos) << parts;
+  EXPECT_NE(parts.find(R"(<span class="part unscored" data-part="time" data-lost="" title="time not scored">)"), std::string::npos);
+  EXPECT_NE(parts.find(R"(<span class="part lost lost-1 deduction" data-part="force" data-lost="3.00" title="force 3.0 off">)"),
+            std::string::npos) << parts;
+  EXPECT_NE(parts.find(R"(aria-label="parts: undercut 5.0 of 25; overcut 20.0 of 25 (80 % earned); tilt 25.0 of 25; time not scored; force 3.0 off")"),
+            std::string::npos) << parts;
+  EXPECT_NE(parts.find("<span class=\"why\">undercut \u221220.0, overcut \u22125.0, force \u22123.0; not scored: time</span>"), std::string::npos) << parts;
+  EXPECT_EQ(countOf(parts, "data-part="), 5u);
+
+  auto old = parseScoreReport(kReport, "/c/bob/1/score.json", 0, "", {});
+  ASSERT_TRUE(old.ok());
+  EXPECT_EQ(partsHtml(*old), "\u2014");
+  const std::string html = classReportHtml(buildClassReport({*a, *old}, {}), {});
+  EXPECT_NE(html.find(">4:32<"), std::string::npos);  // 271.5 s, to the second
+  EXPECT_NE(html.find(">62.5 % within \u00b10.20 mm<"), std::string::npos);
+  // bob's row: no parts, no time, no agreement.
+  EXPECT_NE(html.find("<td class=\"parts\">\u2014</td><td class=\"num\">\u2014</td><td class=\"num\">\u2014</td>"),
+            std::string::npos);
+  // A part's name from a file is escaped like every other text.
+  ClassAttempt odd = *a;
+  odd.parts[0].name = "<b>x\"";
+  EXPECT_EQ(partsHtml(odd).find("<b>"), std::string::npos);
+  EXPECT_NE(partsHtml(odd).find("data-part=\"&lt;b&gt;x&quot;\""), std::string::npos);
 }
 
 TEST(ClassReportHtml, Base64MatchesTheStandardsVectors) {

@@ -1,4 +1,4 @@
-// Learning records: each statement field against values worked out by hand from a small score report, the verb by pass mark, and the ids' stability.
+// Learning records: each statement field against values worked out by hand from a small score report, the parts it carries, the verb by pass mark, and the ids' stability.
 #include <gtest/gtest.h>
 
 #include <string>
@@ -161,6 +161,30 @@ TEST(LearningRecord, CavityReportsGiveTheirOwnCutsAndNoSessionGivesNoForce) {
   EXPECT_TRUE(e["https://dentsim.invalid/xapi/extensions/force"].is_null());
   EXPECT_TRUE(e["https://dentsim.invalid/xapi/extensions/session-hash"].is_null());
   EXPECT_FALSE((*s)["result"].contains("duration"));  // no session, no elapsed time
+}
+
+// The parts, as the class report reads them: each component's points and max, each deduction's
+// points or its cap, and no formula; a cavity's surface agreement without its walls.
+TEST(LearningRecord, ResultCarriesThePartsAndTheSurfaceAgreement) {
+  Task t = cariesTask();
+  t.kind = TaskKind::Cavity;
+  ojson r = cariesReport(52);
+  r["components"] = ojson::parse(R"({"undercut":{"points":5,"max":25,"formula":"25 * ...","undercut_mm3":1.25},"time":{"points":null,"max":25}})");
+  r["deductions"] = ojson::parse(R"({"force":{"points":3,"coefficient":1},"pulp_exposure":{"pulp_exposed":false,"cap":50,"cap_of_100":50,"applied":false}})");
+  r["surface_agreement"] = ojson::parse(R"({"band_mm":0.2,"within_percent":62.5,"beyond_percent":20,"short_percent":17.5,"walls":{"mesial":{}}})");
+  auto s = buildStatement(t, r, learner(), facts());
+  ASSERT_TRUE(s.ok()) << s.message();
+  const ojson& e = (*s)["result"]["extensions"];
+  EXPECT_EQ(e["https://dentsim.invalid/xapi/extensions/parts"],
+            ojson::parse(R"({"components":{"undercut":{"points":5,"max":25},"time":{"points":null,"max":25}},)"
+                         R"("deductions":{"force":{"points":3},"pulp_exposure":{"cap":50,"applied":false}}})"));
+  EXPECT_EQ(e["https://dentsim.invalid/xapi/extensions/surface-agreement"],
+            ojson::parse(R"({"band_mm":0.2,"within_percent":62.5,"beyond_percent":20,"short_percent":17.5})"));
+  // A caries report has no agreement, and its statement no such key.
+  auto caries = buildStatement(cariesTask(), cariesReport(80), learner(), facts());
+  ASSERT_TRUE(caries.ok());
+  EXPECT_FALSE((*caries)["result"]["extensions"].contains("https://dentsim.invalid/xapi/extensions/surface-agreement"));
+  EXPECT_TRUE((*caries)["result"]["extensions"]["https://dentsim.invalid/xapi/extensions/parts"].is_null());  // cut down: no parts
 }
 
 TEST(LearningRecord, SameAttemptSameIdAndAnyChangeAnother) {
