@@ -1,4 +1,4 @@
-// `dentsim score --task caries|cavity --initial A.dvol --final B.dvol [--ideal C.dvol] [--session S]`: the score report (JSON) and picture (PNG) of a cut.
+// `dentsim score --task caries|cavity --initial A.dvol --final B.dvol [--ideal C.dvol] [--session S]`: the score report (JSON) of a cut, and its pictures (PNG) when asked.
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -18,13 +18,15 @@ struct ScoreCliOptions {
   std::string task;            // caries, cavity, or a task file
   std::string initial, final_, ideal, session;
   std::string report = "score.json";
-  std::string png = "score.png";
+  std::string png;             // the score picture; none when empty
+  std::string deviation_png;   // the deviation picture of a cavity or access; none when empty
   bool json = false;
   LearningCliOptions learning;  // the attempt's learning record, when a student is named
 };
 
 int runScore(const ScoreCliOptions& o) {
-  if (Status st = checkOutputsAreNotInputs({o.initial, o.final_, o.ideal, o.session, o.task}, {o.report, o.png}); !st)
+  if (Status st = checkOutputsAreNotInputs({o.initial, o.final_, o.ideal, o.session, o.task}, {o.report, o.png, o.deviation_png});
+      !st)
     return fail(st.message());
   auto task = builtinTask(o.task);
   if (!task) return fail(task.message());
@@ -49,17 +51,32 @@ int runScore(const ScoreCliOptions& o) {
   files.ideal = o.ideal;
   auto score = scoreCut(*task, *initial, *final_, ideal ? &*ideal : nullptr, session ? &*session : nullptr, files);
   if (!score) return fail(score.message());
+  // Before anything is written: a caries removal has no ideal cavity's surface to draw.
+  if (!o.deviation_png.empty() && !score->agreement)
+    return fail("--deviation-png: task " + task->name +
+                " is a caries removal; the deviation picture needs a cavity or access task, which has an ideal cavity");
+  // The report names its learning record's statement, so that a class report counts the attempt once.
+  if (Status st = stampStatementId(o.learning, *task, score->report, o.session, o.final_); !st) return fail(st.message());
   if (Status st = writeScoreReport(o.report, score->report); !st) return fail(st.message());
   for (const std::string& w : score->warnings) std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
-  if (Status st = writeScoreImage(o.png, *task, *initial, *final_, *score, ideal ? &*ideal : nullptr); !st)
-    return fail(st.message());
+  std::string wrote = o.report;
+  if (!o.png.empty()) {
+    if (Status st = writeScoreImage(o.png, *task, *initial, *final_, *score, ideal ? &*ideal : nullptr); !st)
+      return fail(st.message());
+    wrote += (o.deviation_png.empty() ? " and " : ", ") + o.png;
+  }
+  if (!o.deviation_png.empty()) {
+    if (Status st = writeDeviationImage(o.deviation_png, *task, *initial, *score, ideal ? &*ideal : nullptr); !st)
+      return fail(st.message());
+    wrote += " and " + o.deviation_png;
+  }
   // The learning record before the report, so that --json's report stays the last thing printed.
   if (Status st = recordAttempt(o.learning, *task, score->report, o.session, o.final_); !st) return fail(st.message());
   if (Status st = sendPendingIfConfigured(o.learning); !st) return fail(st.message());
   if (o.json)
     std::printf("%s\n", score->report.dump(2).c_str());
   else
-    std::printf("%s\nwrote %s and %s\n", score->summary.c_str(), o.report.c_str(), o.png.c_str());
+    std::printf("%s\nwrote %s\n", score->summary.c_str(), wrote.c_str());
   return 0;
 }
 
@@ -67,14 +84,17 @@ int runScore(const ScoreCliOptions& o) {
 
 void addScoreCommand(CLI::App& root, Action& action) {
   auto o = std::make_shared<ScoreCliOptions>();
-  CLI::App* cmd = root.add_subcommand("score", "Score a cut tooth against the start (and the ideal): JSON report and PNG");
+  CLI::App* cmd = root.add_subcommand("score", "Score a cut tooth against the start (and the ideal): JSON report, and PNG pictures when asked");
   cmd->add_option("--task", o->task, "caries, cavity, a built-in task by name (class2_cavity, class5_cavity, access_cavity, ...), or a task file (.json)")->required();
   cmd->add_option("--initial", o->initial, "The tooth before the cut (.dvol)")->required();
   cmd->add_option("--final", o->final_, "The tooth after the cut (.dvol)")->required();
   cmd->add_option("--ideal", o->ideal, "The professional's final tooth (.dvol); default: the task's ideal");
   cmd->add_option("--session", o->session, "The session (.dses), for time, force and bur-angle statistics");
   cmd->add_option("-o,--report", o->report, "Report to write (.json)")->capture_default_str();
-  cmd->add_option("--png", o->png, "Picture to write: over-cut red, under-cut blue (.png)")->capture_default_str();
+  cmd->add_option("--png", o->png, "Score picture to write: over-cut red, under-cut blue (.png); none unless given");
+  cmd->add_option("--deviation-png", o->deviation_png,
+                  "Cavity and access: deviation picture to write: the ideal cavity's surface green within the "
+                  "+/-0.2 mm band, red where cut beyond it, blue where short of it (.png)");
   cmd->add_flag("--json", o->json, "Print the report on stdout");
   addLearningOptions(cmd, o->learning);
   cmd->callback([o, &action] { action = [o] { return runScore(*o); }; });

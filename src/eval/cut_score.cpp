@@ -4,6 +4,7 @@
 #include "eval/beside_file.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -27,6 +28,28 @@ namespace dentsim {
 
 namespace {
 constexpr std::string_view kTaskFolder = "tasks/", kTaskSuffix = ".json";
+
+// The lead's decision, kept beside the figure so that a report says it too.
+constexpr const char* kSurfaceNotScored =
+    "reported, not scored: it measures the same voxels as the under-cut and over-cut parts, so scoring it too "
+    "would count one fault twice; it shows where on the walls the preparation leaves the ideal";
+
+nlohmann::ordered_json surfaceAgreementReport(const SurfaceAgreement& a) {
+  nlohmann::ordered_json j = surfaceAgreementJson(a);
+  j["scored"] = false;
+  j["why_not_scored"] = kSurfaceNotScored;
+  return j;
+}
+
+// "; surface within ±0.20 mm: 83.1%", or how it could not be measured.
+std::string surfaceAgreementClause(const SurfaceAgreement& a) {
+  char text[96];
+  if (a.samples == 0)
+    std::snprintf(text, sizeof text, "; surface within ±%.2f mm: no ideal surface at half fill", a.band_mm);
+  else
+    std::snprintf(text, sizeof text, "; surface within ±%.2f mm: %.1f%%", a.band_mm, a.within_percent);
+  return text;
+}
 }  // namespace
 
 std::vector<std::string> builtinTaskNames() {
@@ -203,6 +226,13 @@ Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, cons
     out.summary = scoreSummary(*s, inputs);
     out.lines = scoreLines(*s);
     out.pulp_exposed = s->pulp_exposed;
+    if (ideal) {
+      auto agreement = measureSurfaceAgreement(initial, final_, *ideal, task.insertion_axis);
+      if (!agreement) return agreement.error();
+      out.report["surface_agreement"] = surfaceAgreementReport(*agreement);
+      out.summary += surfaceAgreementClause(*agreement);
+      out.agreement = std::move(*agreement);
+    }
   }
   // A guided attempt is not the student's alone: the report and the line say so.
   if (session && !session->info.guide_json.empty()) {
@@ -238,6 +268,25 @@ RgbImage scorePicture(const Task& task, const ToothVolume& initial, const ToothV
 Status writeScoreImage(const std::string& path, const Task& task, const ToothVolume& initial, const ToothVolume& final_,
                        const SessionScore& score, const ToothVolume* given_ideal) {
   return writePng(path, scorePicture(task, initial, final_, score, given_ideal));
+}
+
+RgbImage deviationPicture(const Task& task, const ToothVolume& initial, const SessionScore& score,
+                          const ToothVolume* given_ideal) {
+  assert(score.agreement);
+  const ToothVolume* ideal = given_ideal ? given_ideal : (score.ideal ? &*score.ideal : nullptr);
+  assert(ideal);
+  // The ideal tooth, its walls painted, close around the cavity; looking down the insertion axis
+  // shows the floor, the oblique view the far walls.
+  ScoreImageOptions options;
+  options.oblique = true;
+  options.fit_paint = true;
+  options.view_dir = -normalized(task.insertion_axis);
+  return renderScoreImage(initial, *ideal, nullptr, nullptr, options, &score.agreement->marks).image;
+}
+
+Status writeDeviationImage(const std::string& path, const Task& task, const ToothVolume& initial,
+                           const SessionScore& score, const ToothVolume* given_ideal) {
+  return writePng(path, deviationPicture(task, initial, score, given_ideal));
 }
 
 }  // namespace dentsim

@@ -12,6 +12,7 @@
 
 #include "core/result.h"
 #include "eval/scores.h"
+#include "eval/surface_agreement.h"
 #include "eval/task.h"
 #include "eval/tooth_diff.h"
 #include "io/png_file.h"
@@ -44,6 +45,9 @@ struct SessionScore {
   nlohmann::ordered_json report;       // the "dentsim-score" report
   std::optional<ToothVolume> ideal;    // the ideal this score made from the task (none when given or none)
   ToothDiff diff;                      // the comparison, for the picture
+  // Cavity and access: how the ideal cavity's surface agrees with the student's (reported, not
+  // scored: docs/SCORING.md, "Surface agreement"); none for a caries task.
+  std::optional<SurfaceAgreement> agreement;
   std::vector<std::string> warnings;   // also in the report
   // What a screen shows (the report holds the same and more).
   std::vector<ScoreLine> lines;        // parts and deductions, in the report's order
@@ -81,5 +85,13 @@ RgbImage scorePicture(const Task& task, const ToothVolume& initial, const ToothV
 // Writes the score picture.
 Status writeScoreImage(const std::string& path, const Task& task, const ToothVolume& initial, const ToothVolume& final_,
                        const SessionScore& score, const ToothVolume* given_ideal);
+// The deviation picture: the ideal tooth seen down the insertion axis and obliquely, its cavity's
+// surface green within the band, red where the student cut beyond it, blue where short of it.
+// score.agreement must be set (a cavity or access task) and the ideal given or made by the score.
+RgbImage deviationPicture(const Task& task, const ToothVolume& initial, const SessionScore& score,
+                          const ToothVolume* given_ideal);
+// Writes the deviation picture.
+Status writeDeviationImage(const std::string& path, const Task& task, const ToothVolume& initial,
+                           const SessionScore& score, const ToothVolume* given_ideal);
 
 }  // namespace dentsim

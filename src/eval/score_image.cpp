@@ -34,6 +34,7 @@ Rgb mix(const Rgb& a, const Rgb& b, double t) { return {a.r + (b.r - a.r) * t, a
 constexpr Rgb kBackground{0.16, 0.17, 0.20};
 constexpr Rgb kRed{0.90, 0.10, 0.08};
 constexpr Rgb kUndercut{0.12, 0.32, 0.95};
+constexpr Rgb kPaintRgb[4]{{0, 0, 0}, {0.18, 0.78, 0.26}, kRed, kUndercut};  // by kPaint* code
 constexpr double kUndercutTint = 0.8;   // blend toward blue of a fully under-cut hit voxel
 constexpr double kRedFog = 0.6;         // opacity of one full red voxel: one voxel of error shows
 constexpr uint32_t kSurfaceFill = 16;   // a voxel at least half full is surface
@@ -60,6 +61,7 @@ struct Volumes {
   const BrickVolume& final_;
   const BrickVolume* ideal;
   const CutMarks* red;
+  const CutMarks* paint;
 };
 
 // One byte per brick: 1 when a ray must look inside (surface or red there); and their bounds.
@@ -105,7 +107,35 @@ Occupancy occupancy(const Volumes& v) {
 
 // ---- 3. views ------------------------------------------------------------------------------------
 
-ScoreView makeView(const Vec3& dir, const Occupancy& occ, int x0, int width, int height) {
+// The box the views fit [voxels]: the occupied bricks, or the painted ones with half their extent
+// again on each side (at least two bricks), so that a small cavity fills the view with its rim in sight.
+struct FitBox {
+  std::array<double, 3> lo{}, hi{};
+};
+FitBox fitBox(const Occupancy& occ, const CutMarks* paint, bool fit_paint) {
+  FitBox fit{occ.lo, occ.hi};
+  if (!fit_paint || !paint || paint->empty()) return fit;
+  std::array<uint32_t, 3> lo{occ.brick_dim, occ.brick_dim, occ.brick_dim}, hi{0, 0, 0};
+  for (uint32_t bz = 0; bz < occ.brick_dim; ++bz)
+    for (uint32_t by = 0; by < occ.brick_dim; ++by)
+      for (uint32_t bx = 0; bx < occ.brick_dim; ++bx) {
+        if (!paint->brickHasMarks({bx, by, bz})) continue;
+        const std::array<uint32_t, 3> b{bx, by, bz};
+        for (size_t a = 0; a < 3; ++a) {
+          lo[a] = std::min(lo[a], b[a]);
+          hi[a] = std::max(hi[a], b[a] + 1);
+        }
+      }
+  for (size_t a = 0; a < 3; ++a) {
+    const double l = double(lo[a] * DS_BRICK_DIM), h = double(hi[a] * DS_BRICK_DIM);
+    const double pad = std::max(0.5 * (h - l), 2.0 * DS_BRICK_DIM);
+    fit.lo[a] = l - pad;
+    fit.hi[a] = h + pad;
+  }
+  return fit;
+}
+
+ScoreView makeView(const Vec3& dir, const FitBox& occ, int x0, int width, int height) {
   ScoreView view;
   view.dir = normalized(dir);
   // Up is +z in the image unless the camera looks (nearly) along z; then lingual (+y) is up.
@@ -183,7 +213,8 @@ class RayCaster {
         const uint32_t n = layout::brickCoordToOffset(uint32_t(ix[0] & 7), uint32_t(ix[1] & 7), uint32_t(ix[2] & 7));
         const Voxel f = at(vf, n);
         if (voxelFill(f) >= kSurfaceFill) {
-          const Rgb surface = shade(ix, f, v_.ideal ? undercutOf(at(vi, n), f, at(vk, n)) : 0u, d, light);
+          const uint32_t paint = v_.paint ? v_.paint->at(uint32_t(ix[0]), uint32_t(ix[1]), uint32_t(ix[2])) : 0u;
+          const Rgb surface = shade(ix, f, v_.ideal ? undercutOf(at(vi, n), f, at(vk, n)) : 0u, paint, d, light);
           return mix(surface, kRed, fog);
         }
         if (v_.red) {
@@ -219,8 +250,9 @@ class RayCaster {
     return voxelFill(v_.final_.voxel(uint32_t(x), uint32_t(y), uint32_t(z)));
   }
 
-  // Lambert in the tissue's colour, tinted by the under-cut; the normal points down the fill gradient.
-  Rgb shade(const std::array<int64_t, 3>& ix, Voxel f, uint32_t undercut, const Vec3& d, const Vec3& light) const {
+  // Lambert in the paint's colour, else the tissue's tinted by the under-cut; the normal points down the fill gradient.
+  Rgb shade(const std::array<int64_t, 3>& ix, Voxel f, uint32_t undercut, uint32_t paint, const Vec3& d,
+            const Vec3& light) const {
     const int64_t x = ix[0], y = ix[1], z = ix[2];
     Vec3 normal{fillAt(x - 1, y, z) - fillAt(x + 1, y, z), fillAt(x, y - 1, z) - fillAt(x, y + 1, z),
                 fillAt(x, y, z - 1) - fillAt(x, y, z + 1)};
@@ -228,6 +260,7 @@ class RayCaster {
     const double lambert = std::max(0.0, dot(normal, light));
     Rgb base = tissueColour(layout::voxelMaterial(f));
     base = mix(base, kUndercut, kUndercutTint * undercut / DS_FILL_FULL);
+    if (paint >= kPaintGreen && paint <= kPaintBlue) base = kPaintRgb[paint];
     const double s = 0.28 + 0.72 * lambert;
     return {base.r * s, base.g * s, base.b * s};
   }
@@ -263,24 +296,25 @@ void renderView(const RayCaster& caster, const ScoreView& view, const Occupancy&
 // ---- 5. renderScoreImage, PNG --------------------------------------------------------------------
 
 ScoreImage renderScoreImage(const ToothVolume& initial, const ToothVolume& final_, const ToothVolume* ideal,
-                            const CutMarks* red, const ScoreImageOptions& options) {
+                            const CutMarks* red, const ScoreImageOptions& options, const CutMarks* paint) {
   assert(initial.voxels.level() == final_.voxels.level());
   assert(!ideal || ideal->voxels.level() == initial.voxels.level());
   ScoreImage out;
   out.image.width = std::clamp(options.width, 16, 8192);
   out.image.height = std::clamp(options.height, 16, 8192);
   out.image.rgb.assign(size_t(out.image.width) * size_t(out.image.height) * 3, 0);
-  const Volumes volumes{initial.voxels, final_.voxels, ideal ? &ideal->voxels : nullptr, red};
+  const Volumes volumes{initial.voxels, final_.voxels, ideal ? &ideal->voxels : nullptr, red, paint};
   const Occupancy occ = occupancy(volumes);
+  const FitBox fit = fitBox(occ, paint, options.fit_paint);
   const RayCaster caster(volumes, occ);
   // The oblique view looks from mesial-buccal and above (buccal is -y, mesial -x in the molar's frame).
   const Vec3 oblique_dir = normalized(Vec3{0.45, 1.0, -1.1});
   const int half = out.image.width / 2;
   if (options.oblique) {
-    out.views.push_back(makeView(options.view_dir, occ, 0, half, out.image.height));
-    out.views.push_back(makeView(oblique_dir, occ, half, out.image.width - half, out.image.height));
+    out.views.push_back(makeView(options.view_dir, fit, 0, half, out.image.height));
+    out.views.push_back(makeView(oblique_dir, fit, half, out.image.width - half, out.image.height));
   } else {
-    out.views.push_back(makeView(options.view_dir, occ, 0, out.image.width, out.image.height));
+    out.views.push_back(makeView(options.view_dir, fit, 0, out.image.width, out.image.height));
   }
   for (const ScoreView& view : out.views) renderView(caster, view, occ, &out.image);
   return out;

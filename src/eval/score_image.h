@@ -6,8 +6,8 @@
 // the ideal removes). The red voxels the caller marks (the over-cut of a cavity, the healthy tissue
 // cut outside the allowed zone of a caries removal; ToothDiff holds both) add red fog where the ray
 // passes them before the surface, so they show red over whatever lies behind. Without an ideal
-// there is no blue; remaining caries shows in its brown. Rays skip bricks that hold neither
-// surface nor red.
+// there is no blue; remaining caries shows in its brown. A caller may instead paint chosen surface
+// voxels green, red or blue (the deviation picture). Rays skip bricks that hold neither surface nor red.
 #pragma once
 
 #include <array>
@@ -28,6 +28,7 @@ struct ScoreImageOptions {
   int height = 600;            // [px], 16..8192
   Vec3 view_dir{0, 0, -1};     // where the camera looks, in the grid's axes: occlusal, from +z down
   bool oblique = false;        // a second, oblique view to the right; each view then gets half the width
+  bool fit_paint = false;      // fit the views to the painted bricks (a margin around them), not the whole tooth
 };
 
 // One view's camera, so that a caller (or a test) can find where a voxel appears.
@@ -46,9 +47,16 @@ struct ScoreImage {
   std::vector<ScoreView> views;  // left to right
 };
 
-// Renders the views. The volumes must share the level (compareTeeth checks frames); ideal and red
-// may be null (no blue, no red). red's amounts are fill units removed per voxel.
+// Paint: a surface voxel that `paint` marks is drawn in the mark's colour in place of its tissue's
+// (and of the under-cut tint); the deviation picture (eval/surface_agreement.h) paints this way.
+inline constexpr uint32_t kPaintGreen = 1;
+inline constexpr uint32_t kPaintRed = 2;
+inline constexpr uint32_t kPaintBlue = 3;
+
+// Renders the views. The volumes must share the level (compareTeeth checks frames); ideal, red and
+// paint may be null (no blue, no red, no paint). red's amounts are fill units removed per voxel;
+// paint's are kPaint* codes (others are ignored).
 ScoreImage renderScoreImage(const ToothVolume& initial, const ToothVolume& final_, const ToothVolume* ideal,
-                            const CutMarks* red, const ScoreImageOptions& options = {});
+                            const CutMarks* red, const ScoreImageOptions& options = {}, const CutMarks* paint = nullptr);
 
 }  // namespace dentsim

@@ -64,10 +64,12 @@ std::string number(double v) {
   return s.str();
 }
 
+}  // namespace
+
 // ---- 1. frame checks -----------------------------------------------------------------------------
 
 // The frames must place every voxel at the same spot; sub-nanometre differences are rounding.
-Status sameFrame(const ToothVolume& a, const std::string& a_name, const ToothVolume& b, const std::string& b_name) {
+Status checkSameFrame(const ToothVolume& a, const std::string& a_name, const ToothVolume& b, const std::string& b_name) {
   const std::string of_a = " differs from " + a_name + "'s ";
   if (b.voxels.level() != a.voxels.level())
     return makeError(b_name, "octree level " + std::to_string(b.voxels.level()) + of_a +
@@ -82,6 +84,8 @@ Status sameFrame(const ToothVolume& a, const std::string& a_name, const ToothVol
   }
   return Ok{};
 }
+
+namespace {
 
 // ---- 2. the ideal cavity's masks ---------------------------------------------------------------------
 
@@ -240,9 +244,9 @@ Result<ToothDiff> compareTeeth(const ToothVolume& initial, const ToothVolume& fi
   if (initial.frame.level != initial.voxels.level())
     return makeError(names.initial, "frame level " + std::to_string(initial.frame.level) + " differs from its grid's " +
                                         std::to_string(initial.voxels.level()));
-  if (auto s = sameFrame(initial, names.initial, final_, names.final_); !s) return s.error();
+  if (auto s = checkSameFrame(initial, names.initial, final_, names.final_); !s) return s.error();
   if (ideal)
-    if (auto s = sameFrame(initial, names.initial, *ideal, names.ideal); !s) return s.error();
+    if (auto s = checkSameFrame(initial, names.initial, *ideal, names.ideal); !s) return s.error();
 
   ToothDiff diff;
   diff.voxel_mm = initial.frame.voxel_mm;

@@ -89,6 +89,10 @@ struct ZoneOptions {
   Vec3 access_axis{0, 0, 1};     // without an ideal: the insertion axis (not zero; normalized here)
 };
 
+// Ok when b lies on a's grid: the same octree level, voxel size and origin (sub-nanometre differences
+// are rounding); otherwise an error naming b (by b_name) and what differs from a (by a_name).
+Status checkSameFrame(const ToothVolume& a, const std::string& a_name, const ToothVolume& b, const std::string& b_name);
+
 // Compares the initial tooth with the student's final one and, when `ideal` is given, with the
 // professional's final one (the target is then what that removed from the initial tooth; without
 // it, the caries and its access). Volumes must share the level and the frame (voxel size and

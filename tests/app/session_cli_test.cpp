@@ -1,6 +1,7 @@
 // The session commands end to end: `demo --headless` writes its six files, `replay` reproduces the final volume and score, `score` reports and draws, and bad sessions fail cleanly.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -196,6 +197,54 @@ TEST_F(SessionCli, ACavityCutExactlyToTheIdealScoresFullMarks) {
                                            file("session.dses") + " -o " + report + " --png " + dir_->file("cavity.png"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_DOUBLE_EQ(readJson(report)["total"].get<double>(), 100.0) << readJson(report).dump(2);
+}
+
+// The files in a folder, by name, sorted.
+std::vector<std::string> filesIn(const std::string& folder) {
+  std::vector<std::string> names;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// `score` draws a picture only when asked; a cavity's report and line say how much of the ideal
+// cavity's surface the cut matches, and --deviation-png draws it.
+TEST_F(SessionCli, ScoreWritesOnlyThePicturesAskedForAndTheSurfaceAgreement) {
+  ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
+  const std::string folder = dir_->file("asked");
+  std::filesystem::create_directories(folder);
+  // Run inside the folder, where a picture written by default would land. The demo's own result is
+  // the ideal, so its whole surface is the student's.
+  const std::string score = "cd " + folder + " && " + std::string(DENTSIM_BINARY) + " score --task cavity --initial " +
+                            file("initial.dvol") + " --final " + file("final.dvol") + " --ideal " + file("final.dvol");
+  const test::CommandResult r = test::runCommand(score + " -o " + folder + "/s.json");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_EQ(filesIn(folder), (std::vector<std::string>{"s.json"}));
+  EXPECT_NE(r.output.find("; surface within \u00b10.20 mm: 100.0%"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("wrote " + folder + "/s.json\n"), std::string::npos) << r.output;
+  const nlohmann::json sa = readJson(folder + "/s.json")["surface_agreement"];
+  EXPECT_EQ(sa["band_mm"].get<double>(), 0.2);
+  EXPECT_GT(sa["samples"].get<uint64_t>(), 0u);
+  EXPECT_EQ(sa["within_percent"].get<double>(), 100.0);
+  EXPECT_FALSE(sa["scored"].get<bool>());
+  EXPECT_NE(sa["why_not_scored"].get<std::string>().find("twice"), std::string::npos);
+  for (const char* wall : {"occlusal_floor", "mesial", "distal", "buccal", "lingual"})
+    EXPECT_TRUE(sa["walls"].contains(wall)) << wall;
+
+  const test::CommandResult dev = test::runCommand(score + " -o " + folder + "/s.json --deviation-png " + folder + "/dev.png");
+  ASSERT_EQ(dev.exit_code, 0) << dev.output;
+  EXPECT_EQ(filesIn(folder), (std::vector<std::string>{"dev.png", "s.json"}));
+  const std::vector<uint8_t> png = readBytes(folder + "/dev.png");
+  ASSERT_GE(png.size(), 8u);
+  EXPECT_EQ(png[1], 'P');
+
+  // A caries removal has no ideal cavity's surface: asking for its picture fails before writing.
+  const test::CommandResult caries = runDentsim("score --task caries --initial " + file("initial.dvol") + " --final " +
+                                                file("final.dvol") + " -o " + folder + "/c.json --deviation-png " + folder +
+                                                "/c.png");
+  EXPECT_NE(caries.exit_code, 0);
+  EXPECT_NE(caries.output.find("--deviation-png"), std::string::npos) << caries.output;
+  EXPECT_EQ(filesIn(folder), (std::vector<std::string>{"dev.png", "s.json"}));
 }
 
 TEST_F(SessionCli, ACavityTaskFileTakesItsIdealFromAProfessionalsSessionOrVolume) {
