@@ -1,7 +1,12 @@
 // `dentsim task new|check|set-ideal`: a teacher's exercise on any tooth, written, checked and given its professional's ideal without editing JSON by hand.
+//
+//   1. defaults     each kind's and class's bur, path and title; what set-ideal reports
+//   2. task new     the defaults, the tooth's own axis, the keys left to the professional
+//   3. task check   every problem of a task file, each on its own line
+//   4. set-ideal    the professional's session as the ideal, and what it set from it
+//   5. the command line
 #include <algorithm>
 #include <array>
-#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -14,6 +19,7 @@
 #include "app/commands.h"
 #include "eval/beside_file.h"
 #include "eval/cut_score.h"
+#include "eval/task_axis.h"
 #include "eval/task_ideal.h"
 #include "eval/task_tooth.h"
 #include "io/atomic_file.h"
@@ -28,16 +34,19 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// ---- 1. defaults ------------------------------------------------------------------------------------------
+
 struct TaskNewOptions {
   std::string tooth;              // a .dvol, or builtin:molar
   std::string kind = "caries";    // caries, cavity, access
+  std::string cavity_class;       // Black's class of a cavity: I, II or V; empty: not said
   std::string output;             // the task file
   std::string name, title, instructions;
   std::string bur, mirror = kDefaultMirror;
   int level = 0;                  // the built-in molar's level; 0: 9
   double target_s = 0, failure_s = 0, force_error_n = 3.0, leeway_mm = 0.2;
   double pass_mark = 70.0;        // the total that passes [points of 100]; negative: none (attempts only "completed")
-  std::vector<double> insertion_axis;  // empty: the tooth's crown axis
+  std::vector<double> insertion_axis;  // empty: the tooth's crown axis (a class V's: its buccal axis)
   std::string ideal_path, ideal_volume, ideal_session, ideal_final;
   std::string view;               // a view preset; empty: the simulator's default
   double view_elevation_deg = 30.0;
@@ -46,6 +55,7 @@ struct TaskNewOptions {
 };
 
 struct KindDefaults {
+  TaskKind kind;
   const char* bur;
   double target_s, failure_s;
   const char* builtin_ideal;      // the built-in path a new task starts with; null: none
@@ -54,19 +64,47 @@ struct KindDefaults {
 };
 
 const KindDefaults* defaultsFor(const std::string& kind) {
-  static const KindDefaults caries{"round_bur_010", 300, 900, nullptr, "Remove the caries",
+  static const KindDefaults caries{TaskKind::Caries, "round_bur_010", 300, 900, nullptr, "Remove the caries",
                                    "Open the lesion from the occlusal surface and remove all the carious tissue, "
                                    "keeping the healthy enamel and dentin around it and the pulp closed."};
-  static const KindDefaults cavity{"fissure_bur_010", 600, 0, "class1_cavity", "Prepare the cavity",
+  static const KindDefaults cavity{TaskKind::Cavity, "fissure_bur_010", 600, 0, "class1_cavity", "Prepare the cavity",
                                    "Prepare the cavity as the professional did: the same outline, depth and walls "
                                    "parallel to the insertion axis, without touching the pulp."};
-  static const KindDefaults access{"round_bur_014", 600, 0, "access_cavity", "Open the pulp chamber",
+  static const KindDefaults access{TaskKind::Access, "round_bur_014", 600, 0, "access_cavity", "Open the pulp chamber",
                                    "Prepare the endodontic access: go through the occlusal surface into the pulp "
                                    "chamber and remove its roof, keeping the walls of the crown."};
   if (kind == "caries") return &caries;
   if (kind == "cavity") return &cavity;
   if (kind == "access") return &access;
   return nullptr;
+}
+
+// A cavity's class, where it says more than the kind: the built-in path that starts as its ideal
+// (eval/task_axis.h's builtinPathClass is the same table read backward), its bur and its title.
+struct ClassDefaults {
+  int black;                      // Black's class, 1 to 6
+  const char* builtin_ideal;
+  const char* bur;
+  const char* title;
+};
+
+constexpr std::array<ClassDefaults, 3> kClassDefaults{{
+    {1, "class1_cavity", "fissure_bur_010", "Prepare a class I cavity"},
+    {2, "class2_cavity", "fissure_bur_010", "Prepare a class II cavity"},
+    // A round bur cuts the rounded axial wall that follows the cervical curve (docs/SCORING.md, section 10).
+    {5, "class5_cavity", "round_bur_010", "Prepare a class V cavity"},
+}};
+
+const ClassDefaults* classDefaultsFor(int black) {
+  for (const ClassDefaults& c : kClassDefaults)
+    if (c.black == black) return &c;
+  return nullptr;
+}
+
+std::string vecText(const Vec3& v) {
+  char text[96];
+  std::snprintf(text, sizeof text, "(%.3f, %.3f, %.3f)", v.x, v.y, v.z);
+  return text;
 }
 
 // A file as the task names it, relative to the task's folder; one from elsewhere is copied there
@@ -81,6 +119,52 @@ Result<std::string> nameBesideOrFail(const char* flag, const std::string& path, 
   return named;
 }
 
+// What the professional's session showed (its length, its time in contact, its bur and bur axis)
+// and, for each key, whether it was set from them or kept and why.
+void printWhatTheIdealSet(const std::string& task_path, const IdealRecord& r) {
+  const ProfessionalFigures& p = r.professional;
+  const Task& t = r.task;
+  // The ideal stands: only the teacher knows whether the other bur was meant.
+  if (p.drill_tool != t.drill_tool)
+    std::fprintf(stderr,
+                 "dentsim: warning: the professional used %s but the task's drill is %s: the ideal's walls and floor are "
+                 "that bur's shape, which a student with the task's bur cannot match (record the ideal with %s, or "
+                 "change the task's tools.drill)\n",
+                 p.drill_tool.c_str(), t.drill_tool.c_str(), t.drill_tool.c_str());
+  std::printf("%s: the professional's session lasted %.1f s, %.1f s of it with the bur in contact with the tooth\n",
+              task_path.c_str(), p.elapsed_s, p.contact_s);
+  if (p.bur_axis)
+    std::printf("%s: the professional's mean bur axis while cutting is %s, %.1f degrees from the tooth's crown axis\n",
+                task_path.c_str(), vecText(*p.bur_axis).c_str(), p.bur_axis_from_crown_deg);
+  const std::string axis = vecText(t.insertion_axis);
+  if (r.axis_set)
+    std::printf("%s: insertion_axis set to %s, the professional's (from_ideal lists it)\n", task_path.c_str(), axis.c_str());
+  else if (t.from_ideal.insertion_axis)
+    std::printf("%s: insertion_axis kept %s: %s\n", task_path.c_str(), axis.c_str(), r.axis_kept_reason.c_str());
+  else
+    std::printf("%s: insertion_axis kept %s, the task's own (from_ideal does not list it)\n", task_path.c_str(), axis.c_str());
+  if (!(p.elapsed_s > 0)) return;
+  // docs/SCORING.md, section 10: the time rule, in eval/task_ideal.h.
+  const Task timed = timedFromProfessional(t, p.elapsed_s);
+  char rule[160];
+  std::snprintf(rule, sizeof rule, "%.2f x the professional's %.1f s", kTargetFactor, p.elapsed_s);
+  char rest[200];
+  if (t.kind == TaskKind::Caries)
+    std::snprintf(rest, sizeof rest, "failure_s %.1f s (%.2f x)", timed.failure_s, kFailureFactor);
+  else
+    std::snprintf(rest, sizeof rest,
+                  "cavity.time_coefficient %.2f points a minute, so the time points are gone at %.1f s (%.2f x)",
+                  timed.cavity.time_coefficient, kFailureFactor * p.elapsed_s, kFailureFactor);
+  if (r.times_set)
+    std::printf("%s: target_s set to %.1f s, %s (from_ideal lists it); %s\n", task_path.c_str(), t.target_s, rule, rest);
+  else
+    std::printf("%s: target_s kept %.1f s, the task's own (from_ideal does not list it); the professional's would be "
+                "%.1f s, %s\n",
+                task_path.c_str(), t.target_s, timed.target_s, rule);
+}
+
+// ---- 2. task new ------------------------------------------------------------------------------------------
+
 int runTaskNew(const TaskNewOptions& o) {
   const KindDefaults* kind = defaultsFor(o.kind);
   if (!kind) return fail("--kind: \"" + o.kind + "\" is not one of caries, cavity, access");
@@ -91,6 +175,19 @@ int runTaskNew(const TaskNewOptions& o) {
   if (o.mirror != "none")
     if (Status st = checkCatalogTool("--mirror", o.mirror, ToolUse::Mirror); !st) return fail(st.message());
   if (o.failure_s > 0 && o.kind != "caries") return fail("--failure-s applies to a caries task, not to " + o.kind);
+  // The class: given, or the one the built-in ideal path cuts; a path of another class is a mistake.
+  int black = 0;
+  if (!o.cavity_class.empty()) {
+    if (o.kind != "cavity") return fail("--class applies to a cavity task, not to " + o.kind);
+    black = cavityClassFromName(o.cavity_class);
+    if (!classDefaultsFor(black)) return fail("--class: \"" + o.cavity_class + "\" is not one of I, II, V");
+    if (const int path_class = builtinPathClass(o.ideal_path); path_class != 0 && path_class != black)
+      return fail("--class " + o.cavity_class + " does not go with --ideal-path " + o.ideal_path + ", a class " +
+                  cavityClassName(path_class) + " path");
+  } else if (o.kind == "cavity") {
+    black = builtinPathClass(o.ideal_path);
+  }
+  const ClassDefaults* klass = classDefaultsFor(black);
   if (fs::exists(o.output) && !o.force) return fail(o.output + ": exists; give --force to replace it");
   const int ideals = !o.ideal_path.empty() + !o.ideal_volume.empty() + !o.ideal_session.empty();
   if (ideals > 1) return fail("give at most one of --ideal-path, --ideal-volume and --ideal-session");
@@ -118,8 +215,9 @@ int runTaskNew(const TaskNewOptions& o) {
   j["version"] = 2;
   j["name"] = o.name.empty() ? fs::path(o.output).stem().string() : o.name;
   j["kind"] = o.kind;
+  if (black != 0) j["cavity_class"] = cavityClassName(black);
   const std::string tooth_name = builtin ? "the built-in molar" : fs::path(o.tooth).stem().string();
-  j["title"] = o.title.empty() ? std::string(kind->title) + " (" + tooth_name + ")" : o.title;
+  j["title"] = o.title.empty() ? std::string(klass ? klass->title : kind->title) + " (" + tooth_name + ")" : o.title;
   j["instructions"] = o.instructions.empty() ? kind->instructions : o.instructions;
   // A task names files only in its own folder or below it (eval/beside_file.h): a tooth or ideal
   // from elsewhere is copied there, so the course folder holds all it names.
@@ -131,25 +229,30 @@ int runTaskNew(const TaskNewOptions& o) {
     j["tooth"] = *named;
   }
   if (builtin) j["level"] = o.level > 0 ? o.level : 9;
-  j["tools"] = {{"drill", o.bur.empty() ? kind->bur : o.bur}};
+  j["tools"] = {{"drill", !o.bur.empty() ? o.bur : klass ? klass->bur : kind->bur}};
   if (o.mirror != "none") j["tools"]["mirror"] = o.mirror;
   j["target_s"] = o.target_s > 0 ? o.target_s : kind->target_s;
   if (o.kind == "caries") j["failure_s"] = o.failure_s > 0 ? o.failure_s : kind->failure_s;
   j["force_error_n"] = o.force_error_n;
   if (o.pass_mark >= 0) j["pass_mark"] = o.pass_mark;
+  // The tooth's own axis, not the grid's: the crown axis (a class V's buccal axis), as far as the
+  // tooth's frame knows it.
+  std::string axis_from;
   if (!o.insertion_axis.empty()) {
     if (o.insertion_axis.size() != 3) return fail("--insertion-axis: expected three numbers x,y,z");
     j["insertion_axis"] = o.insertion_axis;
+    axis_from = "as given";
   } else {
-    // The grid axis nearest the crown: +z for every tooth voxelize stood up. The bur of the scripted
-    // paths and of the simulator's first pose stands along it, and the leftover tilt of an estimated
-    // crown axis (a centroid's, not a clinician's) is not worth a slanted access.
-    std::array<int, 3> up{0, 0, 0};
-    int a = 0;
-    for (int i = 1; i < 3; ++i)
-      if (std::abs(axes.crown[size_t(i)]) > std::abs(axes.crown[size_t(a)])) a = i;
-    up[size_t(a)] = axes.crown[size_t(a)] < 0 ? -1 : 1;
-    j["insertion_axis"] = up;
+    const Vec3 a = axisForTaskFile(defaultInsertionAxis(kind->kind, black, axes));
+    j["insertion_axis"] = {a.x, a.y, a.z};
+    const bool buccal = black == 5;
+    const AxisSource source = buccal ? axes.buccal_source : axes.crown_source;
+    axis_from = std::string("the tooth's ") + (buccal ? "buccal axis (a class V is cut from buccal)" : "crown axis") +
+                (source == AxisSource::Assumed ? ", assumed" : "");
+    if (buccal && source == AxisSource::Assumed)
+      std::printf("note: %s's buccal side is not known, so it is taken as the convention's; give voxelize "
+                  "--buccal-axis, or --insertion-axis here\n",
+                  o.tooth.c_str());
   }
   j["leeway_mm"] = o.leeway_mm;
   if (!o.ideal_path.empty()) j["ideal"] = {{"kind", "builtin_path"}, {"path", o.ideal_path}};
@@ -158,24 +261,38 @@ int runTaskNew(const TaskNewOptions& o) {
     if (!named) return fail(named.message());
     j["ideal"] = {{"kind", "volume"}, {"path", *named}};
   }
+  else if (klass) j["ideal"] = {{"kind", "builtin_path"}, {"path", klass->builtin_ideal}};
   else if (kind->builtin_ideal) j["ideal"] = {{"kind", "builtin_path"}, {"path", kind->builtin_ideal}};
+  // What the teacher left to the defaults, the professional's session sets (set-ideal).
+  nlohmann::ordered_json from_ideal = nlohmann::ordered_json::array();
+  if (o.insertion_axis.empty()) from_ideal.push_back("insertion_axis");
+  if (o.target_s <= 0 && o.failure_s <= 0) from_ideal.push_back("target_s");
+  if (!from_ideal.empty()) j["from_ideal"] = from_ideal;
   if (!o.view.empty()) j["view"] = {{"camera", o.view}, {"elevation_deg", o.view_elevation_deg}, {"fixed", o.fixed_view}};
   const std::string text = j.dump(2) + "\n";
   if (auto check = parseTask(text, o.output); !check) return fail(check.message());
   if (Status st = writeFileAtomic(o.output, text); !st) return fail(st.message());
-  std::printf("wrote %s: %s task \"%s\" on %s, insertion axis (%.3f, %.3f, %.3f)\n", o.output.c_str(), o.kind.c_str(),
-              j["title"].get<std::string>().c_str(), o.tooth.c_str(), j["insertion_axis"][0].get<double>(),
-              j["insertion_axis"][1].get<double>(), j["insertion_axis"][2].get<double>());
+  std::printf("wrote %s: %s task \"%s\" on %s, insertion axis (%.4f, %.4f, %.4f): %s\n", o.output.c_str(),
+              o.kind.c_str(), j["title"].get<std::string>().c_str(), o.tooth.c_str(), j["insertion_axis"][0].get<double>(),
+              j["insertion_axis"][1].get<double>(), j["insertion_axis"][2].get<double>(), axis_from.c_str());
   if (!o.ideal_session.empty()) {
     auto record = setTaskIdeal(o.output, o.ideal_session, o.ideal_final);
     if (!record) return fail(record.message());
     std::printf("the ideal is %s (final tooth %s)\n", record->session_file.c_str(), record->final_file.c_str());
-  } else if (j.contains("ideal") && j["ideal"]["kind"] == "builtin_path") {
+    printWhatTheIdealSet(o.output, *record);
+    return 0;
+  }
+  if (j.contains("ideal") && j["ideal"]["kind"] == "builtin_path")
     std::printf("the ideal is the built-in path %s until you record one: dentsim task set-ideal %s --session PROF.dses\n",
                 j["ideal"]["path"].get<std::string>().c_str(), o.output.c_str());
-  }
+  if (!from_ideal.empty())
+    std::printf("set-ideal will set %s from the professional's session (the task's from_ideal)\n",
+                from_ideal.size() == 2 ? "the insertion axis and the times"
+                : o.insertion_axis.empty() ? "the insertion axis" : "the times");
   return 0;
 }
+
+// ---- 3. task check ----------------------------------------------------------------------------------------
 
 // Every problem of a task file, each on its own line; errors make the exit status 1.
 int runTaskCheck(const std::string& path) {
@@ -204,11 +321,7 @@ int runTaskCheck(const std::string& path) {
       errors.push_back("tooth: no pulp in " + task->tooth + ", so the access cavity has no chamber to open");
     if (axes.crown_source == AxisSource::Assumed)
       warnings.push_back("tooth: " + task->tooth + " has no tooth frame; the crown is taken as +z");
-    const Vec3 crown{axes.crown[0], axes.crown[1], axes.crown[2]};
-    const double angle = std::acos(std::clamp(dot(crown, task->insertion_axis), -1.0, 1.0)) * 180.0 / 3.14159265358979;
-    if (angle > 90.0)
-      errors.push_back("insertion_axis: points " + std::to_string(int(std::lround(angle))) +
-                       " degrees from the tooth's crown axis, into the roots");
+    if (auto problem = checkInsertionAxis(*task, axes)) errors.push_back("insertion_axis: " + *problem);
     if (task->ideal) {
       std::vector<std::string> ideal_warnings;
       auto ideal = idealForTask(*task, *tooth, &ideal_warnings);
@@ -221,11 +334,15 @@ int runTaskCheck(const std::string& path) {
   for (const std::string& w : warnings) std::printf("%s: warning: %s\n", path.c_str(), w.c_str());
   for (const std::string& e : errors) std::printf("%s: error: %s\n", path.c_str(), e.c_str());
   if (!errors.empty()) return 1;
-  std::printf("%s: ok: %s task \"%s\" on %s, drill %s%s\n", path.c_str(), taskKindName(task->kind), task->title.c_str(),
+  const int black = taskCavityClass(*task);
+  std::printf("%s: ok: %s task%s \"%s\" on %s, drill %s%s\n", path.c_str(), taskKindName(task->kind),
+              black ? (std::string(" (class ") + cavityClassName(black) + ")").c_str() : "", task->title.c_str(),
               task->tooth.c_str(), task->drill_tool.c_str(),
               task->ideal ? (", ideal " + task->ideal->path).c_str() : ", no ideal");
   return 0;
 }
+
+// ---- 4. set-ideal -----------------------------------------------------------------------------------------
 
 int runTaskSetIdeal(const std::string& task, const std::string& session, const std::string& final_tooth) {
   // The task file is rewritten on purpose; the session and final tooth are read, never written.
@@ -235,10 +352,13 @@ int runTaskSetIdeal(const std::string& task, const std::string& session, const s
   std::printf("%s: the ideal is now %s (final tooth %s; tooth %s, final %s, session %s)\n", task.c_str(),
               record->session_file.c_str(), record->final_file.c_str(), record->spec.initial_hash.c_str(),
               record->spec.final_hash.c_str(), record->spec.session_hash.c_str());
+  printWhatTheIdealSet(task, *record);
   return 0;
 }
 
 }  // namespace
+
+// ---- 5. the command line ----------------------------------------------------------------------------------
 
 void addTaskCommand(CLI::App& root, Action& action) {
   CLI::App* cmd = root.add_subcommand("task", "Write, check and set the ideal of an exercise (a task file)");
@@ -248,6 +368,8 @@ void addTaskCommand(CLI::App& root, Action& action) {
   CLI::App* make = cmd->add_subcommand("new", "Write a valid task on a tooth");
   make->add_option("--tooth", n->tooth, "The tooth: a .dvol, or builtin:molar")->required();
   make->add_option("--kind", n->kind, "caries, cavity or access")->capture_default_str();
+  make->add_option("--class", n->cavity_class,
+                   "A cavity's Black class: I, II or V (its built-in ideal path and bur; a class V's axis is the buccal one)");
   make->add_option("-o,--output", n->output, "The task file to write (.json)")->required();
   make->add_option("--name", n->name, "The task's name (default: the file's stem)");
   make->add_option("--title", n->title, "One line for the task picker");
@@ -255,7 +377,9 @@ void addTaskCommand(CLI::App& root, Action& action) {
   make->add_option("--bur", n->bur, "The drill's bur (default by kind: round_bur_010, fissure_bur_010, round_bur_014)");
   make->add_option("--mirror", n->mirror, "The mirror, or none")->capture_default_str();
   make->add_option("--level", n->level, "The built-in molar's level (default 9)")->check(CLI::Range(DS_MIN_LEVEL, DS_MAX_LEVEL));
-  make->add_option("--target-s", n->target_s, "The time a good student needs [s] (default by kind: 300, 600, 600)")
+  make->add_option("--target-s", n->target_s,
+                   "The time a good student needs [s] (default by kind: 300, 600, 600, until set-ideal sets it from the "
+                   "professional)")
       ->check(finiteIn(1.0, 1e6, "s"));
   make->add_option("--failure-s", n->failure_s, "Caries: the time that earns no time points [s] (default 900)")
       ->check(finiteIn(1.0, 1e6, "s"));
@@ -269,7 +393,8 @@ void addTaskCommand(CLI::App& root, Action& action) {
       ->check(finiteIn(-1.0, 100.0, "points"))
       ->capture_default_str();
   make->add_option("--insertion-axis", n->insertion_axis,
-                   "The bur's axis x,y,z (default: the grid axis nearest the tooth's crown axis, +z once voxelize stood it up)")
+                   "The bur's axis x,y,z (default: the tooth's crown axis, a class V's buccal axis, until set-ideal sets it "
+                   "from the professional)")
       ->delimiter(',')
       ->expected(3)
       ->check(finiteIn(-1e6, 1e6, ""));

@@ -141,6 +141,24 @@ bool readView(const json& view, TaskReader& r, TaskView* out) {
   return true;
 }
 
+// "from_ideal": the names of the keys set-ideal may set, each at most once.
+bool readFromIdeal(const json& root, TaskReader& r, FromIdeal* out) {
+  const json* v = r.member(root, "", "from_ideal", false);
+  if (!v) return !r.failed();
+  if (!v->is_array()) return r.fail("from_ideal", std::string("expected an array of key names, got ") + v->type_name());
+  for (size_t i = 0; i < v->size(); ++i) {
+    const json& e = (*v)[i];
+    const std::string p = "from_ideal[" + std::to_string(i) + "]";
+    if (!e.is_string()) return r.fail(p, std::string("expected a key name, got ") + e.type_name());
+    const std::string& name = e.get_ref<const std::string&>();
+    bool* flag = name == "insertion_axis" ? &out->insertion_axis : name == "target_s" ? &out->target_s : nullptr;
+    if (!flag) return r.fail(p, quotedForMessage(name) + " is not one of \"insertion_axis\", \"target_s\"");
+    if (*flag) return r.fail(p, quotedForMessage(name) + " is listed twice");
+    *flag = true;
+  }
+  return true;
+}
+
 // The zone's keys (insertion_axis, leeway_mm, ideal) in object j at `path`: the root in version 2,
 // "cavity" in version 1.
 bool readZone(const json& j, const std::string& path, TaskReader& r, Task* t) {
@@ -160,7 +178,7 @@ void readCavity(const json& j, int version, TaskReader& r, Task* t) {
   if (version == 1)
     keys.insert(keys.end(), {"insertion_axis", "leeway_mm", "ideal"});
   else
-    keys.push_back("force_coefficient");
+    keys.insert(keys.end(), {"force_coefficient", "near_overcut_weight"});
   if (!r.object(j, path, keys)) return;
   CavityTask* c = &t->cavity;
   if (!r.number(j, path, "undercut_coefficient", false, 0, true, kHuge, kNonNegative, &c->undercut_coefficient)) return;
@@ -169,6 +187,7 @@ void readCavity(const json& j, int version, TaskReader& r, Task* t) {
   if (!r.number(j, path, "time_coefficient", false, 0, true, kHuge, kNonNegative, &c->time_coefficient)) return;
   if (!r.number(j, path, "force_coefficient", false, 0, true, kHuge, kNonNegative, &c->force_coefficient)) return;
   if (!r.number(j, path, "parallel_error_deg", false, 0, false, 90, "in (0, 90]", &c->parallel_error_deg)) return;
+  if (!r.number(j, path, "near_overcut_weight", false, 0, true, 1, "in [0, 1]", &c->near_overcut_weight)) return;
   if (version == 1) readZone(j, path, r, t);
 }
 
@@ -212,7 +231,7 @@ void readTask(const json& root, TaskReader& r, Task* t) {
                                    "tools",     "target_s",  "failure_s",     "force_error_n", "cavity"};
   if (version >= 2)
     keys.insert(keys.end(), {"insertion_axis", "leeway_mm", "ideal", "pulp_exposure_cap", "caries", "instructions", "view", "access",
-                             "pass_mark"});
+                             "pass_mark", "from_ideal", "cavity_class"});
   if (!r.object(root, "", keys)) return;
   if (!r.string(root, "", "name", true, true, &t->name)) return;
   size_t kind = 0;
@@ -242,6 +261,7 @@ void readTask(const json& root, TaskReader& r, Task* t) {
   if (version >= 2) {
     if (!r.number(root, "", "pulp_exposure_cap", false, 0, true, 100, "in [0, 100]", &t->pulp_exposure_cap)) return;
     if (!readZone(root, "", r, t)) return;
+    if (!readFromIdeal(root, r, &t->from_ideal)) return;
     double pass_mark = 0.0;
     if (root.contains("pass_mark")) {
       if (!r.number(root, "", "pass_mark", true, 0, true, 100, "in [0, 100]", &pass_mark)) return;
@@ -259,6 +279,17 @@ void readTask(const json& root, TaskReader& r, Task* t) {
   if (t->kind == TaskKind::Access && root.contains("pulp_exposure_cap")) {
     r.fail("pulp_exposure_cap", "not for kind \"access\", which must open the pulp (access.unopened_cap caps one that does not)");
     return;
+  }
+  if (root.contains("cavity_class")) {
+    if (t->kind != TaskKind::Cavity) {
+      r.fail("cavity_class", "only for kind \"cavity\"");
+      return;
+    }
+    std::vector<std::string> classes;
+    for (int c = 1; c <= 6; ++c) classes.push_back(cavityClassName(c));
+    size_t black = 0;
+    if (!r.choice(root, "", "cavity_class", classes, &black)) return;
+    t->cavity_class = int(black) + 1;
   }
   if (const json* access = r.member(root, "", "access", false)) {
     if (t->kind != TaskKind::Access) {
@@ -294,6 +325,17 @@ const char* taskKindName(TaskKind kind) {
     case TaskKind::Access: return "access";
   }
   return "unknown";
+}
+
+const char* cavityClassName(int cavity_class) {
+  static const char* const kNames[] = {"I", "II", "III", "IV", "V", "VI"};
+  return cavity_class >= 1 && cavity_class <= 6 ? kNames[cavity_class - 1] : "";
+}
+
+int cavityClassFromName(const std::string& name) {
+  for (int c = 1; c <= 6; ++c)
+    if (name == cavityClassName(c)) return c;
+  return 0;
 }
 
 Result<Task> parseTask(const std::string& json_text, const std::string& where) {

@@ -65,13 +65,25 @@ struct CavityTask {
   double overcut_coefficient = 1.0;   // points per percent of the ideal volume cut beyond it
   double parallel_coefficient = 0.01; // points per contact sample tilted beyond parallel_error_deg
   double time_coefficient = 5.0;      // points per minute beyond target_s
-  double force_coefficient = 0.25;    // points per percent of contact samples over force_error_n
+  double force_coefficient = 0.5;     // points per percent of contact samples over force_error_n (all of them: 50)
   double parallel_error_deg = 10.0;   // tolerated tilt of the bur from insertion_axis [deg], (0, 90]
+  // Over-cut within leeway_mm of the ideal counts this much of its volume in the over-cut part, [0, 1]:
+  // a wall within the ±0.2 mm band is the bur wavering at the margin, as the professional's own
+  // second cut would (docs/SCORING.md section 5).
+  double near_overcut_weight = 0.0;
 };
 
 // The access cavity's rule beyond a cavity's; the default is docs/SCORING.md's.
 struct AccessTask {
   double unopened_cap = 40.0;         // a pulp chamber left closed caps the total at this [points of 100], [0, 100]
+};
+
+// The keys of a task that `dentsim task new` filled in by default, so that `task set-ideal` sets
+// them from the professional's session (docs/SCORING.md, section 10): the task file's "from_ideal".
+struct FromIdeal {
+  bool insertion_axis = false;        // the professional's mean bur axis while cutting
+  bool target_s = false;              // the task's times (task_ideal.h's timedFromProfessional)
+  bool any() const { return insertion_axis || target_s; }
 };
 
 struct Task {
@@ -91,6 +103,10 @@ struct Task {
   Vec3 insertion_axis{0, 0, 1};       // the bur's ideal +z axis (tip along -z), unit length, tooth grid axes
   double leeway_mm = 0.2;             // shell around the target that a cut may reach unpunished [mm], [0, 1]
   std::optional<IdealSpec> ideal;     // the professional's final tooth; required for kinds Cavity and Access
+  FromIdeal from_ideal;               // the keys set-ideal sets from the professional; none by default
+  // Black's class of a cavity (1 to 6: I to VI); 0: not given. Kind Cavity only. It decides which
+  // axes are valid (eval/task_axis.h): a class V is cut from the buccal or lingual side.
+  int cavity_class = 0;
   std::optional<TaskView> view;       // the simulator's first view; none: the simulator's default
   double pulp_exposure_cap = 50.0;    // an exposed pulp caps the total at this [points of 100], [0, 100]; not for Access
   // The total that passes [points of 100], [0, 100]; none: an attempt is only completed, neither
@@ -103,6 +119,10 @@ struct Task {
 
 // "caries", "cavity" or "access".
 const char* taskKindName(TaskKind kind);
+// Black's class in Roman numerals, "I" to "VI", for 1 to 6; "" for anything else.
+const char* cavityClassName(int cavity_class);
+// The class of "I" to "VI", or 0 for any other text.
+int cavityClassFromName(const std::string& name);
 
 // Parses a task file's text, version 2 or the older version 1 (whose insertion_axis, leeway_mm and
 // ideal sit inside "cavity"). Errors are one line, "<where>: <key path>: <problem>": unknown keys,

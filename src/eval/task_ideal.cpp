@@ -1,6 +1,7 @@
 // setTaskIdeal and checkIdealIdentity: the professional's session copied beside the task, the task's "ideal" rewritten with its hashes.
 #include "eval/task_ideal.h"
 
+#include <cassert>
 #include <filesystem>
 #include <system_error>
 
@@ -8,6 +9,8 @@
 
 #include "eval/beside_file.h"
 #include "eval/cut_score.h"
+#include "eval/session_stats.h"
+#include "eval/task_axis.h"
 #include "eval/task_tooth.h"
 #include "io/atomic_file.h"
 #include "io/file_hash.h"
@@ -22,8 +25,82 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr uint64_t kMaxTaskBytes = 1u << 20;
+constexpr size_t kDrill = 0;  // PenRole::Drill's index in SessionStep's arrays
+constexpr double kCavityTimePoints = 25.0;  // a cavity's time part at its most (docs/SCORING.md, section 5) [points]
+
+nlohmann::ordered_json axisJson(const Vec3& axis) {
+  const Vec3 a = axisForTaskFile(axis);
+  return nlohmann::ordered_json::array({a.x, a.y, a.z});
+}
+
+// What the professional's session says, on a tooth of these axes.
+ProfessionalFigures professionalFigures(const SessionRecording& session, const Task& task, const ToothAxes& axes) {
+  const SessionStats stats = sessionStats(session, task);
+  ProfessionalFigures p;
+  p.elapsed_s = stats.elapsed_s;
+  p.contact_s = stats.rate_hz > 0 ? double(stats.contact_samples) / stats.rate_hz : 0.0;
+  p.drill_tool = session.info.drill_tool;
+  p.bur_axis = meanCuttingBurAxis(session);
+  if (p.bur_axis) p.bur_axis_from_crown_deg = angleDeg(*p.bur_axis, Vec3{axes.crown[0], axes.crown[1], axes.crown[2]});
+  return p;
+}
+
+// Sets the keys the task's from_ideal lists in `root` (and `task`) from the professional's figures;
+// says in `out` what was set and what was kept.
+void applyFromIdeal(const ProfessionalFigures& pro, const ToothAxes& axes, Task& task, nlohmann::ordered_json& root,
+                    IdealRecord& out) {
+  if (task.from_ideal.insertion_axis) {
+    if (!pro.bur_axis) {
+      out.axis_kept_reason = "the professional's bur never cut (no step in contact with the pedal down)";
+    } else {
+      Task moved = task;
+      moved.insertion_axis = *pro.bur_axis;
+      if (auto problem = checkInsertionAxis(moved, axes)) {
+        out.axis_kept_reason = "the professional's mean bur axis " + *problem;
+      } else {
+        root["insertion_axis"] = axisJson(*pro.bur_axis);
+        task.insertion_axis = *pro.bur_axis;
+        out.axis_set = true;
+      }
+    }
+  }
+  if (task.from_ideal.target_s && pro.elapsed_s > 0) {
+    task = timedFromProfessional(std::move(task), pro.elapsed_s);
+    root["target_s"] = task.target_s;
+    if (task.kind == TaskKind::Caries) {
+      root["failure_s"] = task.failure_s;
+    } else {
+      if (!root.contains("cavity")) root["cavity"] = nlohmann::ordered_json::object();
+      root["cavity"]["time_coefficient"] = task.cavity.time_coefficient;
+    }
+    out.times_set = true;
+  }
+}
 
 }  // namespace
+
+Task timedFromProfessional(Task task, double professional_elapsed_s) {
+  assert(professional_elapsed_s > 0);
+  task.target_s = kTargetFactor * professional_elapsed_s;
+  if (task.kind == TaskKind::Caries)
+    task.failure_s = kFailureFactor * professional_elapsed_s;
+  else
+    // time_coefficient is points a minute [points/min]: all of them lost between the two times.
+    task.cavity.time_coefficient = kCavityTimePoints * 60.0 / ((kFailureFactor - kTargetFactor) * professional_elapsed_s);
+  return task;
+}
+
+std::optional<Vec3> meanCuttingBurAxis(const SessionRecording& session) {
+  Vec3 sum{0, 0, 0};
+  bool any = false;
+  for (const SessionStep& step : session.steps) {
+    if (!step.hasReading(kDrill) || step.contacts[kDrill] == 0 || !(step.reading[kDrill].pedal > 0)) continue;
+    sum = sum + step.reading[kDrill].grip.rotation.rotate(Vec3{0, 0, 1});
+    any = true;
+  }
+  if (!any || !(norm(sum) > 1e-9)) return std::nullopt;
+  return normalized(sum);
+}
 
 Status checkIdealIdentity(const IdealSpec& ideal, const ToothVolume& initial, const std::string& where) {
   if (!ideal.initial_hash.empty()) {
@@ -89,9 +166,14 @@ Result<IdealRecord> setTaskIdeal(const std::string& task_path, const std::string
   if (final_hash == initial_hash)
     return makeError(session_path, "the session removed nothing: an ideal must cut the tooth");
 
+  // The professional's figures, and the keys the task leaves to them, before anything is written.
+  IdealRecord out;
+  out.professional = professionalFigures(*session, *task, initial->frame.tooth);
+  Task written_task = *task;
+  applyFromIdeal(out.professional, initial->frame.tooth, written_task, root, out);
+
   const fs::path folder = fs::path(task_path).parent_path();
   const std::string stem = fs::path(task_path).stem().string();
-  IdealRecord out;
   out.task_file = task_path;
   out.session_file = (folder / (stem + ".ideal.dses")).string();
   out.final_file = (folder / (stem + ".ideal.dvol")).string();
@@ -116,8 +198,10 @@ Result<IdealRecord> setTaskIdeal(const std::string& task_path, const std::string
                                          {"final_hash", out.spec.final_hash},
                                          {"session_hash", out.spec.session_hash}};
   const std::string written = root.dump(2) + "\n";
-  if (auto check = parseTask(written, task_path); !check) return check.error();
+  auto check = parseTask(written, task_path);
+  if (!check) return check.error();
   if (Status st = writeFileAtomic(task_path, written); !st) return st.error();
+  out.task = std::move(*check);
   return out;
 }
 

@@ -1,14 +1,19 @@
-// Tests of the teacher's workflow on a tooth of their own: voxelize stands a sideways tooth up, info prints its frame, and `dentsim task new|check` write and check a task on it.
+// Tests of the teacher's workflow on a tooth of their own: voxelize stands a sideways tooth up, info prints its frame, `dentsim task new|check` write and check a task on it, and `task set-ideal` sets what the task leaves to its professional.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 
 #include <nlohmann/json.hpp>
 
+#include "io/session_file.h"
 #include "io/stl_file.h"
 #include "test_meshes.h"
 #include "test_support.h"
+#include "volume/tooth_file.h"
+#include "volume/volume_hash.h"
 
 namespace dentsim {
 namespace {
@@ -92,7 +97,10 @@ TEST_F(TaskCli, TaskNewWritesATaskThatChecksAndRefusesWhatCannotWork) {
   EXPECT_EQ(test::readBytes(dir_.file("course/t.dvol")), test::readBytes(dir_.file("t.dvol")));
   EXPECT_NE(made.output.find("copied " + dir_.file("t.dvol") + " beside the task"), std::string::npos) << made.output;
   EXPECT_EQ(j["title"], "Side caries");
-  EXPECT_EQ(j["insertion_axis"], nlohmann::json::array({0, 0, 1}));
+  // The found crown axis, (0.001, 0.000, 1.000) for the box's voxels, to four decimals.
+  const nlohmann::json crown = info()["tooth_frame"]["crown"];
+  for (size_t i = 0; i < 3; ++i) EXPECT_NEAR(j["insertion_axis"][i].get<double>(), crown[i].get<double>(), 0.5e-4);
+  EXPECT_EQ(j["from_ideal"], nlohmann::json::array({"insertion_axis", "target_s"}));
   EXPECT_EQ(j["tools"]["drill"], "round_bur_010");
   const auto checked = runDentsim("task check " + task);
   EXPECT_EQ(checked.exit_code, 0) << checked.output;
@@ -105,6 +113,181 @@ TEST_F(TaskCli, TaskNewWritesATaskThatChecksAndRefusesWhatCannotWork) {
   EXPECT_NE(access.output.find("no pulp in this tooth"), std::string::npos) << access.output;
   EXPECT_EQ(runDentsim("task new --tooth " + dir_.file("t.dvol") + " --kind caries -o " + dir_.file("t.dvol")).exit_code, 1);
   EXPECT_TRUE(std::filesystem::exists(dir_.file("t.dvol")));
+}
+
+// A tooth that leans: the task's axis is its crown axis, not the grid's +z; a class V's is its buccal axis.
+TEST_F(TaskCli, TaskNewTakesTheAxisFromTheTooth) {
+  // Crown toward -y, tipped 16.7 degrees toward +x (atan 0.3): voxelize stands -y up and keeps the tip.
+  const auto v = runDentsim("voxelize --cpu --enamel " + dir_.file("enamel.stl") + " --dentin " + dir_.file("dentin.stl") +
+                            " --caries " + dir_.file("caries.stl") + " --level 6 --crown-axis 0.3,-1,0 -o " +
+                            dir_.file("lean.dvol"));
+  ASSERT_EQ(v.exit_code, 0) << v.output;
+  auto tooth = loadTooth(dir_.file("lean.dvol"));
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  const ToothAxes& axes = tooth->frame.tooth;
+  ASSERT_NEAR(axes.crown[2], 1.0 / std::sqrt(1.09), 1e-9);  // the lean survives the quarter turn
+  auto axisOf = [&](const std::string& file) {
+    std::ifstream in(file);
+    return nlohmann::json::parse(in)["insertion_axis"];
+  };
+
+  const auto caries = runDentsim("task new --tooth " + dir_.file("lean.dvol") + " --kind caries -o " + dir_.file("c.json"));
+  ASSERT_EQ(caries.exit_code, 0) << caries.output;
+  EXPECT_NE(caries.output.find(": the tooth's crown axis\n"), std::string::npos) << caries.output;
+  const nlohmann::json c = axisOf(dir_.file("c.json"));
+  for (size_t i = 0; i < 3; ++i) EXPECT_NEAR(c[i].get<double>(), axes.crown[i], 0.5e-4) << i;
+  const auto checked = runDentsim("task check " + dir_.file("c.json"));
+  EXPECT_EQ(checked.exit_code, 0) << checked.output;
+
+  // A class V: the buccal axis, which the tooth's frame only assumed here (no --buccal-axis), and says so.
+  const auto v5 = runDentsim("task new --tooth " + dir_.file("lean.dvol") + " --kind cavity --class V -o " + dir_.file("v.json"));
+  ASSERT_EQ(v5.exit_code, 0) << v5.output;
+  EXPECT_NE(v5.output.find("the tooth's buccal axis (a class V is cut from buccal), assumed"), std::string::npos) << v5.output;
+  EXPECT_NE(v5.output.find("buccal side is not known"), std::string::npos) << v5.output;
+  std::ifstream in(dir_.file("v.json"));
+  const nlohmann::json j5 = nlohmann::json::parse(in);
+  for (size_t i = 0; i < 3; ++i) EXPECT_NEAR(j5["insertion_axis"][i].get<double>(), axes.buccal[i], 0.5e-4) << i;
+  EXPECT_EQ(j5["cavity_class"], "V");
+  EXPECT_EQ(j5["ideal"]["path"], "class5_cavity");
+  EXPECT_EQ(j5["tools"]["drill"], "round_bur_010");
+
+  // What the options cannot mean.
+  const auto on_caries = runDentsim("task new --tooth " + dir_.file("lean.dvol") + " --kind caries --class V -o " + dir_.file("x.json"));
+  EXPECT_EQ(on_caries.exit_code, 1);
+  EXPECT_NE(on_caries.output.find("--class applies to a cavity task, not to caries"), std::string::npos) << on_caries.output;
+  const auto four = runDentsim("task new --tooth " + dir_.file("lean.dvol") + " --kind cavity --class IV -o " + dir_.file("x.json"));
+  EXPECT_EQ(four.exit_code, 1);
+  EXPECT_NE(four.output.find("--class: \"IV\" is not one of I, II, V"), std::string::npos) << four.output;
+  const auto mixed = runDentsim("task new --tooth " + dir_.file("lean.dvol") + " --kind cavity --class V --ideal-path class1_cavity -o " +
+                                dir_.file("x.json"));
+  EXPECT_EQ(mixed.exit_code, 1);
+  EXPECT_NE(mixed.output.find("--class V does not go with --ideal-path class1_cavity, a class I path"), std::string::npos)
+      << mixed.output;
+  EXPECT_FALSE(std::filesystem::exists(dir_.file("x.json")));
+
+  // Given on the command line, the axis and the target are the teacher's: nothing is left to the professional.
+  const auto given = runDentsim("task new --tooth " + dir_.file("lean.dvol") + " --kind caries --insertion-axis 0,0,1 --target-s 200 -o " +
+                                dir_.file("g.json"));
+  ASSERT_EQ(given.exit_code, 0) << given.output;
+  std::ifstream gin(dir_.file("g.json"));
+  const nlohmann::json g = nlohmann::json::parse(gin);
+  EXPECT_FALSE(g.contains("from_ideal"));
+  EXPECT_EQ(g["insertion_axis"], nlohmann::json::array({0.0, 0.0, 1.0}));
+}
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+std::string readText(const std::string& path) {
+  const std::vector<uint8_t> bytes = test::readBytes(path);
+  return std::string(bytes.begin(), bytes.end());
+}
+
+// A professional's session on `tooth` that ends on `final_tooth`: 2000 steps cutting with the bur
+// 20 degrees about +x, then 2000 in the air with it sideways (4.0 s at 1 kHz, 2.0 s in contact).
+std::vector<uint8_t> professionalSession(const std::string& tooth, const std::string& final_tooth, const std::string& drill) {
+  auto initial = loadTooth(tooth);
+  auto cut = loadTooth(final_tooth);
+  EXPECT_TRUE(initial.ok() && cut.ok());
+  SessionRecording r;
+  r.info.created_utc = "2026-01-05T09:00:00Z";
+  r.info.program = "dentsim test";
+  r.info.tooth_hash = volumeHashHex(initial->voxels, initial->frame);
+  r.info.tooth_level = initial->voxels.level();
+  r.info.voxel_mm = initial->frame.voxel_mm;
+  r.info.drill_tool = drill;
+  r.info.params_json = "{}\n";
+  for (uint64_t k = 0; k < 4000; ++k) {
+    SessionStep s;
+    s.step = k;
+    s.wall_ns = int64_t(k) * 1'000'000;
+    s.pens = 0b01;
+    const bool cutting = k < 2000;
+    s.reading[0].grip.rotation = Quat::fromAxisAngle(cutting ? Vec3{1, 0, 0} : Vec3{0, 1, 0}, (cutting ? 20 : 90) * kDeg);
+    s.reading[0].pedal = cutting ? 1.0 : 0.0;
+    s.contacts = {cutting ? 9u : 0u, 0};
+    r.steps.push_back(s);
+  }
+  r.end = SessionEnd{4000, volumeHashHex(cut->voxels, cut->frame), "completed"};
+  return encodeSession(r);
+}
+
+TEST_F(TaskCli, SetIdealSetsTheAxisAndTheTimesTheTaskLeftToIt) {
+  std::filesystem::create_directories(dir_.file("course"));
+  std::filesystem::create_directories(dir_.file("prof"));
+  const std::string task = dir_.file("course/t.json");
+  ASSERT_EQ(runDentsim("task new --tooth " + dir_.file("t.dvol") + " --kind caries -o " + task).exit_code, 0);
+  // The professional's final tooth:
+  auto cut = loadTooth(dir_.file("t.dvol"));
+  ASSERT_TRUE(cut.ok());
+  // the tooth's with a column through its middle gone (the bar stands at the grid's centre).
+  for (uint32_t z = 0; z < 64; ++z) cut->voxels.setVoxel(32, 32, z, makeVoxel(Material::Empty));
+  ASSERT_TRUE(saveTooth(dir_.file("prof/final.dvol"), *cut).ok());
+  writeBytes(dir_.file("prof/p.dses"), professionalSession(dir_.file("t.dvol"), dir_.file("prof/final.dvol"), "round_bur_014"));
+
+  // stderr apart, to see the bur's warning land there.
+  const auto set = test::runCommand(std::string("( ") + DENTSIM_BINARY + " task set-ideal " + task + " --session " +
+                                    dir_.file("prof/p.dses") + " --final " + dir_.file("prof/final.dvol") + " 2>" +
+                                    dir_.file("err.txt") + " )");
+  ASSERT_EQ(set.exit_code, 0) << set.output << readText(dir_.file("err.txt"));
+  const std::string err = readText(dir_.file("err.txt"));
+  EXPECT_NE(err.find("warning: the professional used round_bur_014 but the task's drill is round_bur_010: "), std::string::npos)
+      << err;
+  EXPECT_NE(set.output.find("the professional's session lasted 4.0 s, 2.0 s of it with the bur in contact with the tooth"),
+            std::string::npos) << set.output;
+  EXPECT_NE(set.output.find("mean bur axis while cutting is (0.000, -0.342, 0.940), 20.0 degrees from the tooth's crown axis"),
+            std::string::npos) << set.output;  // the crown is (0.001, 0.000, 1.000): 20.0 to a tenth
+  EXPECT_NE(set.output.find("target_s set to 5.0 s, 1.25 x the professional's 4.0 s"), std::string::npos) << set.output;
+  EXPECT_NE(set.output.find("failure_s 12.0 s (3.00 x)"), std::string::npos) << set.output;
+  std::ifstream in(task);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_NEAR(j["insertion_axis"][0].get<double>(), 0.0, 1e-12);
+  EXPECT_NEAR(j["insertion_axis"][1].get<double>(), std::round(-std::sin(20 * kDeg) * 1e4) / 1e4, 1e-12);
+  EXPECT_NEAR(j["insertion_axis"][2].get<double>(), std::round(std::cos(20 * kDeg) * 1e4) / 1e4, 1e-12);
+  EXPECT_DOUBLE_EQ(j["target_s"].get<double>(), 5.0);
+  EXPECT_DOUBLE_EQ(j["failure_s"].get<double>(), 12.0);
+  EXPECT_EQ(j["ideal"]["kind"], "session");
+  EXPECT_EQ(runDentsim("task check " + task).exit_code, 0);
+
+  // A task that gives its own axis and target keeps them, and says what the professional's would be.
+  const std::string own = dir_.file("course/own.json");
+  ASSERT_EQ(runDentsim("task new --tooth " + dir_.file("t.dvol") + " --kind caries --bur round_bur_014 --insertion-axis 0,0,1 "
+                       "--target-s 200 -o " + own).exit_code, 0);
+  const auto kept = runDentsim("task set-ideal " + own + " --session " + dir_.file("prof/p.dses") + " --final " +
+                               dir_.file("prof/final.dvol"));
+  ASSERT_EQ(kept.exit_code, 0) << kept.output;
+  EXPECT_EQ(kept.output.find("warning"), std::string::npos) << kept.output;  // the same bur
+  EXPECT_NE(kept.output.find("insertion_axis kept (0.000, 0.000, 1.000), the task's own (from_ideal does not list it)"),
+            std::string::npos) << kept.output;
+  EXPECT_NE(kept.output.find("target_s kept 200.0 s, the task's own (from_ideal does not list it); the professional's "
+                             "would be 5.0 s"), std::string::npos) << kept.output;
+  std::ifstream own_in(own);
+  const nlohmann::json o = nlohmann::json::parse(own_in);
+  EXPECT_EQ(o["target_s"], 200.0);
+  EXPECT_EQ(o["failure_s"], 900.0);
+}
+
+// Every shipped task passes its own check, the class V's level buccal axis with it.
+TEST(TaskCheck, EveryShippedTaskPasses) {
+  const std::filesystem::path tasks = std::filesystem::path(DENTSIM_SOURCE_DIR) / "assets" / "tasks";
+  for (const auto& entry : std::filesystem::directory_iterator(tasks)) {
+    if (entry.path().extension() != ".json") continue;
+    SCOPED_TRACE(entry.path().string());
+    const auto r = runDentsim("task check " + entry.path().string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find(": ok: "), std::string::npos) << r.output;
+  }
+}
+
+TEST_F(TaskCli, TaskCheckRefusesAClassIAxis60DegreesOff) {
+  const std::string task = dir_.file("tilted.json");
+  // 60 degrees off +z toward -y: (0, -sin 60, cos 60). The tooth's crown is (0.001, 0.000, 1.000).
+  std::ofstream(task) << R"({"format": "dentsim-task", "version": 2, "name": "tilted", "kind": "cavity", "cavity_class": "I",)"
+                         R"( "tooth": "t.dvol", "tools": {"drill": "fissure_bur_010"}, "target_s": 60, "force_error_n": 3,)"
+                         R"( "insertion_axis": [0, -0.8660254, 0.5], "ideal": {"kind": "volume", "path": "t.dvol"}})";
+  const auto r = runDentsim("task check " + task);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.output.find("error: insertion_axis: points 60 degrees from the tooth's crown axis; a class I cavity's bur "
+                          "stands within 45 degrees of it"), std::string::npos) << r.output;
 }
 
 TEST_F(TaskCli, TaskCheckNamesEveryProblem) {

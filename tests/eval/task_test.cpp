@@ -56,7 +56,7 @@ TEST(Task, CheckedInTasksParse) {
   EXPECT_EQ(cavity->leeway_mm, 0.2);
   EXPECT_EQ(cavity->insertion_axis, (Vec3{0, 0, 1}));
   EXPECT_EQ(cavity->pulp_exposure_cap, 50.0);
-  EXPECT_EQ(cavity->cavity.force_coefficient, 0.25);
+  EXPECT_EQ(cavity->cavity.force_coefficient, 0.5);
   EXPECT_FALSE(caries->ideal.has_value());
   EXPECT_EQ(caries->caries.healthy_coefficient, 0.5);
 }
@@ -78,7 +78,7 @@ TEST(Task, DefaultsApplyToOmittedKeys) {
   EXPECT_EQ(t->ideal->kind, IdealKind::Volume);
   EXPECT_EQ(t->ideal->path, "ideal.dvol");
   EXPECT_EQ(t->pulp_exposure_cap, 50.0);
-  EXPECT_EQ(t->cavity.force_coefficient, 0.25);
+  EXPECT_EQ(t->cavity.force_coefficient, 0.5);
 }
 
 // Version 2: the zone's keys at the top for both kinds; a caries task may name an ideal.
@@ -209,6 +209,60 @@ TEST(Task, TheCourseTasksParse) {
   ASSERT_TRUE(class5.ok());
   EXPECT_LT(class5->insertion_axis.y, -0.9);
   EXPECT_NEAR(norm(class5->insertion_axis), 1.0, 1e-12);
+  // Each cavity says its Black class; nothing shipped leaves a key to a professional's session.
+  for (auto [name, black] : {std::pair{"class1_cavity", 1}, {"class1_indirect", 1}, {"class2_cavity", 2}, {"class5_cavity", 5}}) {
+    auto t = loadTask(assetTask(std::string(name) + ".json"));
+    ASSERT_TRUE(t.ok()) << t.message();
+    EXPECT_EQ(t->cavity_class, black) << name;
+    EXPECT_FALSE(t->from_ideal.any()) << name;
+  }
+}
+
+// from_ideal names the keys set-ideal may set: each at most once, and only those two.
+TEST(Task, FromIdealListsTheKeysTheProfessionalSets) {
+  auto none = parseTask(v2Text(kV2Caries), kWhere);
+  ASSERT_TRUE(none.ok()) << none.message();
+  EXPECT_FALSE(none->from_ideal.any());
+  auto both = parseTask(v2Text(kV2Cavity, R"("from_ideal": ["target_s", "insertion_axis"])"), kWhere);
+  ASSERT_TRUE(both.ok()) << both.message();
+  EXPECT_TRUE(both->from_ideal.insertion_axis);
+  EXPECT_TRUE(both->from_ideal.target_s);
+  auto axis = parseTask(v2Text(kV2Caries, R"("from_ideal": ["insertion_axis"])"), kWhere);
+  ASSERT_TRUE(axis.ok()) << axis.message();
+  EXPECT_TRUE(axis->from_ideal.insertion_axis);
+  EXPECT_FALSE(axis->from_ideal.target_s);
+  auto empty = parseTask(v2Text(kV2Caries, R"("from_ideal": [])"), kWhere);
+  ASSERT_TRUE(empty.ok()) << empty.message();
+  EXPECT_FALSE(empty->from_ideal.any());
+
+  EXPECT_EQ(errorOf(v2Text(kV2Caries, R"("from_ideal": ["failure_s"])")),
+            "t.json: from_ideal[0]: \"failure_s\" is not one of \"insertion_axis\", \"target_s\"");
+  EXPECT_EQ(errorOf(v2Text(kV2Caries, R"("from_ideal": ["target_s", "target_s"])")),
+            "t.json: from_ideal[1]: \"target_s\" is listed twice");
+  EXPECT_EQ(errorOf(v2Text(kV2Caries, R"("from_ideal": "target_s")")),
+            "t.json: from_ideal: expected an array of key names, got string");
+  EXPECT_EQ(errorOf(v2Text(kV2Caries, R"("from_ideal": [1])")), "t.json: from_ideal[0]: expected a key name, got number");
+  EXPECT_EQ(errorOf(cariesText(R"("from_ideal": [])")).rfind("t.json: from_ideal: unknown key", 0), 0u);  // version 2 only
+}
+
+TEST(Task, CavityClassIsBlacksAndOnlyForACavity) {
+  auto v = parseTask(v2Text(kV2Cavity, R"("cavity_class": "V")"), kWhere);
+  ASSERT_TRUE(v.ok()) << v.message();
+  EXPECT_EQ(v->cavity_class, 5);
+  auto six = parseTask(v2Text(kV2Cavity, R"("cavity_class": "VI")"), kWhere);
+  ASSERT_TRUE(six.ok()) << six.message();
+  EXPECT_EQ(six->cavity_class, 6);
+  auto none = parseTask(v2Text(kV2Cavity), kWhere);
+  ASSERT_TRUE(none.ok()) << none.message();
+  EXPECT_EQ(none->cavity_class, 0);
+  EXPECT_EQ(errorOf(v2Text(kV2Cavity, R"("cavity_class": "5")")),
+            "t.json: cavity_class: \"5\" is not one of \"I\", \"II\", \"III\", \"IV\", \"V\", \"VI\"");
+  EXPECT_EQ(errorOf(v2Text(kV2Caries, R"("cavity_class": "I")")), "t.json: cavity_class: only for kind \"cavity\"");
+  EXPECT_EQ(errorOf(accessText(R"("cavity_class": "I")")), "t.json: cavity_class: only for kind \"cavity\"");
+  EXPECT_STREQ(cavityClassName(2), "II");
+  EXPECT_STREQ(cavityClassName(7), "");
+  EXPECT_EQ(cavityClassFromName("IV"), 4);
+  EXPECT_EQ(cavityClassFromName("iv"), 0);
 }
 
 TEST(Task, AccessKeysBelongToTheAccessKind) {
