@@ -2,6 +2,7 @@
 #include "sim/course_paths.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "sim/restorative_paths.h"
 #include "sim/scripted_paths.h"
@@ -67,6 +68,7 @@ CavityPathSettings class1Settings(const Exercise& e) {
 
 Result<PenPath> expertPath(const Exercise& exercise, const BrickVolume& volume, const VolumeFrame& frame,
                            const SimParams& params) {
+  if (exercise.path == "caries_removal") return cariesAttemptPath(Attempt::Expert, volume, frame, params, exercise.bur);
   if (exercise.path == "class1_cavity") {
     auto path = cavityPreparationPath(volume, frame, class1Settings(exercise));
     if (!path) return path.error();
@@ -79,7 +81,7 @@ Result<PenPath> expertPath(const Exercise& exercise, const BrickVolume& volume, 
 
 Result<PenPath> taskAttemptPath(const Exercise& exercise, Attempt attempt, const BrickVolume& volume,
                                 const VolumeFrame& frame, const SimParams& params, const AttemptFaults& faults) {
-  if (exercise.path.empty()) {
+  if (exercise.path.empty() || exercise.path == "caries_removal") {
     if (exercise.kind != "caries")
       return makeError("task of kind " + exercise.kind, "names no built-in path, so there is no scripted attempt at it");
     return cariesAttemptPath(attempt, volume, frame, params, exercise.bur, {}, faults);
@@ -92,8 +94,16 @@ Result<PenPath> taskAttemptPath(const Exercise& exercise, Attempt attempt, const
   auto made = restorativePath(exercise, attempt, volume, frame, params, faults);
   if (!made) return made.error();
   switch (attempt) {
-    case Attempt::Undercut: return stoppedPath(made->path, made->cut_start_s + faults.undercut_share * (made->cut_end_s - made->cut_start_s));
+    case Attempt::Undercut:
+      return stoppedPath(made->path, made->cut_start_s + faults.undercut_share * (made->cut_end_s - made->cut_start_s), 3.0, 0.3,
+                         exercise.insertion_axis);
     case Attempt::Slow: return slowedPath(made->path, faults.slow_factor);
+    case Attempt::Token: return stoppedPath(made->path, made->cut_start_s + faults.token_s, 3.0, 0.3, exercise.insertion_axis);
+    case Attempt::Tilted: {
+      // Lean toward the mesial (-x), or toward +z for an axis that runs along x.
+      const Vec3 toward = std::abs(exercise.insertion_axis.x) > 0.9 ? Vec3{0, 0, 1} : Vec3{-1, 0, 0};
+      return tiltedPath(made->path, exercise.insertion_axis, toward, faults.tilt_deg);
+    }
     default: return made->path;
   }
 }

@@ -9,8 +9,10 @@
 //   class2_cavity   an occlusal part to the mesial marginal ridge and a mesial box  fissure bur
 //   class5_cavity   an oval on the buccal surface just above the CEJ, from buccal   round bur
 //   access_cavity   through the occlusal centre into the pulp chamber, roof off    round bur
+//   caries_removal  the careful caries removal of cariesRemovalPath (scripted_paths.h), which
+//                   leaves a layer of dentin over the pulp (selective removal)               the task's
 //
-// A caries removal has no built-in path: its expert is cariesRemovalPath (scripted_paths.h).
+// A caries task without an ideal has no path name, and its expert is cariesRemovalPath as well.
 #pragma once
 
 #include <array>
@@ -25,9 +27,9 @@
 
 namespace dentsim {
 
-inline constexpr std::array<const char*, 4> kBuiltinPaths = {"class1_cavity", "class2_cavity", "class5_cavity",
-                                                             "access_cavity"};
-// "class1_cavity, class2_cavity, class5_cavity, access_cavity", for errors and help.
+inline constexpr std::array<const char*, 5> kBuiltinPaths = {"class1_cavity", "class2_cavity", "class5_cavity",
+                                                             "access_cavity", "caries_removal"};
+// "class1_cavity, class2_cavity, class5_cavity, access_cavity, caries_removal", for errors and help.
 std::string builtinPathNames();
 bool isBuiltinPath(const std::string& name);
 

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "io/pen_playback.h"
+#include "sim/tool_library.h"
 
 namespace dentsim {
 
@@ -26,6 +27,8 @@ const char* attemptName(Attempt a) {
     case Attempt::Heavy: return "heavy";
     case Attempt::Slow: return "slow";
     case Attempt::Trench: return "trench";
+    case Attempt::Tilted: return "tilted";
+    case Attempt::Token: return "token";
   }
   return "unknown";
 }
@@ -38,6 +41,8 @@ const char* attemptFault(Attempt a) {
     case Attempt::Heavy: return "heavy-handed: pressed 3x harder";
     case Attempt::Slow: return "slow: a third of the speed";
     case Attempt::Trench: return "wrong place: a trench";
+    case Attempt::Tilted: return "tilted: 15 degrees off the axis";
+    case Attempt::Token: return "a token cut: touches and stops";
   }
   return "unknown";
 }
@@ -103,7 +108,7 @@ PenPath wanderingPath(const PenPath& path, double amplitude_mm, double period_s)
   return out;
 }
 
-PenPath stoppedPath(const PenPath& path, double stop_s, double lift_mm, double lift_s) {
+PenPath stoppedPath(const PenPath& path, double stop_s, double lift_mm, double lift_s, const Vec3& lift_dir) {
   PenPath out;
   for (const PenSample& s : path.samples)
     if (s.t_s <= stop_s) out.samples.push_back(s);
@@ -113,8 +118,23 @@ PenPath stoppedPath(const PenPath& path, double stop_s, double lift_mm, double l
   last.pedal = 0.0;
   out.samples.push_back(last);
   last.t_s += lift_s;
-  last.pose.position.z += lift_mm;
+  last.pose.position += lift_dir * lift_mm;
   out.samples.push_back(last);
+  return out;
+}
+
+PenPath tiltedPath(const PenPath& path, const Vec3& axis, const Vec3& toward, double degrees) {
+  // Leaning from axis toward `toward` is a turn about axis x toward. The pen holds the bur at its
+  // grip, kBurGripLocal above the tip: the grip swings round the tip, which stays where it was.
+  const Vec3 about = normalized(cross(normalized(axis), toward));
+  const Quat lean = Quat::fromAxisAngle(about, degrees * std::numbers::pi / 180.0);
+  PenPath out = path;
+  for (PenSample& s : out.samples) {
+    if (s.pen != PenRole::Drill) continue;
+    const Vec3 tip = s.pose.position - s.pose.rotation.rotate(kBurGripLocal);
+    s.pose.rotation = lean * s.pose.rotation;
+    s.pose.position = tip + s.pose.rotation.rotate(kBurGripLocal);
+  }
   return out;
 }
 
@@ -263,6 +283,13 @@ PenPath stoppedEarly(const PenPath& path, double cut_start_s, double cut_end_s, 
   return stoppedPath(path, cut_start_s + faults.undercut_share * (cut_end_s - cut_start_s));
 }
 
+// The built-in paths stand the bur along +z (the crown up): the tilted one leans it mesially (-x),
+// and the token one stops token_s after the pedal first goes down.
+PenPath tiltedOrToken(const PenPath& path, Attempt attempt, double cut_start_s, const AttemptFaults& faults) {
+  if (attempt == Attempt::Tilted) return tiltedPath(path, {0, 0, 1}, {-1, 0, 0}, faults.tilt_deg);
+  return stoppedPath(path, cut_start_s + faults.token_s);
+}
+
 }  // namespace
 
 Result<PenPath> cariesAttemptPath(Attempt attempt, const BrickVolume& volume, const VolumeFrame& frame,
@@ -288,6 +315,8 @@ Result<PenPath> cariesAttemptPath(Attempt attempt, const BrickVolume& volume, co
   if (!expert) return expert.error();
   if (attempt == Attempt::Undercut) return stoppedEarly(expert->path, expert->cut_start_s, expert->cut_end_s, faults);
   if (attempt == Attempt::Slow) return slowedPath(expert->path, faults.slow_factor);
+  if (attempt == Attempt::Tilted || attempt == Attempt::Token)
+    return tiltedOrToken(expert->path, attempt, expert->cut_start_s, faults);
   return expert->path;
 }
 
@@ -311,6 +340,9 @@ Result<PenPath> cavityAttemptPath(Attempt attempt, const BrickVolume& volume, co
       return stoppedEarly(expert->path, expert->cut_start_s, expert->cut_end_s, faults);
     case Attempt::Slow:
       return slowedPath(expert->path, faults.slow_factor);
+    case Attempt::Tilted:
+    case Attempt::Token:
+      return tiltedOrToken(expert->path, attempt, expert->cut_start_s, faults);
     default:
       return expert->path;
   }

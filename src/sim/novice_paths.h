@@ -10,6 +10,8 @@
 //   slow      the expert's path at a third of the speed, hand and pedal, so that it cuts the same
 //             tissue in three times the time (at full pedal a slower bur would also cut deeper)
 //   trench    a groove across the buccal cusps, away from the caries and the fossa
+//   tilted    the expert's path with the bur leaning 15 degrees off the insertion axis about its tip
+//   token     the expert's path, stopped a moment after the bur first cuts: touches and stops
 #pragma once
 
 #include <array>
@@ -25,14 +27,15 @@
 
 namespace dentsim {
 
-enum class Attempt { Expert, Overcut, Undercut, Heavy, Slow, Trench };
-inline constexpr std::array<Attempt, 6> kAttempts = {Attempt::Expert, Attempt::Overcut, Attempt::Undercut,
-                                                     Attempt::Heavy,  Attempt::Slow,    Attempt::Trench};
+enum class Attempt { Expert, Overcut, Undercut, Heavy, Slow, Trench, Tilted, Token };
+inline constexpr std::array<Attempt, 8> kAttempts = {Attempt::Expert, Attempt::Overcut, Attempt::Undercut,
+                                                     Attempt::Heavy,  Attempt::Slow,    Attempt::Trench,
+                                                     Attempt::Tilted, Attempt::Token};
 
-const char* attemptName(Attempt a);    // "expert", "overcut", "undercut", "heavy", "slow", "trench"
+const char* attemptName(Attempt a);    // "expert", "overcut", "undercut", "heavy", "slow", "trench", "tilted", "token"
 const char* attemptFault(Attempt a);   // the fault in a few words, for tables
 std::optional<Attempt> parseAttempt(const std::string& name);
-// The names, for help and errors: "expert, overcut, undercut, heavy, slow, trench".
+// The names, for help and errors: "expert, overcut, undercut, heavy, slow, trench, tilted, token".
 std::string attemptNames();
 std::vector<std::string> attemptNameList();
 
@@ -46,6 +49,8 @@ struct AttemptFaults {
   double trench_offset_mm = 2.4;    // the groove's line this far buccal (-y) of the crown's centre [mm]
   double trench_length_mm = 5.0;    // along x [mm]
   double trench_speed_mm_s = 0.5;   // along the groove, one lap there and back [mm/s]
+  double tilt_deg = 15.0;           // the tilted bur leans this far off the insertion axis [deg]
+  double token_s = 0.3;             // the token cut stops this long after the pedal first goes down [s]
 };
 
 // The caries removal attempt on this volume with the bur `bur`, from the expert's settings `base`.
@@ -60,12 +65,18 @@ Result<PenPath> cavityAttemptPath(Attempt attempt, const BrickVolume& volume, co
 
 // Every sample `factor` times later, and the pedal divided by it.
 PenPath slowedPath(const PenPath& path, double factor);
-// The path up to `stop_s`, then pedal up and straight up by `lift_mm` over `lift_s`.
-PenPath stoppedPath(const PenPath& path, double stop_s, double lift_mm = 3.0, double lift_s = 0.3);
+// The path up to `stop_s`, then pedal up and back out along `lift_dir` (unit; the insertion axis) by
+// `lift_mm` over `lift_s`.
+PenPath stoppedPath(const PenPath& path, double stop_s, double lift_mm = 3.0, double lift_s = 0.3,
+                    const Vec3& lift_dir = {0, 0, 1});
 // A wandering hand: the drill's samples every 20 ms along the path, each moved sideways (in the
 // simulation frame's x and y) by amplitude_mm (sin(2 pi t / period_s), sin(2 pi t / (1.37 period_s))),
 // so that the bur drifts off the path and back at two unrelated rates; the mirror's samples as they were.
 PenPath wanderingPath(const PenPath& path, double amplitude_mm, double period_s = 1.5);
+// The drill's every sample turned by `degrees` about the bur's tip (kBurGripLocal below the grip),
+// leaning its axis from `axis` toward `toward` (a direction not along `axis`): the
+// tip follows the same line, the shank leans. The mirror's samples as they were.
+PenPath tiltedPath(const PenPath& path, const Vec3& axis, const Vec3& toward, double degrees);
 // `b` after `a`: b's times shifted to start `gap_s` after a's last sample.
 PenPath joinedPaths(const PenPath& a, const PenPath& b, double gap_s = 0.01);
 

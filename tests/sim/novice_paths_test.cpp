@@ -86,7 +86,7 @@ TEST(NovicePaths, JoinedPathsFollowOneAnother) {
 TEST(NovicePaths, NamesRoundTrip) {
   for (Attempt a : kAttempts) EXPECT_EQ(parseAttempt(attemptName(a)), a);
   EXPECT_FALSE(parseAttempt("sloppy").has_value());
-  EXPECT_EQ(attemptNames(), "expert, overcut, undercut, heavy, slow, trench");
+  EXPECT_EQ(attemptNames(), "expert, overcut, undercut, heavy, slow, trench, tilted, token");
 }
 
 // A 64^3 grid of 0.1 mm voxels: enamel z 0..40 (4 mm), and a caries block 1 mm wide, 1.6 mm long

@@ -244,7 +244,7 @@ TEST(RestorativePaths, AccessOpensThePulpChamberThroughTheOcclusalCentreAndTakes
 
 TEST(CoursePaths, EveryBuiltinPathHasAnExpertAndTheNamesAreChecked) {
   const SimParams params = defaultSimParams();
-  EXPECT_EQ(builtinPathNames(), "class1_cavity, class2_cavity, class5_cavity, access_cavity");
+  EXPECT_EQ(builtinPathNames(), "class1_cavity, class2_cavity, class5_cavity, access_cavity, caries_removal");
   for (const char* name : kBuiltinPaths) {
     Exercise e;
     e.path = name;
