@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Writes the shared micro-CT molar tooth_2 as three STL layers (enamel, dentin, caries), lying on its side with the crown toward -y.
+"""Writes the shared micro-CT molar tooth_2 as four STL layers (enamel, dentin, caries, pulp), lying on its side with the crown toward -y.
 
 This is how a teacher's own tooth often arrives: surface layers from a segmentation program, in
 whatever orientation the scan had. The README's exercise walkthrough starts from these files.
@@ -34,8 +34,11 @@ def main():
     grid = os.path.join(out, "tooth_2_labels.dvol")
     subprocess.run([dentsim, "voxelize", "--labels", os.path.join(data, "ct", "tooth_2.nii.gz"),
                     "--label-map", "1=caries,2=enamel,3=dentin", "--voxel-size", "0.034", "--level", "8",
+                    # The labels have no pulp: the space the dentin encloses is it, as a segmentation
+                    # program's pulp layer would be.
+                    "--fill-enclosed", "pulp",
                     "--keep-orientation", "-o", grid], check=True, stdout=subprocess.DEVNULL)
-    for tissue in ("enamel", "dentin", "caries"):
+    for tissue in ("enamel", "dentin", "caries", "pulp"):
         stl = os.path.join(out, "ct_molar_" + tissue + ".stl")
         subprocess.run([dentsim, "mesh", grid, "--tissue", tissue, "--cpu", "-o", stl], check=True,
                        stdout=subprocess.DEVNULL)

@@ -24,6 +24,8 @@ void addDemoCommand(CLI::App& root, Action& action);
 void addReplayCommand(CLI::App& root, Action& action);
 void addScoreCommand(CLI::App& root, Action& action);
 void addTaskCommand(CLI::App& root, Action& action);
+// `dentsim task validate`, added under `task` by main once addTaskCommand has made it.
+void addTaskValidateCommand(CLI::App& task_cmd, Action& action);
 void addRunCommand(CLI::App& root, Action& action);
 void addDevicesCommand(CLI::App& root, Action& action);
 // `dentsim report` (app/cmd_report.cpp).

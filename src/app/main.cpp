@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
   addReplayCommand(root, action);
   addScoreCommand(root, action);
   addTaskCommand(root, action);
+  addTaskValidateCommand(*root.get_subcommand("task"), action);
   addReportCommand(root, action);
   try {
     root.parse(argc, argv);

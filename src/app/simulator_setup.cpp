@@ -9,6 +9,7 @@
 #include "eval/cut_score.h"
 #include "sim/course_paths.h"
 #include "sim/novice_paths.h"
+#include "sim/session_attempts.h"
 #include "sim/session_recorder.h"
 #include "sim/pen_script.h"
 #include "sim/scripted_paths.h"
@@ -32,7 +33,7 @@ void Simulator::note(const std::string& text) {
 
 // Loads the tooth that tooth_file_ and o_.level name; on an error the tooth in use stays.
 Status Simulator::loadTooth() {
-  auto t = builtinTooth() ? builtinMolarTooth(o_.level) : dentsim::loadTooth(tooth_file_);
+  auto t = builtinTooth() ? builtinMolarTooth(o_.level) : loadToothFileOrAsset(tooth_file_);
   if (!t) return t.error();
   const TissueBox box = tissueBox(t->voxels, t->frame);
   if (box.empty()) return makeError(toothName(), "the tooth holds no tissue");
@@ -111,12 +112,23 @@ Status Simulator::setUpScript(const Pose& mirror_start) {
   if (o_.demo_script) {
     const std::optional<Attempt> attempt = parseAttempt(o_.attempt);
     if (!attempt) return makeError("--attempt", "\"" + o_.attempt + "\" is not one of " + attemptNames());
-    // The task's own exercise (course_paths.h), with the bur this run holds.
-    Exercise exercise = exerciseOf(*task_);
-    exercise.bur = drill_name_;
-    auto path = taskAttemptPath(exercise, *attempt, initial_.voxels, initial_.frame, params_);
-    if (!path) return path.error();
-    script_ = std::move(*path);
+    if (task_->ideal && task_->ideal->kind == IdealKind::Session) {
+      // A teacher's task: every attempt is derived from the professional's recorded session, as
+      // `task validate` derives it (sim/session_attempts.h).
+      auto session = readSessionFile(task_->ideal->path);
+      if (!session) return session.error();
+      const DerivedAttemptSettings derive = derivedSettingsFor(task_->force_error_n);
+      auto pro = professionalPath(*session, task_->ideal->path, derive);
+      if (!pro) return pro.error();
+      script_ = derivedAttemptPath(*pro, *attempt, task_->insertion_axis, initial_.frame.tooth, derive);
+    } else {
+      // The task's own exercise (course_paths.h), with the bur this run holds.
+      Exercise exercise = exerciseOf(*task_);
+      exercise.bur = drill_name_;
+      auto path = taskAttemptPath(exercise, *attempt, initial_.voxels, initial_.frame, params_);
+      if (!path) return path.error();
+      script_ = std::move(*path);
+    }
   } else {
     auto path = loadPenPath(o_.pen_script);
     if (!path) return path.error();

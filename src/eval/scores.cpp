@@ -40,7 +40,12 @@ constexpr double kSessionPoints = 50.0;
 CariesScore scoreCariesRemoval(const ToothDiff& diff, const SessionStats* stats, const Task& task) {
   CariesScore s;
   const TissueAmounts& caries = diff.tissue(Material::Caries);
-  s.removed_fraction = caries.initial > 0 ? double(caries.removed) / double(caries.initial) : 0.0;
+  // Against a professional's cut, the caries to remove is what the professional removed: one who
+  // leaves a layer over the pulp (selective removal) sets that as the standard, not all the lesion.
+  const bool against_ideal = diff.has_ideal && caries.target > 0;
+  s.against_ideal = against_ideal;
+  s.removed_fraction = against_ideal ? double(caries.target_removed) / double(caries.target)
+                       : caries.initial > 0 ? double(caries.removed) / double(caries.initial) : 0.0;
   s.removal = 50.0 * s.removed_fraction;
   if (stats) {
     // Time is credit for finishing the removal quickly, so an attempt that removed no caries earns
@@ -56,6 +61,10 @@ CariesScore scoreCariesRemoval(const ToothDiff& diff, const SessionStats* stats,
                   : 0.0;
   }
   s.paper_total = s.removal + s.time.value_or(0.0) + s.force.value_or(0.0);
+  // Time and force are credit for how the removal was done, so they are earned only for the share
+  // of it that was: a token cut into the lesion would otherwise collect 50 for being quick and light.
+  s.earned_time = s.removed_fraction * s.time.value_or(0.0);
+  s.earned_force = s.removed_fraction * s.force.value_or(0.0);
   s.total_max = 50.0 + (stats ? kSessionPoints : 0.0);
 
   // Healthy tissue cut outside the allowed zone, as a share of the lesion: a larger lesion needs a
@@ -68,7 +77,7 @@ CariesScore scoreCariesRemoval(const ToothDiff& diff, const SessionStats* stats,
   } else if (outside > 0) {
     s.healthy_deduction = s.total_max;
   }
-  s.total = clampScore(s.paper_total - s.healthy_deduction, 0.0, s.total_max);
+  s.total = clampScore(s.removal + s.earned_time + s.earned_force - s.healthy_deduction, 0.0, s.total_max);
   s.pulp_exposed = diff.pulp_exposed;
   s.exposed_pulp_voxels = diff.exposed_pulp_voxels;
   if (s.pulp_exposed && s.total > pulpCap(task, s.total_max)) {
@@ -98,27 +107,33 @@ Result<CavityScore> scoreCavityPreparation(const ToothDiff& diff, const SessionS
   s.undercut_percent = double(all.undercut()) * 100.0 / ideal;
   s.overcut_percent = double(all.overcut()) * 100.0 / ideal;
   s.nothing_removed = all.removed == 0;
-  // An attempt that removed nothing of the ideal cavity earns nothing: it did not do the exercise,
-  // and its speed and bur angle say nothing about a preparation. Without this rule, not touching
-  // the tooth would score 75 (no over-cut, no tilt, no time), and a cut in the wrong place 50.
   s.ideal_missed = all.target_removed == 0;
+  s.completion = double(all.target_removed) / ideal;
+  s.undercut = clampScore(25.0 - double(all.undercut()) * c.undercut_coefficient * 100.0 / ideal, 0.0, 25.0);
+  // Table 5 counts every voxel cut beyond the ideal; the total forgives what lies in the leeway by
+  // near_overcut_weight (the paper's own over-cut part stays in paper_total).
+  const double paper_overcut = clampScore(25.0 - double(all.overcut()) * c.overcut_coefficient * 100.0 / ideal, 0.0, 25.0);
+  const double counted = double(all.container_removed) + c.near_overcut_weight * double(all.leeway_removed);
+  s.overcut_counted_mm3 = diff.mm3(1) * counted;
+  s.overcut = clampScore(25.0 - counted * c.overcut_coefficient * 100.0 / ideal, 0.0, 25.0);
   if (stats) {
-    s.parallel = 0.0;
-    s.time = 0.0;
-    s.force_deduction = 0.0;
+    s.parallel = clampScore(25.0 - double(stats->parallel_over) * c.parallel_coefficient, 0.0, 25.0);
+    s.time = clampScore(25.0 - std::max(0.0, stats->elapsed_s - task.target_s) * c.time_coefficient / 60.0, 0.0, 25.0);
+    s.force_deduction = c.force_coefficient * forceOverPercent(*stats);
   }
-  if (!s.ideal_missed) {
-    s.undercut = clampScore(25.0 - double(all.undercut()) * c.undercut_coefficient * 100.0 / ideal, 0.0, 25.0);
-    s.overcut = clampScore(25.0 - double(all.overcut()) * c.overcut_coefficient * 100.0 / ideal, 0.0, 25.0);
-    if (stats) {
-      s.parallel = clampScore(25.0 - double(stats->parallel_over) * c.parallel_coefficient, 0.0, 25.0);
-      s.time = clampScore(25.0 - std::max(0.0, stats->elapsed_s - task.target_s) * c.time_coefficient / 60.0, 0.0, 25.0);
-      s.force_deduction = c.force_coefficient * forceOverPercent(*stats);
-    }
-  }
-  s.paper_total = s.undercut + s.overcut + s.parallel.value_or(0.0) + s.time.value_or(0.0);
+  // Table 5's parts are independent: an attempt that did a third of the work keeps the whole
+  // over-cut, parallel and time parts for the two thirds it never cut, and passed at 75. Those three
+  // measure how the preparation was cut, so they are earned only for the share of it that was: a
+  // third done earns a third of them. The under-cut part already measures the share missing, and the
+  // force errors are a deduction, charged in full whatever was cut (docs/SCORING.md section 5).
+  s.earned_overcut = s.completion * s.overcut;
+  if (s.parallel) s.earned_parallel = s.completion * *s.parallel;
+  if (s.time) s.earned_time = s.completion * *s.time;
+  s.paper_total = s.undercut + paper_overcut + s.parallel.value_or(0.0) + s.time.value_or(0.0);
   s.total_max = 50.0 + (stats ? kSessionPoints : 0.0);
-  s.total = clampScore(s.paper_total - s.force_deduction.value_or(0.0), 0.0, s.total_max);
+  s.total = clampScore(s.undercut + s.earned_overcut + s.earned_parallel.value_or(0.0) + s.earned_time.value_or(0.0) -
+                           s.force_deduction.value_or(0.0),
+                       0.0, s.total_max);
   s.pulp_exposed = diff.pulp_exposed;
   s.exposed_pulp_voxels = diff.exposed_pulp_voxels;
   s.access = task.kind == TaskKind::Access;
@@ -223,6 +238,15 @@ ojson part(const std::optional<double>& points, double max, const std::string& w
   j["points"] = points ? ojson(*points) : ojson(nullptr);
   j["max"] = max;
   if (!points) j["not_scored"] = why_not;
+  return j;
+}
+
+// A part earned in proportion to the work done: the points that count, and the table's own value.
+ojson earnedPart(const std::optional<double>& earned, const std::optional<double>& table, double share, double max,
+                 const std::string& why_not) {
+  ojson j = part(earned, max, why_not);
+  j["table_points"] = table ? ojson(*table) : ojson(nullptr);
+  j["earned_share"] = share;
   return j;
 }
 
@@ -335,8 +359,8 @@ ScoreLine scoreDeduction(const char* name, std::optional<double> points) { retur
 std::vector<ScoreLine> scoreLines(const CariesScore& s) {
   std::vector<ScoreLine> lines;
   lines.push_back(scorePart("removal", s.removal, 50.0));
-  lines.push_back(scorePart("time", s.time, 25.0));
-  lines.push_back(scorePart("force", s.force, 25.0));
+  lines.push_back(scorePart("time", s.time ? std::optional<double>(s.earned_time) : std::nullopt, 25.0));
+  lines.push_back(scorePart("force", s.force ? std::optional<double>(s.earned_force) : std::nullopt, 25.0));
   lines.push_back(scoreDeduction("healthy", s.healthy_deduction));
   return lines;
 }
@@ -344,9 +368,9 @@ std::vector<ScoreLine> scoreLines(const CariesScore& s) {
 std::vector<ScoreLine> scoreLines(const CavityScore& s) {
   std::vector<ScoreLine> lines;
   lines.push_back(scorePart("undercut", s.undercut, 25.0));
-  lines.push_back(scorePart("overcut", s.overcut, 25.0));
-  lines.push_back(scorePart("parallel", s.parallel, 25.0));
-  lines.push_back(scorePart("time", s.time, 25.0));
+  lines.push_back(scorePart("overcut", s.earned_overcut, 25.0));
+  lines.push_back(scorePart("parallel", s.earned_parallel, 25.0));
+  lines.push_back(scorePart("time", s.earned_time, 25.0));
   lines.push_back(scoreDeduction("force", s.force_deduction));
   return lines;
 }
@@ -361,22 +385,27 @@ ojson scoreReportJson(const Task& task, const ScoreInputs& inputs, const ToothDi
   totals(j, s.total, s.total_max, s.paper_total, not_scored, inputs);
   ojson c = ojson::object();
   c["removal"] = part(s.removal, 50, "");
-  c["removal"]["formula"] = "50 * caries_removed / caries_initial";
+  c["removal"]["formula"] = s.against_ideal ? "50 * caries_removed_of_the_ideal / caries_the_ideal_removed"
+                                             : "50 * caries_removed / caries_initial";
+  c["removal"]["against_ideal"] = s.against_ideal;
   c["removal"]["caries_removed_mm3"] = s.caries_removed_mm3;
   c["removal"]["caries_initial_mm3"] = s.caries_initial_mm3;
   c["removal"]["removed_fraction"] = s.removed_fraction;
-  c["time"] = part(s.time, 25, inputs.no_session_reason);
-  c["time"]["formula"] = "25 * (failure_s - elapsed_s) / (failure_s - target_s), in [0, 25]; 0 if no caries removed";
+  const auto earnedOf = [&](const std::optional<double>& p, double earned) { return p ? std::optional<double>(earned) : std::nullopt; };
+  c["time"] = earnedPart(earnedOf(s.time, s.earned_time), s.time, s.removed_fraction, 25, inputs.no_session_reason);
+  c["time"]["formula"] = "removed_fraction * 25 * (failure_s - elapsed_s) / (failure_s - target_s), the table's part in [0, 25]";
   c["time"]["elapsed_s"] = stats ? ojson(stats->elapsed_s) : ojson(nullptr);
   c["time"]["target_s"] = task.target_s;
   c["time"]["failure_s"] = task.failure_s;
   c["time"]["caries_removed"] = caries.removed > 0;
-  c["force"] = part(s.force, 25, inputs.no_session_reason);
-  c["force"]["formula"] = "25 * (contact_samples - force_over) / contact_samples, in [0, 25]; 0 without contact";
+  c["force"] = earnedPart(earnedOf(s.force, s.earned_force), s.force, s.removed_fraction, 25, inputs.no_session_reason);
+  c["force"]["formula"] = "removed_fraction * 25 * (contact_samples - force_over) / contact_samples, the table's part in [0, 25]; 0 without contact";
   c["force"]["contact_samples"] = stats ? ojson(stats->contact_samples) : ojson(nullptr);
   c["force"]["force_over"] = stats ? ojson(stats->force_over) : ojson(nullptr);
   c["force"]["force_error_n"] = task.force_error_n;
   j["components"] = std::move(c);
+  j["completion"] = {{"share", s.removed_fraction},
+                     {"rule", "time and force are earned in proportion to the share of the caries removed"}};
   ojson d = ojson::object();
   d["healthy"] = {{"points", s.healthy_deduction},
                   {"formula", "healthy_coefficient * 100 * healthy_outside_zone / caries_initial"},
@@ -409,8 +438,10 @@ ojson scoreReportJson(const Task& task, const ScoreInputs& inputs, const ToothDi
                              {"ideal_mm3", s.ideal_mm3},
                              {"percent_of_ideal", s.undercut_percent},
                              {"coefficient", t.undercut_coefficient}});
-  c["overcut"] = part(s.overcut, 25, "");
-  c["overcut"].update(ojson{{"formula", "25 - overcut * coefficient * 100 / ideal, in [0, 25]"},
+  c["overcut"] = earnedPart(s.earned_overcut, s.overcut, s.completion, 25, "");
+  c["overcut"].update(ojson{{"formula", "completion * (25 - (overcut_gross + near_weight * overcut_near) * coefficient * 100 / ideal), the part in [0, 25]"},
+                            {"near_weight", t.near_overcut_weight},
+                            {"overcut_counted_mm3", s.overcut_counted_mm3},
                             {"overcut_mm3", s.overcut_mm3},
                             {"overcut_near_mm3", s.overcut_near_mm3},
                             {"overcut_gross_mm3", s.overcut_gross_mm3},
@@ -418,19 +449,23 @@ ojson scoreReportJson(const Task& task, const ScoreInputs& inputs, const ToothDi
                             {"ideal_mm3", s.ideal_mm3},
                             {"percent_of_ideal", s.overcut_percent},
                             {"coefficient", t.overcut_coefficient}});
-  c["parallel"] = part(s.parallel, 25, inputs.no_session_reason);
-  c["parallel"].update(ojson{{"formula", "25 - parallel_over * coefficient, in [0, 25]"},
+  c["parallel"] = earnedPart(s.earned_parallel, s.parallel, s.completion, 25, inputs.no_session_reason);
+  c["parallel"].update(ojson{{"formula", "completion * (25 - parallel_over * coefficient), the table's part in [0, 25]"},
                              {"parallel_over", stats ? ojson(stats->parallel_over) : ojson(nullptr)},
                              {"contact_samples", stats ? ojson(stats->contact_samples) : ojson(nullptr)},
                              {"parallel_error_deg", t.parallel_error_deg},
                              {"insertion_axis", {task.insertion_axis.x, task.insertion_axis.y, task.insertion_axis.z}},
                              {"coefficient", t.parallel_coefficient}});
-  c["time"] = part(s.time, 25, inputs.no_session_reason);
-  c["time"].update(ojson{{"formula", "25 - max(0, elapsed_s - target_s) * coefficient / 60, in [0, 25]"},
+  c["time"] = earnedPart(s.earned_time, s.time, s.completion, 25, inputs.no_session_reason);
+  c["time"].update(ojson{{"formula", "completion * (25 - max(0, elapsed_s - target_s) * coefficient / 60), the table's part in [0, 25]"},
                          {"elapsed_s", stats ? ojson(stats->elapsed_s) : ojson(nullptr)},
                          {"target_s", task.target_s},
                          {"coefficient", t.time_coefficient}});
   j["components"] = std::move(c);
+  j["completion"] = {{"share", s.completion},
+                     {"rule", "over-cut, parallel and time are earned in proportion to the share of the ideal cavity cut"},
+                     {"ideal_removed_mm3", s.ideal_mm3 - s.undercut_mm3},
+                     {"ideal_mm3", s.ideal_mm3}};
   ojson d = ojson::object();
   d["force"] = {{"points", s.force_deduction ? ojson(*s.force_deduction) : ojson(nullptr)},
                 {"formula", "force_coefficient * 100 * force_over / contact_samples"},
@@ -482,11 +517,14 @@ std::string scoreSummary(const CariesScore& s, const ScoreInputs& inputs) {
   std::vector<const char*> missing;
   if (!s.time) missing.push_back("time");
   if (!s.force) missing.push_back("force");
+  const auto earned = [](const std::optional<double>& p, double e) { return p ? std::optional<double>(e) : std::nullopt; };
   std::string line = "caries removal score " + fixed(s.total) + " / " + fixed(s.total_max, 0) + " (removal " +
-                     fixed(s.removal) + " / 50" + partText("time", s.time, 25) + partText("force", s.force, 25) +
+                     fixed(s.removal) + " / 50" + partText("time", earned(s.time, s.earned_time), 25) +
+                     partText("force", earned(s.force, s.earned_force), 25) +
                      (s.healthy_deduction > 0 ? ", healthy tissue -" + fixed(s.healthy_deduction) : ", no healthy tissue outside the zone") +
                      (s.pulp_cap_applied ? ", capped: pulp exposed" : "") +
-                     notScoredText(missing, inputs) + "; Table 4 alone " + fixed(s.paper_total) + "): ";
+                     notScoredText(missing, inputs) + "; time and force earned at the share removed; Table 4 alone " +
+                     fixed(s.paper_total) + "): ";
   line += fixed(100.0 * s.removed_fraction, 1) + "% of " + fixed(s.caries_initial_mm3, 3) + " mm^3 caries removed; healthy " +
           fixed(s.enamel_removed_mm3 + s.dentin_removed_mm3 + s.pulp_removed_mm3, 3) + " mm^3 removed (enamel " +
           fixed(s.enamel_removed_mm3, 3) + ", dentin " + fixed(s.dentin_removed_mm3, 3) + ", pulp " +
@@ -501,12 +539,14 @@ std::string scoreSummary(const CavityScore& s, const ScoreInputs& inputs) {
   if (!s.time) missing.push_back("time");
   if (!s.force_deduction) missing.push_back("force");
   std::string line = std::string(s.access ? "access cavity score " : "cavity preparation score ") + fixed(s.total) + " / " + fixed(s.total_max, 0) + " (under-cut " +
-                     fixed(s.undercut) + " / 25, over-cut " + fixed(s.overcut) + " / 25" +
-                     partText("parallel", s.parallel, 25) + partText("time", s.time, 25) +
+                     fixed(s.undercut) + " / 25, over-cut " + fixed(s.earned_overcut) + " / 25" +
+                     partText("parallel", s.earned_parallel, 25) + partText("time", s.earned_time, 25) +
                      (!s.force_deduction ? "" : *s.force_deduction > 0 ? ", force errors -" + fixed(*s.force_deduction) : ", no force errors") +
                      (s.pulp_cap_applied ? ", capped: pulp exposed" : "") +
                      (s.unopened_cap_applied ? ", capped: pulp chamber not opened" : "") + (s.ideal_missed ? ", the ideal missed" : "") +
-                     notScoredText(missing, inputs) + "; Table 5 alone " + fixed(s.paper_total) + "): ";
+                     notScoredText(missing, inputs) + "; " + fixed(100.0 * s.completion, 1) +
+                     "% of the ideal cut, so over-cut, parallel and time earned at that share; Table 5 alone " +
+                     fixed(s.paper_total) + "): ";
   line += "ideal " + fixed(s.ideal_mm3, 3) + " mm^3, under-cut " + fixed(s.undercut_mm3, 3) + " mm^3, over-cut " +
           fixed(s.overcut_mm3, 3) + " mm^3 (" + fixed(s.overcut_near_mm3, 3) + " near, " + fixed(s.overcut_gross_mm3, 3) +
           " gross); " + (s.access ? (s.pulp_exposed ? "pulp chamber opened" : "pulp chamber not opened")

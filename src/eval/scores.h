@@ -26,11 +26,16 @@ struct CariesScore {
   std::optional<double> time;           // 25 x (failure - elapsed) / (failure - target), clamped; 0 if no caries removed; none without a session
   std::optional<double> force;          // 25 x (contact - over) / contact, clamped; 0 without contact samples; none without a session
   double paper_total = 0.0;             // Table 4's total over the parts scored: removal + time + force
+  // Time and force are earned in proportion to the caries removed (docs/SCORING.md section 4):
+  // the total counts removal + removed_fraction x (time + force). The parts above are Table 4's.
+  double earned_time = 0.0;             // removed_fraction x time [points]
+  double earned_force = 0.0;            // removed_fraction x force [points]
   double healthy_deduction = 0.0;       // healthy_coefficient x 100 x healthy outside / caries initial [points]
   bool pulp_cap_applied = false;        // the pulp is exposed and the cap lowered the total
-  double total = 0.0;                   // the headline: clamp(paper_total - healthy_deduction, 0, total_max), capped
+  double total = 0.0;                   // the headline: clamp(removal + earned time and force - healthy_deduction, 0, total_max), capped
   double total_max = 100.0;             // what the parts scored can reach: 100, or 50 without a session
-  double removed_fraction = 0.0;        // removed caries / initial caries; 0 when the tooth has none
+  double removed_fraction = 0.0;        // removed caries / initial caries (with an ideal: of the caries the ideal removed); 0 when none
+  bool against_ideal = false;           // the removal is measured against the caries a professional's ideal removed
   double caries_initial_mm3 = 0.0;
   double caries_removed_mm3 = 0.0;
   double caries_remaining_mm3 = 0.0;
@@ -43,27 +48,33 @@ struct CariesScore {
   uint64_t exposed_pulp_voxels = 0;
 };
 
-// Cavity preparation: the paper's four parts 0..25 each, less the force errors, capped when the pulp
-// is exposed [points]. An access cavity scores the same parts, but its cap is the other way round:
-// a pulp chamber left closed caps it, an opened one is the exercise.
+// Cavity preparation: the paper's four parts 0..25 each, the over-cut, parallel and time parts earned
+// in proportion to the share of the ideal cavity cut, less the force errors, capped when the pulp is
+// exposed [points]. An access cavity scores the same parts, but its cap is the other way round: a
+// pulp chamber left closed caps it, an opened one is the exercise.
 struct CavityScore {
   double undercut = 0.0;                // 25 - undercut x coef x 100 / ideal, clamped
-  double overcut = 0.0;                 // 25 - overcut x coef x 100 / ideal, clamped (near + gross)
+  double overcut = 0.0;                 // 25 - (gross + near_weight x near) x coef x 100 / ideal, clamped
   std::optional<double> parallel;       // 25 - parallel_over x coef, clamped; none without a session
   std::optional<double> time;           // 25 - max(0, elapsed - target) x coef / 60, clamped; none without a session
-  double paper_total = 0.0;             // Table 5's total over the parts scored
+  double paper_total = 0.0;             // Table 5's total over the parts scored: the four parts as they stand
+  double completion = 0.0;              // the share of the ideal cavity cut: target removed / ideal, [0, 1]
+  double earned_overcut = 0.0;          // completion x overcut [points]
+  std::optional<double> earned_parallel;// completion x parallel; none without a session
+  std::optional<double> earned_time;    // completion x time; none without a session
   std::optional<double> force_deduction;  // force_coefficient x 100 x force_over / contact; none without a session
   bool pulp_cap_applied = false;
   bool access = false;                  // the task is an access cavity (TaskKind::Access)
   bool unopened_cap_applied = false;    // access: the pulp chamber was not opened and the cap lowered the total
-  double total = 0.0;                   // clamp(paper_total - force_deduction, 0, total_max), capped
+  double total = 0.0;                   // clamp(undercut + the earned parts - force_deduction, 0, total_max), capped
   double total_max = 100.0;             // 100, or 50 without a session
   bool nothing_removed = false;         // the attempt removed no tissue
-  bool ideal_missed = false;            // it removed nothing of the ideal cavity: every part is 0
+  bool ideal_missed = false;            // it removed nothing of the ideal cavity: completion 0, every part earned is 0
   double ideal_mm3 = 0.0;               // the ideal cavity's volume
   double removed_mm3 = 0.0;
   double undercut_mm3 = 0.0;
   double overcut_mm3 = 0.0;
+  double overcut_counted_mm3 = 0.0;     // what the over-cut part counts: gross + near_weight x near
   double overcut_near_mm3 = 0.0;        // in the leeway around the ideal cavity (reported, not scored apart)
   double overcut_gross_mm3 = 0.0;       // in the container
   double undercut_percent = 0.0;        // of the ideal volume

@@ -22,15 +22,19 @@ int builtinToothLevel(const std::string& tooth_source) {
   return std::stoi(level);
 }
 
-Result<ToothVolume> taskTooth(const Task& task, int level) {
-  if (task.tooth == kBuiltinMolarTooth) return builtinMolarTooth(level > 0 ? level : task.level);
-  if (task.tooth.rfind(kAssetToothPrefix, 0) == 0) {
-    const std::string asset = task.tooth.substr(std::string(kAssetToothPrefix).size());
+Result<ToothVolume> loadToothFileOrAsset(const std::string& name) {
+  if (name.rfind(kAssetToothPrefix, 0) == 0) {
+    const std::string asset = name.substr(std::string(kAssetToothPrefix).size());
     const std::span<const uint8_t> bytes = builtinAssetBytes(asset);
-    if (bytes.empty()) return makeError(task.tooth, "not among the embedded assets");
+    if (bytes.empty()) return makeError(name, "not among the embedded assets");
     return parseTooth(bytes, "assets/" + asset);
   }
-  return loadTooth(task.tooth);
+  return loadTooth(name);
+}
+
+Result<ToothVolume> taskTooth(const Task& task, int level) {
+  if (task.tooth == kBuiltinMolarTooth) return builtinMolarTooth(level > 0 ? level : task.level);
+  return loadToothFileOrAsset(task.tooth);
 }
 
 Result<ToothVolume> resolveSessionTooth(const SessionRecording& session, const std::string& session_path,

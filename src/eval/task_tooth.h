@@ -21,6 +21,8 @@ std::string builtinToothSource(int level);
 // The level in a session's tooth source that names the built-in molar ("builtin:molar:7" -> 7), or 0.
 int builtinToothLevel(const std::string& tooth_source);
 
+// A volume file, or an embedded course tooth ("asset:tasks/ct_tooth_3.dvol").
+Result<ToothVolume> loadToothFileOrAsset(const std::string& name);
 // The task's tooth: the built-in molar at `level` (0: the task's level), an embedded course tooth,
 // or the task's volume file (whose grid is its own: `level` does not apply to either).
 Result<ToothVolume> taskTooth(const Task& task, int level);

@@ -1,4 +1,4 @@
-// Tests of the score benchmark: the gap and part checks on scores counted by hand, and a short run on a carious block that gives the same scores to the last bit twice.
+// Tests of the score benchmark: a short run of task validate's attempts on a carious block gives the same scores to the last bit twice, with its times from the professional, and its table and chart.
 #include "bench/score_bench.h"
 
 #include <gtest/gtest.h>
@@ -8,53 +8,6 @@
 
 namespace dentsim::bench {
 namespace {
-
-AttemptScore made(const std::string& task, Attempt a, std::vector<std::pair<std::string, double>> parts) {
-  AttemptScore s;
-  s.task = task;
-  s.kind = TaskKind::Caries;
-  s.attempt = a;
-  s.parts = std::move(parts);
-  for (const auto& [name, points] : s.parts) s.total += points;
-  s.total = std::max(0.0, s.total);
-  return s;
-}
-
-TEST(ScoreBench, ChecksFindTheGapAndThePartThatLostIt) {
-  ScoreBenchResult r;
-  r.scores.push_back(made("caries", Attempt::Expert, {{"removal", 49}, {"time", 25}, {"force", 25}, {"healthy", -1}}));
-  // Lost 30 in time only: a gap of 30, all of it in the fault's part.
-  r.scores.push_back(made("caries", Attempt::Slow, {{"removal", 49}, {"time", 0}, {"force", 20}, {"healthy", -1}}));
-  // Lost 10 in force and 15 in removal: a gap of 25 but not mostly in force.
-  r.scores.push_back(made("caries", Attempt::Heavy, {{"removal", 34}, {"time", 25}, {"force", 15}, {"healthy", -1}}));
-  // A gain elsewhere does not hide a loss: 12 lost in the healthy part, 2 gained in removal.
-  r.scores.push_back(made("caries", Attempt::Overcut, {{"removal", 50}, {"time", 25}, {"force", 25}, {"healthy", -12}}));
-  const std::vector<NoviceCheck> c = checkNovices(r);
-  ASSERT_EQ(c.size(), 3u);
-  EXPECT_EQ(c[0].attempt, Attempt::Slow);
-  EXPECT_DOUBLE_EQ(c[0].gap, 30.0);
-  EXPECT_DOUBLE_EQ(c[0].lost, 30.0);
-  EXPECT_DOUBLE_EQ(c[0].lost_in_fault, 25.0);
-  EXPECT_TRUE(c[0].gap_ok);
-  EXPECT_TRUE(c[0].part_ok);
-  EXPECT_DOUBLE_EQ(c[1].gap, 25.0);
-  EXPECT_DOUBLE_EQ(c[1].lost_in_fault, 10.0);
-  EXPECT_FALSE(c[1].part_ok);
-  EXPECT_DOUBLE_EQ(c[2].gap, 10.0);
-  EXPECT_DOUBLE_EQ(c[2].lost, 11.0);
-  EXPECT_FALSE(c[2].gap_ok);
-  EXPECT_TRUE(c[2].part_ok);
-}
-
-TEST(ScoreBench, FaultPartsPerTask) {
-  EXPECT_EQ(faultParts(TaskKind::Caries, Attempt::Overcut), std::vector<std::string>{"healthy"});
-  EXPECT_EQ(faultParts(TaskKind::Cavity, Attempt::Overcut), std::vector<std::string>{"overcut"});
-  EXPECT_EQ(faultParts(TaskKind::Cavity, Attempt::Undercut), std::vector<std::string>{"undercut"});
-  EXPECT_EQ(faultParts(TaskKind::Access, Attempt::Undercut), (std::vector<std::string>{"undercut", "pulp cap"}));
-  EXPECT_EQ(faultParts(TaskKind::Access, Attempt::Overcut), std::vector<std::string>{"overcut"});
-  EXPECT_EQ(faultParts(TaskKind::Caries, Attempt::Heavy), std::vector<std::string>{"force"});
-  EXPECT_TRUE(faultParts(TaskKind::Caries, Attempt::Expert).empty());
-}
 
 // Enamel over dentin with an ellipsoid lesion 1.6 x 1.0 x 0.8 mm under the surface (0.05 mm voxels).
 ToothVolume cariousBlock() {
@@ -74,25 +27,28 @@ TEST(ScoreBench, RepeatedRunsGiveTheSameScoresToTheLastBit) {
   auto caries = builtinTask("caries");
   ASSERT_TRUE(caries.ok()) << caries.message();
   test::TempDir dir;
-  ScoreBenchSettings s;
+  ValidationSettings s;
   s.attempts = {Attempt::Trench};
   s.work_dir = dir.path().string();
   auto first = runScoreBench(block, {*caries}, s);
   ASSERT_TRUE(first.ok()) << first.message();
   auto second = runScoreBench(block, {*caries}, s);
   ASSERT_TRUE(second.ok()) << second.message();
-  ASSERT_EQ(first->scores.size(), 2u);
-  EXPECT_EQ(first->scores[0].attempt, Attempt::Expert);
-  EXPECT_EQ(first->scores[1].attempt, Attempt::Trench);
-  EXPECT_EQ(scoreBenchJson(*first).dump(), scoreBenchJson(*second).dump());
-  // The task's times come from the expert: the target 1.25 times its time, no points left at 3 times.
   ASSERT_EQ(first->tasks.size(), 1u);
-  EXPECT_EQ(first->scores[0].task, "caries_removal");
-  EXPECT_DOUBLE_EQ(first->tasks[0].target_s, 1.25 * first->scores[0].elapsed_s);
-  EXPECT_DOUBLE_EQ(first->tasks[0].failure_s, 3.0 * first->scores[0].elapsed_s);
-  // The expert scores high, the trench low; the table and chart name both.
-  EXPECT_GE(first->scores[0].total, 90.0);
-  EXPECT_LT(first->scores[1].total, 40.0);
+  const TaskValidation& v = first->tasks[0];
+  ASSERT_EQ(v.attempts.size(), 2u);
+  EXPECT_EQ(v.attempts[0].attempt, Attempt::Expert);
+  EXPECT_EQ(v.attempts[1].attempt, Attempt::Trench);
+  EXPECT_EQ(scoreBenchJson(*first).dump(), scoreBenchJson(*second).dump());
+  // The block is not the task's level-9 molar: the times come from the professional drilled here,
+  // the target 1.25 times its session, no time points left at 3 times it.
+  EXPECT_TRUE(v.timed_here);
+  EXPECT_EQ(v.task.name, "caries_removal");
+  EXPECT_NEAR(v.task.target_s, 1.25 * v.professional_s, 1e-9);
+  EXPECT_NEAR(v.task.failure_s, 3.0 * v.professional_s, 1e-9);
+  // The second careful hand scores high, the trench low; the table and chart name both.
+  EXPECT_GE(v.attempts[0].total, 85.0);
+  EXPECT_LT(v.attempts[1].total, 40.0);
   const std::string md = scoreBenchMarkdown(*first);
   EXPECT_NE(md.find("| expert |"), std::string::npos) << md;
   EXPECT_NE(md.find("| trench | wrong place: a trench |"), std::string::npos) << md;

@@ -59,15 +59,18 @@ TEST(CariesScore, HandCountedComponents) {
   setBox(student, {0, 0, 7}, {2, 1, 8}, kEmpty);        // 2 healthy enamel voxels, 4 voxels from the caries
   // removal 50 x 4/8 = 25; time 25 x (900 - 600)/(900 - 300) = 12.5; force 25 x (10 - 2)/10 = 20:
   // Table 4's 57.5. The 2 enamel voxels are 25% of the caries' volume, at 0.5 points per percent 12.5.
+  // Half the caries removed earns half the time and force parts: 25 + 0.5 x (12.5 + 20) - 12.5 = 28.75.
   const SessionStats st = stats(600, 10, 2);
   const CariesScore s = scoreCariesRemoval(diffOf(t, student, nullptr), &st, test::cariesTask());
   EXPECT_DOUBLE_EQ(s.removal, 25.0);
   EXPECT_DOUBLE_EQ(*s.time, 12.5);
   EXPECT_DOUBLE_EQ(*s.force, 20.0);
+  EXPECT_DOUBLE_EQ(s.earned_time, 6.25);
+  EXPECT_DOUBLE_EQ(s.earned_force, 10.0);
   EXPECT_DOUBLE_EQ(s.paper_total, 57.5);
   EXPECT_DOUBLE_EQ(s.healthy_outside_percent, 25.0);
   EXPECT_DOUBLE_EQ(s.healthy_deduction, 12.5);
-  EXPECT_DOUBLE_EQ(s.total, 45.0);
+  EXPECT_DOUBLE_EQ(s.total, 28.75);
   EXPECT_DOUBLE_EQ(s.removed_fraction, 0.5);
   EXPECT_NEAR(s.caries_initial_mm3, 0.008, 1e-15);
   EXPECT_NEAR(s.caries_removed_mm3, 0.004, 1e-15);
@@ -166,8 +169,9 @@ TEST(CariesScore, ToothWithoutCariesGivesNoRemovalPoints) {
   const CariesScore untouched = scoreCariesRemoval(diffOf(t, student, nullptr), &st, test::cariesTask());
   EXPECT_EQ(untouched.removal, 0.0);
   EXPECT_EQ(untouched.time, 0.0);     // no caries removed
-  EXPECT_EQ(untouched.force, 25.0);
-  EXPECT_EQ(untouched.total, 25.0);
+  EXPECT_EQ(untouched.force, 25.0);  // Table 4's part, earned at the share removed: none
+  EXPECT_EQ(untouched.earned_force, 0.0);
+  EXPECT_EQ(untouched.total, 0.0);
   // Any healthy cut on a tooth without caries has nothing to scale by: it costs everything.
   student.voxels.setVoxel(0, 0, 7, kEmpty);
   const CariesScore s = scoreCariesRemoval(diffOf(t, student, nullptr), &st, test::cariesTask());
@@ -234,6 +238,7 @@ TEST(CavityScore, OneExtraVoxelCostsTheCoefficient) {
   for (double coef : {1.0, 2.5}) {
     Task task = test::cavityTask();
     task.cavity.overcut_coefficient = coef;
+    task.cavity.near_overcut_weight = 1.0;  // the voxel is in the leeway: counted in full here
     auto s = scoreCavityPreparation(c.diff(), &st, task);
     ASSERT_TRUE(s.ok());
     EXPECT_NEAR(s->overcut, 25.0 - 1.0 * coef * 100.0 / kIdealVoxels, 1e-12) << coef;
@@ -245,11 +250,29 @@ TEST(CavityScore, OneExtraVoxelCostsTheCoefficient) {
   }
 }
 
+TEST(CavityScore, OverCutInTheLeewayCountsAtItsWeight) {
+  CavityCase c;
+  c.student.voxels.setVoxel(10, 6, 7, kEmpty);  // 0.1 mm beside the cavity: in the 0.2 mm leeway
+  const SessionStats st = stats(600, 50, 0);
+  for (double weight : {0.0, 0.5}) {
+    Task task = test::cavityTask();
+    task.cavity.near_overcut_weight = weight;
+    auto s = scoreCavityPreparation(c.diff(), &st, task);
+    ASSERT_TRUE(s.ok());
+    EXPECT_NEAR(s->overcut, 25.0 - weight * 100.0 / kIdealVoxels, 1e-12) << weight;
+    EXPECT_NEAR(s->overcut_counted_mm3, weight * 0.001, 1e-15) << weight;
+    // Table 5 itself counts the voxel in full, whatever the weight.
+    EXPECT_NEAR(s->paper_total, 100.0 - 100.0 / kIdealVoxels, 1e-12) << weight;
+  }
+}
+
 TEST(CavityScore, PartialVoxelCostsProportionally) {
   CavityCase c;
   c.student.voxels.setVoxel(10, 6, 7, makeVoxel(Material::Enamel, 21));  // 10 units over
   const SessionStats st = stats(600, 50, 0);
-  auto s = scoreCavityPreparation(c.diff(), &st, test::cavityTask());
+  Task task = test::cavityTask();
+  task.cavity.near_overcut_weight = 1.0;
+  auto s = scoreCavityPreparation(c.diff(), &st, task);
   ASSERT_TRUE(s.ok());
   EXPECT_NEAR(s->overcut, 25.0 - (10.0 / 31.0) * 100.0 / kIdealVoxels, 1e-12);
 }
@@ -294,13 +317,13 @@ TEST(CavityScore, ClampsHoldAtBothEnds) {
 
 TEST(CavityScore, ForceErrorsCostTheCoefficientPerPercent) {
   const CavityCase c;
-  // 30 of 120 contact samples over the limit: 25%, at 0.25 points per percent 6.25.
+  // 30 of 120 contact samples over the limit: 25%, at 0.5 points per percent 12.5.
   const SessionStats st = stats(600, 120, 30);
   auto s = scoreCavityPreparation(c.diff(), &st, test::cavityTask());
   ASSERT_TRUE(s.ok());
-  EXPECT_DOUBLE_EQ(*s->force_deduction, 6.25);
+  EXPECT_DOUBLE_EQ(*s->force_deduction, 12.5);
   EXPECT_DOUBLE_EQ(s->paper_total, 100.0);
-  EXPECT_DOUBLE_EQ(s->total, 93.75);
+  EXPECT_DOUBLE_EQ(s->total, 87.5);
 }
 
 TEST(CavityScore, DoingNothingScoresZero) {
@@ -316,8 +339,8 @@ TEST(CavityScore, DoingNothingScoresZero) {
 }
 
 TEST(CavityScore, ACutThatMissesTheIdealScoresZero) {
-  // A quick, upright cut of 8 voxels far from the ideal: without the rule it would keep the time and
-  // parallel points (50) and the under-cut's 0; with it every part is 0.
+  // A quick, upright cut of 8 voxels far from the ideal: Table 5 keeps its time and parallel parts
+  // (50) and the under-cut's 0; none of the ideal was cut, so none of them is earned.
   CavityCase c;
   c.student = c.initial;
   setBox(c.student, {0, 12, 6}, {4, 14, 7}, kEmpty);
@@ -326,8 +349,12 @@ TEST(CavityScore, ACutThatMissesTheIdealScoresZero) {
   ASSERT_TRUE(s.ok());
   EXPECT_FALSE(s->nothing_removed);
   EXPECT_TRUE(s->ideal_missed);
-  EXPECT_EQ(s->parallel, 0.0);
-  EXPECT_EQ(s->time, 0.0);
+  EXPECT_EQ(s->completion, 0.0);
+  EXPECT_EQ(s->parallel, 25.0);
+  EXPECT_EQ(s->time, 25.0);
+  EXPECT_EQ(s->earned_parallel, 0.0);
+  EXPECT_EQ(s->earned_time, 0.0);
+  EXPECT_EQ(s->paper_total, 50.0);
   EXPECT_EQ(s->total, 0.0);
   EXPECT_NEAR(s->overcut_gross_mm3, 0.008, 1e-15);
 }
@@ -341,7 +368,9 @@ TEST(CavityScore, WithoutASessionParallelTimeAndForceAreNotScored) {
   EXPECT_FALSE(s->time.has_value());
   EXPECT_FALSE(s->force_deduction.has_value());
   EXPECT_EQ(s->total_max, 50.0);
-  EXPECT_DOUBLE_EQ(s->total, 25.0 + 25.0 - 100.0 / kIdealVoxels);
+  // 31 of the 32 voxels cut: the under-cut part loses 100/32, and the over-cut part is earned at 31/32.
+  EXPECT_DOUBLE_EQ(s->completion, 31.0 / 32.0);
+  EXPECT_DOUBLE_EQ(s->total, 25.0 - 100.0 / kIdealVoxels + 25.0 * 31.0 / 32.0);
 }
 
 TEST(CavityScore, EmptyOrMissingIdealIsAnError) {
@@ -414,7 +443,8 @@ TEST(AccessScore, AChamberLeftClosedCapsTheTotal) {
   Task task = accessTask();
   auto s = scoreCavityPreparation(d, &st, task);
   ASSERT_TRUE(s.ok()) << s.message();
-  // Under-cut 16 of 64 voxels, 25 %: 25 - 25 = 0 points; over-cut, parallel and time full: 75, capped at 40.
+  // Under-cut 16 of 64 voxels, 25 %: 25 - 25 = 0 points; over-cut, parallel and time full (Table 5's
+  // 75), earned at the 48 of 64 voxels cut: 56.25, capped at 40.
   EXPECT_EQ(s->undercut, 0.0);
   EXPECT_EQ(s->paper_total, 75.0);
   EXPECT_TRUE(s->unopened_cap_applied);
@@ -427,9 +457,9 @@ TEST(AccessScore, AChamberLeftClosedCapsTheTotal) {
   task.access.unopened_cap = 90.0;
   auto high = scoreCavityPreparation(d, &st, task);
   EXPECT_FALSE(high->unopened_cap_applied);
-  EXPECT_EQ(high->total, 75.0);
+  EXPECT_EQ(high->total, 56.25);
   // As a cavity preparation the same cut is not capped: the pulp is not exposed.
-  EXPECT_EQ(scoreCavityPreparation(d, &st, test::cavityTask())->total, 75.0);
+  EXPECT_EQ(scoreCavityPreparation(d, &st, test::cavityTask())->total, 56.25);
 }
 
 TEST(AccessScore, TheReportAndTheLineSayWhetherTheChamberWasOpened) {
@@ -551,7 +581,12 @@ TEST(ScoreReport, CariesReportShowsComponentsDeductionsAndZones) {
   EXPECT_EQ(j["components"]["force"]["force_over"], 2);
   EXPECT_EQ(j["paper_total"].get<double>(), 57.5);
   EXPECT_EQ(j["deductions"]["healthy"]["points"].get<double>(), 12.5);
-  EXPECT_EQ(j["total"].get<double>(), 45.0);
+  // Time and force: the table's parts, and the half of them that half the caries removed earns.
+  EXPECT_EQ(j["components"]["time"]["table_points"].get<double>(), 12.5);
+  EXPECT_EQ(j["components"]["time"]["points"].get<double>(), 6.25);
+  EXPECT_EQ(j["components"]["force"]["earned_share"].get<double>(), 0.5);
+  EXPECT_EQ(j["completion"]["share"].get<double>(), 0.5);
+  EXPECT_EQ(j["total"].get<double>(), 28.75);
   EXPECT_EQ(j["zones"]["target"], "caries and its access along the insertion axis");
   EXPECT_DOUBLE_EQ(j["zones"]["target_removed_percent"].get<double>(), 50.0);
   EXPECT_NEAR(j["zones"]["healthy_outside_zone_mm3"].get<double>(), 0.002, 1e-15);

@@ -1,0 +1,96 @@
+// Task validation: which part each fault should cost, the "most in its own part" rule counted by hand, and a short validation of the built-in class I at level 7 with its JSON.
+#include "eval/task_validation.h"
+
+#include <gtest/gtest.h>
+
+#include "eval/cut_score.h"
+#include "sim/builtin_tooth.h"
+#include "test_support.h"
+
+namespace dentsim {
+namespace {
+
+TEST(TaskValidation, FaultPartsPerKind) {
+  EXPECT_EQ(faultParts(TaskKind::Caries, Attempt::Overcut), std::vector<std::string>{"healthy"});
+  EXPECT_EQ(faultParts(TaskKind::Cavity, Attempt::Overcut), std::vector<std::string>{"overcut"});
+  EXPECT_EQ(faultParts(TaskKind::Cavity, Attempt::Undercut), std::vector<std::string>{"undercut"});
+  EXPECT_EQ(faultParts(TaskKind::Cavity, Attempt::Token), std::vector<std::string>{"undercut"});
+  EXPECT_EQ(faultParts(TaskKind::Access, Attempt::Undercut), (std::vector<std::string>{"undercut", "pulp cap"}));
+  // A heavy hand drives the bur past the floor: force and what lies beyond the target.
+  EXPECT_EQ(faultParts(TaskKind::Cavity, Attempt::Heavy), (std::vector<std::string>{"force", "overcut"}));
+  EXPECT_EQ(faultParts(TaskKind::Caries, Attempt::Heavy), (std::vector<std::string>{"force", "healthy"}));
+  EXPECT_EQ(faultParts(TaskKind::Cavity, Attempt::Tilted), std::vector<std::string>{"parallel"});
+  EXPECT_EQ(faultParts(TaskKind::Cavity, Attempt::Slow), std::vector<std::string>{"time"});
+  EXPECT_TRUE(faultParts(TaskKind::Caries, Attempt::Expert).empty());
+}
+
+TEST(TaskValidation, MostInItsOwnPartMeansMoreThanAnyOtherOnePart) {
+  FaultCheck c;
+  // 20 lost in its own part, 15 and 12 in two others (47 in all): its own part names the fault,
+  // though it is under half the loss.
+  c.lost = 47;
+  c.lost_in_fault = 20;
+  c.most_lost_elsewhere = 15;
+  EXPECT_TRUE(c.mostInOwnPart());
+  c.most_lost_elsewhere = 21;
+  EXPECT_FALSE(c.mostInOwnPart());
+  // Nothing lost in its own part is never "most", even with nothing lost elsewhere.
+  FaultCheck none;
+  EXPECT_FALSE(none.mostInOwnPart());
+}
+
+// The built-in class I on the molar at level 7, its second hand and two faults: the times come from
+// the professional drilled here, the token and the under-cut fail, and the JSON says so.
+TEST(TaskValidation, TheClassOneCavityAtLevelSevenSeparatesItsAttempts) {
+  auto task = builtinTask("class1_cavity");
+  ASSERT_TRUE(task.ok()) << task.message();
+  auto molar = builtinMolarTooth(7);
+  ASSERT_TRUE(molar.ok());
+  test::TempDir dir;
+  ValidationSettings s;
+  s.attempts = {Attempt::Token, Attempt::Undercut};
+  s.work_dir = dir.path().string();
+  s.time_from_professional = true;
+  auto v = validateTask(*task, *molar, s);
+  ASSERT_TRUE(v.ok()) << v.message();
+  EXPECT_TRUE(v->valid()) << (v->failures.empty() ? "" : v->failures.front());
+  ASSERT_EQ(v->attempts.size(), 3u);
+  EXPECT_EQ(v->professional, "the built-in path class1_cavity, recorded");
+  EXPECT_TRUE(v->timed_here);
+  EXPECT_NEAR(v->task.target_s, 1.25 * v->professional_s, 1e-9);
+  const ValidatedAttempt& expert = v->attempts[0];
+  EXPECT_GE(expert.total, 85.0);
+  EXPECT_LT(expert.total, 100.0);  // a second hand, not the ideal itself
+  ASSERT_TRUE(expert.agreement_percent.has_value());
+  EXPECT_GT(*expert.agreement_percent, 90.0);
+  EXPECT_LT(v->attempts[1].total, 20.0);   // token
+  EXPECT_LT(v->attempts[2].total, 70.0);   // under-cut
+  ASSERT_EQ(v->faults.size(), 2u);
+  EXPECT_EQ(v->faults[0].most_lost_part, "undercut");
+  const auto j = validationJson(*v);
+  EXPECT_EQ(j["valid"], true);
+  EXPECT_EQ(j["attempts"].size(), 3u);
+  EXPECT_EQ(j["attempts"][1]["attempt"], "token");
+  EXPECT_TRUE(j["attempts"][1]["parts"].contains("undercut"));
+  EXPECT_EQ(j["checks"][0]["own_parts"], nlohmann::ordered_json::array({"undercut"}));
+  // No session is left behind.
+  EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
+}
+
+TEST(TaskValidation, AVolumeIdealIsAnErrorThatSaysHowToSetASession) {
+  Task task;
+  task.name = "t";
+  task.kind = TaskKind::Cavity;
+  task.ideal = idealVolumeFile("ideal.dvol");
+  auto molar = builtinMolarTooth(5);
+  ASSERT_TRUE(molar.ok());
+  test::TempDir dir;
+  ValidationSettings s;
+  s.work_dir = dir.path().string();
+  auto v = validateTask(task, *molar, s);
+  ASSERT_FALSE(v.ok());
+  EXPECT_NE(v.message().find("task set-ideal"), std::string::npos) << v.message();
+}
+
+}  // namespace
+}  // namespace dentsim
