@@ -29,12 +29,9 @@ int runScoresBench(const ScoresBenchOptions& o) {
   namespace fs = std::filesystem;
   ValidationSettings settings;
   if (!o.attempts.empty()) {
-    settings.attempts.clear();
-    for (const std::string& name : o.attempts) {
-      const std::optional<Attempt> a = parseAttempt(name);
-      if (!a) return fail("--attempts: \"" + name + "\" is not one of " + attemptNames());
-      settings.attempts.push_back(*a);
-    }
+    auto attempts = parseAttemptList(o.attempts, "--attempts");
+    if (!attempts) return fail(attempts.message());
+    settings.attempts = std::move(*attempts);
   }
   std::error_code ec;
   fs::create_directories(o.out, ec);

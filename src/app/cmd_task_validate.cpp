@@ -39,12 +39,9 @@ int runTaskValidate(const TaskValidateOptions& o) {
   if (o.pictures && o.out.empty()) return fail("--pictures needs --out");
   ValidationSettings settings;
   if (!o.attempts.empty()) {
-    settings.attempts.clear();
-    for (const std::string& name : o.attempts) {
-      const std::optional<Attempt> a = parseAttempt(name);
-      if (!a) return fail("--attempts: \"" + name + "\" is not one of " + attemptNames());
-      settings.attempts.push_back(*a);
-    }
+    auto attempts = parseAttemptList(o.attempts, "--attempts");
+    if (!attempts) return fail(attempts.message());
+    settings.attempts = std::move(*attempts);
   }
   // The shipped tasks' times were set from their professional drilled at the task's level; drilled at
   // another, the professional's pace differs, so its times are set again from this run's, by the same rule.

@@ -53,6 +53,16 @@ std::optional<Attempt> parseAttempt(const std::string& name) {
   return std::nullopt;
 }
 
+Result<std::vector<Attempt>> parseAttemptList(const std::vector<std::string>& names, const std::string& option) {
+  std::vector<Attempt> out;
+  for (const std::string& name : names) {
+    const std::optional<Attempt> a = parseAttempt(name);
+    if (!a) return makeError(option, "\"" + name + "\" is not one of " + attemptNames());
+    out.push_back(*a);
+  }
+  return out;
+}
+
 std::vector<std::string> attemptNameList() {
   std::vector<std::string> out;
   for (Attempt a : kAttempts) out.push_back(attemptName(a));

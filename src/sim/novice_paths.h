@@ -38,6 +38,9 @@ std::optional<Attempt> parseAttempt(const std::string& name);
 // The names, for help and errors: "expert, overcut, undercut, heavy, slow, trench, tilted, token".
 std::string attemptNames();
 std::vector<std::string> attemptNameList();
+// The attempts a command's list names (`--attempts overcut,slow`); `option` starts the error, which
+// names the first unknown one and lists the known.
+Result<std::vector<Attempt>> parseAttemptList(const std::vector<std::string>& names, const std::string& option);
 
 // How much each fault departs from the expert.
 struct AttemptFaults {
