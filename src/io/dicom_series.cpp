@@ -19,6 +19,7 @@
 #include <gdcmMediaStorage.h>
 #include <gdcmPixelFormat.h>
 #include <gdcmReader.h>
+#include <gdcmSequenceOfItems.h>
 #include <gdcmStringFilter.h>
 #include <gdcmTrace.h>
 #include <gdcmTransferSyntax.h>
@@ -34,6 +35,8 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <chrono>
+#include <csignal>
 #include <functional>
 #include <array>
 #include <cmath>
@@ -46,6 +49,7 @@
 #include <numbers>
 #include <random>
 #include <sstream>
+#include <thread>
 
 #include "io/atomic_file.h"
 
@@ -99,7 +103,38 @@ uint64_t dataSegmentBytes() {
   return 0;
 }
 
-Status readInChild(const std::string& where, uint64_t budget, const std::function<Status()>& work) {
+// The checking child's time limits, scaled to the bytes it reads: GDCM that loops or grows
+// exponentially on a crafted file (as its length calculation does with nesting, section 2) ends
+// as a line, not a hang. Generous: 30 s, and 2 s a MiB besides, of processor time, which decodes
+// any compression GDCM reads; the parent waits twice that, and 30 s more, on a busy machine.
+struct ChildTimeLimits {
+  uint64_t cpu_s = 0;   // RLIMIT_CPU of the child [s]
+  uint64_t wall_s = 0;  // the parent's wait before it kills the child [s]
+};
+ChildTimeLimits childTimeLimits(uint64_t input_bytes) {
+  const uint64_t cpu = 30 + 2 * (input_bytes >> 20);
+  return {cpu, 2 * cpu + 30};
+}
+
+// Waits for `child` until `wall_s` have passed, then kills it; true when it ended by itself.
+bool waitWithin(pid_t child, uint64_t wall_s, int& status) {
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(wall_s);
+  auto nap = std::chrono::milliseconds(1);
+  for (;;) {
+    const pid_t done = ::waitpid(child, &status, WNOHANG);
+    if (done == child || (done < 0 && errno != EINTR)) return true;
+    if (std::chrono::steady_clock::now() >= deadline) break;
+    std::this_thread::sleep_for(nap);
+    nap = std::min(nap * 2, std::chrono::milliseconds(50));
+  }
+  ::kill(child, SIGKILL);
+  while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
+  }
+  return false;
+}
+
+Status readInChild(const std::string& where, uint64_t budget, uint64_t input_bytes, const std::function<Status()>& work) {
+  const ChildTimeLimits limits = childTimeLimits(input_bytes);
   void* shared = ::mmap(nullptr, sizeof(ChildReport), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
   if (shared == MAP_FAILED) return Ok{};  // no check possible: read unguarded
   auto* report = new (shared) ChildReport;
@@ -115,6 +150,8 @@ Status readInChild(const std::string& where, uint64_t budget, const std::functio
       const rlimit cap{rlim_t(data_now + budget + (uint64_t{256} << 20)), rlim_t(data_now + budget + (uint64_t{256} << 20))};
       ::setrlimit(RLIMIT_DATA, &cap);
     }
+    const rlimit cpu{rlim_t(limits.cpu_s), rlim_t(limits.cpu_s + 5)};  // SIGXCPU, then SIGKILL 5 s later
+    ::setrlimit(RLIMIT_CPU, &cpu);
     Status s = work();
     if (s) {
       report->outcome = 'K';
@@ -125,14 +162,18 @@ Status readInChild(const std::string& where, uint64_t budget, const std::functio
     ::_exit(0);
   }
   int status = 0;
-  if (child > 0)
-    while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
-    }
+  const bool ended = child > 0 ? waitWithin(child, limits.wall_s, status) : true;
   const char outcome = child > 0 ? report->outcome : 'K';  // fork failed: read unguarded
   const std::string file(report->current_file), message(report->message);
   ::munmap(shared, sizeof(ChildReport));
   if (outcome == 'K') return Ok{};
   if (outcome == 'E') return Error{message};
+  if (!ended)
+    return makeError(file, "GDCM did not finish reading it within " + std::to_string(limits.wall_s) +
+                               " s (deeply nested, or damaged)");
+  if (WIFSIGNALED(status) && (WTERMSIG(status) == SIGXCPU || WTERMSIG(status) == SIGKILL))
+    return makeError(file, "GDCM took more than " + std::to_string(limits.cpu_s) +
+                               " s of processor time on it (deeply nested, or damaged)");
   const std::string how = WIFSIGNALED(status) ? "signal " + std::to_string(WTERMSIG(status))
                                               : "exit code " + std::to_string(WEXITSTATUS(status));
   return makeError(file, "truncated or damaged DICOM file: GDCM stops on it (" + how + ")");
@@ -216,6 +257,28 @@ struct SliceHeader {
 
 enum class HeaderKind { Image, NotImage, NotDicom };
 
+// GDCM's length of a data set (the truncation check in decodePixels asks for it) grows about
+// sixfold with each level of sequences nested in sequences: 8 levels take milliseconds, 12 take
+// seconds and 100 never end. Scanners nest their images' sequences 2 to 4 deep, so an image whose
+// sequences nest deeper than this is refused when its header is read, before any length is asked.
+constexpr int kMaxSequenceDepth = 8;
+
+// The deepest nesting of sequences in `ds` (a sequence at the top is 1), counted no further than
+// `limit` + 1, so that a file nested thousands deep costs no more than one at the limit.
+int sequenceDepth(const gdcm::DataSet& ds, int limit) {
+  int deepest = 0;
+  for (const gdcm::DataElement& de : ds.GetDES()) {
+    const auto* sq = de.IsEmpty() ? nullptr : dynamic_cast<const gdcm::SequenceOfItems*>(&de.GetValue());
+    if (!sq) continue;
+    deepest = std::max(deepest, 1);
+    if (limit <= 0) return 1;
+    for (size_t i = 1; i <= sq->GetNumberOfItems() && deepest <= limit; ++i)
+      deepest = std::max(deepest, 1 + sequenceDepth(sq->GetItem(i).GetNestedDataSet(), limit - 1));
+    if (deepest > limit) return deepest;
+  }
+  return deepest;
+}
+
 // Reads the header up to the pixel data. A file that claims DICOM and cannot be read is an error.
 Result<HeaderKind> readHeader(const std::string& path, SliceHeader& h) {
   noteFile(path);
@@ -230,6 +293,9 @@ Result<HeaderKind> readHeader(const std::string& path, SliceHeader& h) {
   h.path = path;
   const std::string rows = text(f, kRows), columns = text(f, kColumns);
   if (rows.empty() || columns.empty()) return HeaderKind::NotImage;
+  if (sequenceDepth(f.GetDataSet(), kMaxSequenceDepth) > kMaxSequenceDepth)
+    return makeError(path, "sequences nested more than " + std::to_string(kMaxSequenceDepth) +
+                               " deep; dentsim reads images nested " + std::to_string(kMaxSequenceDepth) + " deep at most");
   double v[6];
   if (!numbers(rows, 1, v) || v[0] < 1 || v[0] > 65535) return makeError(path, "Rows is not a valid size: '" + rows + "'");
   h.rows = int32_t(v[0]);
@@ -611,6 +677,23 @@ Result<GreyImage> readSeries(const std::string& path, const DicomReadOptions& op
   return image;
 }
 
+// The bytes a read of `path` takes in (the file, or the regular files below the folder), which
+// the checking child's time limits scale with.
+uint64_t inputBytes(const std::string& path) {
+  std::error_code ec;
+  if (fs::is_regular_file(path, ec)) return uint64_t(fs::file_size(path, ec));
+  uint64_t total = 0;
+  size_t files = 0;
+  for (fs::recursive_directory_iterator it(path, fs::directory_options::skip_permission_denied, ec), end;
+       !ec && it != end && files <= kMaxSeriesFiles; it.increment(ec)) {
+    std::error_code type_ec;
+    if (!it->is_regular_file(type_ec)) continue;
+    ++files;
+    total += uint64_t(it->file_size(type_ec));
+  }
+  return total;
+}
+
 }  // namespace
 
 Result<GreyImage> readDicomFile(const std::string& path, uint64_t max_bytes, DicomSeriesInfo* info) {
@@ -620,7 +703,7 @@ Result<GreyImage> readDicomFile(const std::string& path, uint64_t max_bytes, Dic
     Result<GreyImage> r = readOneFile(path, max_bytes, nullptr);
     return r ? Status(Ok{}) : Status(r.error());
   };
-  if (Status s = readInChild(path, max_bytes, check); !s) return s.error();
+  if (Status s = readInChild(path, max_bytes, inputBytes(path), check); !s) return s.error();
   return readOneFile(path, max_bytes, info);
 }
 
@@ -631,7 +714,7 @@ Result<GreyImage> readDicomSeries(const std::string& path, const DicomReadOption
     Result<GreyImage> r = readSeries(path, options, nullInterrupter(), nullptr);
     return r ? Status(Ok{}) : Status(r.error());
   };
-  if (Status s = readInChild(path, options.max_bytes, check); !s) return s.error();
+  if (Status s = readInChild(path, options.max_bytes, inputBytes(path), check); !s) return s.error();
   return readSeries(path, options, interrupter, info);
 }
 

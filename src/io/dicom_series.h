@@ -95,6 +95,10 @@ Result<std::vector<std::string>> writeDicomSeries(const std::string& dir, const 
 //   assertions (Debian keeps them) and its allocation of a forged element length end the child, not
 //   dentsim, and the file it was on is named. Call these from a process with no other threads
 //   running (the command line), as a forked child inherits only the caller's thread and any lock
-//   another thread held stays locked in it.
+//   another thread held stays locked in it. The child's processor time is limited too (RLIMIT_CPU:
+//   30 s and 2 s a MiB of input), and the parent kills it after twice that and 30 s more: a file
+//   GDCM never finishes is a line naming it, not a hang.
+// - An image whose sequences nest more than 8 deep is refused when its header is read: GDCM's
+//   length of it, which the truncation check needs, grows about sixfold a level.
 
 }  // namespace dentsim

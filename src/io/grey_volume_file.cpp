@@ -8,14 +8,13 @@
 #include <cstdlib>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <memory>
-#include <sstream>
 #include <vector>
 
 #include "io/atomic_file.h"
 #include "io/nifti_labels.h"
+#include "io/nrrd_data_files.h"
+#include "io/parse_guard.h"
 
 namespace dentsim {
 namespace {
@@ -44,7 +43,7 @@ std::string teemError() {
   std::string line = last == std::string::npos ? text : text.substr(last + 1);
   if (const size_t bracket = line.find("] "); line.rfind('[', 0) == 0 && bracket != std::string::npos)
     line = line.substr(bracket + 2);  // "[nrrd] _nrrdRead: ..." -> "_nrrdRead: ..."
-  return line.empty() ? "unreadable" : line;
+  return line.empty() ? "unreadable" : escapeControl(line, 300, true);  // it quotes the header's text
 }
 
 double mmPerUnit(const char* unit) {
@@ -66,59 +65,12 @@ void toFloats(const void* data, size_t n, std::vector<float>& out) {
   }
 }
 
-// A detached header names its data files, and Teem opens them even to read the header alone:
-// standard input ("-"), a FIFO or a device would block it, so each named file must be a regular
-// file, as every input is. The names are read from the header's "data file" field in its three
-// forms: one name, LIST (the names on the lines after it), and a printf format with min max step.
-Status checkDataFiles(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string line;
-  std::vector<std::string> names;
-  bool list = false;
-  for (int lines = 0; std::getline(in, line) && lines < 10000; ++lines) {
-    if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (list) {
-      if (!line.empty()) names.push_back(line);
-      continue;
-    }
-    if (line.empty()) break;  // the end of the header: attached data follows
-    const size_t colon = line.find(':');
-    if (colon == std::string::npos || line[0] == '#') continue;
-    const std::string field = line.substr(0, colon);
-    if (field != "data file" && field != "datafile") continue;
-    std::istringstream value(line.substr(colon + 1));
-    std::string first;
-    value >> first;
-    if (first == "LIST") {
-      list = true;
-    } else if (first.find('%') != std::string::npos) {
-      long lo = 0, hi = -1, step = 0;
-      if (!(value >> lo >> hi >> step) || step == 0 || (hi - lo) / step < 0 || (hi - lo) / step > 100000)
-        continue;  // Teem refuses it itself
-      for (long n = lo; step > 0 ? n <= hi : n >= hi; n += step) {
-        char name[4096];
-        std::snprintf(name, sizeof name, first.c_str(), int(n));
-        names.push_back(name);
-      }
-    } else {
-      names.push_back(first);
-    }
-  }
-  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
-  for (const std::string& name : names) {
-    if (name == "-") return makeError(path, "its data file is standard input; name a file");
-    const std::filesystem::path data = std::filesystem::path(name).is_absolute() ? std::filesystem::path(name) : folder / name;
-    if (Status s = requireRegularFile(data.string()); !s) return makeError(path, "data file " + s.message());
-  }
-  return Ok{};
-}
-
 }  // namespace
 
 Result<GreyImage> readNrrdGrey(const std::string& path, uint64_t max_bytes) {
   nrrdStateVerboseIO = 0;  // Teem's warnings on stderr; its errors come back through biff into one line
   if (Status s = requireRegularFile(path); !s) return s.error();
-  if (Status s = checkDataFiles(path); !s) return s.error();
+  if (Status s = checkNrrdDataFiles(path); !s) return s.error();  // io/nrrd_data_files.h says why
   // 1. The header alone.
   NrrdPtr header(nrrdNew());
   {
@@ -156,7 +108,7 @@ Result<GreyImage> readNrrdGrey(const std::string& path, uint64_t max_bytes) {
     if (h.spaceDim != 3) return makeError(path, "a " + std::to_string(h.spaceDim) + "D space; a scan lies in 3D");
     for (unsigned r = 0; r < 3; ++r) {
       const double unit = mmPerUnit(h.spaceUnits[r]);
-      if (unit < 0) return makeError(path, std::string("unknown space unit '") + h.spaceUnits[r] + "'");
+      if (unit < 0) return makeError(path, "unknown space unit '" + escapeControl(h.spaceUnits[r], 40, true) + "'");
       const double origin = std::isfinite(h.spaceOrigin[r]) ? h.spaceOrigin[r] : 0.0;
       m[4 * r + 3] = origin * unit;
       for (unsigned a = 0; a < 3; ++a) {

@@ -1,12 +1,17 @@
 // `dentsim make-scan` and `voxelize --dicom/--ct` as a user runs them: a small phantom tooth made, read and segmented, and broken series each refused in one line that names the problem.
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <utility>
+#include <vector>
 
+#include "dicom/nested_sequences.h"
 #include "io/nifti_labels.h"
 #include "test_support.h"
 
@@ -127,6 +132,52 @@ TEST_F(ScanCli, OptionsThatCannotApplyAreRefused) {
   expectRefused("voxelize --dicom " + series() + " --dentin-above 2500 --enamel-above 2000 -o " + out(), "2500");
   expectRefused("voxelize --ct " + dir_.file("tooth.vtk") + " -o " + out(), "tooth.vtk");
   expectRefused("voxelize --dicom " + series() + " --ct " + dir_.file("a.nrrd") + " -o " + out(), "give one source");
+}
+
+// Hostile NRRD headers through the binary: a data-file format other than one %d, and a FIFO behind
+// 10,000 comments or at line 10,401 of a LIST, each one line and exit 1 (timeout only guards a
+// broken build from hanging the suite).
+TEST(ScanCliHostile, NrrdHeadersAreOneLineEach) {
+  test::TempDir dir;
+  const std::string head = "NRRD0004\ntype: short\ndimension: 3\nsizes: 4 3 2\nencoding: raw\nendian: little\n";
+  ASSERT_EQ(::mkfifo(dir.file("pipe.raw").c_str(), 0600), 0);
+  std::vector<std::pair<std::string, std::string>> cases;  // header text, words of the refusal
+  for (const char* format : {"x%n%n%n%n.raw 1 1 1", "x%s.raw 1 1 1", "x%x.raw 1 1 1", "x%%.raw 1 1 1", "x%10000d.raw 1 1 1"})
+    cases.push_back({head + "data file: " + format + "\n\n", "line 7: data file '"});
+  std::string comments;
+  for (int n = 0; n < 10000; ++n) comments += "# comment\n";
+  cases.push_back({head + comments + "data file: pipe.raw\n\n", "pipe.raw: not a regular file (a FIFO)"});
+  std::string list;
+  for (int n = 1; n <= 10500; ++n) {
+    list += (n == 10401 ? std::string("pipe.raw") : "s" + std::to_string(n) + ".raw") + "\n";
+    if (n != 10401) std::ofstream(dir.file("s" + std::to_string(n) + ".raw"));
+  }
+  cases.push_back({head + "data file: LIST\n" + list, "pipe.raw: not a regular file (a FIFO)"});
+  for (size_t c = 0; c < cases.size(); ++c) {
+    const std::string header = dir.file("case" + std::to_string(c) + ".nhdr");
+    std::ofstream(header, std::ios::binary) << cases[c].first;
+    const auto r = test::runCommand("timeout 60 " DENTSIM_BINARY " voxelize --ct " + header + " -o " + dir.file("out.dvol"));
+    EXPECT_EQ(r.exit_code, 1) << c << "\n" << r.output;
+    EXPECT_EQ(r.output.rfind("dentsim: ", 0), 0u) << r.output;
+    EXPECT_NE(r.output.find(cases[c].second), std::string::npos) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_FALSE(fs::exists(dir.file("out.dvol")));
+  }
+}
+
+// A 3.6 kB slice with sequences nested 100 deep (GDCM's length of it would never finish): one line
+// naming the file, exit 1 (timeout only guards a broken build from hanging the suite).
+TEST(ScanCliHostile, DeeplyNestedDicomIsOneLine) {
+  test::TempDir dir;
+  fs::create_directories(dir.file("deep"));
+  std::ofstream(dir.file("deep/nested.dcm"), std::ios::binary) << test::nestedSequenceSlice(100);
+  const auto r = test::runCommand("timeout 60 " DENTSIM_BINARY " voxelize --dicom " + dir.file("deep") + " -o " +
+                                  dir.file("out.dvol"));
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_EQ(r.output.rfind("dentsim: ", 0), 0u) << r.output;
+  EXPECT_NE(r.output.find("nested.dcm: sequences nested more than 8 deep"), std::string::npos) << r.output;
+  EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  EXPECT_FALSE(fs::exists(dir.file("out.dvol")));
 }
 
 }  // namespace

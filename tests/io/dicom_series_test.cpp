@@ -9,6 +9,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "dicom/nested_sequences.h"
 #include "io/dicom_series.h"
 #include "test_support.h"
 
@@ -207,6 +208,22 @@ TEST(DicomSeries, OtherBrokenFolders) {
   DicomReadOptions small;
   small.max_bytes = 100;
   expectOneLineError(readDicomSeries(tmp.file("ct"), small), "exceeds the limit of 100 bytes");
+}
+
+// GDCM's length of a data set grows about sixfold a level of nesting (100 levels never finish):
+// deeper than 8 is refused as the header is read, and 8 itself is read.
+TEST(DicomSeries, DeeplyNestedSequencesAreRefused) {
+  TempDir tmp;
+  fs::create_directories(tmp.file("deep"));
+  std::ofstream(tmp.file("deep/nested.dcm"), std::ios::binary) << test::nestedSequenceSlice(100);
+  expectOneLineError(readDicomFile(tmp.file("deep/nested.dcm")), "nested.dcm: sequences nested more than 8 deep");
+  expectOneLineError(readDicomSeries(tmp.file("deep")), "nested.dcm: sequences nested more than 8 deep");
+  std::ofstream(tmp.file("nine.dcm"), std::ios::binary) << test::nestedSequenceSlice(9);
+  expectOneLineError(readDicomFile(tmp.file("nine.dcm")), "sequences nested more than 8 deep");
+  std::ofstream(tmp.file("eight.dcm"), std::ios::binary) << test::nestedSequenceSlice(8);
+  const Result<GreyImage> eight = readDicomFile(tmp.file("eight.dcm"));
+  ASSERT_TRUE(eight) << eight.message();
+  EXPECT_EQ(eight->dims, (std::array<int32_t, 3>{2, 2, 1}));
 }
 
 // ---- the sample files Debian's python3-pydicom ships -------------------------------------------
