@@ -19,6 +19,7 @@
 #include <gdcmMediaStorage.h>
 #include <gdcmPixelFormat.h>
 #include <gdcmReader.h>
+#include <gdcmSequenceOfFragments.h>
 #include <gdcmSequenceOfItems.h>
 #include <gdcmStringFilter.h>
 #include <gdcmTrace.h>
@@ -185,7 +186,14 @@ const gdcm::Tag kRows(0x0028, 0x0010), kColumns(0x0028, 0x0011), kPixelSpacing(0
     kModality(0x0008, 0x0060), kManufacturer(0x0008, 0x0070), kModel(0x0008, 0x1090),
     kDescription(0x0008, 0x103e), kRescaleType(0x0028, 0x1054), kFrames(0x0028, 0x0008),
     kGantryTilt(0x0018, 0x1120), kSamples(0x0028, 0x0002), kSliceThickness(0x0018, 0x0050),
-    kPixelData(0x7fe0, 0x0010);
+    kBitsAllocated(0x0028, 0x0100), kPixelData(0x7fe0, 0x0010);
+
+// What a scan's geometry may be. A CT table travels 2 m at most and scanners put the origin near
+// the gantry's centre, so 10 m from it is no patient; a pixel or a slice step of 100 mm is coarser
+// than any scout, while a tooth needs tenths of a millimetre. Beyond these the numbers are forged
+// or broken, and a volume made from them (kilometres wide) is one no later stage could read.
+constexpr double kMaxPositionMm = 10000.0;  // |each Image Position (Patient) coordinate| [mm]
+constexpr double kMaxSpacingMm = 100.0;     // Pixel Spacing, slice step and Slice Thickness [mm]
 
 std::string trimmed(std::string s) {
   const auto keep = [](char c) { return c != ' ' && c != '\0' && c != '\r' && c != '\n' && c != '\t'; };
@@ -253,6 +261,13 @@ struct SliceHeader {
   bool has_position = false, has_orientation = false, has_spacing = false;
   double gantry_tilt = 0.0;      // degrees
   double slice_thickness = 0.0;  // [mm], 0 when absent
+  int32_t bits_allocated = 0;    // (0028,0100); 0 when absent
+  // The Pixel Data element as the header gives it, so that pixels the file does not hold are
+  // refused before a buffer is made for them (checkPixelsInFile).
+  bool has_pixel_data = false;
+  bool encapsulated = false;        // compressed: fragments of undefined total length
+  uint64_t pixel_data_bytes = 0;    // native: the element's length [B]
+  uint64_t pixel_fragments = 0;     // encapsulated: fragments after the offset table
 };
 
 enum class HeaderKind { Image, NotImage, NotDicom };
@@ -307,9 +322,13 @@ Result<HeaderKind> readHeader(const std::string& path, SliceHeader& h) {
     h.frames = int32_t(v[0]);
   }
   if (const std::string s = text(f, kSamples); !s.empty() && numbers(s, 1, v)) h.samples = int32_t(v[0]);
+  if (const std::string s = text(f, kBitsAllocated); !s.empty() && numbers(s, 1, v) && v[0] >= 1 && v[0] <= 64)
+    h.bits_allocated = int32_t(v[0]);
   if (const std::string s = text(f, kPixelSpacing); !s.empty()) {
     if (!numbers(s, 2, v) || !(v[0] > 0) || !(v[1] > 0))
-      return makeError(path, "Pixel Spacing is not two positive numbers: '" + s + "'");
+      return makeError(path, "Pixel Spacing is not two positive finite numbers: '" + s + "'");
+    if (v[0] > kMaxSpacingMm || v[1] > kMaxSpacingMm)
+      return makeError(path, "Pixel Spacing '" + s + "' is beyond " + mm(kMaxSpacingMm) + " mm: no scan of a tooth");
     h.spacing = {v[0], v[1]};
     h.has_spacing = true;
   }
@@ -322,12 +341,25 @@ Result<HeaderKind> readHeader(const std::string& path, SliceHeader& h) {
     h.has_orientation = true;
   }
   if (const std::string s = text(f, kPosition); !s.empty()) {
-    if (!numbers(s, 3, v)) return makeError(path, "Image Position (Patient) is not three numbers: '" + s + "'");
+    if (!numbers(s, 3, v)) return makeError(path, "Image Position (Patient) is not three finite numbers: '" + s + "'");
+    if (std::fabs(v[0]) > kMaxPositionMm || std::fabs(v[1]) > kMaxPositionMm || std::fabs(v[2]) > kMaxPositionMm)
+      return makeError(path, "Image Position (Patient) '" + s + "' lies beyond " + mm(kMaxPositionMm) +
+                                 " mm of the scanner's origin: no patient is there");
     h.position = {v[0], v[1], v[2]};
     h.has_position = true;
   }
   if (const std::string s = text(f, kGantryTilt); !s.empty() && numbers(s, 1, v)) h.gantry_tilt = v[0];
   if (const std::string s = text(f, kSliceThickness); !s.empty() && numbers(s, 1, v) && v[0] > 0) h.slice_thickness = v[0];
+  if (f.GetDataSet().FindDataElement(kPixelData)) {
+    const gdcm::DataElement& de = f.GetDataSet().GetDataElement(kPixelData);
+    h.has_pixel_data = true;
+    if (const gdcm::SequenceOfFragments* frags = de.GetSequenceOfFragments()) {
+      h.encapsulated = true;
+      h.pixel_fragments = frags->GetNumberOfFragments();
+    } else {
+      h.pixel_data_bytes = de.GetVL().IsUndefined() ? 0 : uint64_t(uint32_t(de.GetVL()));
+    }
+  }
   h.series_uid = text(f, kSeriesUid);
   h.modality = text(f, kModality);
   h.manufacturer = text(f, kManufacturer);
@@ -390,7 +422,9 @@ Status decodePixels(const std::string& path, const SliceHeader& h, float* out, D
     return makeError(path, "the pixel data holds " + std::to_string(length) + " bytes where " +
                                std::to_string(count * pf.GetPixelSize()) + " are expected");
   // A file shorter than its elements say is cut short, whatever GDCM pads the missing pixels with.
-  {
+  // A deflated data set's elements measure the inflated stream, not the file; zlib itself refuses
+  // that stream cut short (GDCM's read fails above).
+  if (!reader.GetFile().GetHeader().GetDataSetTransferSyntax().IsEncoded()) {
     const gdcm::File& file = reader.GetFile();
     const bool implicit = file.GetHeader().GetDataSetTransferSyntax().GetNegociatedType() == gdcm::TransferSyntax::Implicit;
     const uint64_t body = implicit ? uint64_t(file.GetDataSet().GetLength<gdcm::ImplicitDataElement>())
@@ -435,6 +469,32 @@ Status decodePixels(const std::string& path, const SliceHeader& h, float* out, D
   return Ok{};
 }
 
+// Rows, Columns and Number of Frames are the file's word for how many pixels it holds; a forged
+// Rows of 65,535 would otherwise make a volume of pixels the file never held (GDCM pads what is
+// missing). Checked from the header, before any buffer is made for the pixels. A native Pixel Data
+// element must hold every sample (Bits Allocated each, a byte when absent); a compressed one must
+// hold a fragment a frame at least (a fragment never holds two frames), and its decoded size is
+// checked against the header again after decoding (decodePixels).
+Status checkPixelsInFile(const SliceHeader& h) {
+  if (!h.has_pixel_data) return makeError(h.path, "an image without a Pixel Data element");
+  if (h.encapsulated) {
+    if (h.pixel_fragments < uint64_t(h.frames))
+      return makeError(h.path, "its header says " + std::to_string(h.frames) + (h.frames == 1 ? " frame" : " frames") +
+                                   " but its compressed Pixel Data holds " + std::to_string(h.pixel_fragments) +
+                                   (h.pixel_fragments == 1 ? " fragment" : " fragments"));
+    return Ok{};
+  }
+  const uint64_t bits = uint64_t(h.rows) * uint64_t(h.columns) * uint64_t(h.frames) * uint64_t(std::max(h.samples, 1)) *
+                        uint64_t(h.bits_allocated > 0 ? h.bits_allocated : 8);
+  const uint64_t need = (bits + 7) / 8;
+  if (h.pixel_data_bytes < need)
+    return makeError(h.path, "Rows x Columns x frames x samples (" + std::to_string(h.rows) + " x " +
+                                 std::to_string(h.columns) + " x " + std::to_string(h.frames) + " x " +
+                                 std::to_string(std::max(h.samples, 1)) + ") need " + std::to_string(need) +
+                                 " bytes of pixels but its Pixel Data holds " + std::to_string(h.pixel_data_bytes));
+  return Ok{};
+}
+
 Status checkBudget(const std::string& where, uint64_t voxels, uint64_t max_bytes) {
   if (voxels > max_bytes / sizeof(float))
     return makeError(where, limitExceeded("a volume of " + std::to_string(voxels) + " voxels as float", max_bytes));
@@ -471,6 +531,7 @@ Result<GreyImage> readOneFile(const std::string& path, uint64_t max_bytes, Dicom
   if (*kind == HeaderKind::NotDicom) return makeError(path, "not a DICOM file");
   if (*kind == HeaderKind::NotImage) return makeError(path, "a DICOM file without an image (no Rows and Columns)");
   if (h.samples != 1) return makeError(path, "a colour image (" + std::to_string(h.samples) + " samples a pixel), not a scan");
+  if (Status s = checkPixelsInFile(h); !s) return s.error();
   const uint64_t voxels = uint64_t(h.rows) * uint64_t(h.columns) * uint64_t(h.frames);
   if (Status s = checkBudget(path, voxels, max_bytes); !s) return s.error();
   GreyImage image;
@@ -487,6 +548,9 @@ Result<GreyImage> readOneFile(const std::string& path, uint64_t max_bytes, Dicom
   const Vec n = cross(r, c);
   double dz = h.slice_thickness > 0 ? h.slice_thickness : 1.0;
   if (h.frames > 1 && frame_step > 0) dz = frame_step;
+  if (dz > kMaxSpacingMm)
+    return makeError(path, "its slice step (Slice Thickness or the frames' spacing) of " + mm(dz) + " mm is beyond " +
+                               mm(kMaxSpacingMm) + " mm: no scan of a tooth");
   image.pitch_mm = {h.spacing[1], h.spacing[0], dz};
   image.scanner_from_voxel = scannerMatrix(h, h.position, {n[0] * dz, n[1] * dz, n[2] * dz});
   if (info) {
@@ -529,6 +593,36 @@ Status checkSameGrid(const std::string& where, const std::vector<SliceHeader>& s
     if (b.frames != 1) return makeError(where, "mixed series: " + fs::path(b.path).filename().string() +
                                                    " is a multi-frame file among single slices");
     if (b.samples != 1) return makeError(b.path, "a colour image, not a scan");
+  }
+  return Ok{};
+}
+
+// One series is one kind of scan in one unit: an MR or unlabelled slice among CT slices would be
+// read as Hounsfield units, and a slice in other units (Rescale Type) would be scaled wrongly.
+std::string countsOf(const std::vector<SliceHeader>& slices, std::string SliceHeader::*field, const char* absent) {
+  std::map<std::string, int> counts;
+  for (const SliceHeader& h : slices) ++counts[h.*field];
+  std::string list;
+  size_t listed = 0;
+  for (const auto& [value, n] : counts) {
+    if (listed++ == 4) return list + " and " + std::to_string(counts.size() - 4) + " more";  // a forged series stays one short line
+    list += (list.empty() ? "" : ", ") + (value.empty() ? std::string(absent) : value) + " (" + std::to_string(n) +
+            (n == 1 ? " file)" : " files)");
+  }
+  return list;
+}
+
+Status checkOneModality(const std::string& where, const std::vector<SliceHeader>& slices) {
+  const SliceHeader& a = slices.front();
+  for (const SliceHeader& b : slices) {
+    if (b.modality != a.modality)
+      return makeError(where, "mixed series: its slices are of more than one modality: " +
+                                  countsOf(slices, &SliceHeader::modality, "no Modality"));
+  }
+  for (const SliceHeader& b : slices) {
+    if (b.rescale_type != a.rescale_type)
+      return makeError(where, "mixed series: its slices are in more than one unit (Rescale Type): " +
+                                  countsOf(slices, &SliceHeader::rescale_type, "no Rescale Type"));
   }
   return Ok{};
 }
@@ -599,6 +693,9 @@ Result<GreyImage> readSeries(const std::string& path, const DicomReadOptions& op
     return makeError(path, "one slice is not a volume (" + fs::path(slices.front().path).filename().string() + ")");
   }
   if (Status s = checkSameGrid(path, slices); !s) return s.error();
+  if (Status s = checkOneModality(path, slices); !s) return s.error();
+  for (const SliceHeader& h : slices)
+    if (Status s = checkPixelsInFile(h); !s) return s.error();
   for (const SliceHeader& h : slices)
     if (!h.has_position || !h.has_orientation)
       return makeError(h.path, "no Image Position or Orientation (Patient): the slices cannot be ordered");
@@ -625,6 +722,9 @@ Result<GreyImage> readSeries(const std::string& path, const DicomReadOptions& op
   std::nth_element(sorted_steps.begin(), sorted_steps.begin() + std::ptrdiff_t(sorted_steps.size() / 2),
                    sorted_steps.end());
   const double spacing = sorted_steps[sorted_steps.size() / 2];
+  if (spacing > kMaxSpacingMm)
+    return makeError(path, "its slices are " + mm(spacing) + " mm apart, beyond " + mm(kMaxSpacingMm) +
+                               " mm: no scan of a tooth");
   for (size_t k = 0; k < steps.size(); ++k) {
     const std::string between =
         fs::path(slices[k].path).filename().string() + " and " + fs::path(slices[k + 1].path).filename().string();

@@ -82,8 +82,15 @@ Result<std::vector<std::string>> writeDicomSeries(const std::string& dir, const 
 //   is "mixed series", listing each with its slice count and description.
 // - Files that are not DICOM (no "DICM" preamble and not readable as DICOM) and DICOM files without
 //   pixel data (DICOMDIR, structured reports) are skipped and counted; a file that says it is DICOM but
-//   cannot be read is "truncated or damaged", with its name.
-// - Every slice must share rows, columns, pixel spacing and orientation (else "mixed series").
+//   cannot be read is "truncated or damaged", with its name. Deflated files are read (their size is
+//   not compared with their inflated elements' lengths).
+// - Every slice must share rows, columns, pixel spacing, orientation, Modality and Rescale Type (else
+//   "mixed series", listing what was found).
+// - Pixels must be in the file, checked from the header before any buffer is made: Rows x Columns x
+//   frames x samples x Bits Allocated must fit an uncompressed Pixel Data element; a compressed one
+//   holds a fragment a frame at least, and its decoded size must be the header's.
+// - Geometry must be a scanner's: positions finite and within 10 m of the origin, Pixel Spacing, the
+//   slice step and a single file's Slice Thickness or frame spacing at most 100 mm.
 // - Slices are sorted by their position along the normal; two at one position is an error, a gap of
 //   more than 1.5 spacings is "missing slice" (with where and how many), spacings that differ by more
 //   than 10 % are "unevenly spaced", and positions that move across the normal from slice to slice are

@@ -11,7 +11,9 @@
 #include <utility>
 #include <vector>
 
+#include "dicom/forge.h"
 #include "dicom/nested_sequences.h"
+#include "io/dicom_series.h"
 #include "io/nifti_labels.h"
 #include "test_support.h"
 
@@ -119,6 +121,25 @@ TEST_F(ScanCli, BrokenSeriesAreOneLineEach) {
   fs::create_directories(dir_.file("empty"));
   expectRefused("voxelize --dicom " + dir_.file("empty") + " -o " + out(), "holds no files");
   expectRefused("voxelize --dicom " + dir_.file("nowhere") + " -o " + out(), "no such file or folder");
+}
+
+// Made-up data (issue 40): Rows forged to 65,535 in every slice, whose pixels the files never held,
+// and slices 1e15 mm apart, are each one line, exit 1 and no output.
+TEST_F(ScanCli, MadeUpPixelsAndGeometryAreRefused) {
+  fs::copy(series(), dir_.file("forged"));
+  for (const auto& e : fs::directory_iterator(dir_.file("forged")))
+    ASSERT_TRUE(test::forgeUs(e.path().string(), 0x0028, 0x0010, 65535)) << e.path();
+  expectRefused("voxelize --dicom " + dir_.file("forged") + " -o " + out(),
+                "slice-0001.dcm: Rows x Columns x frames x samples (65535 x 60 x 1 x 1) need 7864200 bytes of pixels "
+                "but its Pixel Data holds 7200");
+  GreyImage far;
+  far.dims = {4, 4, 3};
+  far.scanner_from_voxel = {0.1, 0, 0, 0, 0, 0.1, 0, 0, 0, 0, 1e15, 0};
+  far.pitch_mm = {0.1, 0.1, 1e15};
+  far.values.assign(size_t(far.voxelCount()), 1000.0f);
+  ASSERT_TRUE(writeDicomSeries(dir_.file("far"), far));
+  expectRefused("voxelize --dicom " + dir_.file("far") + " -o " + out(),
+                "slice-0002.dcm: Image Position (Patient) '0\\0\\1e+15' lies beyond 1e+04 mm");
 }
 
 TEST_F(ScanCli, OptionsThatCannotApplyAreRefused) {

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 
+#include "dicom/forge.h"
 #include "dicom/nested_sequences.h"
 #include "io/dicom_series.h"
 #include "test_support.h"
@@ -224,6 +225,117 @@ TEST(DicomSeries, DeeplyNestedSequencesAreRefused) {
   const Result<GreyImage> eight = readDicomFile(tmp.file("eight.dcm"));
   ASSERT_TRUE(eight) << eight.message();
   EXPECT_EQ(eight->dims, (std::array<int32_t, 3>{2, 2, 1}));
+}
+
+// ---- made-up data: pixels, geometry and units the files do not back ----------------------------
+// Rows forged to 65,535 in every slice: 6 x 5 pixels of 16 bits (60 bytes) are all the files hold,
+// so the header's 65,535 x 6 would be 99.99 % padding. Refused from the header, naming both sizes.
+TEST(DicomSeries, ForgedRowsAreRefused) {
+  TempDir tmp;
+  const auto files = writeSeries(tmp.file("ct"), coded());
+  for (const std::string& f : files) ASSERT_TRUE(test::forgeUs(f, 0x0028, 0x0010, 65535)) << f;
+  const Result<GreyImage> r = readDicomSeries(tmp.file("ct"));
+  expectOneLineError(r, "slice-0001.dcm: Rows x Columns x frames x samples (65535 x 6 x 1 x 1) need 786420 bytes");
+  EXPECT_NE(r.message().find("its Pixel Data holds 60"), std::string::npos) << r.message();
+  expectOneLineError(readDicomFile(files[0]), "need 786420 bytes of pixels but its Pixel Data holds 60");
+  // Columns too, and one row more than the file holds is already too many: 6 x 6 x 2 = 72 > 60.
+  ASSERT_TRUE(test::forgeUs(files[1], 0x0028, 0x0010, 6));
+  expectOneLineError(readDicomFile(files[1]), "(6 x 6 x 1 x 1) need 72 bytes of pixels but its Pixel Data holds 60");
+  // Bits Allocated forged from 16 to 32 asks for twice the bytes.
+  ASSERT_TRUE(test::forgeUs(files[2], 0x0028, 0x0010, 5));
+  ASSERT_TRUE(test::forgeUs(files[2], 0x0028, 0x0100, 32));
+  expectOneLineError(readDicomFile(files[2]), "need 120 bytes of pixels but its Pixel Data holds 60");
+}
+
+// Positions and spacings must be finite and within a scanner's room (docs/PATIENT_SCANS.md): slices
+// 1e15 mm apart, infinite or NaN positions, pixels or slices over 100 mm are each one line.
+TEST(DicomSeries, AbsurdGeometryIsRefused) {
+  TempDir tmp;
+  writeSeries(tmp.file("far"), coded({0.3, 0, 0, -10, 0, 0.4, 0, 20, 0, 0, 1e15, 30}));
+  expectOneLineError(readDicomSeries(tmp.file("far")), "slice-0002.dcm: Image Position (Patient) '-10\\20\\1e+15' lies beyond 1e+04 mm");
+  writeSeries(tmp.file("inf"), coded({0.3, 0, 0, -10, 0, 0.4, 0, 20, 0, 0, 0.5, INFINITY}));
+  expectOneLineError(readDicomSeries(tmp.file("inf")), "Image Position (Patient) is not three finite numbers");
+  writeSeries(tmp.file("nan"), coded({0.3, 0, 0, NAN, 0, 0.4, 0, 20, 0, 0, 0.5, 30}));
+  expectOneLineError(readDicomSeries(tmp.file("nan")), "Image Position (Patient) is not three finite numbers");
+  writeSeries(tmp.file("steps"), coded({0.3, 0, 0, -10, 0, 0.4, 0, 20, 0, 0, 200, 30}));
+  expectOneLineError(readDicomSeries(tmp.file("steps")), "its slices are 200 mm apart, beyond 100 mm");
+  writeSeries(tmp.file("pixels"), coded({150, 0, 0, -10, 0, 0.4, 0, 20, 0, 0, 0.5, 30}));
+  expectOneLineError(readDicomSeries(tmp.file("pixels")), "slice-0001.dcm: Pixel Spacing '0.4\\150' is beyond 100 mm");
+  // At the limits themselves the series is read: 100 mm slices, 10 m from the origin.
+  writeSeries(tmp.file("edge"), coded({0.3, 0, 0, -10000, 0, 0.4, 0, 20, 0, 0, 100, 9000}));
+  const Result<GreyImage> edge = readDicomSeries(tmp.file("edge"));
+  ASSERT_TRUE(edge) << edge.message();
+  EXPECT_NEAR(edge->pitch_mm[2], 100, 1e-9);
+}
+
+// The k-th slice of coded() alone, as a series of one, to be added to another series' folder.
+GreyImage codedSlice(int k) {
+  GreyImage g = coded();
+  const size_t plane = size_t(g.dims[0]) * size_t(g.dims[1]);
+  g.values = std::vector<float>(g.values.begin() + std::ptrdiff_t(plane * size_t(k)),
+                                g.values.begin() + std::ptrdiff_t(plane * size_t(k + 1)));
+  g.dims[2] = 1;
+  g.scanner_from_voxel[11] += 0.5 * k;
+  return g;
+}
+
+// An MR slice, a slice without a Modality, or one in other units among CT slices of one series
+// would be read as HU: refused, listing what was found.
+TEST(DicomSeries, MixedModalitiesAndUnitsAreRefused) {
+  TempDir tmp;
+  DicomWriteOptions ct;
+  ct.series_uid = "1.2.826.0.1.3680043.2.1125.7";
+  GreyImage six = coded();
+  six.dims[2] = 6;
+  six.values.resize(size_t(six.voxelCount()));
+  const auto add = [&](const std::string& dir, DicomWriteOptions o) {
+    writeSeries(tmp.file(dir), six, ct);
+    writeSeries(tmp.file("extra-" + dir), codedSlice(6), o);
+    fs::rename(tmp.file("extra-" + dir + "/slice-0001.dcm"), tmp.file(dir + "/last.dcm"));
+  };
+  DicomWriteOptions mr = ct;
+  mr.modality = "MR";
+  add("mr", mr);
+  expectOneLineError(readDicomSeries(tmp.file("mr")),
+                     "mixed series: its slices are of more than one modality: CT (6 files), MR (1 file)");
+  DicomWriteOptions none = ct;
+  none.modality = "";
+  add("none", none);
+  expectOneLineError(readDicomSeries(tmp.file("none")), "more than one modality: no Modality (1 file), CT (6 files)");
+  DicomWriteOptions us = ct;
+  us.hounsfield = false;
+  add("us", us);
+  expectOneLineError(readDicomSeries(tmp.file("us")),
+                     "more than one unit (Rescale Type): HU (6 files), US (1 file)");
+  // The same seventh slice as CT in HU completes the series.
+  add("same", ct);
+  const Result<GreyImage> same = readDicomSeries(tmp.file("same"));
+  ASSERT_TRUE(same) << same.message();
+  expectSameVolume(*same, coded());
+}
+
+// Deflated Explicit VR Little Endian (1.2.840.10008.1.2.1.99): the elements' lengths measure the
+// inflated stream, so the file is shorter than they add up to and is still whole. gdcmconv (Debian's
+// libgdcm-tools, an encoder apart from dentsim's reader) makes the copies.
+TEST(DicomSeries, DeflatedFilesAreRead) {
+  if (test::runCommand("gdcmconv --version").exit_code != 0) GTEST_SKIP() << "gdcmconv (libgdcm-tools) is not installed";
+  TempDir tmp;
+  const GreyImage g = coded();
+  const auto files = writeSeries(tmp.file("ct"), g);
+  fs::create_directories(tmp.file("deflated"));
+  for (const std::string& f : files) {
+    const auto run = test::runCommand("gdcmconv --deflated " + f + " " + tmp.file("deflated/" + fs::path(f).filename().string()));
+    ASSERT_EQ(run.exit_code, 0) << run.output;
+  }
+  DicomSeriesInfo info;
+  const Result<GreyImage> back = readDicomSeries(tmp.file("deflated"), {}, nullInterrupter(), &info);
+  ASSERT_TRUE(back) << back.message();
+  expectSameVolume(*back, g);
+  EXPECT_NE(info.transfer_syntax.find("1.2.840.10008.1.2.1.99"), std::string::npos) << info.transfer_syntax;
+  // Cut inside its compressed stream, a deflated slice is still one line naming it (zlib refuses it).
+  const std::string third = tmp.file("deflated/slice-0003.dcm");
+  fs::resize_file(third, fs::file_size(third) - 100);
+  expectOneLineError(readDicomSeries(tmp.file("deflated")), "slice-0003.dcm: truncated or damaged");
 }
 
 // ---- the sample files Debian's python3-pydicom ships -------------------------------------------
