@@ -1,7 +1,9 @@
 // The learning records on the command line: settings from flags, config and environment; the attempt hook; sending; `dentsim outbox`.
 #include "app/learning_cli.h"
 
+#include <algorithm>
 #include <cassert>
+#include <chrono>
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
@@ -16,6 +18,7 @@
 #include "io/learning_config.h"
 #include "io/lrs_client.h"
 #include "io/session_file.h"
+#include "io/strict_json.h"
 #include "io/xapi_outbox.h"
 
 namespace dentsim::app {
@@ -33,6 +36,30 @@ std::string envText(const char* name) {
   return v ? std::string(v) : std::string();
 }
 
+// The overall time that sending after a score, demo or run may take, so that a slow LRS costs the
+// student seconds, not pending x answer time; what is left waits for the next run. `outbox send`,
+// asked to send, has no overall limit. DENTSIM_LRS_SEND_LIMIT_MS changes it, for tests.
+constexpr long kSendLimitAfterWorkMs = 10000;  // [ms]
+
+long sendLimitAfterWorkMs() {
+  const std::string text = envText("DENTSIM_LRS_SEND_LIMIT_MS");
+  char* end = nullptr;
+  const long ms = text.empty() ? 0 : std::strtol(text.c_str(), &end, 10);
+  return (!text.empty() && end && *end == '\0' && ms > 0) ? ms : kSendLimitAfterWorkMs;
+}
+
+// Moves the outbox's damaged lines aside (io/xapi_outbox.h) with one warning, so that recording and
+// sending go on with the good ones.
+Status setAsideBadLinesWithWarning(const std::string& outbox) {
+  auto moved = setAsideBadLines(outbox);
+  if (!moved) return moved.error();
+  if (moved->count == 0) return Ok{};
+  const std::string more = moved->count > 1 ? " (and " + std::to_string(moved->count - 1) + " more bad line(s))" : "";
+  std::fprintf(stderr, "dentsim: warning: %s%s; moved to %s, the other statements are kept\n", moved->first.c_str(), more.c_str(),
+               badLinesPath(outbox).c_str());
+  return Ok{};
+}
+
 Result<LearningSettings> resolveSettings(const LearningCliOptions& o) {
   // A file the user named must exist; the default place may be empty.
   const bool named = !o.config.empty() || !envText("DENTSIM_CONFIG").empty();
@@ -47,6 +74,10 @@ Result<LearningSettings> resolveSettings(const LearningCliOptions& o) {
   LearningSettings s;
   LearnerContext& l = s.learner;
   l.student = !o.student.empty() ? o.student : config.student.value_or("");
+  // The config's names were checked as it was read; --student is checked here, before any work.
+  if (!o.student.empty())
+    if (const std::string problem = studentNameProblem(o.student, kMaxStudentIdBytes); !problem.empty())
+      return Error{"--student: " + quotedForMessage(o.student) + " " + problem};
   // The config's display name belongs to the config's student, not to another one named by --student.
   if (config.student_name && (o.student.empty() || o.student == config.student.value_or(""))) l.student_name = *config.student_name;
   l.course = !o.course.empty() ? o.course : config.course.value_or("builtin");
@@ -57,7 +88,7 @@ Result<LearningSettings> resolveSettings(const LearningCliOptions& o) {
   const std::string url = !o.lrs.empty() ? o.lrs : config.lrs.value_or("");
   if (!url.empty()) {
     if (url.rfind("http://", 0) != 0 && url.rfind("https://", 0) != 0)
-      return Error{"--lrs: \"" + url + "\" does not start with http:// or https://"};
+      return Error{"--lrs: \"" + urlForMessage(url) + "\" does not start with http:// or https://"};
     LrsEndpoint lrs;
     lrs.url = url;
     // Credentials never come from the command line, where other users could read them in the process list.
@@ -72,35 +103,68 @@ Result<LearningSettings> resolveSettings(const LearningCliOptions& o) {
 struct SendSummary {
   size_t delivered = 0, pending = 0;
   std::string problem;  // the first failure's one line; empty: none
+  bool busy = false;    // another dentsim was sending this outbox: nothing was tried
 };
 
-Result<SendSummary> sendPending(const LearningSettings& s) {
+// Sends the pending statements, one request each, for at most limit_ms in all (0: no overall limit;
+// each request keeps its own timeouts either way). One sender at a time: `wait` waits for another
+// to finish (and then finds what it sent no longer pending); without it, another sender at work
+// means nothing is sent now (sum.busy). Each statement is marked sent as soon as the LRS takes it,
+// so a sender killed half-way posts none of those again.
+Result<SendSummary> sendPending(const LearningSettings& s, long limit_ms, bool wait) {
+  OutboxSenderLock sender(s.outbox, wait);
+  if (!sender.error().empty()) return Error{sender.error()};
+  if (!sender.held()) return SendSummary{0, 0, {}, true};
+  if (Status st = setAsideBadLinesWithWarning(s.outbox); !st) return st.error();
   auto pending = pendingStatements(s.outbox);
   if (!pending) return pending.error();
   SendSummary sum;
   std::vector<std::string> delivered;
+  const auto start = std::chrono::steady_clock::now();
+  const auto elapsed_ms = [&] {
+    return long(std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start).count());
+  };
+  const std::string out_of_time = "sending stopped at its limit of " + std::to_string(limit_ms) + " ms";
   for (const nlohmann::ordered_json& statement : *pending) {
-    const PostOutcome out = postStatement(*s.lrs, statement.dump());
+    LrsEndpoint lrs = *s.lrs;
+    bool cut = false;  // this request was given less than its own timeout: the limit ends it
+    if (limit_ms > 0) {
+      // The last request gets only what is left, so the limit holds however slow the answer.
+      const long left = limit_ms - elapsed_ms();
+      if (left <= 0) {
+        sum.problem = out_of_time;  // why the rest wait, whatever failed before
+        break;
+      }
+      cut = left < lrs.timeout_ms;
+      lrs.timeout_ms = std::min(lrs.timeout_ms, left);
+      lrs.connect_timeout_ms = std::min(lrs.connect_timeout_ms, left);
+    }
+    const PostOutcome out = postStatement(lrs, statement.dump());
     if (out.delivery == Delivery::Delivered) {
       delivered.push_back(statement["id"].get<std::string>());
+      if (Status st = markSent(s.outbox, {delivered.back()}); !st) return st.error();
       continue;
     }
-    if (sum.problem.empty()) sum.problem = out.detail;
+    if (sum.problem.empty()) sum.problem = cut && out.delivery == Delivery::Unreachable ? out_of_time : out.detail;
     // Nobody answers: the rest would only wait for the same timeout.
     if (out.delivery == Delivery::Unreachable) break;
   }
-  if (!delivered.empty())
-    if (Status st = markSent(s.outbox, delivered); !st) return st.error();
   sum.delivered = delivered.size();
   sum.pending = pending->size() - delivered.size();
   return sum;
 }
 
 void printSendSummary(const LearningSettings& s, const SendSummary& sum) {
-  if (sum.delivered > 0) std::printf("learning records: %zu sent to %s\n", sum.delivered, s.lrs->url.c_str());
+  if (sum.busy) {
+    std::printf("learning records: another dentsim is sending %s; the pending statements go with it or the next run\n",
+                s.outbox.c_str());
+    return;
+  }
+  const std::string url = urlForMessage(s.lrs->url);  // never the credentials a URL may hold
+  if (sum.delivered > 0) std::printf("learning records: %zu sent to %s\n", sum.delivered, url.c_str());
   if (sum.pending > 0)
     std::fprintf(stderr, "dentsim: warning: LRS %s: %s; %zu statement(s) stay pending in %s and go with the next run\n",
-                 s.lrs->url.c_str(), sum.problem.c_str(), sum.pending, s.outbox.c_str());
+                 url.c_str(), sum.problem.c_str(), sum.pending, s.outbox.c_str());
 }
 
 // The attempt's identity: its session's bytes, or the final tooth's when no session was scored.
@@ -151,6 +215,7 @@ Status recordAttempt(const LearningCliOptions& o, const Task& task, const nlohma
   if (!statement) return statement.error();
   // A stamped report names this statement: stamped with other files or another student, it would not.
   assert(!report.contains("statement_id") || report["statement_id"] == (*statement)["id"]);
+  if (Status st = setAsideBadLinesWithWarning(settings->outbox); !st) return st.error();
   auto added = appendToOutbox(settings->outbox, *statement);
   if (!added) return added.error();
   const std::string id = (*statement)["id"].get<std::string>();
@@ -196,7 +261,7 @@ Status sendPendingIfConfigured(const LearningCliOptions& o) {
   auto settings = resolveSettings(o);
   if (!settings) return settings.error();
   if (!settings->lrs) return Ok{};
-  auto sum = sendPending(*settings);
+  auto sum = sendPending(*settings, sendLimitAfterWorkMs(), false);  // never wait behind another sender
   if (!sum) return sum.error();
   printSendSummary(*settings, *sum);
   return Ok{};
@@ -218,7 +283,7 @@ void addOutboxCommand(CLI::App& root, Action& action) {
       auto settings = resolveSettings(*o);
       if (!settings) return fail(settings.message());
       if (!settings->lrs) return fail("outbox send: no LRS (give --lrs or \"lrs\" in the config)");
-      auto sum = sendPending(*settings);
+      auto sum = sendPending(*settings, 0, true);
       if (!sum) return fail(sum.message());
       printSendSummary(*settings, *sum);
       if (sum->pending > 0) return 1;
@@ -232,6 +297,7 @@ void addOutboxCommand(CLI::App& root, Action& action) {
     action = [o] {
       auto settings = resolveSettings(*o);
       if (!settings) return fail(settings.message());
+      if (Status st = setAsideBadLinesWithWarning(settings->outbox); !st) return fail(st.message());
       auto all = readOutbox(settings->outbox);
       if (!all) return fail(all.message());
       auto pending = pendingStatements(settings->outbox);

@@ -54,9 +54,10 @@ void recordAttemptOrWarn(const LearningCliOptions& o, const Task& task, nlohmann
 void recordAttemptOrWarn(const LearningCliOptions& o, const Task& task, const nlohmann::ordered_json& report,
                          const std::string& session_file, const std::string& final_file);
 
-// Sends the outbox's pending statements when an LRS is named (--lrs or the config); prints what
-// was delivered, or a one-line warning when the LRS could not take them (they stay pending). Only
-// a malformed config or an unreadable outbox is an error.
+// Sends the outbox's pending statements when an LRS is named (--lrs or the config), for at most
+// 10 s in all and never while another dentsim is sending; prints what was delivered, or a one-line
+// warning when the LRS could not take them (they stay pending). Only a malformed config or an
+// unreadable outbox is an error.
 Status sendPendingIfConfigured(const LearningCliOptions& o);
 
 }  // namespace dentsim::app

@@ -66,6 +66,24 @@ std::string num(double v, int digits = 1) {
   return text;
 }
 
+// A name or title from a file as the page shows it: at most 120 bytes (cut between characters, with
+// an ellipsis), so that a 100 kB name cannot make the page millions of pixels wide.
+std::string shortened(const std::string& text) {
+  constexpr size_t kMaxBytes = 120;
+  if (text.size() <= kMaxBytes) return text;
+  size_t end = kMaxBytes;
+  while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80) --end;  // not inside a UTF-8 sequence
+  return text.substr(0, end) + "\u2026";
+}
+
+// The same between U+2068 and U+2069 (first-strong isolate, pop isolate), for attributes and SVG
+// text where <bdi> cannot go: its own bidi controls cannot reorder the text after it (an unclosed
+// right-to-left override made "76.1" read "1.67").
+std::string isolated(const std::string& text) { return "\u2068" + shortened(text) + "\u2069"; }
+
+// The same for HTML: escaped, in <bdi>.
+std::string bdi(const std::string& text) { return "<bdi>" + htmlEscape(shortened(text)) + "</bdi>"; }
+
 }  // namespace
 
 std::string utcText(double time_s) { return timeText(time_s, "%Y-%m-%d %H:%M"); }
@@ -172,7 +190,7 @@ std::string progressSvg(const ClassReport& report, const TaskSummary& task) {
     for (size_t i : mine) {
       const ClassAttempt& a = report.attempts[i];
       svg += "<circle cx=\"" + num(xOf(a.time_s)) + "\" cy=\"" + num(yOf(a.score)) + "\" r=\"4\" fill=\"" + colour + "\"><title>" +
-             htmlEscape(student.name + ": " + num(a.score) + " on " + utcText(a.time_s) + (a.guided ? ", guided" : "")) +
+             htmlEscape(isolated(student.name) + ": " + num(a.score) + " on " + utcText(a.time_s) + (a.guided ? ", guided" : "")) +
              "</title></circle>";
     }
     const size_t row = size_t(std::find(task.students.begin(), task.students.end(), student.id) - task.students.begin());
@@ -180,7 +198,7 @@ std::string progressSvg(const ClassReport& report, const TaskSummary& task) {
     svg += "<line x1=\"" + num(kRight + 16) + "\" x2=\"" + num(kRight + 40) + "\" y1=\"" + num(ly) + "\" y2=\"" + num(ly) +
            "\" stroke=\"" + colour + "\" stroke-width=\"2.5\"" + dash + "/>";
     svg += "<text class=\"legend\" x=\"" + num(kRight + 46) + "\" y=\"" + num(ly) + "\" dominant-baseline=\"middle\">" +
-           htmlEscape(student.name) + "</text>";
+           htmlEscape(isolated(student.name)) + "</text>";
   }
   svg += "</svg>";
   return svg;
@@ -304,7 +322,7 @@ constexpr const char* kStyle = R"(
 body { font: 15px/1.4 system-ui, sans-serif; color: #222; background: #fff; margin: 24px; max-width: 1400px; }
 h1 { margin-bottom: 4px; } h2 { border-bottom: 1px solid #ccc; margin-top: 32px; }
 table { border-collapse: collapse; margin: 8px 0; }
-th, td { border: 1px solid #ccc; padding: 3px 8px; text-align: left; }
+th, td { border: 1px solid #ccc; padding: 3px 8px; text-align: left; overflow-wrap: anywhere; }
 td.num { text-align: right; font-variant-numeric: tabular-nums; }
 tr.flagged td { background: #fdecea; }
 .task { margin: 12px 0 24px; }
@@ -315,7 +333,7 @@ svg .bar { fill: #4a7fb5; } svg .count { font-weight: bold; }
 .pictures { display: flex; flex-wrap: wrap; gap: 16px; }
 figure { margin: 0; border: 1px solid #ccc; padding: 6px; width: 360px; }
 figure img { width: 100%; height: auto; display: block; }
-figcaption { font-size: 13px; margin-top: 4px; }
+figcaption { font-size: 13px; margin-top: 4px; overflow-wrap: anywhere; }
 .nopic { color: #888; font-style: italic; padding: 40px 0; text-align: center; }
 .heat { display: inline-flex; gap: 2px; vertical-align: middle; margin-right: 6px; }
 .part { display: inline-block; width: 14px; height: 14px; border-radius: 2px; box-sizing: border-box; }
@@ -332,6 +350,9 @@ td.from { font-size: 13px; color: #555; overflow-wrap: anywhere; }
 std::string cell(const std::string& text, bool number = false) {
   return std::string(number ? "<td class=\"num\">" : "<td>") + htmlEscape(text) + "</td>";
 }
+
+// A cell holding a name or title from a file: shortened and bidi-isolated.
+std::string nameCell(const std::string& text) { return "<td>" + bdi(text) + "</td>"; }
 
 // A cell of a given class ("date", "from").
 std::string cellOf(const char* css_class, const std::string& text) {
@@ -360,14 +381,14 @@ std::string agreementText(const std::optional<AttemptAgreement>& a) {
 void studentsSection(std::string& html, const ClassReport& r) {
   html += "<h2>Students</h2><table class=\"students\"><tr><th>student</th><th>id</th><th>attempts</th><th>tasks</th></tr>";
   for (const StudentSummary& s : r.students)
-    html += "<tr>" + cell(s.name) + cell(s.id) + cell(std::to_string(s.attempts), true) + cell(std::to_string(s.tasks), true) + "</tr>";
+    html += "<tr>" + nameCell(s.name) + nameCell(s.id) + cell(std::to_string(s.attempts), true) + cell(std::to_string(s.tasks), true) + "</tr>";
   html += "</table>";
 }
 
 void tasksSection(std::string& html, const ClassReport& r) {
   html += "<h2>Progress and scores by task</h2>";
   for (const TaskSummary& t : r.tasks) {
-    html += "<div class=\"task\"><h3>" + htmlEscape(t.title) + " <small>(" + htmlEscape(t.name) + ")</small></h3>";
+    html += "<div class=\"task\"><h3>" + bdi(t.title) + " <small>(" + bdi(t.name) + ")</small></h3>";
     html += "<p>" + std::to_string(t.attempts) + " attempts by " + std::to_string(t.students.size()) + " students; score min " +
             num(t.min) + ", median " + num(t.median) + ", max " + num(t.max) +
             (t.pass_mark ? "; pass mark " + num(*t.pass_mark, 0) : "; no pass mark") + ".</p>";
@@ -390,7 +411,7 @@ void flaggedSection(std::string& html, const ClassReport& r) {
     const ClassAttempt& a = r.attempts[f.attempt];
     std::string why;
     for (const std::string& reason : f.reasons) why += (why.empty() ? "" : ", ") + reason;
-    html += "<tr class=\"flagged\">" + cell(studentName(r, a.student)) + cell(a.task_title) + cellOf("date", utcText(a.time_s)) +
+    html += "<tr class=\"flagged\">" + nameCell(studentName(r, a.student)) + nameCell(a.task_title) + cellOf("date", utcText(a.time_s)) +
             cell(num(a.score), true) + cell(why) + "<td class=\"parts\">" + partsHtml(a) + "</td>" + cellOf("from", a.source) + "</tr>";
   }
   html += "</table>";
@@ -408,7 +429,8 @@ void attemptsSection(std::string& html, const ClassReport& r) {
   html += "<table class=\"attempts\"><tr><th>date (UTC)</th><th>student</th><th>task</th><th>score</th>"
           "<th>points lost</th><th>time taken</th><th>surface agreement</th><th>result</th><th>from</th></tr>";
   for (const ClassAttempt& a : r.attempts)
-    html += "<tr>" + cellOf("date", utcText(a.time_s)) + cell(studentName(r, a.student)) + cell(a.task_title) + cell(num(a.score), true) +
+    html += "<tr>" + cellOf("date", utcText(a.time_s)) + nameCell(studentName(r, a.student)) + nameCell(a.task_title) +
+            cell(num(a.score), true) +
             "<td class=\"parts\">" + partsHtml(a) + "</td>" + cell(durationText(a.duration_s), true) +
             cell(agreementText(a.agreement), true) + cell(a.guided ? a.verb + " (guided)" : a.verb) + cellOf("from", a.source) + "</tr>";
   html += "</table>";
@@ -418,15 +440,18 @@ void picturesSection(std::string& html, const ClassReport& r, const ReportPictur
   html += "<h2>Score pictures</h2><p>Red: over-cut, or healthy tissue cut outside the allowed zone; blue: under-cut.</p>"
           "<div class=\"pictures\">";
   for (const ClassAttempt& a : r.attempts) {
-    const std::string caption = studentName(r, a.student) + " \u2014 " + a.task_title + " \u2014 " + num(a.score) + " \u2014 " +
-                                utcText(a.time_s) + (a.guided ? " \u2014 guided" : "");
+    // The name and the title isolated, so that neither can reorder the score after them.
+    const std::string rest = " \u2014 " + num(a.score) + " \u2014 " + utcText(a.time_s) + (a.guided ? " \u2014 guided" : "");
+    const std::string name = studentName(r, a.student);
+    const std::string caption_text = isolated(name) + " \u2014 " + isolated(a.task_title) + rest;
+    const std::string caption_html = bdi(name) + " \u2014 " + bdi(a.task_title) + htmlEscape(rest);
     html += "<figure>";
     const auto it = a.picture.empty() ? pictures.end() : pictures.find(a.picture);
     if (it != pictures.end())
-      html += "<img alt=\"" + htmlEscape("score picture: " + caption) + "\" src=\"data:image/png;base64," + base64(it->second) + "\">";
+      html += "<img alt=\"" + htmlEscape("score picture: " + caption_text) + "\" src=\"data:image/png;base64," + base64(it->second) + "\">";
     else
       html += "<div class=\"nopic\">no picture</div>";
-    html += "<figcaption>" + htmlEscape(caption) + "</figcaption></figure>";
+    html += "<figcaption>" + caption_html + "</figcaption></figure>";
   }
   html += "</div>";
 }

@@ -32,6 +32,14 @@ Result<LearningConfig> parseLearningConfig(const std::string& text, const std::s
 // Reads and parses a config file (at most 64 kB); a relative outbox is made relative to the file's folder.
 Result<LearningConfig> loadLearningConfig(const std::string& path);
 
+// Why a student's account name (at most 64 bytes) or display name (at most 128 bytes) is refused; empty
+// when it is fine. Refused: empty, too long, not UTF-8, control characters (C0, DEL, C1), line and
+// paragraph separators, and the bidirectional controls (U+061C, U+200E-F, U+202A-E, U+2066-9), which
+// would reorder the text after a name on a report page ("76.1" shown as "1.67").
+std::string studentNameProblem(const std::string& name, size_t max_bytes);
+constexpr size_t kMaxStudentIdBytes = 64;     // an account name: a student number or a login
+constexpr size_t kMaxStudentNameBytes = 128;  // a display name
+
 // $DENTSIM_CONFIG, else $XDG_CONFIG_HOME/dentsim/learning.json, else $HOME/.config/dentsim/learning.json.
 std::string defaultLearningConfigPath();
 // $XDG_DATA_HOME/dentsim/outbox.jsonl, else $HOME/.local/share/dentsim/outbox.jsonl.

@@ -3,6 +3,9 @@
 
 #include <curl/curl.h>
 
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
 #include <mutex>
 
 namespace dentsim {
@@ -17,12 +20,69 @@ void initCurlOnce() {
 // The answer's body is not needed; swallowing it keeps it off stdout.
 size_t discardBody(char*, size_t size, size_t count, void*) { return size * count; }
 
+// Whether a query parameter's name suggests a secret; a harmless name that matches is only masked.
+bool isCredentialName(std::string name) {
+  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  for (const char* word : {"token", "key", "pass", "pwd", "secret", "auth", "sig", "session", "credential"})
+    if (name.find(word) != std::string::npos) return true;
+  // A name percent-encoded to hide from the list above is masked too.
+  return name.find('%') != std::string::npos;
+}
+
+// The query with each credential-like parameter's value replaced by "***".
+std::string maskQuery(const std::string& query) {
+  std::string out;
+  size_t start = 0;
+  while (start <= query.size()) {
+    size_t end = query.find_first_of("&;", start);
+    if (end == std::string::npos) end = query.size();
+    const std::string param = query.substr(start, end - start);
+    const size_t eq = param.find('=');
+    out += (eq != std::string::npos && isCredentialName(param.substr(0, eq))) ? param.substr(0, eq + 1) + "***" : param;
+    if (end < query.size()) out += query[end];
+    start = end + 1;
+  }
+  return out;
+}
+
 }  // namespace
 
+std::string urlForMessage(const std::string& url) {
+  const size_t scheme_end = url.find("://");
+  const size_t host_start = scheme_end == std::string::npos ? 0 : scheme_end + 3;
+  size_t authority_end = url.find_first_of("/?#", host_start);
+  if (authority_end == std::string::npos) authority_end = url.size();
+  std::string masked = url.substr(0, host_start);
+  const std::string authority = url.substr(host_start, authority_end - host_start);
+  const size_t at = authority.rfind('@');
+  masked += at == std::string::npos ? authority : "***" + authority.substr(at);
+  const size_t fragment = url.find('#', authority_end);
+  const std::string before_fragment = url.substr(authority_end, fragment == std::string::npos ? std::string::npos : fragment - authority_end);
+  const size_t query = before_fragment.find('?');
+  masked += query == std::string::npos ? before_fragment : before_fragment.substr(0, query + 1) + maskQuery(before_fragment.substr(query + 1));
+  if (fragment != std::string::npos) masked += "#***";
+  // One line of printable ASCII: no terminal escapes, no line breaks, no bidi tricks.
+  constexpr size_t kMaxShown = 200;
+  std::string out;
+  for (unsigned char c : masked) {
+    if (out.size() >= kMaxShown) return out + "...";
+    if (c < 0x20 || c >= 0x7f) {
+      char hex[4];
+      std::snprintf(hex, sizeof hex, "%%%02X", c);
+      out += hex;
+    } else {
+      out += char(c);
+    }
+  }
+  return out;
+}
+
 std::string statementsUrl(const std::string& endpoint_url) {
-  std::string url = endpoint_url;
+  // A query ("?token=...") stays after the path: the resource is <path>/statements.
+  const size_t query = endpoint_url.find_first_of("?#");
+  std::string url = endpoint_url.substr(0, query);
   while (!url.empty() && url.back() == '/') url.pop_back();
-  return url + "/statements";
+  return url + "/statements" + (query == std::string::npos ? "" : endpoint_url.substr(query));
 }
 
 PostOutcome postStatement(const LrsEndpoint& lrs, const std::string& statement_json) {

@@ -27,8 +27,15 @@ struct PostOutcome {
   std::string detail;    // one line: "HTTP 401", "Connection refused", ...
 };
 
-// "<url>/statements" with exactly one '/' between.
+// "<url>/statements" with exactly one '/' between, before the URL's query if it has one.
 std::string statementsUrl(const std::string& endpoint_url);
+
+// THE way a URL goes into any message, line or page: credentials masked, the rest made one safe line.
+// User info becomes "***" ("http://bob:pw@h/x" -> "http://***@h/x"); so does the value of every query
+// parameter whose name (any case) holds token, key, pass, pwd, secret, auth, sig, session or
+// credential ("?token=abc&n=2" -> "?token=***&n=2"), and a whole fragment. Control and non-ASCII bytes
+// become %XX, and a URL past 200 characters is cut with "...". Works on text that is not a URL too.
+std::string urlForMessage(const std::string& url);
 
 // POSTs one statement (its JSON text) with "X-Experience-API-Version: 1.0.3" and
 // "Content-Type: application/json".

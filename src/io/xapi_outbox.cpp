@@ -66,6 +66,14 @@ Result<std::vector<std::string>> readLines(const std::string& path) {
   return lines;
 }
 
+// Why a non-empty outbox line is not a statement; empty when it is one (then *parsed holds it).
+std::string lineProblem(const std::string& text, ojson* parsed) {
+  *parsed = ojson::parse(text, nullptr, false);
+  if (parsed->is_discarded()) return "not valid JSON";
+  if (!parsed->is_object() || !parsed->contains("id") || !(*parsed)["id"].is_string()) return "not a JSON object with a string \"id\"";
+  return {};
+}
+
 Result<std::vector<ojson>> readOutboxUnlocked(const std::string& outbox) {
   auto lines = readLines(outbox);
   if (!lines) return lines.error();
@@ -73,13 +81,34 @@ Result<std::vector<ojson>> readOutboxUnlocked(const std::string& outbox) {
   for (size_t i = 0; i < lines->size(); ++i) {
     const std::string& text = (*lines)[i];
     if (text.empty()) continue;
-    const std::string where = outbox + ":" + std::to_string(i + 1);
-    ojson j = ojson::parse(text, nullptr, false);
-    if (j.is_discarded()) return makeError(where, "not valid JSON");
-    if (!j.is_object() || !j.contains("id") || !j["id"].is_string()) return makeError(where, "not a JSON object with a string \"id\"");
+    ojson j;
+    if (std::string problem = lineProblem(text, &j); !problem.empty()) return makeError(outbox + ":" + std::to_string(i + 1), problem);
     out.push_back(std::move(j));
   }
   return out;
+}
+
+// Appends the text to the file and fsyncs it: the set-aside lines must be on disk before the
+// outbox is rewritten without them.
+Status appendDurably(const std::string& path, const std::string& text) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  if (fd < 0) return makeError(path, std::string("cannot open: ") + std::strerror(errno));
+  size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const std::string why = std::strerror(errno);
+      ::close(fd);
+      return makeError(path, "cannot write: " + why);
+    }
+    done += size_t(n);
+  }
+  const bool synced = ::fsync(fd) == 0;
+  const std::string why = synced ? "" : std::strerror(errno);
+  ::close(fd);
+  if (!synced) return makeError(path, "cannot sync: " + why);
+  return Ok{};
 }
 
 Result<std::set<std::string>> readSentUnlocked(const std::string& outbox) {
@@ -94,6 +123,36 @@ Result<std::set<std::string>> readSentUnlocked(const std::string& outbox) {
 }  // namespace
 
 std::string sentLogPath(const std::string& outbox) { return outbox + ".sent"; }
+
+std::string badLinesPath(const std::string& outbox) { return outbox + ".bad"; }
+
+Result<SetAsideLines> setAsideBadLines(const std::string& outbox) {
+  std::error_code ec;
+  if (!std::filesystem::exists(outbox, ec)) return SetAsideLines{};
+  OutboxLock lock(outbox);
+  if (!lock.error().empty()) return Error{lock.error()};
+  auto lines = readLines(outbox);
+  if (!lines) return lines.error();
+  SetAsideLines moved;
+  std::string good, bad;
+  for (size_t i = 0; i < lines->size(); ++i) {
+    const std::string& text = (*lines)[i];
+    if (text.empty()) continue;
+    ojson unused;
+    const std::string problem = lineProblem(text, &unused);
+    if (problem.empty()) {
+      good += text + "\n";
+      continue;
+    }
+    if (moved.count++ == 0) moved.first = outbox + ":" + std::to_string(i + 1) + ": " + problem;
+    bad += text + "\n";
+  }
+  if (moved.count == 0) return moved;
+  // Side file first: a crash between the two writes leaves a line in both, never in neither.
+  if (Status st = appendDurably(badLinesPath(outbox), bad); !st) return st.error();
+  if (Status st = writeFileAtomic(outbox, good); !st) return st.error();
+  return moved;
+}
 
 Result<std::vector<ojson>> readOutbox(const std::string& outbox) {
   std::error_code ec;
@@ -124,6 +183,23 @@ Result<bool> appendToOutbox(const std::string& outbox, const ojson& statement) {
   text += statement.dump() + "\n";
   if (Status st = writeFileAtomic(outbox, text); !st) return st.error();
   return true;
+}
+
+OutboxSenderLock::OutboxSenderLock(const std::string& outbox, bool wait) {
+  const std::string path = outbox + ".send.lock";
+  fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd_ < 0) {
+    error_ = path + ": cannot open the sender's lock: " + std::strerror(errno);
+    return;
+  }
+  int rc;
+  while ((rc = ::flock(fd_, wait ? LOCK_EX : LOCK_EX | LOCK_NB)) != 0 && errno == EINTR) {
+  }
+  held_ = rc == 0;
+}
+
+OutboxSenderLock::~OutboxSenderLock() {
+  if (fd_ >= 0) ::close(fd_);  // closing releases the lock
 }
 
 Result<std::set<std::string>> readSentIds(const std::string& outbox) {

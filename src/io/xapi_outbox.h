@@ -4,7 +4,8 @@
 // order they were made; it is what a class report reads. Beside it, "<outbox>.sent" lists the ids
 // an LRS has accepted, one a line. Pending = in the outbox, not in the log. Both files are rewritten
 // whole (temp file, fsync, rename) under a lock on "<outbox>.lock", so a crash or a second dentsim
-// at the same moment never loses a line. docs/LEARNING_RECORDS.md.
+// at the same moment never loses a line. Lines that are not statements are moved to "<outbox>.bad".
+// docs/LEARNING_RECORDS.md.
 #pragma once
 
 #include <set>
@@ -19,6 +20,18 @@ namespace dentsim {
 
 // "<outbox>.sent".
 std::string sentLogPath(const std::string& outbox);
+// "<outbox>.bad": the lines set aside by setAsideBadLines, appended, never read back by dentsim.
+std::string badLinesPath(const std::string& outbox);
+
+// What setAsideBadLines moved: nothing when count is 0.
+struct SetAsideLines {
+  size_t count = 0;   // lines moved to badLinesPath
+  std::string first;  // the first one's "<outbox>:<line>: <problem>"
+};
+// Moves every line that is not a JSON object with a string "id" to badLinesPath (appended, fsynced,
+// before the outbox is rewritten without them), so that one damaged line (a hand edit, a disk
+// fault) costs only itself and never stops the next attempt being recorded. The caller warns.
+Result<SetAsideLines> setAsideBadLines(const std::string& outbox);
 
 // Every statement in the outbox, in order; none when the file does not exist. Errors name the file
 // and line ("outbox.jsonl:3: not a JSON object with a string \"id\"").
@@ -26,6 +39,25 @@ Result<std::vector<nlohmann::ordered_json>> readOutbox(const std::string& outbox
 // Adds the statement (an object with a string "id") unless one with its id is there already: true
 // when added, false when it was there. Creates the outbox's folder.
 Result<bool> appendToOutbox(const std::string& outbox, const nlohmann::ordered_json& statement);
+
+// Held by the one process that sends an outbox: an flock on "<outbox>.send.lock" for the object's
+// lifetime, so that two senders never post the same statements. Released on close, so a killed
+// sender never leaves it held.
+class OutboxSenderLock {
+ public:
+  // wait: block until another sender is done; else held() is false at once while another holds it.
+  OutboxSenderLock(const std::string& outbox, bool wait);
+  ~OutboxSenderLock();
+  OutboxSenderLock(const OutboxSenderLock&) = delete;
+  OutboxSenderLock& operator=(const OutboxSenderLock&) = delete;
+  bool held() const { return held_; }
+  const std::string& error() const { return error_; }  // the lock file could not be opened
+
+ private:
+  int fd_ = -1;
+  bool held_ = false;
+  std::string error_;
+};
 
 // The ids in the sent log; none when it does not exist.
 Result<std::set<std::string>> readSentIds(const std::string& outbox);

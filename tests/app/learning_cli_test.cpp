@@ -36,10 +36,11 @@ const fs::path kToolsDir = fs::path(DENTSIM_SOURCE_DIR) / "tests" / "xapi";
 // The stand-in LRS, started on a free port and stopped at scope exit.
 class Recorder {
  public:
-  Recorder(const TempDir& dir, const std::string& name, bool refuse) : log_(dir.file(name + ".log")) {
+  // `options`: more of lrs_recorder.py's options ("--slow-after 1 --delay 60").
+  Recorder(const TempDir& dir, const std::string& name, bool refuse, const std::string& options = "") : log_(dir.file(name + ".log")) {
     const std::string port_file = dir.file(name + ".port");
     const auto r = runCommand("python3 " + (kToolsDir / "lrs_recorder.py").string() + " --port-file " + port_file + " --log " + log_ +
-                              (refuse ? " --refuse" : "") + " >/dev/null 2>&1 & echo $!");
+                              (refuse ? " --refuse" : "") + " " + options + " >/dev/null 2>&1 & echo $!");
     pid_ = std::atoi(r.output.c_str());
     // Python's start-up takes a fraction of a second, but a loaded machine can stretch it to
     // seconds: up to 60 s, which only a recorder that never comes up waits out.
@@ -53,6 +54,10 @@ class Recorder {
   Recorder& operator=(const Recorder&) = delete;
   bool up() const { return port_ > 0; }
   std::string url() const { return "http://127.0.0.1:" + std::to_string(port_) + "/xapi"; }
+  // The same with credentials in it, as a careless config might give them.
+  std::string urlWithCredentials(const std::string& password, const std::string& token) const {
+    return "http://bob:" + password + "@127.0.0.1:" + std::to_string(port_) + "/xapi?token=" + token;
+  }
   std::vector<nlohmann::json> requests() const { return readJsonLines(log_); }
 
  private:
@@ -210,6 +215,130 @@ TEST_F(LearningCli, RefusedStatementsStayPendingUntilAnLrsTakesThem) {
   EXPECT_NE(r.output.find("learning records: 2 sent to"), std::string::npos) << r.output;
   EXPECT_EQ(lrs.requests().size(), 2u);
   EXPECT_NE(dentsim("outbox status --config " + config_).output.find("2 statement(s), 0 pending"), std::string::npos);
+}
+
+// One demo's attempt scored again by another student, with everything against it: a damaged line in
+// the outbox, an LRS that answers once and then takes a minute per statement, and a password and a
+// token in the LRS's URL. The attempt is recorded, the bad line set aside, the command returns with
+// the rest pending (the sending limit made small for the test), and neither secret is printed.
+TEST_F(LearningCli, ABadOutboxLineASlowLrsAndCredentialsInItsUrlNeitherStopNorLeak) {
+  if (!havePython()) GTEST_SKIP() << "python3 is needed for the stand-in LRS";
+  const test::NoLeakCheckForGpuChild no_leak_check;  // the Vulkan loader looks for a device before the CPU path
+  const auto demo = dentsim("demo --headless --level 6 --mirror none --no-sound --attempt expert --params " + preset_ + " --out " +
+                                demoDir(0) + " --student s1001 --config " + config_,
+                            "VK_ICD_FILENAMES=/nonexistent.json ");
+  ASSERT_EQ(demo.exit_code, 0) << demo.output;
+  ASSERT_EQ(readJsonLines(outbox_).size(), 1u);
+  // Line 2 damaged (a hand edit, a disk fault), then two more good statements waiting to be sent.
+  std::ofstream(outbox_, std::ios::app) << "{\"id\": broken\n"
+                                        << R"({"id":"6f1c1a0e-0000-5000-8000-000000000001","verb":{"id":"x"}})" "\n"
+                                        << R"({"id":"6f1c1a0e-0000-5000-8000-000000000002","verb":{"id":"x"}})" "\n";
+  Recorder slow(dir_, "slow", false, "--slow-after 1 --delay 120");
+  ASSERT_TRUE(slow.up());
+  const std::string password = "PW-q7x2", token = "TK-z9w4";
+  const std::string url = slow.urlWithCredentials(password, token);
+  const auto r = dentsim("score --task caries --initial " + demoDir(0) + "/initial.dvol --final " + demoDir(0) + "/final.dvol --session " +
+                             session(0) + " -o " + dir_.file("s.json") + " --student s1002 --config " + config_ + " --lrs '" + url + "'",
+                         "DENTSIM_LRS_SEND_LIMIT_MS=3000 ");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  // The bad line: one warning naming the file and line, moved to the side file, nothing else lost.
+  EXPECT_NE(r.output.find("dentsim: warning: " + outbox_ + ":2: not valid JSON; moved to " + outbox_ + ".bad"), std::string::npos)
+      << r.output;
+  std::ifstream bad(outbox_ + ".bad");
+  EXPECT_EQ(std::string(std::istreambuf_iterator<char>(bad), {}), "{\"id\": broken\n");
+  const std::vector<nlohmann::json> statements = readJsonLines(outbox_);
+  ASSERT_EQ(statements.size(), 4u);  // the demo's, the two waiting, and this score's
+  EXPECT_EQ(statements[3]["actor"]["account"]["name"], "s1002");
+  EXPECT_EQ(test::readJson(dir_.file("s.json")).value("statement_id", ""), statements[3]["id"]);
+  // The slow LRS: fewer than all sent, and the rest still pending for the next run.
+  EXPECT_NE(r.output.find("stay pending"), std::string::npos) << r.output;
+  std::set<std::string> sent;
+  std::ifstream sent_log(outbox_ + ".sent");
+  for (std::string id; std::getline(sent_log, id);) sent.insert(id);
+  EXPECT_LT(sent.size(), 4u);
+  const auto status = dentsim("outbox status --config " + config_);
+  EXPECT_NE(status.output.find("4 statement(s), " + std::to_string(4 - sent.size()) + " pending"), std::string::npos) << status.output;
+  // The URL is shown, without its secrets.
+  EXPECT_NE(r.output.find("LRS http://***@127.0.0.1:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("?token=***"), std::string::npos) << r.output;
+  for (const std::string& secret : {password, token}) EXPECT_EQ(r.output.find(secret), std::string::npos) << r.output;
+}
+
+// `outbox send` with credentials in the URL against an LRS that is down, one that refuses, one that
+// takes them, and a URL with a wrong scheme: the secrets appear in none of their outputs.
+TEST_F(LearningCli, AUrlsPasswordAppearsInNoOutputOfOutboxSend) {
+  if (!havePython()) GTEST_SKIP() << "python3 is needed for the stand-in LRS";
+  std::ofstream(outbox_) << R"({"id":"6f1c1a0e-0000-5000-8000-000000000001","verb":{"id":"x"}})" "\n";
+  const std::string password = "PW-q7x2", token = "TK-z9w4";
+  const std::string down = "http://bob:" + password + "@127.0.0.1:" + std::to_string(freePort()) + "/xapi?token=" + token;
+  std::vector<test::CommandResult> runs;
+  runs.push_back(dentsim("outbox send --config " + config_ + " --lrs '" + down + "'"));
+  EXPECT_EQ(runs.back().exit_code, 1) << runs.back().output;
+  runs.push_back(dentsim("outbox send --config " + config_ + " --lrs 'ftp://bob:" + password + "@h/x?token=" + token + "'"));
+  EXPECT_EQ(runs.back().exit_code, 1) << runs.back().output;
+  {
+    Recorder refusing(dir_, "refusing", true);
+    ASSERT_TRUE(refusing.up());
+    runs.push_back(dentsim("outbox send --config " + config_ + " --lrs '" + refusing.urlWithCredentials(password, token) + "'"));
+    EXPECT_EQ(runs.back().exit_code, 1) << runs.back().output;
+    EXPECT_NE(runs.back().output.find("HTTP 503"), std::string::npos) << runs.back().output;
+  }
+  Recorder lrs(dir_, "lrs", false);
+  ASSERT_TRUE(lrs.up());
+  runs.push_back(dentsim("outbox send --config " + config_ + " --lrs '" + lrs.urlWithCredentials(password, token) + "'"));
+  EXPECT_EQ(runs.back().exit_code, 0) << runs.back().output;
+  EXPECT_NE(runs.back().output.find("1 sent to http://***@127.0.0.1:"), std::string::npos) << runs.back().output;
+  // The query travels after the statements path, where the LRS reads it.
+  ASSERT_EQ(lrs.requests().size(), 1u);
+  EXPECT_EQ(lrs.requests()[0]["path"], "/xapi/statements?token=" + token);
+  for (const auto& run : runs)
+    for (const std::string& secret : {password, token}) EXPECT_EQ(run.output.find(secret), std::string::npos) << run.output;
+}
+
+// A student name with a bidi control, a control character or 1,000 bytes is refused in one line
+// before any work, whether it comes from --student or from the config.
+TEST_F(LearningCli, StudentNamesAreCheckedBeforeTheWork) {
+  const auto demo = [&](const std::string& student_option, const std::string& config) {
+    return dentsim("demo --headless --level 6 --mirror none --no-sound --attempt expert --params " + preset_ + " --out " +
+                   demoDir(0) + student_option + " --config " + config);
+  };
+  test::expectCleanFailure(demo(" --student 's1\u202e'", config_), "--student: \"s1\\u202e\"", "bidirectional control character",
+                           demoDir(0));
+  test::expectCleanFailure(demo(" --student \"$(printf 's1\\033[2J')\"", config_), "--student:", "control character", demoDir(0));
+  test::expectCleanFailure(demo(" --student " + std::string(1000, 's'), config_), "--student:", "longer than 64 bytes", demoDir(0));
+  const std::string named = dir_.file("named.json");
+  std::ofstream(named) << "{\"student\": \"s1\", \"student_name\": \"Ada \u202e\"}";
+  test::expectCleanFailure(demo("", named), named + ": student_name:", "bidirectional control character", demoDir(0));
+}
+
+// `outbox send` killed with -9 while the LRS sits on its second statement: the first, already taken,
+// is marked sent and the next send posts only the other two.
+TEST_F(LearningCli, ASenderKilledMidSendPostsNothingTwice) {
+  if (!havePython()) GTEST_SKIP() << "python3 is needed for the stand-in LRS";
+  for (int i = 1; i <= 3; ++i)
+    std::ofstream(outbox_, std::ios::app) << R"({"id":"6f1c1a0e-0000-5000-8000-00000000000)" << i << R"(","verb":{"id":"x"}})" "\n";
+  {
+    Recorder slow(dir_, "slow", false, "--slow-after 1 --delay 120");
+    ASSERT_TRUE(slow.up());
+    const auto started = runCommand("DENTSIM_LRS_USERNAME= DENTSIM_CONFIG= " + std::string(DENTSIM_BINARY) + " outbox send --config " +
+                                    config_ + " --lrs " + slow.url() + " >/dev/null 2>&1 & echo $!");
+    const int pid = std::atoi(started.output.c_str());
+    ASSERT_GT(pid, 0);
+    // The second statement has reached the LRS, so the first one's answer has been handled (up to 60 s on a loaded machine).
+    for (int i = 0; i < 1200 && slow.requests().size() < 2; ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    ASSERT_EQ(slow.requests().size(), 2u);
+    ::kill(pid, SIGKILL);
+  }
+  std::ifstream sent_log(outbox_ + ".sent");
+  std::string first;
+  std::getline(sent_log, first);
+  EXPECT_EQ(first, "6f1c1a0e-0000-5000-8000-000000000001");
+  Recorder lrs(dir_, "lrs", false);
+  ASSERT_TRUE(lrs.up());
+  const auto r = dentsim("outbox send --config " + config_ + " --lrs " + lrs.url());
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("learning records: 2 sent to"), std::string::npos) << r.output;
+  EXPECT_EQ(lrs.requests().size(), 2u);  // the killed sender's first statement is not posted again
 }
 
 TEST_F(LearningCli, MalformedConfigIsOneLineNamingFileAndKey) {

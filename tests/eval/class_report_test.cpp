@@ -490,6 +490,28 @@ TEST(ClassReportHtml, EscapesEverythingThatCameFromAFile) {
   EXPECT_NE(html.find("Caries &amp; &lt;co&gt;"), std::string::npos);
 }
 
+TEST(ClassReportHtml, NamesAreBidiIsolatedAndShortened) {
+  ClassAttempt a;
+  a.student = "s1";
+  a.student_name = "Ada \u202e";  // an unclosed right-to-left override: "76.1" after it would read "1.67"
+  a.task = "caries_removal";
+  a.task_title = "Caries";
+  a.score = 76.1;
+  a.verb = "scored";
+  ClassAttempt b = a;
+  b.student = "s2";
+  b.student_name = std::string(100000, 'w');
+  const std::string html = classReportHtml(buildClassReport({a, b}, {}), {});
+  // In tables and captions the name sits in <bdi>; in SVG text and attributes between FSI and PDI.
+  EXPECT_NE(html.find("<td><bdi>Ada \u202e</bdi></td>"), std::string::npos);
+  EXPECT_NE(html.find("<figcaption><bdi>Ada \u202e</bdi> \u2014 <bdi>Caries</bdi> \u2014 76.1 \u2014 "), std::string::npos);
+  EXPECT_NE(html.find("<title>\u2068Ada \u202e\u2069: 76.1 on "), std::string::npos);
+  EXPECT_EQ(countOf(html, "Ada \u202e"), countOf(html, "Ada \u202e</bdi>") + countOf(html, "Ada \u202e\u2069"));
+  // The 100 kB name is shown as its first 120 bytes: the page stays far smaller than the name.
+  EXPECT_NE(html.find("<bdi>" + std::string(120, 'w') + "\u2026</bdi>"), std::string::npos);
+  EXPECT_EQ(html.find(std::string(121, 'w')), std::string::npos);
+}
+
 // The hand-made report: the under-cut lost 20 of 25 (a deep colour), the over-cut 5, tilt none,
 // time not scored, force 3 of the 75 off; its time and agreement are shown, and an older report
 // shows dashes where it says nothing.

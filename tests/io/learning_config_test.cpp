@@ -48,6 +48,29 @@ TEST(LearningConfig, MistakesNameTheFileAndTheKey) {
   EXPECT_EQ(loadLearningConfig("/nonexistent/learning.json").message().rfind("/nonexistent/learning.json: ", 0), 0u);
 }
 
+TEST(LearningConfig, StudentNamesWithControlOrBidiCharactersOrTooLongAreRefused) {
+  EXPECT_EQ(studentNameProblem("s1001", kMaxStudentIdBytes), "");
+  EXPECT_EQ(studentNameProblem("Zo\u00eb \u05d3\u05e0\u05d4", kMaxStudentNameBytes), "");  // accents and Hebrew are names
+  EXPECT_EQ(studentNameProblem("", kMaxStudentIdBytes), "is empty");
+  EXPECT_EQ(studentNameProblem(std::string(65, 'a'), kMaxStudentIdBytes), "is longer than 64 bytes");
+  EXPECT_EQ(studentNameProblem("a\tb", kMaxStudentIdBytes), "holds a control character");
+  EXPECT_EQ(studentNameProblem("a\x1b[2Jb", kMaxStudentIdBytes), "holds a control character");
+  EXPECT_EQ(studentNameProblem("a\u0085b", kMaxStudentIdBytes), "holds a control character");  // C1 NEL
+  EXPECT_EQ(studentNameProblem("a\u202eb", kMaxStudentIdBytes), "holds a bidirectional control character");  // RLO
+  EXPECT_EQ(studentNameProblem("a\u200fb", kMaxStudentIdBytes), "holds a bidirectional control character");  // RLM
+  EXPECT_EQ(studentNameProblem("a\u2067b", kMaxStudentIdBytes), "holds a bidirectional control character");  // RLI
+  EXPECT_EQ(studentNameProblem("a\xff" "b", kMaxStudentIdBytes), "is not UTF-8 text");
+  EXPECT_EQ(studentNameProblem("a\xc3", kMaxStudentIdBytes), "is not UTF-8 text");          // cut short
+  EXPECT_EQ(studentNameProblem("\xc0\xaf", kMaxStudentIdBytes), "is not UTF-8 text");      // overlong '/'
+  // The config's names are checked as it is read; the message escapes the name.
+  EXPECT_EQ(parseLearningConfig("{\"student_name\": \"Ada\u202e\"}", "l.json").message(),
+            "l.json: student_name: \"Ada\\u202e\" holds a bidirectional control character");
+  EXPECT_FALSE(parseLearningConfig("{\"student\": \"" + std::string(100, 's') + "\"}", "l.json").ok());
+  // A malformed LRS URL's credentials stay out of the message.
+  EXPECT_EQ(parseLearningConfig(R"({"lrs": "ftp://bob:PW@h/x"})", "l.json").message(),
+            "l.json: lrs: \"ftp://***@h/x\" does not start with http:// or https://");
+}
+
 TEST(LearningConfig, DefaultPlacesFollowTheEnvironment) {
   ::setenv("DENTSIM_CONFIG", "/etc/lab/learning.json", 1);
   EXPECT_EQ(defaultLearningConfigPath(), "/etc/lab/learning.json");

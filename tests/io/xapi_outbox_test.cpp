@@ -1,4 +1,4 @@
-// The learning records' outbox: statements kept in order, each id once, a sent log that turns them from pending to sent, and bad lines named.
+// The learning records' outbox: statements kept in order, each id once, a sent log that turns them from pending to sent, bad lines named and set aside, and one sender at a time.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -63,6 +63,46 @@ TEST(XapiOutbox, BadLinesAreNamedByFileAndLine) {
   EXPECT_EQ(readOutbox(outbox).message(), outbox + ":2: not valid JSON");
   std::ofstream(outbox) << R"({"id":"a"})" "\n" R"({"id":3})" "\n";
   EXPECT_EQ(appendToOutbox(outbox, statement("c", 0)).message(), outbox + ":2: not a JSON object with a string \"id\"");
+}
+
+TEST(XapiOutbox, BadLinesAreSetAsideAndTheGoodOnesKept) {
+  test::TempDir dir;
+  const std::string outbox = dir.file("outbox.jsonl");
+  std::ofstream(outbox) << R"({"id":"a"})" "\n" "{not json\n" R"({"id":"b"})" "\n" R"({"id":3})" "\n";
+  auto moved = setAsideBadLines(outbox);
+  ASSERT_TRUE(moved.ok()) << moved.message();
+  EXPECT_EQ(moved->count, 2u);  // lines 2 and 4
+  EXPECT_EQ(moved->first, outbox + ":2: not valid JSON");
+  EXPECT_EQ(readText(outbox), R"({"id":"a"})" "\n" R"({"id":"b"})" "\n");
+  EXPECT_EQ(readText(badLinesPath(outbox)), "{not json\n" R"({"id":3})" "\n");
+  // Recording goes on: the next statement is added after the good ones.
+  EXPECT_TRUE(*appendToOutbox(outbox, statement("c", 0)));
+  EXPECT_EQ(readOutbox(outbox)->size(), 3u);
+  // A clean outbox is left alone, and a later bad line is appended to the side file, never over it.
+  EXPECT_EQ(setAsideBadLines(outbox)->count, 0u);
+  std::ofstream(outbox, std::ios::app) << "[]\n";
+  EXPECT_EQ(setAsideBadLines(outbox)->first, outbox + ":4: not a JSON object with a string \"id\"");
+  EXPECT_EQ(readText(badLinesPath(outbox)), "{not json\n" R"({"id":3})" "\n" "[]\n");
+  EXPECT_EQ(pendingStatements(outbox)->size(), 3u);
+  // No outbox: nothing to do, and nothing made.
+  EXPECT_EQ(setAsideBadLines(dir.file("none.jsonl"))->count, 0u);
+  EXPECT_FALSE(std::filesystem::exists(badLinesPath(dir.file("none.jsonl"))));
+}
+
+TEST(XapiOutbox, OneSenderAtATimeHoldsTheSendersLock) {
+  test::TempDir dir;
+  const std::string outbox = dir.file("outbox.jsonl");
+  {
+    OutboxSenderLock first(outbox, true);
+    ASSERT_TRUE(first.held()) << first.error();
+    // flock conflicts between two opens even in one process: this stands in for a second dentsim.
+    OutboxSenderLock second(outbox, false);
+    EXPECT_TRUE(second.error().empty()) << second.error();
+    EXPECT_FALSE(second.held());
+  }
+  // Released with its holder (as it is when a sender is killed): the next one gets it.
+  OutboxSenderLock next(outbox, false);
+  EXPECT_TRUE(next.held());
 }
 
 }  // namespace

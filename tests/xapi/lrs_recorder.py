@@ -5,12 +5,15 @@ No real LRS runs here (the ones packaged need a database server), so the tests t
 It listens on a free localhost port, writes that port to --port-file once it accepts connections,
 and appends each request to --log as one JSON line: method, path, headers, body. POST
 <prefix>/statements answers 200 with the id, or 409 when that id came before (as an LRS does);
---refuse answers every request 503, an LRS that is up but will not take statements.
+--refuse answers every request 503, an LRS that is up but will not take statements. --slow-after N
+answers the first N POSTs at once and then waits --delay seconds before each answer, a slow LRS
+(the request is logged when it arrives, before the wait).
 """
 import argparse
 import json
 import os
 import sys
+import time
 from http.server import BaseHTTPRequestHandler, HTTPServer
 
 
@@ -19,8 +22,11 @@ def main():
     parser.add_argument("--port-file", required=True)
     parser.add_argument("--log", required=True)
     parser.add_argument("--refuse", action="store_true")
+    parser.add_argument("--slow-after", type=int, default=-1)
+    parser.add_argument("--delay", type=float, default=0.0)
     args = parser.parse_args()
     seen = set()
+    posts = [0]
 
     class Handler(BaseHTTPRequestHandler):
         def log_message(self, *unused):  # keep the test's output clean
@@ -43,9 +49,12 @@ def main():
         def do_POST(self):
             body = self.rfile.read(int(self.headers.get("Content-Length", "0")))
             self.record(body)
+            posts[0] += 1
+            if 0 <= args.slow_after < posts[0]:
+                time.sleep(args.delay)
             if args.refuse:
                 return self.answer(503)
-            if not self.path.endswith("/statements"):
+            if not self.path.split("?")[0].endswith("/statements"):
                 return self.answer(404)
             try:
                 statement_id = json.loads(body)["id"]
