@@ -46,8 +46,6 @@ Rgb tissueColour(uint32_t material) {
   return {row->score_rgb[0], row->score_rgb[1], row->score_rgb[2]};
 }
 
-Voxel at(const BrickView& b, uint32_t offset) { return b.uniform ? b.value : b.voxels[offset]; }
-
 uint32_t undercutOf(Voxel initial, Voxel final_, Voxel ideal) {
   const uint32_t fi = layout::voxelMaterial(initial) == DS_MAT_EMPTY ? 0u : voxelFill(initial);
   const uint32_t r = std::min(voxelFill(final_), fi), k = std::min(voxelFill(ideal), fi);
@@ -211,10 +209,10 @@ class RayCaster {
       }
       for (;;) {
         const uint32_t n = layout::brickCoordToOffset(uint32_t(ix[0] & 7), uint32_t(ix[1] & 7), uint32_t(ix[2] & 7));
-        const Voxel f = at(vf, n);
+        const Voxel f = vf.at(n);
         if (voxelFill(f) >= kSurfaceFill) {
           const uint32_t paint = v_.paint ? v_.paint->at(uint32_t(ix[0]), uint32_t(ix[1]), uint32_t(ix[2])) : 0u;
-          const Rgb surface = shade(ix, f, v_.ideal ? undercutOf(at(vi, n), f, at(vk, n)) : 0u, paint, d, light);
+          const Rgb surface = shade(ix, f, v_.ideal ? undercutOf(vi.at(n), f, vk.at(n)) : 0u, paint, d, light);
           return mix(surface, kRed, fog);
         }
         if (v_.red) {

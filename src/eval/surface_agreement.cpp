@@ -80,19 +80,11 @@ constexpr uint8_t kTissue = 1;        // initial tissue
 constexpr uint8_t kIdealKept = 2;     // initial tissue the ideal kept
 constexpr uint8_t kStudentKept = 4;   // initial tissue the student kept
 
-Voxel at(const BrickView& b, uint32_t offset) { return b.uniform ? b.value : b.voxels[offset]; }
-
 bool isTissue(Voxel v) {
   return kTissueIndexByCode[layout::voxelMaterial(v) & (DS_MATERIAL_COUNT - 1)] >= 0 && voxelFill(v) >= kTissueFill;
 }
 // The ideal cavity at the threshold: initial tissue whose ideal fill fell below half.
 bool inIdealCavity(Voxel initial, Voxel ideal) { return isTissue(initial) && voxelFill(ideal) < kTissueFill; }
-
-bool sameBrick(const BrickView& a, const BrickView& b) {
-  if (a.uniform != b.uniform) return false;
-  if (a.uniform) return a.value == b.value;
-  return a.voxels == b.voxels || std::equal(a.voxels, a.voxels + DS_BRICK_VOXELS, b.voxels);
-}
 
 // A dense box [lo, hi) of the grid [voxels], x fastest.
 struct Box {
@@ -121,9 +113,9 @@ Box idealCavityBounds(const BrickVolume& initial, const BrickVolume& ideal) {
       for (uint32_t bx = 0; bx < bd; ++bx) {
         const BrickCoord c{bx, by, bz};
         const BrickView vi = initial.brick(c), vk = ideal.brick(c);
-        if (sameBrick(vi, vk)) continue;
+        if (vi.sameVoxels(vk)) continue;
         for (uint32_t n = 0; n < DS_BRICK_VOXELS; ++n) {
-          if (!inIdealCavity(at(vi, n), at(vk, n))) continue;
+          if (!inIdealCavity(vi.at(n), vk.at(n))) continue;
           const std::array<int64_t, 3> p{int64_t{bx} * DS_BRICK_DIM + (n & 7u), int64_t{by} * DS_BRICK_DIM + ((n >> 3) & 7u),
                                          int64_t{bz} * DS_BRICK_DIM + (n >> 6)};
           for (size_t a = 0; a < 3; ++a) {
@@ -149,11 +141,11 @@ std::vector<uint8_t> labelBox(const Box& box, const BrickVolume& initial, const 
         for (uint32_t n = 0; n < DS_BRICK_VOXELS; ++n) {
           const int64_t x = bx * DS_BRICK_DIM + (n & 7u), y = by * DS_BRICK_DIM + ((n >> 3) & 7u), z = bz * DS_BRICK_DIM + (n >> 6);
           if (!box.inside(x, y, z)) continue;
-          const Voxel i = at(vi, n);
+          const Voxel i = vi.at(n);
           if (!isTissue(i)) continue;
           uint8_t label = kTissue;
-          if (voxelFill(at(vk, n)) >= kTissueFill) label |= kIdealKept;
-          if (std::min(voxelFill(at(vf, n)), voxelFill(i)) >= kTissueFill) label |= kStudentKept;
+          if (voxelFill(vk.at(n)) >= kTissueFill) label |= kIdealKept;
+          if (std::min(voxelFill(vf.at(n)), voxelFill(i)) >= kTissueFill) label |= kStudentKept;
           labels[box.index(x, y, z)] = label;
         }
       }

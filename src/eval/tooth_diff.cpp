@@ -89,14 +89,6 @@ namespace {
 
 // ---- 2. the ideal cavity's masks ---------------------------------------------------------------------
 
-Voxel at(const BrickView& b, uint32_t offset) { return b.uniform ? b.value : b.voxels[offset]; }
-
-bool sameBrick(const BrickView& a, const BrickView& b) {
-  if (a.uniform != b.uniform) return false;
-  if (a.uniform) return a.value == b.value;
-  return a.voxels == b.voxels || std::memcmp(a.voxels, b.voxels, DS_BRICK_VOXELS) == 0;
-}
-
 // The ideal's share of a voxel's initial fill: c = i - min(k, i), for tissue only.
 uint32_t idealCavityOf(Voxel initial, Voxel ideal) {
   if (tissueIndex(layout::voxelMaterial(initial)) < 0) return 0;
@@ -111,9 +103,9 @@ void markIdealCavity(const BrickVolume& initial, const BrickVolume& ideal, Targe
       for (uint32_t bx = 0; bx < bd; ++bx) {
         const BrickCoord c{bx, by, bz};
         const BrickView vi = initial.brick(c), vk = ideal.brick(c);
-        if (sameBrick(vi, vk)) continue;
+        if (vi.sameVoxels(vk)) continue;
         for (uint32_t n = 0; n < DS_BRICK_VOXELS; ++n)
-          if (idealCavityOf(at(vi, n), at(vk, n)) > 0) masks->set(c, n);
+          if (idealCavityOf(vi.at(n), vk.at(n)) > 0) masks->set(c, n);
       }
 }
 
@@ -146,15 +138,15 @@ class BrickPass {
     const BrickView vk = k_ ? k_->brick(c) : vi;
     const TargetMasks::Mask* target = masks_.find(c);
     const bool band = leeway_.inBand(c);
-    if (!target && !band && sameBrick(vi, vf) && sameBrick(vi, vk)) return untouched(vi);
+    if (!target && !band && vi.sameVoxels(vf) && vi.sameVoxels(vk)) return untouched(vi);
     for (uint32_t n = 0; n < DS_BRICK_VOXELS; ++n) {
-      const Voxel v = at(vi, n);
+      const Voxel v = vi.at(n);
       const int t = tissueIndex(layout::voxelMaterial(v));
       if (t < 0) continue;
       const uint32_t fi = voxelFill(v);
-      const uint32_t r = std::min(voxelFill(at(vf, n)), fi);
+      const uint32_t r = std::min(voxelFill(vf.at(n)), fi);
       const uint32_t removed = fi - r;
-      const uint32_t share = k_ ? idealCavityOf(v, at(vk, n)) : (target && TargetMasks::test(*target, n) ? fi : 0u);
+      const uint32_t share = k_ ? idealCavityOf(v, vk.at(n)) : (target && TargetMasks::test(*target, n) ? fi : 0u);
       const uint32_t in_target = std::min(removed, share), beyond = removed - in_target, kept = fi - share;
       TissueAmounts& a = out_->tissues[size_t(t)];
       a.initial += fi;
@@ -206,8 +198,8 @@ class BrickPass {
       if ((ux >> DS_BRICK_LOG2) == (x >> DS_BRICK_LOG2) && (uy >> DS_BRICK_LOG2) == (y >> DS_BRICK_LOG2) &&
           (uz >> DS_BRICK_LOG2) == (z >> DS_BRICK_LOG2)) {
         const uint32_t o = layout::brickCoordToOffset(ux & 7u, uy & 7u, uz & 7u);
-        ni = at(vi, o);
-        nf = at(vf, o);
+        ni = vi.at(o);
+        nf = vf.at(o);
       } else {
         ni = i_.voxel(ux, uy, uz);
         nf = f_.voxel(ux, uy, uz);

@@ -6,6 +6,8 @@
 //   3. Statistics: bytes, brick counts, tissue volumes
 #pragma once
 
+#include <algorithm>
+
 #include <array>
 #include <cstdint>
 #include <functional>
@@ -52,6 +54,15 @@ struct BrickView {
   bool uniform = true;         // true: every voxel equals `value`, no storage
   Voxel value = 0;             // the tile value when uniform
   const Voxel* voxels = nullptr;  // (512) voxels, x fastest, when dense
+
+  // The voxel at `offset` (brickCoordToOffset), uniform or dense alike.
+  Voxel at(uint32_t offset) const { return uniform ? value : voxels[offset]; }
+  // Whether both hold the same voxels (the same storage, or equal bytes).
+  bool sameVoxels(const BrickView& o) const {
+    if (uniform != o.uniform) return false;
+    if (uniform) return value == o.value;
+    return voxels == o.voxels || std::equal(voxels, voxels + DS_BRICK_VOXELS, o.voxels);
+  }
 };
 
 // Per-tissue totals over the whole grid.
