@@ -369,11 +369,32 @@ ojson validationJson(const TaskValidation& v) {
   return j;
 }
 
+namespace {
+
+// A task file's text in the table and on the terminal: control bytes as \xNN (no escape sequence
+// reaches a terminal, no line break a table) and '|' escaped for Markdown.
+std::string markdownText(const std::string& s) {
+  std::string out;
+  for (const unsigned char c : s) {
+    if (c < 0x20 || c == 0x7f) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02X", unsigned(c));
+      out += hex;
+    } else {
+      if (c == '|') out += '\\';
+      out += char(c);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
 std::string validationMarkdown(const TaskValidation& v) {
   std::ostringstream o;
-  o << "## " << v.task.name << ": " << v.task.title << "\n\n";
+  o << "## " << v.task.name << ": " << markdownText(v.task.title) << "\n\n";
   o << taskKindName(v.task.kind) << ", " << v.task.drill_tool << ", target " << fixed(v.task.target_s) << " s, pass mark "
-    << fixed(v.pass_mark, 0) << "; professional: " << v.professional << ", " << fixed(v.professional_s) << " s"
+    << fixed(v.pass_mark, 0) << "; professional: " << markdownText(v.professional) << ", " << fixed(v.professional_s) << " s"
     << (v.timed_here ? " (the times set from it by set-ideal's rule)" : "") << "\n\n";
   std::vector<std::string> names;
   for (const ValidatedAttempt& a : v.attempts)

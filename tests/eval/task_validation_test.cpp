@@ -77,6 +77,18 @@ TEST(TaskValidation, TheClassOneCavityAtLevelSevenSeparatesItsAttempts) {
   EXPECT_TRUE(std::filesystem::is_empty(dir.path()));
 }
 
+TEST(TaskValidation, ATasksTextCannotBreakTheTableOrReachTheTerminalRaw) {
+  TaskValidation v;
+  v.task.name = "t";
+  v.task.title = "Class I \x1b[2J| new\nline";
+  v.professional = "the ideal session a\x07.dses";
+  const std::string md = validationMarkdown(v);
+  EXPECT_EQ(md.find('\x1b'), std::string::npos) << md;
+  EXPECT_EQ(md.find('\x07'), std::string::npos) << md;
+  EXPECT_NE(md.find("Class I \\x1B[2J\\| new\\x0Aline"), std::string::npos) << md;
+  EXPECT_NE(md.find("a\\x07.dses"), std::string::npos) << md;
+}
+
 TEST(TaskValidation, AVolumeIdealIsAnErrorThatSaysHowToSetASession) {
   Task task;
   task.name = "t";
