@@ -1,5 +1,7 @@
-// Parameter presets as JSON: the header check, the number check and the file's text.
+// Parameter presets as JSON: the header check, the number check, the whole-preset reader and the file's text.
 #include "io/param_fields.h"
+
+#include <exception>
 
 namespace dentsim {
 
@@ -53,6 +55,21 @@ bool FieldReader::presetHeader(const json& root) {
     return fail("version", version->dump() + " is not supported (this build reads version " +
                                std::to_string(kPresetVersion) + ")");
   return object(root, "", presetTopKeys());
+}
+
+Status readPreset(const std::string& json_text, const std::string& where, const PresetSections& sections) {
+  try {
+    json root;
+    std::string error;
+    if (!parseStrictJson(json_text, &root, &error)) return makeError(where, error);
+    FieldReader reader;
+    if (reader.presetHeader(root)) sections(root, reader);
+    if (reader.failed()) return makeError(where, reader.error());
+    return Ok{};
+  } catch (const std::exception& e) {
+    // Not reached for any input the tests know of.
+    return makeError(where, "cannot read preset: " + jsonExceptionText(e));
+  }
 }
 
 }  // namespace dentsim

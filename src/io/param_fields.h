@@ -4,6 +4,7 @@
 //   1. The preset file: format, version, its top-level sections, size limit, text
 //   2. Field tables: JSON key, member, allowed range
 //   3. FieldReader: one-line errors "<path>: <problem>"
+//   4. Reading a whole preset: strict JSON, the header, a stage's sections, "<where>: <path>: <problem>"
 //
 // A preset ("dentsim-params", docs/HAPTICS.md) is one JSON object whose sections belong to two stages:
 // sim reads and writes the tactile ones (sim/sim_params.h), render the look of tissues and the view
@@ -13,12 +14,14 @@
 
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "core/result.h"
 #include "io/strict_json.h"
 
 namespace dentsim {
@@ -103,6 +106,13 @@ class FieldReader : public JsonSchemaReader {
     return true;
   }
 
+  // The object root[key] over *out; a missing section keeps the values.
+  template <class S, size_t N>
+  bool section(const nlohmann::json& root, const char* key, const Field<S> (&table)[N], S* out) {
+    auto it = root.find(key);
+    return it == root.end() || fields(*it, key, table, out);
+  }
+
   // A finite number within `range`.
   bool number(const nlohmann::json& v, const std::string& path, const Range& range, double* out);
 
@@ -125,5 +135,16 @@ class FieldReader : public JsonSchemaReader {
     return true;
   }
 };
+
+// ---- 4. reading a whole preset -----------------------------------------------------------------------
+
+// Reads the stages' sections of one preset; the first problem stays in the reader.
+using PresetSections = std::function<void(const nlohmann::json& root, FieldReader& reader)>;
+
+// The one preset reader that parseSimParams, parseLookParams and parsePreset share: parses
+// `json_text` as strict JSON, checks the header, then calls `sections` (which writes over values the
+// caller set to its defaults). Every problem is one line naming `where` and the key ("default.json:
+// tissues.enamel.hardness: 1.5 is not in [0, 1]"). Never throws: a preset must never take the caller down.
+Status readPreset(const std::string& json_text, const std::string& where, const PresetSections& sections);
 
 }  // namespace dentsim

@@ -1,7 +1,6 @@
 // LookParams: the defaults from the tissue table, and the "looks" and "view" sections' field table, reader and writer.
 #include "render/look_params.h"
 
-#include <exception>
 #include <iterator>
 #include <optional>
 #include <vector>
@@ -28,8 +27,14 @@ const Field<TissueLook> kLookFields[] = {
 // A field added to TissueLook must be added to the table, or presets would silently drop it.
 static_assert(sizeof(TissueLook) == std::size(kLookFields) * sizeof(double));
 
-// "view" holds one key, the normal mode as its neighbour count (a number, 216.0).
-const std::vector<std::string> kViewKeys = {"normal_neighbours"};
+// "view" holds one key, the normal mode as its neighbour count (a number, 216.0); read as a number
+// and then checked against the modes, so that the table and its messages are the other sections'.
+struct ViewFields {
+  double normal_neighbours;  // 8, 64 or 216
+};
+const Field<ViewFields> kViewFields[] = {
+    {"normal_neighbours", &ViewFields::normal_neighbours, kAnyNumber},
+};
 
 std::vector<std::string> tissueKeys() {
   std::vector<std::string> keys;
@@ -37,16 +42,14 @@ std::vector<std::string> tissueKeys() {
   return keys;
 }
 
-// {"normal_neighbours": 8, 64 or 216}; the key may be left out.
-bool readNormalMode(const json& j, FieldReader& r, NormalMode* out) {
-  if (!r.object(j, "view", kViewKeys)) return false;
-  auto it = j.find("normal_neighbours");
-  if (it == j.end()) return true;
-  const std::string key = jsonChildPath("view", "normal_neighbours");
-  double n = 0.0;
-  if (!r.number(*it, key, kAnyNumber, &n)) return false;
-  const std::optional<NormalMode> mode = normalModeFromNeighbours(n);
-  if (!mode) return r.fail(key, json(n).dump() + " is not " + kNormalModeChoices);
+// {"normal_neighbours": 8, 64 or 216}; the section and the key may be left out.
+bool readNormalMode(const json& root, FieldReader& r, NormalMode* out) {
+  ViewFields view{double(normalNeighbours(*out))};
+  if (!r.section(root, "view", kViewFields, &view)) return false;
+  const std::optional<NormalMode> mode = normalModeFromNeighbours(view.normal_neighbours);
+  if (!mode)
+    return r.fail(jsonChildPath("view", "normal_neighbours"), json(view.normal_neighbours).dump() + " is not " +
+                                                                  kNormalModeChoices);
   *out = *mode;
   return true;
 }
@@ -67,30 +70,21 @@ void appendLookParamsJson(const LookParams& params, ordered_json* root) {
   ordered_json looks = ordered_json::object();
   for (Material m : kTissues) looks[materialName(m)] = fieldsJson(params.look(m), kLookFields);
   (*root)["looks"] = std::move(looks);
-  ordered_json view = ordered_json::object();
-  view["normal_neighbours"] = double(normalNeighbours(params.view.normals));
-  (*root)["view"] = std::move(view);
+  (*root)["view"] = fieldsJson(ViewFields{double(normalNeighbours(params.view.normals))}, kViewFields);
 }
 
 void readLookParamsJson(const json& root, FieldReader& r, LookParams* p) {
   if (!r.namedFields(root, "looks", tissueKeys(), kLookFields, [&](size_t i) { return &p->look(kTissues[i]); }))
     return;
-  if (auto it = root.find("view"); it != root.end()) readNormalMode(*it, r, &p->view.normals);
+  readNormalMode(root, r, &p->view.normals);
 }
 
 Result<LookParams> parseLookParams(const std::string& json_text, const std::string& where) {
-  try {
-    json root;
-    std::string error;
-    if (!parseStrictJson(json_text, &root, &error)) return makeError(where, error);
-    LookParams params = defaultLookParams();
-    FieldReader reader;
-    if (reader.presetHeader(root)) readLookParamsJson(root, reader, &params);
-    if (reader.failed()) return makeError(where, reader.error());
-    return params;
-  } catch (const std::exception& e) {
-    return makeError(where, "cannot read preset: " + jsonExceptionText(e));
-  }
+  LookParams params = defaultLookParams();
+  Status read =
+      readPreset(json_text, where, [&](const json& root, FieldReader& r) { readLookParamsJson(root, r, &params); });
+  if (!read) return read.error();
+  return params;
 }
 
 bool operator==(const TissueLook& a, const TissueLook& b) { return sameFields(a, b, kLookFields); }

@@ -8,7 +8,6 @@
 //   5. Saving and equality
 #include "sim/sim_params.h"
 
-#include <exception>
 #include <iterator>
 #include <utility>
 #include <vector>
@@ -149,29 +148,19 @@ void readSimParamsJson(const json& root, FieldReader& r, SimParams* p) {
       p->burs[name] = bur;
     }
   }
-  if (auto it = root.find("turbine"); it != root.end() && !r.fields(*it, "turbine", kTurbineFields, &p->turbine)) return;
-  if (auto it = root.find("cutting"); it != root.end() && !r.fields(*it, "cutting", kCuttingFields, &p->cutting)) return;
-  if (auto it = root.find("coupling"); it != root.end() && !r.fields(*it, "coupling", kCouplingFields, &p->coupling))
-    return;
-  if (auto it = root.find("device"); it != root.end() && !r.fields(*it, "device", kDeviceFields, &p->device)) return;
-  if (auto it = root.find("point_shell"); it != root.end())
-    r.fields(*it, "point_shell", kPointShellFields, &p->point_shell);
+  if (!r.section(root, "turbine", kTurbineFields, &p->turbine)) return;
+  if (!r.section(root, "cutting", kCuttingFields, &p->cutting)) return;
+  if (!r.section(root, "coupling", kCouplingFields, &p->coupling)) return;
+  if (!r.section(root, "device", kDeviceFields, &p->device)) return;
+  r.section(root, "point_shell", kPointShellFields, &p->point_shell);
 }
 
 Result<SimParams> parseSimParams(const std::string& json_text, const std::string& where) {
-  try {
-    json root;
-    std::string error;
-    if (!parseStrictJson(json_text, &root, &error)) return makeError(where, error);
-    SimParams params = defaultSimParams();
-    FieldReader reader;
-    if (reader.presetHeader(root)) readSimParamsJson(root, reader, &params);
-    if (reader.failed()) return makeError(where, reader.error());
-    return params;
-  } catch (const std::exception& e) {
-    // Not reached for any input the tests know of; a preset must never take the caller down.
-    return makeError(where, "cannot read preset: " + jsonExceptionText(e));
-  }
+  SimParams params = defaultSimParams();
+  Status read =
+      readPreset(json_text, where, [&](const json& root, FieldReader& r) { readSimParamsJson(root, r, &params); });
+  if (!read) return read.error();
+  return params;
 }
 
 Result<SimParams> loadSimParams(const std::string& path) {

@@ -1,31 +1,22 @@
 // Preset: composes sim's and render's sections of one preset file.
 #include "ui/preset.h"
 
-#include <exception>
-
 #include "io/atomic_file.h"
 #include "io/param_fields.h"
-#include "io/strict_json.h"
 
 namespace dentsim::ui {
 
 Preset defaultPreset() { return Preset{defaultSimParams(), defaultLookParams()}; }
 
 Result<Preset> parsePreset(const std::string& json_text, const std::string& where) {
-  try {
-    nlohmann::json root;
-    std::string error;
-    if (!parseStrictJson(json_text, &root, &error)) return makeError(where, error);
-    Preset preset = defaultPreset();
-    FieldReader reader;
-    if (reader.presetHeader(root)) readSimParamsJson(root, reader, &preset.sim);
-    if (!reader.failed()) readLookParamsJson(root, reader, &preset.looks);
-    if (reader.failed()) return makeError(where, reader.error());
-    return preset;
-  } catch (const std::exception& e) {
-    // Not reached for any input the tests know of; a preset must never take the caller down.
-    return makeError(where, "cannot read preset: " + jsonExceptionText(e));
-  }
+  Preset preset = defaultPreset();
+  // File order: sim's sections, then render's, so the first problem is the first a reader meets.
+  Status read = readPreset(json_text, where, [&](const nlohmann::json& root, FieldReader& r) {
+    readSimParamsJson(root, r, &preset.sim);
+    if (!r.failed()) readLookParamsJson(root, r, &preset.looks);
+  });
+  if (!read) return read.error();
+  return preset;
 }
 
 Result<Preset> loadPreset(const std::string& path) {
