@@ -1,10 +1,10 @@
 // One tooth out of a scanner's grey-value volume (CT, CBCT, micro-CT): thresholds, the tooth's own voxels, tissue labels for importLabels.
 //
 // Contents
-//   1. Scanner presets (named thresholds)
+//   1. Scanner presets (named thresholds: in tooth_thresholds.h)
 //   2. ToothSegmentOptions, ToothSegmentReport
 //   3. segmentTooth: a GreyImage into a LabelImage of enamel, dentin and caries
-//   4. The steps and their rules
+//   4. Where the rules are written
 //
 // Pulp is not labelled here. Its grey values are those of soft tissue, and telling an enclosed pulp
 // chamber from the air around the tooth is a question of shape, not of value: importLabels does it
@@ -23,26 +23,14 @@
 #include "core/result.h"
 #include "io/grey_image.h"
 #include "io/nifti_labels.h"
+#include "volume/otsu_thresholds.h"
+#include "volume/tooth_thresholds.h"
 
 namespace dentsim {
 
 // ---- 1. presets -----------------------------------------------------------------------------
-// Thresholds for a kind of scanner, in its unit. They are starting points from published tissue
-// values, not calibrations: a given threshold still overrides a preset's.
-struct ToothSegmentPreset {
-  const char* name;          // what --preset takes ("ct-hu")
-  const char* description;   // one line for --help
-  GreyUnit unit;             // the image must be in this unit
-  double dentin_above;       // hard tissue starts here (without caries)
-  double enamel_above;       // enamel starts here
-  double caries_above;       // with caries: hard tissue (caries included) starts here
-};
-
-// Every preset, in the order --help lists them.
-const std::vector<ToothSegmentPreset>& toothSegmentPresets();
-
-// "ct-hu, cbct-hu" for messages and help.
-std::string toothSegmentPresetNames();
+// ToothSegmentPreset, toothSegmentPresets() and toothSegmentPresetNames() are in tooth_thresholds.h,
+// with the rest of the threshold choice.
 
 // ---- 2. options and report ------------------------------------------------------------------
 // A box in scanner space [mm]: its two corners, inclusive, in any order per axis.
@@ -126,54 +114,12 @@ Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOption
                                 Interrupter& interrupter = nullInterrupter(), ToothSegmentReport* report = nullptr);
 
 // ---- 4. rules -------------------------------------------------------------------------------
-// ROI: the 8 corners of the mm box go through the inverse of scanner_from_voxel (any direction
-//   matrix, flips and swaps included); the voxels kept are the index bounding box of the results,
-//   rounded inwards to voxel centres and clipped to the image.
-// Thresholds: automatic ones come from multi-level Otsu, an exact search over a 256-bin histogram
-//   of the ROI between its 0.1 and 99.9 percentiles (values outside fall into the end bins, so a
-//   few metal or dead voxels do not stretch the bins): 3 classes (background | dentin | enamel), with
-//   caries too (a lesion is too small a share of a ROI to be a class of its own: 4-class Otsu cuts
-//   through the lesion's values). A histogram of a ROI is mostly air and soft tissue, which pulls
-//   Otsu's upper cut off the dentin/enamel valley, so an automatic enamel_above is then recomputed on
-//   the tooth's own voxels (those at or above the hard-tissue cut): 2-class Otsu splits them, and the
-//   cut is half-way between the highest bins on either side (dentin's and enamel's peaks), where a
-//   blurred dentin-enamel edge crosses half its step; the surface's blurred edges, which pull Otsu's
-//   cut towards dentin, do not move the peaks. An automatic
-//   caries_below is 3 sigma below the peak of the tooth's values below enamel (sound dentin, which
-//   outnumbers a lesion and the blurred edges), sigma read from the peak's upper half width (where
-//   neither lesion nor edges reach), and at least the hard-tissue cut.
-//   Given thresholds replace automatic ones one by one. A preset gives all of them; with caries its
-//   caries_above becomes dentin_above and its dentin_above becomes caries_below.
-// Tooth: hard = value >= dentin_above. Without a seed, the largest 6-connected hard component.
-//   With one, its component is cut at narrow joins: an exact Euclidean distance transform of the
-//   component (pitch honoured), then a flood in decreasing distance (a counting sort over distance
-//   steps of 1/16 of the smallest pitch), where two regions meeting at a saddle merge when the
-//   lower peak stands less than split_h_mm above it. The tooth is the seed's region.
-// Tissues: in the tooth, value >= enamel_above is enamel, the rest dentin (with caries, below
-//   caries_below caries).
-// Partial volume: a blurred enamel-air edge passes through dentin values (and caries values), a
-//   false dentin rim on the enamel. A dentin voxel within partial_volume_voxels of both the outside
-//   (non-tooth voxels connected to the box's border through non-tooth voxels; not the pulp) and enamel, or a caries voxel within it of both the outside and dentin or
-//   enamel, becomes the brighter tissue when its value is above the midpoint of the two classes'
-//   mean values in the output box, else empty.
-// Edges: a tooth voxel facing empty space (a face neighbour) becomes empty when its value is below
-//   the midpoint of that space's mean and its class's mean, for up to partial_volume_voxels
-//   layers. The space is the outside (empty connected to the box's border) or enclosed
-//   space (a closed pulp chamber): the pulp's soft tissue is much brighter than air, and one
-//   global cut half-way from air to dentin leaves a rim of false dentin a voxel thick in the pulp.
-// Caries: a 6-connected piece of caries voxels is kept when it lies within partial_volume_voxels of
-//   the empty space connected to the box's border (a lesion opens to the surface) and holds a voxel
-//   whose six neighbours are all caries (thicker than an edge rim); other caries-range voxels become
-//   dentin above the midpoint of the dentin mean and the mean of the empty space the piece lies
-//   by (the outside when it is open, else enclosed space), else empty.
-// Islands: last, importLabels' small-piece rule (cleanSmallPieces) with min_island_mm3 in voxels,
-//   rounded up: a piece takes the tissue most of its faces touch.
+// The rules of every step (ROI, thresholds, the tooth and its cut, tissues, partial volume, edges,
+// caries, islands) are in docs/PATIENT_SCANS.md, "How a tooth is segmented".
 
 namespace internal {
-// Exact multi-level Otsu over a histogram: the cuts b_1 < ... < b_{classes-1} (class j holds bins
-// [b_j, b_{j+1}), b_0 = 0, b_classes = counts.size(), each at least one bin) that maximise the
-// between-class variance. 2 <= classes <= counts.size(). Exposed for tests.
-std::vector<size_t> otsuCuts(const std::vector<double>& counts, int classes);
+// The Otsu search lives in otsu_thresholds.h; this is the name ct_segment's tests know it by.
+using dentsim::otsuCuts;
 }  // namespace internal
 
 }  // namespace dentsim

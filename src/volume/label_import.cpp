@@ -13,6 +13,7 @@
 
 #include "volume/tissue_table.h"
 #include "volume/tooth_frame.h"
+#include "volume/voxel_grid_ops.h"
 
 #include <algorithm>
 #include <cassert>
@@ -95,32 +96,6 @@ Result<std::vector<uint8_t>> sourceCodes(const LabelImage& image, const LabelImp
 }
 
 // ---- 3. small pieces ------------------------------------------------------------------------
-
-// One bit per source voxel: 18 MB for a 600 x 600 x 400 scan, where a byte would be 144 MB.
-class VoxelBits {
- public:
-  explicit VoxelBits(size_t n) : words_((n + 63) / 64, 0) {}
-  bool test(uint64_t i) const { return (words_[i >> 6] >> (i & 63)) & 1u; }
-  void set(uint64_t i) { words_[i >> 6] |= uint64_t{1} << (i & 63); }
-
- private:
-  std::vector<uint64_t> words_;
-};
-
-// Calls f(j) for each face neighbour j of voxel i inside the grid.
-template <class F>
-void forEachFaceNeighbour(uint64_t i, const std::array<int32_t, 3>& dims, F&& f) {
-  const uint64_t nx = uint64_t(dims[0]), ny = uint64_t(dims[1]), nz = uint64_t(dims[2]);
-  const uint64_t sz = nx * ny;
-  const uint64_t row = i / nx, x = i - row * nx;
-  const uint64_t z = row / ny, y = row - z * ny;
-  if (x > 0) f(i - 1);
-  if (x + 1 < nx) f(i + 1);
-  if (y > 0) f(i - nx);
-  if (y + 1 < ny) f(i + nx);
-  if (z > 0) f(i - sz);
-  if (z + 1 < nz) f(i + sz);
-}
 
 // The tissue most faces of the piece (its voxels hold kPieceMark) touch outside it, ties to the
 // inner tissue; nullopt when no face has a voxel outside the piece.
@@ -226,76 +201,18 @@ Status relabelSmallPieces(std::vector<uint8_t>& codes, const std::array<int32_t,
 // ---- 4. enclosed space ----------------------------------------------------------------------
 
 // Marks with kOutsideMark every zero cell 6-connected to the border through zero cells.
-// Breadth-first with an explicit queue: its size stays near the width of the advancing front.
-Status floodFromBorder(std::vector<uint8_t>& cells, const std::array<int32_t, 3>& dims, const Stage& stage,
-                       const std::string& where) {
-  const int64_t nx = dims[0], ny = dims[1], nz = dims[2];
-  const int64_t sy = nx, sz = nx * ny;
+Status markOutside(std::vector<uint8_t>& cells, const std::array<int32_t, 3>& dims, const Stage& stage,
+                   const std::string& where) {
   std::deque<uint64_t> queue;
-  auto visit = [&](uint64_t i) {
-    if (cells[i] == 0) {
-      cells[i] = kOutsideMark;
-      queue.push_back(i);
-    }
-  };
-  for (int64_t z = 0; z < nz; ++z)
-    for (int64_t y = 0; y < ny; ++y) {
-      if (z == 0 || z == nz - 1 || y == 0 || y == ny - 1) {
-        for (int64_t x = 0; x < nx; ++x) visit(uint64_t(x + sy * y + sz * z));
-      } else {
-        visit(uint64_t(sy * y + sz * z));
-        visit(uint64_t(nx - 1 + sy * y + sz * z));
-      }
-    }
-  const double total = double(cells.size());
-  uint64_t visited = 0;
-  while (!queue.empty()) {
-    const uint64_t i = queue.front();
-    queue.pop_front();
-    const int64_t x = int64_t(i) % nx, y = (int64_t(i) / nx) % ny, z = int64_t(i) / sz;
-    if (x > 0) visit(i - 1);
-    if (x < nx - 1) visit(i + 1);
-    if (y > 0) visit(i - uint64_t(sy));
-    if (y < ny - 1) visit(i + uint64_t(sy));
-    if (z > 0) visit(i - uint64_t(sz));
-    if (z < nz - 1) visit(i + uint64_t(sz));
-    if ((++visited & 0xFFFFF) == 0 && !stage.report(double(visited) / total)) return cancelled(where);
-  }
-  return Ok{};
-}
-
-// Dilates a 0/1 mask by a cube of side 2r+1, one axis at a time: each voxel learns its distance to
-// the nearest set voxel along the axis in a forward and a backward sweep (memory order, so every
-// sweep streams), and is set when that distance is at most r. 1 <= r <= 254.
-void dilateBox(std::vector<uint8_t>& mask, const std::array<int32_t, 3>& dims, int r) {
-  const size_t nx = size_t(dims[0]), ny = size_t(dims[1]), nz = size_t(dims[2]);
-  std::vector<uint8_t> dist(mask.size());
-  for (int axis = 0; axis < 3; ++axis) {
-    // One counter per line along `axis`: lines along x share one, along y one per x, along z one per (x, y).
-    std::vector<uint8_t> run(axis == 0 ? 1 : axis == 1 ? nx : nx * ny);
-    auto step = [&](size_t i, size_t line, bool line_start, bool forward) {
-      uint8_t& c = run[line];
-      if (line_start) c = 255;
-      c = mask[i] ? 0 : uint8_t(std::min(255, c + 1));
-      dist[i] = forward ? c : std::min(dist[i], c);
-    };
-    for (size_t z = 0, i = 0; z < nz; ++z)
-      for (size_t y = 0; y < ny; ++y)
-        for (size_t x = 0; x < nx; ++x, ++i) {
-          if (axis == 0) step(i, 0, x == 0, true);
-          else if (axis == 1) step(i, x, y == 0, true);
-          else step(i, x + nx * y, z == 0, true);
-        }
-    for (size_t z = nz, i = mask.size(); z-- > 0;)
-      for (size_t y = ny; y-- > 0;)
-        for (size_t x = nx; x-- > 0;) {
-          --i;
-          if (axis == 0) step(i, 0, x == nx - 1, false);
-          else if (axis == 1) step(i, x, y == ny - 1, false);
-          else step(i, x + nx * y, z == nz - 1, false);
-        }
-    for (size_t i = 0; i < mask.size(); ++i) mask[i] = dist[i] <= r ? 1 : 0;
-  }
+  const bool done = floodFromBorder(
+      dims, queue,
+      [&](uint64_t i) {
+        if (cells[i] != 0) return false;
+        cells[i] = kOutsideMark;
+        return true;
+      },
+      [&](double fraction) { return stage.report(fraction); });
+  return done ? Status(Ok{}) : Status(cancelled(where));
 }
 
 // Empty voxels that the tooth encloses become `fill`. With seal_voxels > 0 the walls are first
@@ -306,18 +223,18 @@ void dilateBox(std::vector<uint8_t>& mask, const std::array<int32_t, 3>& dims, i
 Status fillEnclosed(std::vector<uint8_t>& codes, const std::array<int32_t, 3>& dims, uint8_t fill,
                     std::optional<Material> wall, int seal_voxels, const Stage& stage, const std::string& where) {
   if (seal_voxels <= 0) {
-    if (Status s = floodFromBorder(codes, dims, stage, where); !s) return s;
+    if (Status s = markOutside(codes, dims, stage, where); !s) return s;
     for (uint8_t& c : codes) c = c == kOutsideMark ? 0 : (c == 0 ? fill : c);
     return Ok{};
   }
   std::vector<uint8_t> cells(codes.size());
   for (size_t i = 0; i < codes.size(); ++i)
     cells[i] = wall ? voxelMaterial(codes[i]) == *wall : codes[i] != 0;
-  dilateBox(cells, dims, seal_voxels);
+  dilateBit(cells, dims, seal_voxels, 1, 2);  // a 0/1 mask: bit 1, scratch bit 2
   if (!stage.report(0.3)) return cancelled(where);
-  if (Status s = floodFromBorder(cells, dims, stage.sub(0.3, 0.7), where); !s) return s;
+  if (Status s = markOutside(cells, dims, stage.sub(0.3, 0.7), where); !s) return s;
   for (uint8_t& c : cells) c = c == kOutsideMark ? 1 : 0;
-  dilateBox(cells, dims, seal_voxels);
+  dilateBit(cells, dims, seal_voxels, 1, 2);  // a 0/1 mask: bit 1, scratch bit 2
   for (size_t i = 0; i < codes.size(); ++i)
     if (codes[i] == 0 && cells[i] == 0) codes[i] = fill;
   if (!stage.report(1.0)) return cancelled(where);
