@@ -1,6 +1,7 @@
 // Tests for core/spsc_ring.h: power-of-two capacity, empty and full edges, FIFO order across many wraps, and every record exactly once between two threads.
 #include "core/spsc_ring.h"
 
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,22 +10,14 @@
 #include <string>
 #include <thread>
 
+#include "test_stamp.h"
+
 namespace dentsim {
 namespace {
 
-// Three words all derived from n: a slot overwritten while the consumer read it would disagree.
-struct Stamp {
-  uint64_t n = 0;
-  uint64_t hash = 0;  // n * 2654435761
-  uint64_t inv = 0;   // ~n
-};
-
-void fill(Stamp* slot, uint64_t n) {
-  slot->n = n;
-  slot->hash = n * 2654435761u;
-  slot->inv = ~n;
-}
-bool whole(const Stamp& s) { return s.hash == s.n * 2654435761u && s.inv == ~s.n; }
+using test::Stamp;
+using test::fill;
+using test::whole;
 
 // Pushes n into the ring; false when it was full.
 bool tryPush(SpscRing<uint64_t>& ring, uint64_t n) {

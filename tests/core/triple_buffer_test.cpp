@@ -1,6 +1,7 @@
 // Tests for core/triple_buffer.h: latest value wins, a read is stable until the next one, and a reader never sees a torn or older value.
 #include "core/triple_buffer.h"
 
+
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -8,18 +9,14 @@
 #include <string>
 #include <thread>
 
+#include "test_stamp.h"
+
 namespace dentsim {
 namespace {
 
-// Three words all derived from n: a reader that saw parts of two values would find them disagree.
-struct Stamp {
-  uint64_t n = 0;
-  uint64_t hash = 0;  // n * 2654435761
-  uint64_t inv = 0;   // ~n
-};
-
-Stamp stampOf(uint64_t n) { return Stamp{n, n * 2654435761u, ~n}; }
-bool whole(const Stamp& s) { return s.hash == s.n * 2654435761u && s.inv == ~s.n; }
+using test::Stamp;
+using test::stampOf;
+using test::whole;
 
 TEST(TripleBuffer, BeforeAnyPublishTheReaderSeesTheInitialValue) {
   TripleBuffer<int> zero;
