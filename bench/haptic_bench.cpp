@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <cstdarg>
 #include <cstdio>
 #include <numbers>
 #include <optional>
@@ -509,9 +510,13 @@ nlohmann::json hapticReportJson(const HapticReportInfo& info, const std::vector<
 // ---- 4. Markdown -----------------------------------------------------------------------------------
 namespace {
 
-std::string fmt(const char* format, double v) {
+// A number for the report's tables; the attribute has the compiler check each call's literal format.
+__attribute__((format(printf, 1, 2))) std::string fmt(const char* format, ...) {
   char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(buf, sizeof buf, format, args);
+  va_end(args);
   return buf;
 }
 

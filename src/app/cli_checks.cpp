@@ -11,6 +11,7 @@
 #include <sys/statvfs.h>
 #include <unistd.h>
 
+#include "core/text_escape.h"
 #include "io/atomic_file.h"
 #include "model/tool_generator.h"
 #include "render/tooth_lod.h"
@@ -24,7 +25,9 @@ std::string formatNumber(double value) {
 }
 
 void failInOneLine(CLI::App& root) {
-  root.failure_message([](const CLI::App*, const CLI::Error& e) { return "dentsim: " + std::string(e.what()) + "\n"; });
+  // CLI11 quotes what the user typed; escaped, a value holding a newline or an ESC stays one line.
+  root.failure_message(
+      [](const CLI::App*, const CLI::Error& e) { return "dentsim: " + escapeControl(e.what(), 2000) + "\n"; });
 }
 
 CLI::Validator finiteIn(double lo, double hi, const std::string& unit) {
@@ -46,13 +49,41 @@ Status refuseOption(bool given, const std::string& option, const std::string& re
   return makeError(option, reason);
 }
 
+namespace {
+
+// Whether `out` would be written inside the folder `in` (an input that is a folder: a DICOM series),
+// at any depth, following symbolic links on both sides. A series folder read whole takes every
+// file in it as a slice, so a new file there changes the input and a slice's name replaces one.
+bool liesInsideFolder(const std::string& in, const std::string& out) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::is_directory(in, ec)) return false;
+  const fs::path folder = fs::canonical(in, ec);
+  if (ec) return false;
+  // The output need not exist yet: its existing part is resolved, the rest taken as written.
+  const fs::path target = fs::weakly_canonical(fs::absolute(out, ec), ec);
+  if (ec) return false;
+  auto f = folder.begin();
+  auto t = target.begin();
+  for (; f != folder.end(); ++f, ++t)
+    if (t == target.end() || *f != *t) return false;
+  return t != target.end();  // at least one name below the folder
+}
+
+}  // namespace
+
 Status checkOutputsAreNotInputs(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs) {
   for (const std::string& out : outputs) {
     if (out.empty()) continue;
-    for (const std::string& in : inputs)
-      if (!in.empty() && sameFile(in, out))
-        return makeError(out, "is the same file as the input " + in + "; writing it would destroy the input: "
+    for (const std::string& in : inputs) {
+      if (in.empty()) continue;
+      if (sameFile(in, out))
+        return makeError(out, "is the same file as the input " + shownPath(in) + "; writing it would destroy the input: "
                               "give another output path");
+      if (liesInsideFolder(in, out))
+        return makeError(out, "lies inside the input folder " + shownPath(in) + "; writing it would change the input: "
+                              "give an output path outside it");
+    }
   }
   return Ok{};
 }
@@ -89,7 +120,7 @@ Status checkRecordingFolder(const std::string& folder, bool overwrite) {
   for (fs::directory_iterator it(folder, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
     if (isRecordingFile(name))
-      return makeError(folder, "already holds a recording (" + name +
+      return makeError(folder, "already holds a recording (" + shownPath(name) +
                                    "); a new run would replace it: give another --out folder, or --overwrite to replace it");
   }
   return Ok{};
@@ -99,12 +130,12 @@ std::string whyCannotWrite(const std::string& path, uint64_t bytes_needed) {
   namespace fs = std::filesystem;
   fs::path folder = fs::path(path).parent_path();
   if (folder.empty()) folder = ".";
-  if (::access(folder.c_str(), W_OK) != 0) return folder.string() + ": " + std::strerror(errno);
+  if (::access(folder.c_str(), W_OK) != 0) return shownPath(folder.string()) + ": " + std::strerror(errno);
   struct statvfs fs_info {};
   if (::statvfs(folder.c_str(), &fs_info) == 0) {
     const uint64_t free_bytes = uint64_t(fs_info.f_bavail) * uint64_t(fs_info.f_frsize);
     if (free_bytes < bytes_needed)
-      return folder.string() + ": " + std::strerror(ENOSPC) + " (" + std::to_string(free_bytes) + " bytes free, up to " +
+      return shownPath(folder.string()) + ": " + std::strerror(ENOSPC) + " (" + std::to_string(free_bytes) + " bytes free, up to " +
              std::to_string(bytes_needed) + " needed)";
   }
   return {};
@@ -122,10 +153,10 @@ Status checkCatalogTool(const std::string& option, const std::string& name, Tool
     if (name != s.name) continue;
     const bool is_bur = s.kind == ToolKind::RoundBur || s.kind == ToolKind::FissureBur;
     if (bur ? is_bur : s.kind == ToolKind::Mirror) return Ok{};
-    return makeError(option, "\"" + name + "\" is a " + toolKindName(s.kind) + ", not " + wanted + " (" +
+    return makeError(option, "\"" + escapeControl(name) + "\" is a " + toolKindName(s.kind) + ", not " + wanted + " (" +
                                  wanted + " is one of " + names + ")");
   }
-  return makeError(option, "\"" + name + "\" is not in the tool catalog (" + wanted + " is one of " + names + ")");
+  return makeError(option, "\"" + escapeControl(name) + "\" is not in the tool catalog (" + wanted + " is one of " + names + ")");
 }
 
 CLI::Validator mesherCheck() {

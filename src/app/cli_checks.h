@@ -40,7 +40,9 @@ void addDrawingOptions(CLI::App& cmd, float* detail_pixels, gpu::MesherKind* mes
 Status refuseOption(bool given, const std::string& option, const std::string& reason);
 
 // Refuses when any output names the same file as any input (device and inode, so hard and
-// symbolic links count too); empty paths are skipped. The one-line message names both paths.
+// symbolic links count too), or lies inside an input that is a folder (a DICOM series: a new file
+// there joins the series, a slice's name replaces a slice); empty paths are skipped. The one-line
+// message names both paths, escaped.
 Status checkOutputsAreNotInputs(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs);
 
 // The files a run or a demo writes in its output folder that make it a recording: the session

@@ -1,7 +1,8 @@
-// `dentsim bench memory|voxelize|mesh|haptic|frames`: the options, then the runner in bench/ (frames_bench.cpp for frames), then what it printed and wrote (`bench scores` is in cmd_bench_scores.cpp).
+// `dentsim bench memory|plan|voxelize|mesh|haptic|frames`: the options, then the runner in bench/ (frames_bench.cpp for frames), then what it printed and wrote (`bench scores` is in cmd_bench_scores.cpp).
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <algorithm>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -17,6 +18,7 @@
 #include "bench/haptic_bench.h"
 #include "bench/host_info.h"
 #include "bench/memory_bench.h"
+#include "bench/plan_bench.h"
 #include "bench/mesh_bench.h"
 #include "bench/voxelize_bench.h"
 #include "gpu/context.h"
@@ -108,6 +110,33 @@ int runMemoryBench(const MemoryBenchOptions& o) {
   std::printf("\n%s", bench::memoryRowsTable(*rows).c_str());
   if (Status s = bench::writeMemoryReport(o.out, *rows); !s) return fail(s.message());
   std::printf("wrote %s/memory.json, memory.md, memory.svg\n", o.out.c_str());
+  return 0;
+}
+
+// ---- bench plan --------------------------------------------------------------------------------
+
+struct PlanBenchOptions {
+  bench::PlanBenchSettings settings;
+  std::string out = "docs/bench";
+};
+
+// Exit 1 when an estimate strays beyond its bound, so a change to the voxelizers that leaves the
+// plan behind shows; the table says which.
+int runPlanBench(PlanBenchOptions o) {
+  if (Status s = createOutputFolder(o.out); !s) return fail(s.message());
+  std::error_code ec;
+  o.settings.dentsim = std::filesystem::read_symlink("/proc/self/exe", ec).string();
+  if (ec) return fail("bench plan: cannot tell where this dentsim is (/proc/self/exe)");
+  if (o.settings.scratch.empty())  // the made scan is 290 MB: kept outside the tree, for the next run
+    o.settings.scratch = (std::filesystem::temp_directory_path(ec) / "dentsim-bench-plan").string();
+  auto rows = bench::runPlanBench(o.settings, printLine);
+  if (!rows) return fail(rows.message());
+  std::printf("\n%s", bench::planRowsTable(*rows).c_str());
+  if (Status s = bench::writePlanReport(o.out, *rows); !s) return fail(s.message());
+  std::printf("wrote %s/plan.json, plan.md\n", o.out.c_str());
+  const bool within = std::all_of(rows->begin(), rows->end(),
+                                  [](const bench::PlanRow& r) { return r.memoryWithin() && r.timeWithin(); });
+  if (!within) return fail("bench plan: an estimate strays beyond its bound (marked \"out\" in the table)");
   return 0;
 }
 
@@ -251,6 +280,20 @@ void addBenchCommand(CLI::App& root, Action& action) {
   memory->add_option("--levels", opts->settings.levels, "Octree levels")->delimiter(',')->check(CLI::Range(3, 12))->capture_default_str();
   memory->add_option("--out", opts->out, "Output folder")->capture_default_str();
   memory->callback([opts, &action] { action = [opts] { return runMemoryBench(*opts); }; });
+
+  auto popts = std::make_shared<PlanBenchOptions>();
+  popts->settings.data_dir = defaultDataDir();
+  CLI::App* plan = bench->add_subcommand("plan", "voxelize's plan (peak memory, time) beside what each run took, "
+                                                 "per input path (STL on CPU and GPU, labels, a scan) and level");
+  plan->add_option("--data", popts->settings.data_dir, "Folder with teeth/ and ct/ (the shared tooth data)")
+      ->capture_default_str();
+  plan->add_option("--paths", popts->settings.paths, "Input paths: stl-cpu, stl-gpu, labels, scan")
+      ->delimiter(',')->capture_default_str();
+  plan->add_option("--levels", popts->settings.levels, "Octree levels")->delimiter(',')->check(CLI::Range(3, 13))
+      ->capture_default_str();
+  plan->add_option("--scratch", popts->settings.scratch, "Folder for the made scan (kept for the next run) and the runs' outputs (default: TMPDIR/dentsim-bench-plan)");
+  plan->add_option("--out", popts->out, "Output folder")->capture_default_str();
+  plan->callback([popts, &action] { action = [popts] { return runPlanBench(*popts); }; });
 
   auto vopts = std::make_shared<VoxelizeBenchOptions>();
   CLI::App* voxelize = bench->add_subcommand("voxelize", "Time to voxelize the built-in molar, decimated, at several "

@@ -187,7 +187,7 @@ int runCpuDemo(const DemoOptions& o) {
   if (!session) return fail(session.message());
   auto score = scoreCut(*task, initial, *tooth, nullptr, &*session, scoreFiles(initial_path, final_path, session_path));
   if (!score) return fail(score.message());
-  for (const std::string& w : score->warnings) std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
+  for (const std::string& w : score->warnings) warn(w);
   const std::string report_path = (fs::path(o.out) / "score.json").string();
   if (Status st = stampStatementId(o.learning, *task, score->report, session_path, final_path); !st) return fail(st.message());
   if (Status st = writeScoreReport(report_path, score->report); !st) return fail(st.message());

@@ -85,9 +85,10 @@ nlohmann::json describe(const std::string& path, const ToothVolume& t) {
   return j;
 }
 
-std::string triple(const nlohmann::json& v, const char* format = "%.3f") {
+// Three numbers with `digits` after the point: the format stays a literal.
+std::string triple(const nlohmann::json& v, int digits = 3) {
   char one[3][40];
-  for (int i = 0; i < 3; ++i) std::snprintf(one[i], sizeof one[i], format, v[size_t(i)].get<double>());
+  for (int i = 0; i < 3; ++i) std::snprintf(one[i], sizeof one[i], "%.*f", digits, v[size_t(i)].get<double>());
   return std::string("(") + one[0] + ", " + one[1] + ", " + one[2] + ")";
 }
 
@@ -117,18 +118,18 @@ void printText(const nlohmann::json& j) {
   for (const auto& [name, t] : j["tissues"].items()) {
     std::printf("  %-8s  %14.4f %12llu", name.c_str(), t["volume_mm3"].get<double>(), t["voxels"].get<unsigned long long>());
     if (j["bounds"].contains(name))
-      std::printf("   %s to %s", triple(j["bounds"][name]["lo_mm"], "%.2f").c_str(), triple(j["bounds"][name]["hi_mm"], "%.2f").c_str());
+      std::printf("   %s to %s", triple(j["bounds"][name]["lo_mm"], 2).c_str(), triple(j["bounds"][name]["hi_mm"], 2).c_str());
     std::printf("\n");
   }
   if (j["bounds"].contains("tooth"))
-    std::printf("  %-8s  %27s   %s to %s\n", "tooth", "", triple(j["bounds"]["tooth"]["lo_mm"], "%.2f").c_str(),
-                triple(j["bounds"]["tooth"]["hi_mm"], "%.2f").c_str());
+    std::printf("  %-8s  %27s   %s to %s\n", "tooth", "", triple(j["bounds"]["tooth"]["lo_mm"], 2).c_str(),
+                triple(j["bounds"]["tooth"]["hi_mm"], 2).c_str());
   const auto& a = j["tooth_frame"];
   std::printf("tooth frame (simulation frame, mm)\n");
   std::printf("  crown     %s  %s\n", triple(a["crown"]).c_str(), a["crown_from"].get<std::string>().c_str());
   std::printf("  mesial    %s  %s (distal the opposite)\n", triple(a["mesial"]).c_str(), a["mesial_from"].get<std::string>().c_str());
   std::printf("  buccal    %s  %s (lingual the opposite)\n", triple(a["buccal"]).c_str(), a["buccal_from"].get<std::string>().c_str());
-  std::printf("  occlusal centre %s  %s\n", triple(a["occlusal_centre_mm"], "%.2f").c_str(),
+  std::printf("  occlusal centre %s  %s\n", triple(a["occlusal_centre_mm"], 2).c_str(),
               a["occlusal_centre_from"].get<std::string>() == "file" ? "" : "(measured: the file has no frame)");
   const auto& turn = a["turn"];
   bool turned = false;

@@ -106,7 +106,7 @@ std::string mismatchReason(const SessionRecording& session) {
 int finishReplay(const ReplayCliOptions& o, const SessionRecording& session, const ToothVolume& initial,
                  ToothVolume& tooth, const ReplayOutcome& outcome) {
   for (const std::string& w : outcome.warnings)
-    if (w != session.truncation_warning) std::fprintf(stderr, "dentsim: warning: %s: %s\n", o.session.c_str(), w.c_str());
+    if (w != session.truncation_warning) warn(o.session + ": " + w);
   if (!o.output.empty())
     if (Status st = saveTooth(o.output, tooth); !st) return fail(st.message());
 
@@ -133,13 +133,13 @@ int finishReplay(const ReplayCliOptions& o, const SessionRecording& session, con
     // The replay stands without a score: a task this build does not know only costs the score.
     auto found = replayTask(o, session);
     if (found) task = std::move(*found);
-    else std::fprintf(stderr, "dentsim: warning: %s: not scored: %s\n", o.session.c_str(), found.message().c_str());
+    else warn(o.session + ": not scored: " + found.message());
   }
   if (task) {
     auto s = scoreCut(*task, initial, tooth, nullptr, &session, scoreFiles("", o.output, o.session));
     if (!s) return fail(o.session + ": " + s.message());
     score = std::move(*s);
-    for (const std::string& w : score->warnings) std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
+    for (const std::string& w : score->warnings) warn(w);
     j["task"] = task->name;
     j["total"] = score->total;
     if (!o.report.empty())
@@ -220,7 +220,7 @@ Result<std::string> sessionPath(const std::string& given) {
   std::error_code ec;
   const std::string path = fs::is_directory(given, ec) ? (fs::path(given) / "session.dses").string() : given;
   if (!fs::exists(path, ec) && fs::exists(path + ".part", ec))
-    return makeError(path, "does not exist, but " + path + ".part does: a recording that did not finish; replay it with "
+    return makeError(path, "does not exist, but " + shownPath(path) + ".part does: a recording that did not finish; replay it with "
                            "`dentsim replay " + path + ".part`");
   return path;
 }
@@ -247,7 +247,7 @@ int runReplay(ReplayCliOptions o) {
   if (!session) return fail(session.message());
   if (Status st = checkReplayFiles(o, *session); !st) return fail(st.message());
   for (const std::string& w : {session->truncation_warning})
-    if (!w.empty()) std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
+    if (!w.empty()) warn(w);
   auto tooth = resolveSessionTooth(*session, o.session, o.tooth);
   if (!tooth) return fail(tooth.message());
   // A window where a display answers; the sound is rendered offline, step for step, so it stays headless.

@@ -2,13 +2,16 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
 #include "app/cli_checks.h"
 #include "app/commands.h"
+#include "core/text_escape.h"
 #include "eval/attempt_reader.h"
 #include "eval/class_report.h"
 #include "eval/class_report_html.h"
@@ -58,26 +61,53 @@ Status parsePassMark(const std::string& text, ClassReportOptions* options) {
   return Ok{};
 }
 
-// The PNG bytes of every picture the attempts name. One that cannot be read is a warning: the
-// attempt still counts, and its place on the page says "no picture".
-ReportPictures loadPictures(const std::vector<ClassAttempt>& attempts) {
+// What the page may embed of pictures, in PNG bytes (base64 makes it 4/3 of that on the page): a
+// class's distinct pictures fit, while an outbox naming hundreds of large ones cannot make a page
+// that a browser, or the memory building it, cannot hold. DENTSIM_REPORT_PICTURE_CAP_BYTES lowers
+// it, for tests.
+constexpr uint64_t kMaxEmbeddedPictureBytes = 64ull << 20;  // [B]
+
+uint64_t embeddedPictureCap() {
+  const char* text = std::getenv("DENTSIM_REPORT_PICTURE_CAP_BYTES");
+  char* end = nullptr;
+  const unsigned long long cap = text && *text ? std::strtoull(text, &end, 10) : 0;
+  return (end && *end == '\0' && cap > 0) ? uint64_t(cap) : kMaxEmbeddedPictureBytes;
+}
+
+// Every picture the attempts name, in the page's order: embedded while the cap allows (a copy of
+// one already embedded costs nothing), linked by its path past it, with one warning. One that
+// cannot be read is a warning: the attempt still counts, and its place on the page says "no picture".
+ReportPictures loadPictures(const std::vector<ClassAttempt>& attempts, uint64_t cap) {
   static constexpr uint8_t kPngSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
   ReportPictures pictures;
+  std::set<std::string> tried;
+  uint64_t embedded_bytes = 0;
   for (const ClassAttempt& a : attempts) {
-    if (a.picture.empty() || pictures.count(a.picture)) continue;
+    if (a.picture.empty() || !tried.insert(a.picture).second) continue;
     auto bytes = readFileBytes(a.picture, kMaxPictureBytes);
     if (!bytes) {
-      std::fprintf(stderr, "dentsim: warning: %s (the picture of %s); shown as no picture\n", bytes.message().c_str(), a.source.c_str());
+      warn(bytes.message() + " (the picture of " + a.source + "); shown as no picture");
       continue;
     }
     if (bytes->size() < 8 || !std::equal(kPngSignature, kPngSignature + 8, bytes->begin())) {
-      std::fprintf(stderr, "dentsim: warning: %s: not a PNG (the picture of %s); shown as no picture\n", a.picture.c_str(), a.source.c_str());
+      warn(a.picture + ": not a PNG (the picture of " + a.source + "); shown as no picture");
       continue;
     }
-    pictures.emplace(a.picture, std::move(*bytes));
+    const bool copy = std::find(pictures.pngs.begin(), pictures.pngs.end(), *bytes) != pictures.pngs.end();
+    if (!copy && embedded_bytes + bytes->size() > cap) {
+      pictures.linked.insert(a.picture);
+      continue;
+    }
+    if (pictures.add(a.picture, std::move(*bytes))) embedded_bytes += pictures.pngs.back().size();
   }
+  if (!pictures.linked.empty())
+    warnf("%zu picture(s) past the %llu bytes of pictures a page embeds are linked by their path instead (the first: %s)",
+          pictures.linked.size(), static_cast<unsigned long long>(cap), shownPath(*pictures.linked.begin()).c_str());
   return pictures;
 }
+
+// At most this many warnings for one input's bad lines; a file of nothing else says so once.
+constexpr size_t kMaxLineWarningsPerFile = 10;
 
 int runReport(const ReportCliOptions& o) {
   ClassReportOptions report_options;
@@ -100,16 +130,26 @@ int runReport(const ReportCliOptions& o) {
   std::vector<ClassAttempt> attempts;
   int skipped = 0;
   for (const std::string& f : files) {
-    auto read = readAttempts(f, read_options, &skipped);
+    std::vector<std::string> warnings;
+    auto read = readAttempts(f, read_options, &skipped, &warnings);
     if (!read) return fail(read.message());
+    // A bad line costs itself, and says so: the rest of the class is reported.
+    for (size_t i = 0; i < warnings.size() && i < kMaxLineWarningsPerFile; ++i)
+      warn(warnings[i]);
+    if (warnings.size() > kMaxLineWarningsPerFile)
+      warn(shownPath(f) + ": " + std::to_string(warnings.size() - kMaxLineWarningsPerFile) + " more bad lines left out");
     attempts.insert(attempts.end(), read->begin(), read->end());
   }
   if (attempts.empty()) return fail("no scored attempt in " + std::to_string(files.size()) + " input files");
-  const ReportPictures pictures = loadPictures(attempts);
   const ClassReport report = buildClassReport(std::move(attempts), report_options);
+  // The pictures the page embeds are inputs too: a page written over one would destroy it.
+  std::vector<std::string> picture_files;
+  for (const ClassAttempt& a : report.attempts) picture_files.push_back(a.picture);
+  if (Status st = checkOutputsAreNotInputs(picture_files, {o.output}); !st) return fail(st.message());
+  const ReportPictures pictures = loadPictures(report.attempts, embeddedPictureCap());
   if (Status st = writeFileAtomic(o.output, classReportHtml(report, pictures)); !st) return fail(st.message());
   std::printf("wrote %s: %zu attempts by %zu students at %zu tasks, %zu to look at, %zu pictures", o.output.c_str(),
-              report.attempts.size(), report.students.size(), report.tasks.size(), report.flags.size(), pictures.size());
+              report.attempts.size(), report.students.size(), report.tasks.size(), report.flags.size(), pictures.count());
   if (skipped > 0) std::printf(" (%d statements without a score left out)", skipped);
   if (report.duplicates > 0) std::printf(" (%d statements or score reports given twice counted once)", report.duplicates);
   if (report.merged > 0) std::printf(" (%d score reports and their statements counted once)", report.merged);

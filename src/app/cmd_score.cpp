@@ -25,6 +25,8 @@ struct ScoreCliOptions {
 };
 
 int runScore(const ScoreCliOptions& o) {
+  // The student's name and the config first: a name refused after the scoring wasted it.
+  if (Status st = checkLearningOptions(o.learning); !st) return fail(st.message());
   if (Status st = checkOutputsAreNotInputs({o.initial, o.final_, o.ideal, o.session, o.task}, {o.report, o.png, o.deviation_png});
       !st)
     return fail(st.message());
@@ -44,7 +46,7 @@ int runScore(const ScoreCliOptions& o) {
   if (!o.session.empty()) {
     auto read = readSessionFile(o.session);
     if (!read) return fail(read.message());
-    if (!read->truncation_warning.empty()) std::fprintf(stderr, "dentsim: warning: %s\n", read->truncation_warning.c_str());
+    if (!read->truncation_warning.empty()) warn(read->truncation_warning);
     session = std::move(*read);
   }
   ScoreFiles files = scoreFiles(o.initial, o.final_, o.session);
@@ -58,7 +60,7 @@ int runScore(const ScoreCliOptions& o) {
   // The report names its learning record's statement, so that a class report counts the attempt once.
   if (Status st = stampStatementId(o.learning, *task, score->report, o.session, o.final_); !st) return fail(st.message());
   if (Status st = writeScoreReport(o.report, score->report); !st) return fail(st.message());
-  for (const std::string& w : score->warnings) std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
+  for (const std::string& w : score->warnings) warn(w);
   std::string wrote = o.report;
   if (!o.png.empty()) {
     if (Status st = writeScoreImage(o.png, *task, *initial, *final_, *score, ideal ? &*ideal : nullptr); !st)

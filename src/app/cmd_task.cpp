@@ -126,11 +126,9 @@ void printWhatTheIdealSet(const std::string& task_path, const IdealRecord& r) {
   const Task& t = r.task;
   // The ideal stands: only the teacher knows whether the other bur was meant.
   if (p.drill_tool != t.drill_tool)
-    std::fprintf(stderr,
-                 "dentsim: warning: the professional used %s but the task's drill is %s: the ideal's walls and floor are "
-                 "that bur's shape, which a student with the task's bur cannot match (record the ideal with %s, or "
-                 "change the task's tools.drill)\n",
-                 p.drill_tool.c_str(), t.drill_tool.c_str(), t.drill_tool.c_str());
+    warn("the professional used " + p.drill_tool + " but the task's drill is " + t.drill_tool +
+         ": the ideal's walls and floor are that bur's shape, which a student with the task's bur cannot match "
+         "(record the ideal with " + t.drill_tool + ", or change the task's tools.drill)");
   std::printf("%s: the professional's session lasted %.1f s, %.1f s of it with the bur in contact with the tooth\n",
               task_path.c_str(), p.elapsed_s, p.contact_s);
   if (p.bur_axis)
@@ -207,8 +205,7 @@ int runTaskNew(const TaskNewOptions& o) {
                           "--pulp or --fill-enclosed pulp)");
   const ToothAxes& axes = tooth->frame.tooth;
   if (axes.crown_source == AxisSource::Assumed)
-    std::fprintf(stderr, "dentsim: warning: %s has no tooth frame: the crown is taken as +z (voxelize it again to find it)\n",
-                 o.tooth.c_str());
+    warn(o.tooth + " has no tooth frame: the crown is taken as +z (voxelize it again to find it)");
 
   nlohmann::ordered_json j;
   j["format"] = "dentsim-task";

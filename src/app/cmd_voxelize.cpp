@@ -1,7 +1,10 @@
 // dentsim voxelize: builds a .dvol tooth from STL tissue layers (GPU depth peeling) or from a segmented CT label volume.
+#include <unistd.h>
+
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <functional>
 #include <memory>
 #include <optional>
@@ -9,14 +12,18 @@
 #include <tuple>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "app/cli_checks.h"
 #include "app/commands.h"
 #include "app/gpu_choice.h"
 #include "app/terminal_progress.h"
+#include "core/text_escape.h"
 #include "gpu/gpu_voxelizer.h"
 #include "io/mesh_units.h"
 #include "io/dicom_series.h"
 #include "io/grey_volume_file.h"
+#include "io/input_budget.h"
 #include "io/nifti_labels.h"
 #include "io/stl_file.h"
 #include "volume/ct_segment.h"
@@ -66,14 +73,24 @@ struct VoxelizeOptions {
   // The tooth's frame, in the input's coordinates; empty: found (crown) or not known (mesial, buccal)
   std::vector<double> crown_axis, mesial_axis, buccal_axis;
   bool keep_orientation = false;  // record the frame but do not turn the grid
-  bool force = false;             // run a job larger than the machine's free memory all the same
+  bool force = false;             // run a job planned beyond the memory budget all the same
+  std::string plan_json;          // append each estimate here as a JSON line; empty: none
 };
 
-// Says what the job will cost before it starts, and refuses one beyond the free memory unless --force.
-Status planJob(const dentsim::VoxelizeCost& cost, bool force) {
+// Says what the job will cost before it starts, and refuses one beyond the memory budget unless --force.
+// With --plan-json the estimate is also appended as one JSON line, for `dentsim bench plan` and scripts.
+Status planJob(const dentsim::VoxelizeCost& cost, const VoxelizeOptions& o) {
   std::printf("plan: %s\n", describeCost(cost).c_str());
   std::fflush(stdout);
-  return checkAffordable(cost, availableMemoryBytes(), force, "voxelize");
+  if (!o.plan_json.empty()) {
+    const nlohmann::json line = {{"level", cost.level},           {"scan_voxels", cost.scan_voxels},
+                                 {"dense_bricks", cost.surface_bricks}, {"memory_bytes", cost.memory_bytes},
+                                 {"seconds", cost.seconds}};
+    std::ofstream out(o.plan_json, std::ios::app);
+    out << line.dump() << "\n";
+    if (!out) return makeError(o.plan_json, "cannot append the plan");
+  }
+  return checkAffordable(cost, memoryBudgetBytes(), o.force, "voxelize");
 }
 
 Result<ToothAxesHint> axesHint(const VoxelizeOptions& o) {
@@ -100,13 +117,13 @@ void printFrame(const ToothVolume& tooth) {
               t.crown[1], t.crown[2], t.turned() ? " after quarter turns that stand the crown up" : "",
               axisSourceText(t.mesial_source));
   if (t.crown_source == AxisSource::Assumed)
-    std::fprintf(stderr, "dentsim: warning: the enamel does not show which way the crown faces (none, or centred on the tooth): +z is taken as the crown axis (give --crown-axis)\n");
+    warn("the enamel does not show which way the crown faces (none, or centred on the tooth): +z is taken as the crown axis (give --crown-axis)");
 }
 
 void printSummary(const ToothVolume& tooth, const std::string& output) {
   const VolumeFrame& f = tooth.frame;
   const MaterialTotals totals = tooth.voxels.materialTotals();
-  std::printf("%s: grid %lld^3 (level %d), voxel %.6g mm\n", output.c_str(), static_cast<long long>(f.dim()),
+  std::printf("%s: grid %lld^3 (level %d), voxel %.6g mm\n", shownPath(output).c_str(), static_cast<long long>(f.dim()),
               f.level, f.voxel_mm);
   for (uint32_t m = 1; m < DS_TISSUE_COUNT; ++m) {
     const auto mat = static_cast<Material>(m);
@@ -148,20 +165,17 @@ Result<LoadedLayer> loadLayer(const std::string& path, Material material, double
   LoadedLayer layer{path, material, std::move(stl->mesh), 0.0};
   layer.mesh.scale(mm_per_unit);
   const MeshTopology& topo = stl->info.topology;
+  const std::string shown = shownPath(path);  // the warnings below name the file, escaped
   if (topo.open_edges > 0)
-    std::fprintf(stderr, "dentsim: warning: %s: %llu open edges (holes); rays through a hole borrow the layer from the nearest ray that is closed\n",
-                 path.c_str(), static_cast<unsigned long long>(topo.open_edges));
+    warn(shown + ": " + std::to_string(topo.open_edges) + " open edges (holes); rays through a hole borrow the layer from the nearest ray that is closed");
   if (topo.nonmanifold_edges > 0)
-    std::fprintf(stderr, "dentsim: warning: %s: %llu non-manifold edges\n", path.c_str(),
-                 static_cast<unsigned long long>(topo.nonmanifold_edges));
+    warn(shown + ": " + std::to_string(topo.nonmanifold_edges) + " non-manifold edges");
   if (!topo.consistent())
-    std::fprintf(stderr, "dentsim: warning: %s: %llu edges with inconsistent winding; the inside is taken by winding number\n",
-                 path.c_str(), static_cast<unsigned long long>(topo.flipped_edges));
+    warn(shown + ": " + std::to_string(topo.flipped_edges) + " edges with inconsistent winding; the inside is taken by winding number");
   else if (topo.signed_volume_mm3 < 0.0)
-    std::fprintf(stderr, "dentsim: warning: %s: the mesh is inside out (negative volume); it is filled all the same\n",
-                 path.c_str());
+    warn(shown + ": the mesh is inside out (negative volume); it is filled all the same");
   if (std::string w = toothExtentWarning(layer.mesh.bounds(), path); !w.empty())
-    std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
+    warn(escapeControl(w, w.size()));
   layer.volume_mm3 = std::abs(layer.mesh.signedVolume());
   return layer;
 }
@@ -189,15 +203,15 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
   std::optional<VolumeFrame> reference;
   if (!o.frame_of.empty()) {
     if (o.level > 0 || o.voxel_size > 0.0)
-      return fail("--frame-of takes the grid of " + o.frame_of + "; leave out --level and --voxel-size");
+      return fail("--frame-of takes the grid of " + shownPath(o.frame_of) + "; leave out --level and --voxel-size");
     if (!o.crown_axis.empty() || !o.mesial_axis.empty() || !o.buccal_axis.empty() || o.keep_orientation)
-      return fail("--frame-of takes the tooth frame of " + o.frame_of + "; leave out the axes and --keep-orientation");
+      return fail("--frame-of takes the tooth frame of " + shownPath(o.frame_of) + "; leave out the axes and --keep-orientation");
     Result<VolumeFrame> f = referenceFrame(o.frame_of);
     if (!f) return fail(f.message());
     reference = *f;
   }
   LengthUnit unit{};
-  if (!parseLengthUnit(o.units, &unit)) return fail("--units: unknown unit '" + o.units + "' (expected mm, cm, m or um)");
+  if (!parseLengthUnit(o.units, &unit)) return fail("--units: unknown unit '" + escapeControl(o.units) + "' (expected mm, cm, m or um)");
   if (!(o.scale > 0.0) || !std::isfinite(o.scale)) return fail("--scale must be a positive number");
   const double mm_per_unit = millimetresPer(unit) * o.scale;
 
@@ -205,7 +219,7 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
   if (!o.tooth.empty()) {
     Material m{};
     if (!parseMaterial(o.tooth_material, &m) || m == Material::Empty)
-      return fail("--tooth-material: unknown tissue '" + o.tooth_material + "'");
+      return fail("--tooth-material: unknown tissue '" + escapeControl(o.tooth_material) + "'");
     inputs.push_back({o.tooth, m});
   }
   for (auto [path, m] : {std::pair{&o.enamel, Material::Enamel}, {&o.dentin, Material::Dentin},
@@ -243,8 +257,7 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
                                                   : fitGridToLevel(bounds, o.level > 0 ? o.level : 9);
   if (!frame) return fail(frame.message());
   if (reference && !gridHolds(*reference, bounds))
-    std::fprintf(stderr, "dentsim: warning: the meshes reach outside the grid of %s; what lies outside is dropped\n",
-                 o.frame_of.c_str());
+    warn("the meshes reach outside the grid of " + shownPath(o.frame_of) + "; what lies outside is dropped");
   dentsim::VoxelizeOptions vo;
   vo.subsamples = o.subsamples;
   vo.hole_radius = o.hole_radius;
@@ -262,7 +275,7 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
     gpu_context = std::move(ctx).value();
   }
   const bool on_gpu = gpu_context.has_value();
-  if (Status planned = planJob(estimateMeshVoxelize(*setup, on_gpu), o.force); !planned) return fail(planned.message());
+  if (Status planned = planJob(estimateMeshVoxelize(*setup, on_gpu), o); !planned) return fail(planned.message());
   const auto t0 = std::chrono::steady_clock::now();
   if (on_gpu) {
     voxels.emplace(gpu::voxelizeGpu(*gpu_context, *setup, vo, &timing, progress));
@@ -276,7 +289,7 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
     if (Status st = standToothUp(tooth, *hint); !st) return fail(st.message());
   if (Status saved = saveTooth(o.output, tooth); !saved) return fail(saved.message());
   printSummary(tooth, o.output);
-  if (reference) std::printf("  grid and tooth frame of %s\n", o.frame_of.c_str());
+  if (reference) std::printf("  grid and tooth frame of %s\n", shownPath(o.frame_of).c_str());
   else printFrame(tooth);
   std::printf("  voxelized on the %s, %d x %d rays per voxel, in %.0f ms", engine.c_str(), o.subsamples, o.subsamples,
               voxelize_ms);
@@ -288,7 +301,7 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
   std::printf("\n");
   for (const LoadedLayer& l : loaded)
     std::printf("  layer %-7s %s: %zu triangles, mesh volume %.4f mm^3\n", materialName(l.material).c_str(),
-                l.path.c_str(), l.mesh.triangleCount(), l.volume_mm3);
+                shownPath(l.path).c_str(), l.mesh.triangleCount(), l.volume_mm3);
   return 0;
 }
 
@@ -323,9 +336,10 @@ std::vector<std::string> segmentationLines(const std::string& source, const Grey
                                            const ToothSegmentReport& r) {
   std::vector<std::string> lines;
   char buf[512];
-  std::string scanner = scan.manufacturer;
-  if (!scan.model.empty()) scanner += (scanner.empty() ? "" : " ") + scan.model;
-  std::snprintf(buf, sizeof buf, "scan: %s, %d x %d x %d voxels of %.4g x %.4g x %.4g mm, %s%s%s", source.c_str(),
+  // The scan's path and the scanner's own words are printed and kept in the file's note: escaped.
+  std::string scanner = escapeControl(scan.manufacturer, 64);
+  if (!scan.model.empty()) scanner += (scanner.empty() ? "" : " ") + escapeControl(scan.model, 64);
+  std::snprintf(buf, sizeof buf, "scan: %s, %d x %d x %d voxels of %.4g x %.4g x %.4g mm, %s%s%s", shownPath(source).c_str(),
                 scan.dims[0], scan.dims[1], scan.dims[2], scan.pitch_mm[0], scan.pitch_mm[1], scan.pitch_mm[2],
                 scan.unit == GreyUnit::Hounsfield ? "Hounsfield units" : "raw values", scanner.empty() ? "" : ", from ",
                 scanner.c_str());
@@ -357,7 +371,7 @@ int runVoxelizeScan(const VoxelizeOptions& o) {
   seg.where = source;
   if (!o.roi.empty()) {
     MmBox box;
-    if (!parseRoi(o.roi, &box)) return fail("--roi: expected x0,y0,z0:x1,y1,z1 in mm, not '" + o.roi + "'");
+    if (!parseRoi(o.roi, &box)) return fail("--roi: expected x0,y0,z0:x1,y1,z1 in mm, not '" + escapeControl(o.roi) + "'");
     seg.roi = box;
   }
   if (!o.seed.empty()) {
@@ -374,12 +388,21 @@ int runVoxelizeScan(const VoxelizeOptions& o) {
   TerminalProgress progress;
   Result<GreyImage> scan = Error{};
   DicomSeriesInfo dicom_info;
+  // The read is planned once its header gives the size, before the values are allocated. The DICOM
+  // reader asks in its checking child too (the same answer); only this process prints the plan.
+  const pid_t planner = ::getpid();
+  const ScanReadApproval approve = [&o, planner](uint64_t voxels, uint32_t stored_bytes) -> Status {
+    const VoxelizeCost cost = estimateScanRead(voxels, stored_bytes);
+    if (::getpid() != planner) return checkAffordable(cost, memoryBudgetBytes(), o.force, "voxelize");
+    return planJob(cost, o);
+  };
   if (!o.dicom.empty()) {
     DicomReadOptions read;
     read.series_uid = o.series;
+    read.approve = approve;
     scan = readDicomSeries(o.dicom, read, progress, &dicom_info);
   } else {
-    scan = readGreyVolume(o.ct);
+    scan = readGreyVolume(o.ct, greyBudgetBytes(), approve);
   }
   if (!scan) return fail(scan.message());
   if (o.voxel_size > 0.0) {  // the header's pitch is wrong
@@ -390,10 +413,10 @@ int runVoxelizeScan(const VoxelizeOptions& o) {
   Result<LabelImage> labels = segmentTooth(*scan, seg, progress, &report);
   if (!labels) return fail(labels.message());
   if (report.seeded && 2 * report.tooth_voxels < report.hard_component_voxels)
-    std::fprintf(stderr, "dentsim: warning: the seed's tooth keeps %.1f %% of the hard tissue joined to it; where the tooth stands "
-                         "alone (an extracted tooth, a micro-CT), leave out --seed: the cut at narrow joins can split a "
-                         "tooth's own walls\n",
-                 100.0 * double(report.tooth_voxels) / double(report.hard_component_voxels));
+    warnf("the seed's tooth keeps %.1f %% of the hard tissue joined to it; where the tooth stands "
+          "alone (an extracted tooth, a micro-CT), leave out --seed: the cut at narrow joins can split a "
+          "tooth's own walls",
+          100.0 * double(report.tooth_voxels) / double(report.hard_component_voxels));
   std::string described = o.dicom.empty() ? o.ct : o.dicom + " (" + std::to_string(dicom_info.files) + " DICOM files)";
   const std::vector<std::string> lines = segmentationLines(described, *scan, report);
   scan = Error{};  // frees the grey values before the import
@@ -404,10 +427,10 @@ int runVoxelizeScan(const VoxelizeOptions& o) {
   import.level = o.level > 0 ? o.level : 9;
   Material fill = Material::Pulp;
   if (!o.fill_enclosed.empty() && (!parseMaterial(o.fill_enclosed, &fill) || fill == Material::Empty))
-    return fail("--fill-enclosed: unknown tissue '" + o.fill_enclosed + "' (expected " + tissueNameList() + ")");
+    return fail("--fill-enclosed: unknown tissue '" + escapeControl(o.fill_enclosed) + "' (expected " + tissueNameList() + ")");
   import.fill_enclosed = fill;
   import.seal_mm = o.seal_mm;
-  import.approve = [&o](const dentsim::VoxelizeCost& cost) { return planJob(cost, o.force); };
+  import.approve = [&o](const dentsim::VoxelizeCost& cost) { return planJob(cost, o); };
   Result<ToothVolume> tooth = importLabels(*labels, import, progress);
   if (!tooth) return fail(tooth.message());
   labels = Error{};
@@ -474,7 +497,7 @@ int runVoxelize(const VoxelizeOptions& o) {
   const bool meshes = !(o.enamel.empty() && o.dentin.empty() && o.pulp.empty() && o.caries.empty() && o.tooth.empty());
   const int sources = int(meshes) + int(!o.labels.empty()) + int(!o.dicom.empty()) + int(!o.ct.empty());
   if (sources > 1) return fail("give one source: STL layers, --labels, --dicom or --ct");
-  if (Status st = checkOutputsAreNotInputs({o.enamel, o.dentin, o.pulp, o.caries, o.tooth, o.labels, o.frame_of, o.dicom, o.ct}, {o.output}); !st)
+  if (Status st = checkOutputsAreNotInputs({o.enamel, o.dentin, o.pulp, o.caries, o.tooth, o.labels, o.frame_of, o.dicom, o.ct}, {o.output, o.plan_json}); !st)
     return fail(st.message());
   if (meshes && (o.min_piece != 0 || !o.label_map.empty() || !o.fill_enclosed.empty()))
     return fail("--min-piece, --label-map and --fill-enclosed apply to --labels, not to STL layers");
@@ -497,12 +520,12 @@ int runVoxelize(const VoxelizeOptions& o) {
   if (!o.fill_enclosed.empty()) {
     Material m{};
     if (!parseMaterial(o.fill_enclosed, &m) || m == Material::Empty)
-      return fail("--fill-enclosed: unknown tissue '" + o.fill_enclosed + "' (expected " + tissueNameList() + ")");
+      return fail("--fill-enclosed: unknown tissue '" + escapeControl(o.fill_enclosed) + "' (expected " + tissueNameList() + ")");
     import.fill_enclosed = m;
     import.seal_mm = o.seal_mm;
   }
   import.min_piece_voxels = o.min_piece;
-  import.approve = [&o](const dentsim::VoxelizeCost& cost) { return planJob(cost, o.force); };
+  import.approve = [&o](const dentsim::VoxelizeCost& cost) { return planJob(cost, o); };
 
   Result<LabelImage> image = readNiftiLabels(o.labels);
   if (!image) return fail(image.message());
@@ -516,7 +539,7 @@ int runVoxelize(const VoxelizeOptions& o) {
     int64_t extent = 0;
     for (int a = 0; a < 3; ++a) extent = std::max(extent, box.hi[a] - box.lo[a] + 1);
     if (std::string w = labelPitchWarning(double(extent) * tooth->frame.voxel_mm, tooth->frame.voxel_mm, o.labels); !w.empty())
-      std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
+      warn(escapeControl(w, w.size()));
   }
   if (Status st = standToothUp(*tooth, *hint); !st) return fail(st.message());
   if (Status saved = saveTooth(o.output, *tooth); !saved) return fail(saved.message());
@@ -609,7 +632,9 @@ void addVoxelizeCommand(CLI::App& root, Action& action) {
   cmd->add_flag("--keep-orientation", opts->keep_orientation,
                 "Record the tooth's frame but do not turn the grid to stand the crown up");
   cmd->add_flag("--force", opts->force,
-                "Run a job whose estimated memory exceeds what this machine has free (the plan line says both)");
+                "Run a job whose estimated memory exceeds the memory budget (--max-memory-mb; the plan line says the estimate)");
+  cmd->add_option("--plan-json", opts->plan_json,
+                  "Append each estimate of the plan (memory, time, dense bricks) to this file as a JSON line");
   cmd->add_option("-o,--output", opts->output, "Output volume (.dvol)")->required();
   cmd->callback([opts, cmd, &action] {
     const Status usable = checkVoxelizeOptions(*opts, [cmd](const char* name) { return cmd->count(name) > 0; });

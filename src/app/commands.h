@@ -2,6 +2,7 @@
 #pragma once
 
 #include <functional>
+#include <string>
 
 #include <CLI/CLI.hpp>
 
@@ -37,5 +38,11 @@ void addScoresBenchCommand(CLI::App& bench, Action& action);
 
 // Prints "dentsim: <message>" on stderr and returns exit code 1: the one way commands report errors.
 int fail(const std::string& message);
+// Prints "dentsim: warning: <message>" on stderr and goes on: the one way commands warn. The message
+// is data (escape a name from outside before it goes in), never a format.
+void warn(const std::string& message);
+// warn() with printf formatting, for warnings that show numbers. The format is a literal at every
+// call site; text from a file or the user goes in as a "%s" argument.
+void warnf(const char* format, ...) __attribute__((format(printf, 1, 2)));
 
 }  // namespace dentsim::app

@@ -2,6 +2,7 @@
 #include "app/frames_bench.h"
 
 #include <cmath>
+#include <cstdarg>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -46,9 +47,13 @@ struct FirstFrameRow {
   double first_frame_s = 0.0, full_detail_s = 0.0;
 };
 
-std::string fmt(const char* f, double v) {
+// A number for the report's tables; the attribute has the compiler check each call's literal format.
+__attribute__((format(printf, 1, 2))) std::string fmt(const char* f, ...) {
   char b[64];
-  std::snprintf(b, sizeof b, f, v);
+  va_list args;
+  va_start(args, f);
+  std::vsnprintf(b, sizeof b, f, args);
+  va_end(args);
   return b;
 }
 

@@ -1,7 +1,7 @@
 // Opening the Vulkan device for a command that can fall back to its CPU reference.
 #include "app/gpu_choice.h"
 
-#include <cstdio>
+#include "app/commands.h"
 
 namespace dentsim::app {
 
@@ -11,7 +11,7 @@ Result<std::optional<gpu::Context>> openGpuOrFallBack(const std::string& device,
   auto ctx = gpu::Context::create(gpu::withEnvironment(co));
   if (ctx) return std::optional<gpu::Context>(std::move(ctx).value());
   if (gpu::isNoDeviceError(ctx.error()) && device.empty()) {
-    std::fprintf(stderr, "dentsim: warning: %s; %s instead\n", ctx.message().c_str(), fallback.c_str());
+    warn(ctx.message() + "; " + fallback + " instead");
     return std::optional<gpu::Context>();
   }
   return ctx.error();

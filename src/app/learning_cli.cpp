@@ -55,8 +55,7 @@ Status setAsideBadLinesWithWarning(const std::string& outbox) {
   if (!moved) return moved.error();
   if (moved->count == 0) return Ok{};
   const std::string more = moved->count > 1 ? " (and " + std::to_string(moved->count - 1) + " more bad line(s))" : "";
-  std::fprintf(stderr, "dentsim: warning: %s%s; moved to %s, the other statements are kept\n", moved->first.c_str(), more.c_str(),
-               badLinesPath(outbox).c_str());
+  warn(moved->first + more + "; moved to " + badLinesPath(outbox) + ", the other statements are kept");
   return Ok{};
 }
 
@@ -163,8 +162,8 @@ void printSendSummary(const LearningSettings& s, const SendSummary& sum) {
   const std::string url = urlForMessage(s.lrs->url);  // never the credentials a URL may hold
   if (sum.delivered > 0) std::printf("learning records: %zu sent to %s\n", sum.delivered, url.c_str());
   if (sum.pending > 0)
-    std::fprintf(stderr, "dentsim: warning: LRS %s: %s; %zu statement(s) stay pending in %s and go with the next run\n",
-                 url.c_str(), sum.problem.c_str(), sum.pending, s.outbox.c_str());
+    warn("LRS " + url + ": " + sum.problem + "; " + std::to_string(sum.pending) + " statement(s) stay pending in " + s.outbox +
+         " and go with the next run");
 }
 
 // The attempt's identity: its session's bytes, or the final tooth's when no session was scored.
@@ -245,13 +244,13 @@ Status checkLearningOptions(const LearningCliOptions& o) {
 void recordAttemptOrWarn(const LearningCliOptions& o, const Task& task, const nlohmann::ordered_json& report,
                          const std::string& session_file, const std::string& final_file) {
   if (Status st = recordAttempt(o, task, report, session_file, final_file); !st)
-    std::fprintf(stderr, "dentsim: warning: the attempt was not recorded: %s\n", st.message().c_str());
+    warn("the attempt was not recorded: " + st.message());
 }
 
 void recordAttemptOrWarn(const LearningCliOptions& o, const Task& task, nlohmann::ordered_json& report,
                          const std::string& session_file, const std::string& final_file) {
   if (Status st = stampStatementId(o, task, report, session_file, final_file); !st) {
-    std::fprintf(stderr, "dentsim: warning: the attempt was not recorded: %s\n", st.message().c_str());
+    warn("the attempt was not recorded: " + st.message());
     return;
   }
   recordAttemptOrWarn(o, task, std::as_const(report), session_file, final_file);

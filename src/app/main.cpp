@@ -1,8 +1,10 @@
 // dentsim's command-line entry: parses the subcommand, runs it, and turns any escape into a one-line error.
+#include <cstdarg>
 #include <cstdio>
 #include <exception>
 #include <iostream>
 #include <new>
+#include <string>
 
 #include "app/cli_checks.h"
 #include "app/commands.h"
@@ -13,6 +15,21 @@ namespace dentsim::app {
 int fail(const std::string& message) {
   std::cerr << "dentsim: " << message << "\n";
   return 1;
+}
+
+void warn(const std::string& message) { std::cerr << "dentsim: warning: " << message << "\n"; }
+
+void warnf(const char* format, ...) {
+  std::va_list args;
+  va_start(args, format);
+  std::va_list again;
+  va_copy(again, args);
+  const int n = std::vsnprintf(nullptr, 0, format, args);
+  va_end(args);
+  std::string message(n > 0 ? size_t(n) : 0, '\0');
+  if (n > 0) std::vsnprintf(message.data(), message.size() + 1, format, again);
+  va_end(again);
+  warn(message);
 }
 
 }  // namespace dentsim::app
@@ -29,6 +46,12 @@ int main(int argc, char** argv) {
                   "Most memory one input may take once read or decompressed [MiB] (default " +
                       std::to_string(max_input_mb) + "); raise it for real large data")
       ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 20));
+  // One budget for the memory a command plans to use at its peak (io/input_budget.h).
+  uint64_t max_memory_mb = 0;
+  root.add_option(dentsim::kMemoryBudgetFlag, max_memory_mb,
+                  "Most memory a command may plan to use at its peak [MiB] (default: half of this machine's "
+                  "memory, at most what is free); a job planned beyond it is refused before it allocates")
+      ->check(CLI::Range(uint64_t{1}, uint64_t{1} << 24));
   Action action;
   addGpuCommand(root, action);
   addVoxelizeCommand(root, action);
@@ -53,6 +76,7 @@ int main(int argc, char** argv) {
     return root.exit(e);
   }
   dentsim::setInputBudget({max_input_mb << 20});
+  dentsim::setMemoryBudget(max_memory_mb << 20);
   // Errors the environment can cause come back as Result; these catches only keep a bug or an
   // exhausted memory from ending in an abort without a message.
   try {

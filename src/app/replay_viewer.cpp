@@ -8,6 +8,7 @@
 #include <memory>
 #include <vector>
 
+#include "app/commands.h"
 #include "app/frame_painter.h"
 #include "app/window_input.h"
 #include "io/png_file.h"
@@ -147,7 +148,7 @@ void ReplayViewer::seek(double t_s) {
   view_ = cursor_->start();
   dirty_.clear();
   if (Status st = painter_->surfaces().build(view_.voxels); !st)
-    std::fprintf(stderr, "dentsim: warning: re-meshing the starting tooth: %s\n", st.message().c_str());
+    warn("re-meshing the starting tooth: " + st.message());
 }
 
 void ReplayViewer::reachedEnd() {

@@ -199,7 +199,7 @@ Status Simulator::scoreNow() {
   score_shown_ = true;
   out_.score = score->total;
   note(score->summary);
-  for (const std::string& w : score->warnings) note("warning: " + w);
+  for (const std::string& w : score->warnings) noteWarning(w);
   for (std::string& f : score->written) out_.written.push_back(std::move(f));
   if (o_.on_scored) {
     o_.on_scored(*task_, score->report, cut.session_file, final_saved_ ? outPath("final.dvol") : "");

@@ -19,7 +19,7 @@ Status Simulator::setUpGhost() {
   auto g = Ghost::load(o_.ghost, params_.point_shell);
   if (!g) return g.error();
   ghost_ = std::move(*g);
-  if (const std::string w = ghost_->toothWarning(initial_); !w.empty()) note("warning: " + w);
+  if (const std::string w = ghost_->toothWarning(initial_); !w.empty()) noteWarning(w);
   ui_.ghost_shown = true;
   ui_.ghost_source = "ghost: " + o_.ghost;
   return Ok{};
@@ -49,7 +49,7 @@ void Simulator::followGhost(const HapticState& state) {
       return;
     }
     ghost_ = std::move(*g);
-    if (const std::string w = ghost_->toothWarning(initial_); !w.empty()) note("warning: " + w);
+    if (const std::string w = ghost_->toothWarning(initial_); !w.empty()) noteWarning(w);
     ui_.ghost_source = "ghost: the task's ideal, " + source;
   }
   if (ui_.ghost_nearest)

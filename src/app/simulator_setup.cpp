@@ -4,8 +4,10 @@
 #include <filesystem>
 #include <numbers>
 
+#include "app/commands.h"
 #include "app/simulator_state.h"
 #include "app/tool_placement.h"
+#include "core/text_escape.h"
 #include "eval/cut_score.h"
 #include "sim/course_paths.h"
 #include "sim/novice_paths.h"
@@ -27,6 +29,11 @@ void Simulator::note(const std::string& text) {
   // At once, also into a pipe: a score or an error is read while the window is still open.
   std::fflush(stdout);
   ui_.status = text;
+}
+
+void Simulator::noteWarning(const std::string& text) {
+  warn(text);
+  ui_.status = "warning: " + text;
 }
 
 // ---- set-up ----------------------------------------------------------------------------------------------
@@ -135,7 +142,7 @@ Status Simulator::setUpScript(const Pose& mirror_start) {
     script_ = penPathInSimulationFrame(*path, initial_);
     // A first script often starts inside the tooth; say so before anything moves.
     for (const std::string& w : penPathStartWarnings(*script_, initial_, o_.pen_script))
-      std::fprintf(stderr, "dentsim: warning: %s\n", w.c_str());
+      warn(w);
   }
   if (o_.wander_mm > 0) script_ = wanderingPath(*script_, o_.wander_mm);
   if (mirror_tool_ && !hasPen(*script_, PenRole::Mirror)) addStillMirror(*script_, mirror_start);
@@ -196,7 +203,7 @@ Status Simulator::setUp() {
     guide_ = std::move(*guide);
     // A path cut on another tooth leads the bur through other tissue: allowed, but said.
     if (guide_->source_tooth_hash != volumeHashHex(initial_.voxels, initial_.frame))
-      note("warning: --guide " + o_.guide + " was recorded on another tooth (" + guide_->source_tooth_hash + ")");
+      noteWarning("--guide " + shownPath(o_.guide) + " was recorded on another tooth (" + guide_->source_tooth_hash + ")");
   }
   // A pen failing, leaving or coming back goes into the session being recorded, if any.
   rack_.onPenChange([this](PenRole pen, const std::string& state, const std::string& why) {

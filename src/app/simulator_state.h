@@ -65,6 +65,8 @@ class Simulator {
   int sceneShiftPx() const { return painter_->panel() ? panel_rect_.width / 2 : 0; }
   std::string outPath(const std::string& name) const { return (std::filesystem::path(o_.out) / name).string(); }
   void note(const std::string& text);
+  // A warning: on stderr through warn(), as every command's, and on the panel's status line.
+  void noteWarning(const std::string& text);
   // The tooth is the built-in molar (at o_.level) unless --tooth, the task or the picker named a volume file.
   bool builtinTooth() const { return tooth_file_.empty(); }
   std::string toothName() const { return builtinTooth() ? "built-in molar" : tooth_file_; }

@@ -6,6 +6,8 @@
 #include <utility>
 #include <variant>
 
+#include "core/text_escape.h"
+
 namespace dentsim {
 
 // An error that the user reads: one line naming what failed and where ("tooth.dvol: checksum mismatch").
@@ -41,8 +43,11 @@ class [[nodiscard]] Result {
 struct Ok {};
 using Status = Result<Ok>;
 
-inline Error makeError(std::string where, const std::string& what) {
-  return Error{where.empty() ? what : std::move(where) + ": " + what};
+// `where` is most often a path the user gave or a file named: its control bytes are escaped
+// (core/text_escape.h), so a name holding a newline or an ESC cannot break the line or drive the
+// terminal. `what` is the caller's to escape where it quotes outside text.
+inline Error makeError(const std::string& where, const std::string& what) {
+  return Error{where.empty() ? what : shownPath(where) + ": " + what};
 }
 
 }  // namespace dentsim

@@ -13,6 +13,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/text_escape.h"
 #include "io/atomic_file.h"
 
 namespace dentsim {
@@ -392,8 +393,10 @@ Result<std::optional<ClassAttempt>> parseStatement(const json& st, const std::st
 }  // namespace
 
 Result<std::vector<ClassAttempt>> parseStatements(const std::string& text, const std::string& path, const std::string& folder,
-                                             double file_time_s, int* skipped) {
+                                             double file_time_s, int* skipped, std::vector<std::string>* warnings) {
   std::vector<ClassAttempt> attempts;
+  std::string first_bad;  // the first bad line's "path:line: problem"
+  bool any_good = false;  // a line that is a statement, scored or not
   size_t begin = 0;
   for (int line = 1; begin < text.size(); ++line) {
     size_t end = text.find('\n', begin);
@@ -403,9 +406,17 @@ Result<std::vector<ClassAttempt>> parseStatements(const std::string& text, const
     if (row.find_first_not_of(" \t\r") == std::string::npos) continue;
     const std::string where = path + ":" + std::to_string(line);
     const json st = json::parse(row, nullptr, false);
-    if (st.is_discarded()) return Error{where + ": not a JSON statement (malformed JSON)"};
-    auto parsed = parseStatement(st, folder, file_time_s);
-    if (!parsed) return Error{where + ": " + parsed.message()};
+    auto parsed = st.is_discarded() ? Result<std::optional<ClassAttempt>>(Error{"not a JSON statement (malformed JSON)"})
+                                    : parseStatement(st, folder, file_time_s);
+    // One bad line (a torn write, a hand edit) costs only itself: the rest of the class is reported.
+    if (!parsed) {
+      // Escaped: a path or a key from the file holding a newline or an ESC cannot break the one line.
+      const std::string problem = shownPath(where + ": " + parsed.message());
+      if (first_bad.empty()) first_bad = problem;
+      if (warnings) warnings->push_back(problem + "; line left out");
+      continue;
+    }
+    any_good = true;
     if (!*parsed) {
       if (skipped) ++*skipped;
       continue;
@@ -413,12 +424,15 @@ Result<std::vector<ClassAttempt>> parseStatements(const std::string& text, const
     (*parsed)->source = where;
     attempts.push_back(std::move(**parsed));
   }
+  // Not one statement in it: not an outbox at all (a damaged score report, a file given by mistake).
+  if (!any_good && !first_bad.empty()) return Error{first_bad};
   return attempts;
 }
 
 // ---- 4. a whole file ------------------------------------------------------------------------------
 
-Result<std::vector<ClassAttempt>> readAttempts(const std::string& path, const AttemptReadOptions& options, int* skipped) {
+Result<std::vector<ClassAttempt>> readAttempts(const std::string& path, const AttemptReadOptions& options, int* skipped,
+                                                std::vector<std::string>* warnings) {
   if (!fs::is_regular_file(path)) return Error{path + ": no such file"};
   auto bytes = readFileBytes(path, kMaxInputBytes);
   if (!bytes) return bytes.error();
@@ -435,7 +449,7 @@ Result<std::vector<ClassAttempt>> readAttempts(const std::string& path, const At
     return std::vector<ClassAttempt>{std::move(*a)};
   }
   const std::string folder = fs::path(path).parent_path().string();
-  return parseStatements(text, path, folder.empty() ? "." : folder, mtime, skipped);
+  return parseStatements(text, path, folder.empty() ? "." : folder, mtime, skipped, warnings);
 }
 
 }  // namespace dentsim

@@ -5,7 +5,9 @@
 // report has them, else the caller's student, else the folder layout STUDENT/ATTEMPT/score.json
 // (the student is the folder two above the file); the time is the file's modification time. An
 // outbox is JSON lines, one xAPI 1.0.3 statement per line; statements with no score (launched,
-// attempted) are counted and left out. Every error is one line naming the file (and the line).
+// attempted) are counted and left out. A line of an outbox that is not a statement (a torn write, a
+// hand edit) is left out with a warning naming the file and line, and the rest are read; a file with
+// no statement at all is an error. Every error and warning is one line naming the file (and the line).
 // The score's parts, the time taken and the surface agreement come from the report's keys, or from
 // a statement's result extensions (eval/learning_record.h) that copy them; they are read leniently,
 // since the scoring's parts change between versions: what is not a number is left out.
@@ -68,8 +70,10 @@ struct AttemptReadOptions {
 
 // A whole input file's attempts. A file is a score report when it is one JSON object whose
 // "format" is "dentsim-score"; otherwise it is read as an outbox. `skipped` (may be null) counts
-// the statements left out for having no score.
-Result<std::vector<ClassAttempt>> readAttempts(const std::string& path, const AttemptReadOptions& options, int* skipped);
+// the statements left out for having no score; `warnings` (may be null) gains one line per outbox
+// line left out ("outbox.jsonl:3: not a JSON statement (malformed JSON); line left out").
+Result<std::vector<ClassAttempt>> readAttempts(const std::string& path, const AttemptReadOptions& options, int* skipped,
+                                                std::vector<std::string>* warnings = nullptr);
 
 // ---- the parts, for tests ------------------------------------------------------------------------
 
@@ -78,9 +82,10 @@ Result<std::vector<ClassAttempt>> readAttempts(const std::string& path, const At
 Result<ClassAttempt> parseScoreReport(const std::string& text, const std::string& path, double file_time_s,
                                  const std::string& picture, const AttemptReadOptions& options);
 // An outbox's text, line by line (blank lines are allowed). Relative picture paths are taken from
-// `folder`; `file_time_s` stands in for a statement's missing timestamp.
+// `folder`; `file_time_s` stands in for a statement's missing timestamp. A bad line is left out with
+// a warning (readAttempts); the error, when not one line is a statement, is the first bad line's.
 Result<std::vector<ClassAttempt>> parseStatements(const std::string& text, const std::string& path, const std::string& folder,
-                                             double file_time_s, int* skipped);
+                                             double file_time_s, int* skipped, std::vector<std::string>* warnings = nullptr);
 // The parts of a score from a report's `components` and `deductions` objects (or the same two in a
 // statement's parts extension). A component needs a number `max` and a number or null `points`; a
 // deduction a number or null `points`, or a `cap` and `applied` (kept only when it applied).

@@ -4,9 +4,11 @@
 #include "eval/class_report_html.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <filesystem>
 
 namespace dentsim {
 
@@ -48,12 +50,21 @@ std::string base64(std::span<const uint8_t> bytes) {
 
 namespace {
 
-std::string timeText(double time_s, const char* format) {
+// The ways the page writes a time (UTC), each a literal strftime format: no format is built at run time.
+enum class TimeShown { DayAndClock, Day, MonthDay, Clock, MonthDayClock };
+
+std::string timeText(double time_s, TimeShown shown) {
   const auto t = std::time_t(std::floor(time_s));
   std::tm tm{};
   ::gmtime_r(&t, &tm);
   char text[64];
-  std::strftime(text, sizeof text, format, &tm);
+  switch (shown) {
+    case TimeShown::DayAndClock: std::strftime(text, sizeof text, "%Y-%m-%d %H:%M", &tm); break;
+    case TimeShown::Day: std::strftime(text, sizeof text, "%F", &tm); break;
+    case TimeShown::MonthDay: std::strftime(text, sizeof text, "%m-%d", &tm); break;
+    case TimeShown::Clock: std::strftime(text, sizeof text, "%H:%M", &tm); break;
+    case TimeShown::MonthDayClock: std::strftime(text, sizeof text, "%m-%d %H:%M", &tm); break;
+  }
   return text;
 }
 
@@ -86,7 +97,7 @@ std::string bdi(const std::string& text) { return "<bdi>" + htmlEscape(shortened
 
 }  // namespace
 
-std::string utcText(double time_s) { return timeText(time_s, "%Y-%m-%d %H:%M"); }
+std::string utcText(double time_s) { return timeText(time_s, TimeShown::DayAndClock); }
 
 std::string studentColour(size_t i) {
   // Ten colours that stay apart on screen and in print.
@@ -162,16 +173,16 @@ std::string progressSvg(const ClassReport& report, const TaskSummary& task) {
   scoreAxis(svg, "score");
   // Time ticks: dates when a step is a day or more, or when the span crosses midnight.
   const double step = tickStep(t1 - t0);
-  const bool one_day = timeText(t0, "%F") == timeText(t1, "%F");
-  const char* format = step >= 86400 ? "%m-%d" : one_day ? "%H:%M" : "%m-%d %H:%M";
+  const bool one_day = timeText(t0, TimeShown::Day) == timeText(t1, TimeShown::Day);
+  const TimeShown shown = step >= 86400 ? TimeShown::MonthDay : one_day ? TimeShown::Clock : TimeShown::MonthDayClock;
   for (double t = std::ceil(t0 / step) * step; t <= t1; t += step) {
     const std::string x = num(xOf(t));
     svg += "<line class=\"tickmark\" x1=\"" + x + "\" x2=\"" + x + "\" y1=\"" + num(kBottom) + "\" y2=\"" + num(kBottom + 5) + "\"/>";
-    svg += "<text class=\"tick\" x=\"" + x + "\" y=\"" + num(kBottom + 18) + "\" text-anchor=\"middle\">" + timeText(t, format) + "</text>";
+    svg += "<text class=\"tick\" x=\"" + x + "\" y=\"" + num(kBottom + 18) + "\" text-anchor=\"middle\">" + timeText(t, shown) + "</text>";
   }
   svg += "<line class=\"axis\" x1=\"" + num(kLeft) + "\" x2=\"" + num(kRight) + "\" y1=\"" + num(kBottom) + "\" y2=\"" + num(kBottom) + "\"/>";
   svg += "<line class=\"axis\" x1=\"" + num(kLeft) + "\" x2=\"" + num(kLeft) + "\" y1=\"" + num(kTop) + "\" y2=\"" + num(kBottom) + "\"/>";
-  const std::string day = one_day ? timeText(t0, "%F") + ", " : "";
+  const std::string day = one_day ? timeText(t0, TimeShown::Day) + ", " : "";
   svg += "<text class=\"axis-label\" x=\"" + num((kLeft + kRight) / 2) + "\" y=\"" + num(kHeight - 8) +
          "\" text-anchor=\"middle\">time (" + day + "UTC)</text>";
   passLine(svg, task.pass_mark);
@@ -335,6 +346,7 @@ figure { margin: 0; border: 1px solid #ccc; padding: 6px; width: 360px; }
 figure img { width: 100%; height: auto; display: block; }
 figcaption { font-size: 13px; margin-top: 4px; overflow-wrap: anywhere; }
 .nopic { color: #888; font-style: italic; padding: 40px 0; text-align: center; }
+.samepic, .filepic { display: block; padding: 40px 0; text-align: center; overflow-wrap: anywhere; }
 .heat { display: inline-flex; gap: 2px; vertical-align: middle; margin-right: 6px; }
 .part { display: inline-block; width: 14px; height: 14px; border-radius: 2px; box-sizing: border-box; }
 .part.deduction { border-radius: 7px; }
@@ -436,9 +448,28 @@ void attemptsSection(std::string& html, const ClassReport& r) {
   html += "</table>";
 }
 
+// Where a picture past the cap is: a file: URL of its absolute path, every byte but the unreserved
+// ones and '/' percent-encoded, so that no path can end the attribute or name another scheme.
+std::string fileUrl(const std::string& path) {
+  std::error_code ec;
+  const std::string abs = std::filesystem::absolute(path, ec).lexically_normal().string();
+  std::string url = "file://";
+  for (unsigned char c : ec ? path : abs) {
+    if (std::isalnum(c) || c == '/' || c == '-' || c == '_' || c == '.' || c == '~') {
+      url += char(c);
+    } else {
+      char hex[4];
+      std::snprintf(hex, sizeof hex, "%%%02X", c);
+      url += hex;
+    }
+  }
+  return url;
+}
+
 void picturesSection(std::string& html, const ClassReport& r, const ReportPictures& pictures) {
   html += "<h2>Score pictures</h2><p>Red: over-cut, or healthy tissue cut outside the allowed zone; blue: under-cut.</p>"
           "<div class=\"pictures\">";
+  std::map<size_t, std::string> shown;  // a picture's index in pngs -> the caption of the attempt that embedded it
   for (const ClassAttempt& a : r.attempts) {
     // The name and the title isolated, so that neither can reorder the score after them.
     const std::string rest = " \u2014 " + num(a.score) + " \u2014 " + utcText(a.time_s) + (a.guided ? " \u2014 guided" : "");
@@ -446,17 +477,39 @@ void picturesSection(std::string& html, const ClassReport& r, const ReportPictur
     const std::string caption_text = isolated(name) + " \u2014 " + isolated(a.task_title) + rest;
     const std::string caption_html = bdi(name) + " \u2014 " + bdi(a.task_title) + htmlEscape(rest);
     html += "<figure>";
-    const auto it = a.picture.empty() ? pictures.end() : pictures.find(a.picture);
-    if (it != pictures.end())
-      html += "<img alt=\"" + htmlEscape("score picture: " + caption_text) + "\" src=\"data:image/png;base64," + base64(it->second) + "\">";
-    else
+    const auto it = a.picture.empty() ? pictures.embedded.end() : pictures.embedded.find(a.picture);
+    if (it != pictures.embedded.end()) {
+      const std::string id = "pic-" + std::to_string(it->second);
+      if (const auto first = shown.find(it->second); first != shown.end()) {
+        // Embedded once already: a link to it keeps the page's size to one copy.
+        html += "<a class=\"samepic\" href=\"#" + id + "\">the same picture as " + first->second + "</a>";
+      } else {
+        shown.emplace(it->second, caption_html);
+        html += "<img alt=\"" + htmlEscape("score picture: " + caption_text) + "\" id=\"" + id + "\" src=\"data:image/png;base64," +
+                base64(pictures.pngs[it->second]) + "\">";
+      }
+    } else if (!a.picture.empty() && pictures.linked.count(a.picture)) {
+      html += "<a class=\"filepic\" href=\"" + htmlEscape(fileUrl(a.picture)) + "\">" + htmlEscape(a.picture) + "</a>";
+    } else {
       html += "<div class=\"nopic\">no picture</div>";
+    }
     html += "<figcaption>" + caption_html + "</figcaption></figure>";
   }
   html += "</div>";
 }
 
 }  // namespace
+
+bool ReportPictures::add(const std::string& path, std::vector<uint8_t> bytes) {
+  for (size_t i = 0; i < pngs.size(); ++i)
+    if (pngs[i] == bytes) {
+      embedded[path] = i;
+      return false;
+    }
+  embedded[path] = pngs.size();
+  pngs.push_back(std::move(bytes));
+  return true;
+}
 
 std::string classReportHtml(const ClassReport& r, const ReportPictures& pictures) {
   std::string html = "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"

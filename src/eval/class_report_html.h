@@ -1,4 +1,4 @@
-// The class report as one self-contained HTML page: inline CSS, inline SVG plots, score pictures as data: URIs, no script and no request.
+// The class report as one self-contained HTML page: inline CSS, inline SVG plots, score pictures as data: URIs (each once), no script and no request.
 //
 // The page's Content-Security-Policy allows only inline styles and data: images, so a browser
 // refuses any request the page might make. Every text that came from a file (student names, task
@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <map>
+#include <set>
 #include <span>
 #include <string>
 #include <string_view>
@@ -16,9 +17,21 @@
 
 namespace dentsim {
 
-// The PNG bytes of the score pictures, by the path an attempt names; an attempt whose picture is
-// not here shows "no picture".
-using ReportPictures = std::map<std::string, std::vector<uint8_t>>;
+// The score pictures the page shows, by the path an attempt names. Each distinct picture's bytes go
+// into the page once: the first attempt showing it embeds it, later ones link to that one, so a
+// class's outbox naming one picture 400 times costs one picture, not 400. A picture in `linked`
+// (past the page's cap on embedded bytes) is a link to its file; one in neither shows "no picture".
+struct ReportPictures {
+  std::vector<std::vector<uint8_t>> pngs;   // each distinct picture's PNG bytes
+  std::map<std::string, size_t> embedded;   // a picture's path -> its bytes' index in pngs
+  std::set<std::string> linked;             // pictures shown as a link to the file, not embedded
+
+  // Adds the bytes of the picture at `path`; bytes equal to an earlier picture's share its entry.
+  // Returns whether they were new (and so add to the page's size).
+  bool add(const std::string& path, std::vector<uint8_t> bytes);
+  // How many pictures the page embeds and links.
+  size_t count() const { return embedded.size() + linked.size(); }
+};
 
 // The whole page.
 std::string classReportHtml(const ClassReport& report, const ReportPictures& pictures);

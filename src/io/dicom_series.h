@@ -39,6 +39,12 @@ struct DicomSeriesInfo {
 struct DicomReadOptions {
   std::string series_uid;                          // the series to read from a folder holding several; empty: the only one
   uint64_t max_bytes = 2 * inputBudget().max_bytes;  // the volume as float (4 bytes a voxel) must fit [B]; io/grey_volume_file.h says why twice
+  // For fuzzing and tests only: read once, in this process, without the checking child (section 5),
+  // as libFuzzer sees neither coverage nor crashes in a child. The same checks and max_bytes apply,
+  // but a GDCM assertion or a forged element length now ends or bloats the caller (the DICOM fuzzer
+  // screens its inputs for those itself). Never set it where a user's file is read.
+  bool in_process = false;
+  ScanReadApproval approve;  // asked before the values are allocated (io/grey_image.h); empty: no plan
 };
 
 // ---- 2. readDicomSeries ---------------------------------------------------------------------
@@ -105,6 +111,7 @@ Result<std::vector<std::string>> writeDicomSeries(const std::string& dir, const 
 //   another thread held stays locked in it. The child's processor time is limited too (RLIMIT_CPU:
 //   30 s and 2 s a MiB of input), and the parent kills it after twice that and 30 s more: a file
 //   GDCM never finishes is a line naming it, not a hang.
+//   options.in_process (fuzzing and tests only) skips the child: the one read runs in the caller.
 // - An image whose sequences nest more than 8 deep is refused when its header is read: GDCM's
 //   length of it, which the truncation check needs, grows about sixfold a level.
 

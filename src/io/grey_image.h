@@ -4,10 +4,19 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
+#include "core/result.h"
+
 namespace dentsim {
+
+// A scan reader's question once the header says the size and before it allocates the values: may
+// `voxels` be read, with `stored_bytes` a voxel held at once as the file stores them besides the
+// floats (0 where the reader goes slice by slice)? A command's memory plan answers
+// (volume/voxelize_plan.h); an error refuses the read, as it is.
+using ScanReadApproval = std::function<Status(uint64_t voxels, uint32_t stored_bytes)>;
 
 // A scanner matrix (3 x 4, as in GreyImage and LabelImage) with each voxel axis rescaled to `pitch`,
 // direction, sign and offset kept: a header's wrong pitch replaced by the true one (--voxel-size).

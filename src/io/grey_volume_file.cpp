@@ -67,7 +67,7 @@ void toFloats(const void* data, size_t n, std::vector<float>& out) {
 
 }  // namespace
 
-Result<GreyImage> readNrrdGrey(const std::string& path, uint64_t max_bytes) {
+Result<GreyImage> readNrrdGrey(const std::string& path, uint64_t max_bytes, const ScanReadApproval& approve) {
   nrrdStateVerboseIO = 0;  // Teem's warnings on stderr; its errors come back through biff into one line
   if (Status s = requireRegularFile(path); !s) return s.error();
   if (Status s = checkNrrdDataFiles(path); !s) return s.error();  // io/nrrd_data_files.h says why
@@ -98,6 +98,9 @@ Result<GreyImage> readNrrdGrey(const std::string& path, uint64_t max_bytes) {
     case nrrdTypeUInt: case nrrdTypeFloat: case nrrdTypeDouble: break;
     default: return makeError(path, std::string("NRRD type ") + airEnumStr(nrrdType, h.type) + " is not a scan's grey value");
   }
+  // Teem loads the whole data in the file's type before it becomes floats.
+  if (approve)
+    if (Status s = approve(voxels, uint32_t(nrrdTypeSize[h.type])); !s) return s.error();
 
   // 2. Geometry: space directions and origin, else per-axis spacing.
   GreyImage image;
@@ -154,13 +157,14 @@ Result<GreyImage> readNrrdGrey(const std::string& path, uint64_t max_bytes) {
   return image;
 }
 
-Result<GreyImage> readGreyVolume(const std::string& path, uint64_t max_bytes) {
+Result<GreyImage> readGreyVolume(const std::string& path, uint64_t max_bytes, const ScanReadApproval& approve) {
   if (endsWith(path, ".nii") || endsWith(path, ".nii.gz")) {
     NiftiReadLimits limits;
     limits.max_label_bytes = max_bytes / 2;  // the NIfTI reader allows the floats twice its label budget
+    limits.approve = approve;
     return readNiftiGrey(path, limits);
   }
-  if (endsWith(path, ".nrrd") || endsWith(path, ".nhdr")) return readNrrdGrey(path, max_bytes);
+  if (endsWith(path, ".nrrd") || endsWith(path, ".nhdr")) return readNrrdGrey(path, max_bytes, approve);
   return makeError(path, "not a grey-value volume's name (expected .nii, .nii.gz, .nrrd or .nhdr; a DICOM folder goes to --dicom)");
 }
 

@@ -24,11 +24,14 @@ inline uint64_t greyBudgetBytes() { return 2 * inputBudget().max_bytes; }
 // units "mm", "um"/"micron" and "m" are converted to mm; none given is read as mm. The header is read
 // first and the volume's floats checked against `max_bytes` before the data is loaded. Errors are one
 // line "PATH: problem" (Teem's own reason appended).
-Result<GreyImage> readNrrdGrey(const std::string& path, uint64_t max_bytes = greyBudgetBytes());
+// `approve`, when set, is asked before the data is loaded (io/grey_image.h).
+Result<GreyImage> readNrrdGrey(const std::string& path, uint64_t max_bytes = greyBudgetBytes(),
+                               const ScanReadApproval& approve = {});
 
 // ---- 2. readGreyVolume -----------------------------------------------------------------------
 // .nii / .nii.gz through readNiftiGrey, .nrrd / .nhdr through readNrrdGrey; any other name is an error
 // that lists them (a DICOM folder goes to readDicomSeries).
-Result<GreyImage> readGreyVolume(const std::string& path, uint64_t max_bytes = greyBudgetBytes());
+Result<GreyImage> readGreyVolume(const std::string& path, uint64_t max_bytes = greyBudgetBytes(),
+                                 const ScanReadApproval& approve = {});
 
 }  // namespace dentsim

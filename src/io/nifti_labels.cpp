@@ -449,6 +449,9 @@ Result<GreyImage> readNiftiGrey(const std::string& path, const NiftiReadLimits& 
     return makeError(path, limitExceeded("grey values of " + std::to_string(checked.voxels) + " voxels (" +
                                              std::to_string(float_bytes) + " bytes as float)",
                                          limits.max_label_bytes * 2));
+  // The data is read in slabs, so nothing but the floats is held at full size.
+  if (limits.approve)
+    if (Status s = limits.approve(uint64_t(checked.voxels), 0); !s) return s.error();
   GreyImage image;
   image.dims = checked.dims;
   image.values.resize(size_t(checked.voxels));

@@ -44,6 +44,8 @@ struct NiftiReadLimits {
   // The labels in memory (2 bytes a voxel), the only full-size copy the reader makes [B]; by
   // default the input budget (io/input_budget.h), raised with --max-input-mb.
   uint64_t max_label_bytes = inputBudget().max_bytes;
+  // Grey values only: asked before the floats are allocated (io/grey_image.h); empty: no plan.
+  ScanReadApproval approve;
 };
 
 // ---- 2. Entry points ------------------------------------------------------------------------

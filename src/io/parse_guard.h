@@ -9,27 +9,9 @@
 #include <string_view>
 
 #include "core/result.h"
+#include "core/text_escape.h"  // escapeControl
 
 namespace dentsim {
-
-// Text with its control bytes escaped as \xNN (with `high`, bytes 0x80 and up too), shortened to
-// max_shown bytes: what user input may be echoed as inside a one-line error. A name typed by the
-// user keeps its UTF-8; a token from a binary file does not.
-inline std::string escapeControl(std::string_view text, size_t max_shown = 200, bool high = false) {
-  std::string out;
-  for (size_t i = 0; i < text.size() && i < max_shown; ++i) {
-    const auto c = uint8_t(text[i]);
-    if (c < 0x20 || c == 0x7f || (high && c >= 0x80)) {
-      char buf[8];
-      std::snprintf(buf, sizeof buf, "\\x%02x", unsigned(c));
-      out += buf;
-    } else {
-      out += char(c);
-    }
-  }
-  if (text.size() > max_shown) out += "...";
-  return out;
-}
 
 // A token from a file, shortened and with unprintable bytes escaped, so a message stays one line.
 inline std::string quoteToken(std::string_view token, size_t max_shown = 32) {

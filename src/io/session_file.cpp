@@ -774,7 +774,7 @@ SessionWriter::~SessionWriter() {
 
 Status SessionWriter::open(const std::string& path, const SessionInfo& info) {
   assert(file_ == nullptr && "open() on a writer that is already open");
-  if (file_) return makeError(path, "a session is already being written to " + part_path_);
+  if (file_) return makeError(path, "a session is already being written to " + shownPath(part_path_));
   if (std::optional<std::string> p = checkInfoValues(info)) return makeError(path, "header: " + *p);
   if (!paramsValue(info.params_json).is_object())
     return makeError(path, "header: params: the parameter set is not a JSON object");
@@ -866,7 +866,7 @@ Status SessionWriter::finish(const SessionEnd& end) {
   file_ = nullptr;
   if (!s) return s;  // the ".part" file keeps what was written
   if (std::rename(part_path_.c_str(), path_.c_str()) != 0)
-    return makeError(path_, "cannot rename " + part_path_ + " to it: " + std::strerror(errno));
+    return makeError(path_, "cannot rename " + shownPath(part_path_) + " to it: " + std::strerror(errno));
   return Ok{};
 }
 

@@ -273,7 +273,7 @@ Result<WavWriter> WavWriter::create(const std::string& path, int channels, int s
   std::memcpy(h + 36, "data", 4);
   WavWriter writer(std::move(state));
   if (std::fwrite(h, 1, sizeof h, writer.state_->file) != sizeof h)
-    return makeError(path, "cannot write " + writer.state_->part + ": " + errnoText());
+    return makeError(path, "cannot write " + shownPath(writer.state_->part) + ": " + errnoText());
   return writer;
 }
 
@@ -298,7 +298,7 @@ Status WavWriter::append(std::span<const float> interleaved) {
       const auto q = int16_t(std::clamp(std::lround(clamped * 32768.0), -32768L, 32767L));
       putU16(s.buffer.data() + 2 * i, uint16_t(q));
     }
-    if (std::fwrite(s.buffer.data(), 2, n, s.file) != n) return makeError(s.path, "cannot write " + s.part + ": " + errnoText());
+    if (std::fwrite(s.buffer.data(), 2, n, s.file) != n) return makeError(s.path, "cannot write " + shownPath(s.part) + ": " + errnoText());
   }
   s.frames += interleaved.size() / size_t(s.channels);
   return Ok{};

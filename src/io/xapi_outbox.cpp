@@ -1,4 +1,4 @@
-// The learning records' outbox and sent log: JSON lines read whole and rewritten atomically under a lock.
+// The learning records' outbox and sent log: JSON lines appended under a lock, never rewritten but to set bad lines aside.
 #include "io/xapi_outbox.h"
 
 #include <fcntl.h>
@@ -88,14 +88,21 @@ Result<std::vector<ojson>> readOutboxUnlocked(const std::string& outbox) {
   return out;
 }
 
-// Appends the text to the file and fsyncs it: the set-aside lines must be on disk before the
-// outbox is rewritten without them.
+// Appends the text to the file with one O_APPEND write and fsyncs it. Lines before it are never
+// rewritten, so a crash mid-write costs at most the line being written. When the file's last line
+// was torn (no '\n' at its end: a crash, a full disk), a '\n' goes first, so the torn part stays a
+// line of its own (set aside as bad later) and the new line is whole.
 Status appendDurably(const std::string& path, const std::string& text) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
+  const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
   if (fd < 0) return makeError(path, std::string("cannot open: ") + std::strerror(errno));
+  std::string out;
+  const off_t size = ::lseek(fd, 0, SEEK_END);
+  char last = '\n';
+  if (size > 0 && ::pread(fd, &last, 1, size - 1) == 1 && last != '\n') out = "\n";
+  out += text;
   size_t done = 0;
-  while (done < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+  while (done < out.size()) {
+    const ssize_t n = ::write(fd, out.data() + done, out.size() - done);
     if (n < 0 && errno == EINTR) continue;
     if (n <= 0) {
       const std::string why = std::strerror(errno);
@@ -172,16 +179,13 @@ Result<bool> appendToOutbox(const std::string& outbox, const ojson& statement) {
   if (!lock.error().empty()) return Error{lock.error()};
   auto lines = readLines(outbox);
   if (!lines) return lines.error();
-  auto existing = readOutboxUnlocked(outbox);
-  if (!existing) return existing.error();
+  // A line that is not a statement holds no id; setAsideBadLines moves it, and it never blocks recording.
   const std::string id = statement["id"].get<std::string>();
-  for (const ojson& s : *existing)
-    if (s["id"].get<std::string>() == id) return false;
-  std::string text;
-  for (const std::string& line : *lines)
-    if (!line.empty()) text += line + "\n";
-  text += statement.dump() + "\n";
-  if (Status st = writeFileAtomic(outbox, text); !st) return st.error();
+  for (const std::string& text : *lines) {
+    ojson j;
+    if (!text.empty() && lineProblem(text, &j).empty() && j["id"].get<std::string>() == id) return false;
+  }
+  if (Status st = appendDurably(outbox, statement.dump() + "\n"); !st) return st.error();
   return true;
 }
 
@@ -213,15 +217,13 @@ Result<std::set<std::string>> readSentIds(const std::string& outbox) {
 Status markSent(const std::string& outbox, const std::vector<std::string>& ids) {
   OutboxLock lock(outbox);
   if (!lock.error().empty()) return Error{lock.error()};
-  auto lines = readLines(sentLogPath(outbox));
-  if (!lines) return lines.error();
-  std::set<std::string> known;
+  auto known = readSentUnlocked(outbox);
+  if (!known) return known.error();
   std::string text;
-  for (const std::string& line : *lines)
-    if (!line.empty() && known.insert(line).second) text += line + "\n";
   for (const std::string& id : ids)
-    if (known.insert(id).second) text += id + "\n";
-  return writeFileAtomic(sentLogPath(outbox), text);
+    if (known->insert(id).second) text += id + "\n";
+  if (text.empty()) return Ok{};
+  return appendDurably(sentLogPath(outbox), text);
 }
 
 Result<std::vector<ojson>> pendingStatements(const std::string& outbox) {

@@ -1,11 +1,14 @@
-// The learning records' outbox: xAPI statements as JSON lines, each id once, and the log of those an LRS has taken; both rewritten atomically.
+// The learning records' outbox: xAPI statements as JSON lines, each id once, and the log of those an LRS has taken; both append-only.
 //
 // The outbox keeps every statement ever recorded on this PC, one compact JSON object a line, in the
 // order they were made; it is what a class report reads. Beside it, "<outbox>.sent" lists the ids
-// an LRS has accepted, one a line. Pending = in the outbox, not in the log. Both files are rewritten
-// whole (temp file, fsync, rename) under a lock on "<outbox>.lock", so a crash or a second dentsim
-// at the same moment never loses a line. Lines that are not statements are moved to "<outbox>.bad".
-// docs/LEARNING_RECORDS.md.
+// an LRS has accepted, one a line. Pending = in the outbox, not in the log. Recording a statement and
+// marking one sent each append whole lines with one O_APPEND write, fsynced, under a lock on
+// "<outbox>.lock": the bytes already there are never rewritten, so a crash mid-write can tear only
+// the line being written, never lose an earlier one, and two dentsim at the same moment never lose a
+// line. A torn last line is ended before the next line is appended, so it costs only itself. Lines
+// that are not statements are moved to "<outbox>.bad", the one time the outbox is rewritten (temp
+// file, fsync, rename). docs/LEARNING_RECORDS.md.
 #pragma once
 
 #include <set>
@@ -36,8 +39,9 @@ Result<SetAsideLines> setAsideBadLines(const std::string& outbox);
 // Every statement in the outbox, in order; none when the file does not exist. Errors name the file
 // and line ("outbox.jsonl:3: not a JSON object with a string \"id\"").
 Result<std::vector<nlohmann::ordered_json>> readOutbox(const std::string& outbox);
-// Adds the statement (an object with a string "id") unless one with its id is there already: true
-// when added, false when it was there. Creates the outbox's folder.
+// Appends the statement (an object with a string "id") as one line unless one with its id is there
+// already: true when added, false when it was there. Lines that are not statements are passed over
+// (setAsideBadLines moves them). Creates the outbox's folder.
 Result<bool> appendToOutbox(const std::string& outbox, const nlohmann::ordered_json& statement);
 
 // Held by the one process that sends an outbox: an flock on "<outbox>.send.lock" for the object's
@@ -61,7 +65,7 @@ class OutboxSenderLock {
 
 // The ids in the sent log; none when it does not exist.
 Result<std::set<std::string>> readSentIds(const std::string& outbox);
-// Adds ids to the sent log (each once).
+// Appends the ids not yet in the sent log to it (each once); the log is never rewritten.
 Status markSent(const std::string& outbox, const std::vector<std::string>& ids);
 // The statements not yet in the sent log, in the outbox's order.
 Result<std::vector<nlohmann::ordered_json>> pendingStatements(const std::string& outbox);

@@ -13,6 +13,9 @@ namespace {
 constexpr int64_t kFlushNs = 200'000'000;   // to the kernel
 constexpr int64_t kSyncNs = 1'000'000'000;  // to the disk
 constexpr auto kIdle = std::chrono::milliseconds(20);
+// A back-to-back loop fills the ring far faster than 20 ms allows for: after a drain this full the
+// thread only yields for a moment, so keepUp() does not hold the loop for long.
+constexpr auto kBusy = std::chrono::milliseconds(1);
 }  // namespace
 
 SessionRecorder::SessionRecorder(int ring_log2) : ring_(ring_log2) {}
@@ -31,6 +34,10 @@ Status SessionRecorder::start(HapticLoop& loop, const std::string& path, const S
   if (Status st = writer_.open(path, info); !st) return st;
   loop_ = &loop;
   loop_serial_ = loop.activeParamsSerial();
+  const double rate_hz = info.rate_hz > 0.0 ? info.rate_hz : 1000.0;
+  flush_steps_ = std::max<uint64_t>(1, uint64_t(rate_hz * kFlushLoopS));
+  max_lag_steps_ = std::max<uint64_t>(flush_steps_ + 1, uint64_t(rate_hz * kMaxLagS));
+  steps_flushed_.store(loop.stepsRun(), std::memory_order_release);
   start_ns_ = steadyNowNs();
   stop_.store(false);
   loop.recordInto(&ring_);
@@ -72,8 +79,15 @@ void SessionRecorder::writeDevices(uint64_t up_to_step, bool all) {
   pending_devices_.erase(pending_devices_.begin(), pending_devices_.begin() + long(n));
 }
 
-void SessionRecorder::drain() {
-  while (const SessionStep* s = ring_.front()) {
+void SessionRecorder::keepUp() const {
+  if (loop_ == nullptr || !thread_.joinable()) return;
+  while (loop_->droppedRecords() == 0 && loop_->stepsRun() > stepsFlushed() + max_lag_steps_)
+    std::this_thread::sleep_for(std::chrono::microseconds(200));
+}
+
+uint64_t SessionRecorder::drain(uint64_t max_steps) {
+  uint64_t taken = 0;
+  for (const SessionStep* s; taken < max_steps && (s = ring_.front()) != nullptr; ++taken) {
     if (have_step_ && s->step != next_step_) {
       const SessionGap gap{next_step_, s->step - next_step_};
       writer_.add(gap);
@@ -111,6 +125,7 @@ void SessionRecorder::drain() {
     writer_.add(out);
     steps_written_.fetch_add(1, std::memory_order_relaxed);
   }
+  return taken;
 }
 
 void SessionRecorder::run() {
@@ -118,20 +133,32 @@ void SessionRecorder::run() {
   auto note = [&](Status st) {
     if (!st && error_.empty()) error_ = st.error().message;
   };
+  // After each flush, keepUp() may let the loop run on. A failed flush marks the steps too: they
+  // are lost either way (finish() reports it), and the loop must not wait for them forever.
+  auto flushed = [&] {
+    if (have_step_) steps_flushed_.store(next_step_, std::memory_order_release);
+  };
   while (!stop_.load(std::memory_order_relaxed)) {
-    drain();
+    // At most one flush interval of loop time per pass, so a loop that outruns the wall clock
+    // still gets a flush every kFlushLoopS of its own time.
+    const uint64_t taken = drain(flush_steps_);
     const int64_t now = steadyNowNs();
+    const uint64_t flushed_to = stepsFlushed();
+    const bool loop_due = have_step_ && next_step_ >= flushed_to + flush_steps_;
     if (now - last_sync >= kSyncNs) {
       note(writer_.sync());
+      flushed();
       last_sync = last_flush = now;
-    } else if (now - last_flush >= kFlushNs) {
+    } else if (now - last_flush >= kFlushNs || loop_due) {
       note(writer_.flush());
+      flushed();
       last_flush = now;
     }
-    std::this_thread::sleep_for(kIdle);
+    if (taken < flush_steps_) std::this_thread::sleep_for(taken * 4 >= flush_steps_ ? kBusy : kIdle);
   }
-  drain();
+  drain(UINT64_MAX);
   note(writer_.flush());
+  flushed();
 }
 
 Status SessionRecorder::finish(const SessionEnd& end) {

@@ -1,8 +1,11 @@
 // SessionRecorder: writes a session file while the haptic loop runs, from a thread of its own, so that the loop never waits on the disk.
 //
 // The loop pushes each step's readings into a ring (HapticLoop::recordInto); the recorder's thread
-// drains it, writes the records, hands them to the kernel every 200 ms and to the disk every
-// second, so a crash of dentsim loses nothing it has flushed and a power cut at most a second.
+// drains it, writes the records, hands them to the kernel every 200 ms of wall time or of loop time,
+// whichever comes first, and to the disk every second, so a crash of dentsim loses nothing it has
+// flushed and a power cut at most a second. A loop stepped back to back (lockstep, a scripted run)
+// runs many times faster than the wall clock: it calls keepUp() after each step, so what the kernel
+// holds never lags the loop by more than half a second of loop time (a kill -9 loses at most that).
 // Parameter changes during a session go through the recorder, which records each set from the step
 // that first used it. Steps the ring had no room for are written as a gap: replay stops there.
 #pragma once
@@ -47,12 +50,22 @@ class SessionRecorder {
   // Returns the first write error of the session, if any.
   Status finish(const SessionEnd& end);
 
+  // The loop's thread, or whoever steps the loop back to back, after each step: waits while the
+  // steps handed to the kernel lag the loop's steps by more than kMaxLagS of loop time. Returns at
+  // once when the loop has dropped records (the ring overflowed: the file has a gap anyway).
+  // Never call it from the real-time thread: that one runs at the wall clock's pace.
+  void keepUp() const;
+  static constexpr double kFlushLoopS = 0.2;  // loop time between flushes to the kernel [s]
+  static constexpr double kMaxLagS = 0.5;     // most loop time a back-to-back loop runs ahead of the kernel's copy [s]
+
   uint64_t stepsWritten() const { return steps_written_.load(std::memory_order_relaxed); }
+  // The loop step up to which (exclusive) records are in the kernel's hands: what a kill -9 keeps.
+  uint64_t stepsFlushed() const { return steps_flushed_.load(std::memory_order_acquire); }
   uint64_t stepsLost() const { return steps_lost_.load(std::memory_order_relaxed); }
 
  private:
   void run();
-  void drain();
+  uint64_t drain(uint64_t max_steps);
   void writeDevices(uint64_t up_to_step, bool all);
 
   SpscRing<SessionStep> ring_;
@@ -72,6 +85,9 @@ class SessionRecorder {
   uint64_t next_step_ = 0;     // the step expected next
   std::atomic<uint64_t> steps_written_{0};
   std::atomic<uint64_t> steps_lost_{0};
+  std::atomic<uint64_t> steps_flushed_{0};  // loop steps before this one are flushed (keepUp waits on it)
+  uint64_t flush_steps_ = 200;  // kFlushLoopS in steps at the session's rate
+  uint64_t max_lag_steps_ = 500;  // kMaxLagS in steps at the session's rate
   std::string error_;          // first write error (the thread's, read after join)
 };
 

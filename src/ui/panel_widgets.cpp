@@ -2,9 +2,23 @@
 #include "ui/panel_widgets.h"
 
 #include <algorithm>
+#include <cassert>
+#include <cctype>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
 
 namespace dentsim::ui::panel {
+
+namespace {
+// The digits of a fixed-point format "%.<digits>f", the only shape the sliders use.
+int fixedDigits(const char* format) {
+  assert(format[0] == '%' && format[1] == '.' && std::isdigit(uint8_t(format[2])) && "a slider format is \"%.<digits>f\"");
+  const int digits = std::atoi(format + 2);
+  assert(format[std::strlen(format) - 1] == 'f' && digits <= 9);
+  return std::clamp(digits, 0, 9);
+}
+}  // namespace
 
 // A slider on a double, clamped to [lo, hi] for drags and for Ctrl+click typing alike. The bounds
 // are sub-ranges of sim_params.cpp's table, so an edited set always saves.
@@ -15,7 +29,7 @@ bool sliderDouble(const Frame& f, const std::string& key, const char* label, dou
       f, key, label, [&](const char* id) { return ImGui::SliderScalar(id, ImGuiDataType_Double, &v, &lo, &hi, format, flags); },
       [&] {
         char buf[48];
-        std::snprintf(buf, sizeof buf, format, v);
+        std::snprintf(buf, sizeof buf, "%.*f", fixedDigits(format), v);
         return std::string(buf);
       },
       hovered);

@@ -78,6 +78,8 @@ inline bool sliderRow(const Frame& f, const std::string& key, const char* label,
 
 // A slider on a double, clamped to [lo, hi] for drags and for Ctrl+click typing alike. The bounds
 // are sub-ranges of sim_params.cpp's table, so an edited set always saves.
+// `format` is ImGui's, and must be "%.<digits>f" (a literal): the value beside the track is printed
+// from its digits, so no format string of ours reaches snprintf.
 bool sliderDouble(const Frame& f, const std::string& key, const char* label, double& v, double lo, double hi,
                   const char* format, bool logarithmic = false, bool* hovered = nullptr);
 

@@ -4,17 +4,18 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
-#include <fstream>
 #include <sstream>
 
+#include "io/input_budget.h"
 #include "volume/brick_layout.h"
 
 namespace dentsim {
 namespace {
 
-// Rates and sizes behind the estimates. The rates were measured on this project's 2-core test
-// machine (docs/RELIABILITY.md gives the runs); the sizes are what the code keeps.
+// Rates and sizes behind the estimates, fitted to peaks (max RSS) and times measured on this
+// project's 2-core build machine at levels 9 to 12 (`dentsim bench plan`, docs/PERFORMANCE.md);
+// the sizes follow what the code keeps. The GPU rates are lavapipe's, the Vulkan driver CI has: a
+// hardware GPU takes a fraction of that time, so the estimate errs high there.
 constexpr double kBricksPerSurfaceBrickFace = 1.5;  // a sheet of random slope crosses |nx|+|ny|+|nz| ~ 1.5
 constexpr double kBrickBytes = DS_BRICK_VOXELS;     // one byte a voxel
 constexpr double kBrickCopies = 3.0;                // the pool, the volume built from it, the file's copy
@@ -22,16 +23,26 @@ constexpr double kCpuRayBytes = 56.0;               // a hit list and a merged l
 constexpr double kHitBytes = 12.0;                  // a key, its copy when merged, allocator slack
 constexpr double kGpuRayBytes = 16.0;               // counts, offsets, masks and donors per ray of a band
 constexpr uint64_t kGpuBandRays = uint64_t{1} << 24;
-constexpr double kBaseBytes = 64.0 * 1024 * 1024;    // the program, the meshes and the Vulkan device
-constexpr double kCpuSecondsPerRay = 25e-9;
-constexpr double kCpuSecondsPerHit = 120e-9;
-constexpr double kCpuSecondsPerBrick = 40e-6;
-constexpr double kGpuSecondsPerRay = 15e-9;
-constexpr double kGpuSecondsPerHit = 60e-9;
-constexpr double kGpuSecondsPerBrick = 20e-6;
-constexpr double kImportSecondsPerBrick = 60e-6;    // 512 voxels of n^3 samples
+constexpr double kBaseBytes = 64.0 * 1024 * 1024;     // the program and the meshes
+constexpr double kGpuBaseBytes = 160.0 * 1024 * 1024; // and a Vulkan device (lavapipe's own pools)
+constexpr double kCpuSecondsPerRay = 38e-9;
+constexpr double kCpuSecondsPerHit = 180e-9;
+constexpr double kCpuSecondsPerBrick = 60e-6;
+// Beyond about half a gigabyte the CPU path's hit lists outgrow the caches and its sort waits on
+// memory: level 12 of the CHAI3D molar took 6.9 times level 11 where rays, hits and bricks grew 4.
+constexpr double kCpuCacheBytes = 0.5e9;
+constexpr double kCpuSecondsPerByteBeyondCache = 10.0 / 1e9;
+constexpr double kGpuSecondsPerRay = 45e-9;
+constexpr double kGpuSecondsPerHit = 180e-9;
+constexpr double kGpuSecondsPerBrick = 60e-6;
+constexpr double kGpuStartSeconds = 0.3;             // the instance, the device and the pipelines
+constexpr double kImportSecondsPerBrick = 25e-6;     // 512 voxels of n^3 samples, the fill and the file
 constexpr double kImportSecondsPerSourceVoxel = 15e-9;
-constexpr double kImportSourceBytes = 6.0;          // labels, codes, marks per source voxel
+constexpr double kImportSourceBytes = 3.0;           // labels (2 bytes) and tissue codes (1) per source voxel
+constexpr double kImportCodeBytes = 1.0;             // the codes, kept while the bricks are built
+constexpr double kImportBytesPerBrick = 1700.0;      // the volume, its chunk tiles and the file's copy (~3.3 x 512)
+constexpr double kScanBytesPerVoxel = 6.0;           // floats (4) and the segmentation's labels and masks (2)
+constexpr double kScanSecondsPerVoxel = 85e-9;       // decode, smoothing, thresholds and components
 
 double chunkTableBytes(int level) {
   const double chunks_per_side = std::max(1.0, std::ldexp(1.0, level - DS_BRICK_LOG2 - DS_CHUNK_LOG2));
@@ -77,56 +88,54 @@ VoxelizeCost estimateMeshVoxelize(const RaySetup& setup, bool gpu) {
   c.crossings_per_ray = c.rays > 0 ? hits / double(c.rays) : 0.0;
   const double bricks = double(c.surface_bricks);
   const double band_rays = double(std::min<uint64_t>(c.rays, kGpuBandRays));
-  const double memory = gpu ? kBaseBytes + band_rays * kGpuRayBytes + hits * 4.0 + bricks * kBrickBytes * kBrickCopies
+  const double memory = gpu ? kGpuBaseBytes + band_rays * kGpuRayBytes + hits * 4.0 + bricks * kBrickBytes * kBrickCopies
                             : kBaseBytes + double(c.rays) * kCpuRayBytes + hits * kHitBytes +
                                   bricks * kBrickBytes * kBrickCopies;
   c.memory_bytes = uint64_t(memory + chunkTableBytes(setup.level) + double(setup.corners.size()) * 4.0);
-  c.seconds = gpu ? double(c.rays) * kGpuSecondsPerRay + hits * kGpuSecondsPerHit + bricks * kGpuSecondsPerBrick
-                  : double(c.rays) * kCpuSecondsPerRay + hits * kCpuSecondsPerHit + bricks * kCpuSecondsPerBrick;
+  c.seconds = gpu ? kGpuStartSeconds + double(c.rays) * kGpuSecondsPerRay + hits * kGpuSecondsPerHit + bricks * kGpuSecondsPerBrick
+                  : double(c.rays) * kCpuSecondsPerRay + hits * kCpuSecondsPerHit + bricks * kCpuSecondsPerBrick +
+                        std::max(0.0, double(c.memory_bytes) - kCpuCacheBytes) * kCpuSecondsPerByteBeyondCache;
   return c;
 }
 
 VoxelizeCost estimateLabelImport(int level, double surface_faces, uint64_t source_voxels) {
   VoxelizeCost c;
   c.level = level;
-  c.surface_bricks = bricksForFaces(surface_faces);
-  // Sampled bricks: those the surface crosses and their neighbours in the chunks it crosses.
-  const double bricks = double(c.surface_bricks);
-  c.memory_bytes = uint64_t(kBaseBytes + double(source_voxels) * kImportSourceBytes + chunkTableBytes(level) +
-                            bricks * kBrickBytes * kBrickCopies);
-  c.seconds = bricks * kImportSecondsPerBrick + double(source_voxels) * kImportSecondsPerSourceVoxel;
+  // The faces are counted voxel face by voxel face, so they are a staircase's own area already.
+  c.surface_bricks = uint64_t(std::ceil(surface_faces / double(DS_BRICK_DIM * DS_BRICK_DIM)));
+  const double bricks = double(c.surface_bricks), source = double(source_voxels);
+  const double peak = std::max(source * kImportSourceBytes, source * kImportCodeBytes + bricks * kImportBytesPerBrick);
+  c.memory_bytes = uint64_t(kBaseBytes + chunkTableBytes(level) + peak);
+  c.seconds = bricks * kImportSecondsPerBrick + source * kImportSecondsPerSourceVoxel;
+  return c;
+}
+
+VoxelizeCost estimateScanRead(uint64_t voxels, uint32_t stored_bytes) {
+  VoxelizeCost c;
+  c.scan_voxels = voxels;
+  c.memory_bytes = uint64_t(kBaseBytes + double(voxels) * (kScanBytesPerVoxel + double(stored_bytes)));
+  c.seconds = double(voxels) * kScanSecondsPerVoxel;
   return c;
 }
 
 std::string describeCost(const VoxelizeCost& c) {
-  const uint64_t side = uint64_t{1} << c.level;
   char time[32];
   if (c.seconds < 1.0) std::snprintf(time, sizeof time, "under a second");
   else if (c.seconds < 120.0) std::snprintf(time, sizeof time, "%.0f s", c.seconds);
   else std::snprintf(time, sizeof time, "%.0f min", c.seconds / 60.0);
   std::ostringstream out;
+  if (c.level == 0) {
+    out << "reading the scan (" << withThousands(c.scan_voxels) << " voxels): about " << gigabytes(c.memory_bytes)
+        << " of memory and " << time;
+    return out.str();
+  }
+  const uint64_t side = uint64_t{1} << c.level;
   out << "level " << c.level << " (" << side << "^3 voxels): about " << withThousands(c.surface_bricks)
       << " dense bricks, " << gigabytes(c.memory_bytes) << " of memory and " << time;
   return out.str();
 }
 
-uint64_t availableMemoryBytes() {
-  // A lab PC shared with other programs, or a test, sets what counts as free.
-  if (const char* limit = std::getenv("DENTSIM_MEMORY_LIMIT_MB"); limit && *limit) {
-    char* end = nullptr;
-    const unsigned long long mb = std::strtoull(limit, &end, 10);
-    if (end && *end == '\0' && mb > 0) return uint64_t(mb) * 1024 * 1024;
-  }
-  std::ifstream in("/proc/meminfo");
-  std::string key;
-  uint64_t kib = 0;
-  std::string unit;
-  while (in >> key >> kib >> unit)
-    if (key == "MemAvailable:") return kib * 1024;
-  return 0;
-}
-
-Status checkAffordable(const VoxelizeCost& cost, uint64_t available, bool force, const std::string& where) {
+Status checkAffordable(const VoxelizeCost& cost, uint64_t budget, bool force, const std::string& where) {
   if (force) return Ok{};
   if (cost.crossings_per_ray > kMaxCrossingsPerRay) {
     char crossings[32];
@@ -135,9 +144,12 @@ Status checkAffordable(const VoxelizeCost& cost, uint64_t available, bool force,
                                 " times on average, where a tooth's layers cross it a few times: random or piled-up "
                                 "triangles? " + describeCost(cost) + "; give --force to try it all the same");
   }
-  if (available == 0 || cost.memory_bytes <= available) return Ok{};
-  return makeError(where, describeCost(cost) + ", but this machine has " + gigabytes(available) +
-                              " free; choose a lower --level (or a larger voxel), or give --force to try it all the same");
+  if (budget == 0 || cost.memory_bytes <= budget) return Ok{};
+  // A scan's read has no level to lower: its size is the file's.
+  const char* advice = cost.level == 0 ? "read a smaller export of the scan (cropped to the tooth) or raise the budget"
+                                       : "choose a lower --level (or a larger voxel)";
+  return makeError(where, describeCost(cost) + ", beyond the memory budget of " + gigabytes(budget) + " (" +
+                              memoryBudgetOrigin() + "); " + advice + ", or give --force to try it all the same");
 }
 
 }  // namespace dentsim

@@ -20,6 +20,7 @@ struct VoxelizeCost {
   uint64_t memory_bytes = 0;    // peak resident memory expected
   double seconds = 0.0;         // expected time on one core of the reference machine
   double crossings_per_ray = 0; // surfaces a ray of the footprint crosses on average (a tooth: a few)
+  uint64_t scan_voxels = 0;     // a scan's read: its voxels (level 0 then: no grid yet)
 };
 
 // STL layers: from the ray set-up (its footprint and its triangles' area). `gpu` is the Vulkan
@@ -27,21 +28,24 @@ struct VoxelizeCost {
 VoxelizeCost estimateMeshVoxelize(const RaySetup& setup, bool gpu);
 
 // Label import at `level`: from the tissue's surface area in target voxel faces (the source's
-// tissue faces scaled by the voxel ratio squared) and the source's voxels.
+// tissue faces scaled by the voxel ratio squared) and the source's voxels. The peak is the larger
+// of two stages: the source read (labels and codes) and the bricks built while the codes are kept.
 VoxelizeCost estimateLabelImport(int level, double surface_faces, uint64_t source_voxels);
 
-// One line: "level 12 (4096^3 voxels): about 180 000 dense bricks, 0.4 GB and 50 s".
+// A scan's read and segmentation (DICOM, NIfTI, NRRD grey values): the floats, the segmentation's
+// labels and masks, and `stored_bytes` a voxel the reader holds at once as the file stores them.
+VoxelizeCost estimateScanRead(uint64_t voxels, uint32_t stored_bytes);
+
+// One line: "level 12 (4096^3 voxels): about 180 000 dense bricks, 0.4 GB of memory and 50 s", or
+// for a scan's read "reading the scan (144 000 000 voxels): about 0.93 GB of memory and 12 s".
 std::string describeCost(const VoxelizeCost& cost);
 
-// Memory this machine can give now (MemAvailable), or 0 when it cannot be told.
-// DENTSIM_MEMORY_LIMIT_MB, when set, is taken instead (a PC shared with other work, or a test).
-uint64_t availableMemoryBytes();
-
-// Refuses, unless `force`, a job expected to need more memory than `available` (0: unknown, never
-// refused), or meshes whose rays cross more than kMaxCrossingsPerRay surfaces on average (random or
-// piled-up triangles, not a tooth, whose cost grows with every crossing); the error says what it
-// would need and that --force runs it all the same.
+// Refuses, unless `force`, a job expected to need more memory than `budget` (the memory budget,
+// io/input_budget.h; 0: unknown, never refused), or meshes whose rays cross more than
+// kMaxCrossingsPerRay surfaces on average (random or piled-up triangles, not a tooth, whose cost
+// grows with every crossing). The refusal is one line naming the estimate, the budget, how the
+// budget was set (its flag) and --force.
 inline constexpr double kMaxCrossingsPerRay = 64.0;
-Status checkAffordable(const VoxelizeCost& cost, uint64_t available, bool force, const std::string& where);
+Status checkAffordable(const VoxelizeCost& cost, uint64_t budget, bool force, const std::string& where);
 
 }  // namespace dentsim

@@ -3,12 +3,16 @@
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <string>
 #include <vector>
 
+#include "core/text_escape.h"
+#include "io/dicom_series.h"
+#include "io/grey_image.h"
 #include "io/stl_file.h"
 #include "test_meshes.h"
 #include "test_support.h"
@@ -245,6 +249,97 @@ TEST_F(CarelessInputCli, ExportSaysWhyItCannotWrite) {
             std::string::npos)
       << r.output;
   EXPECT_FALSE(fs::exists(out));
+}
+
+// A file name is data: one holding a newline and a terminal escape (ESC [31m, red) is echoed
+// escaped, so each error stays one line and cannot drive the terminal. Issue 40.
+TEST_F(CarelessInputCli, ANameWithANewlineOrAnEscapeStaysOneEscapedLine) {
+  const std::string weird = dir_.file("a\nb\x1b[31mred");
+  fs::create_directories(weird);
+  const std::string stl_in = weird + "/in\n\x1b[31m.stl";
+  fs::copy_file(stl(), stl_in);
+  const std::vector<uint8_t> before = readBytes(stl_in);
+  // sh -c takes newline and ESC inside single quotes as they are.
+  const auto quoted = [](const std::string& path) { return "'" + path + "'"; };
+  const std::vector<std::string> commands = {
+      "voxelize --tooth " + quoted(weird + "/missing\n\x1b[31m.stl") + " --level 5 --cpu -o " + dir_.file("x.dvol"),
+      "voxelize --tooth " + quoted(stl_in) + " --level 5 --cpu -o " + quoted(stl_in),
+      "voxelize --tooth " + stl() + " --level 5 --cpu -o " + quoted(weird + "/no\n\x1b[31mfolder/x.dvol"),
+      "voxelize --tooth " + stl() + " --units " + quoted("m\n\x1b[31mm") + " -o " + dir_.file("x.dvol"),
+      "info " + quoted(weird + "/t\n\x1b[31m.dvol"),
+      "mesh " + quoted(weird + "/t\n\x1b[31m.dvol") + " --cpu -o " + dir_.file("x.ply"),
+      "replay " + quoted(weird + "/s\n\x1b[31m.dses") + " --headless",
+  };
+  for (const std::string& c : commands) {
+    SCOPED_TRACE(escapeControl(c, 1000));
+    // stderr alone: what a command prints on stdout before it fails is not the error line.
+    const CommandResult r = test::runCommand("{ " + std::string(DENTSIM_BINARY) + " " + c + " >/dev/null; }");
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    EXPECT_EQ(r.output.rfind("dentsim: ", 0), 0u) << r.output;
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+    EXPECT_EQ(r.output.find('\x1b'), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("\\x1b[31m"), std::string::npos) << r.output;  // named, escaped
+  }
+  EXPECT_EQ(readBytes(stl_in), before);
+  EXPECT_FALSE(fs::exists(dir_.file("x.dvol")));
+}
+
+// `voxelize --dicom DIR -o DIR/slice-0001.dcm` once replaced a slice of its own series and exited
+// 0. Any output inside an input folder is refused in one line, and the series is left as it was.
+TEST_F(CarelessInputCli, AnOutputInsideTheInputSeriesFolderIsRefused) {
+  GreyImage scan;  // 4 x 4 x 3 voxels of 1 mm: three slices, enough to be a series
+  scan.dims = {4, 4, 3};
+  scan.pitch_mm = {1.0, 1.0, 1.0};
+  scan.scanner_from_voxel = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+  scan.values.assign(size_t(scan.voxelCount()), 1000.0f);
+  scan.unit = GreyUnit::Hounsfield;
+  const std::string series = dir_.file("series");
+  auto files = writeDicomSeries(series, scan);
+  ASSERT_TRUE(files.ok()) << files.message();
+  ASSERT_EQ(files->size(), 3u);
+  const std::string slice = series + "/slice-0001.dcm";
+  ASSERT_TRUE(fs::exists(slice));
+  const std::vector<uint8_t> before = readBytes(slice);
+  fs::create_symlink(series, dir_.file("link"));
+  for (const std::string& out : {slice, series + "/new.dvol", series + "/./sub/../slice-0002.dcm",
+                                 dir_.file("link") + "/slice-0001.dcm"}) {
+    SCOPED_TRACE(out);
+    const CommandResult r = runDentsim("voxelize --dicom " + series + " --level 5 -o " + out);
+    EXPECT_EQ(r.exit_code, 1) << r.output;
+    test::expectCleanFailure(r, out, "lies inside the input folder " + series);
+    EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+  }
+  EXPECT_EQ(readBytes(slice), before);
+  EXPECT_FALSE(fs::exists(series + "/new.dvol"));
+  EXPECT_EQ(std::distance(fs::directory_iterator(series), fs::directory_iterator()), 3);
+  // A folder beside the series whose name begins with the series' name is not inside it.
+  const CommandResult beside = runDentsim("voxelize --dicom " + series + " --level 5 -o " + dir_.file("series2/x.dvol"));
+  EXPECT_EQ(beside.output.find("lies inside"), std::string::npos) << beside.output;
+}
+
+// `score --student NAME` checks the name before the teeth are read or scored: with a tooth that does
+// not exist the refusal still names --student (scoring first would have named the tooth), and with
+// real teeth nothing is written, neither the report, nor the picture, nor an outbox.
+TEST_F(CarelessInputCli, ScoreRefusesABadStudentNameBeforeScoring) {
+  const std::string report = dir_.file("s.json"), png = dir_.file("s.png"), outbox = dir_.file("outbox.jsonl");
+  // The default config and outbox places inside the test's folder, so that a config in the user's home plays no part.
+  const std::string dentsim = "DENTSIM_CONFIG= XDG_CONFIG_HOME=" + dir_.file("xdg-config") + " XDG_DATA_HOME=" +
+                              dir_.file("xdg-data") + " " + std::string(DENTSIM_BINARY);
+  const std::string bad_name = " --student 's1\u202e' --outbox " + outbox;
+  test::expectCleanFailure(test::runCommand(dentsim + " score --task caries --initial " + dir_.file("missing.dvol") + " --final " +
+                                            dvol() + " -o " + report + bad_name),
+                           "--student: \"s1\\u202e\"", "bidirectional control character", report);
+  test::expectCleanFailure(test::runCommand(dentsim + " score --task caries --initial " + dvol() + " --final " + dvol() + " -o " +
+                                            report + " --png " + png + " --student " + std::string(1000, 's') + " --outbox " + outbox),
+                           "--student:", "longer than 64 bytes", report);
+  EXPECT_FALSE(fs::exists(png));
+  EXPECT_FALSE(fs::exists(outbox));
+  // The same command with a good name scores and records: the refusal was the name's alone.
+  const CommandResult good = test::runCommand(dentsim + " score --task caries --initial " + dvol() + " --final " + dvol() + " -o " +
+                                              report + " --png " + png + " --student s1 --outbox " + outbox);
+  ASSERT_EQ(good.exit_code, 0) << good.output;
+  EXPECT_TRUE(fs::exists(report));
+  EXPECT_TRUE(fs::exists(outbox));
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// Tests of `dentsim report`: a class of synthetic score reports and an outbox becomes one page with the counts, plots, pictures and points lost it should have; a report and its statement count once; bad input fails in one line and writes nothing; Chromium renders the page.
+// Tests of `dentsim report`: a class of synthetic score reports and an outbox becomes one page with the counts, plots, pictures and points lost it should have; a report and its statement count once; bad input fails in one line and writes nothing, a bad outbox line costs only itself; a page over a picture it embeds is refused; each picture is embedded once and the pictures capped; Chromium renders the page.
 #include <sys/time.h>
 
 #include <gtest/gtest.h>
@@ -142,8 +142,9 @@ TEST_F(ReportCli, BadInputFailsInOneLineAndLeavesTheLastPageAlone) {
   const std::string out = file("report.html");
   writeText(out, "the last good page");
   test::expectCleanFailure(runDentsim("report " + file("nope.json") + " -o " + out), "nope.json", "no such file");
-  writeText(file("bad.jsonl"), statement("passed", "caries_removal", 85, "2026-11-27T07:30:00Z", "") + "{\"actor\": oops}\n");
-  test::expectCleanFailure(runDentsim("report " + inputs() + " " + file("bad.jsonl") + " -o " + out), "bad.jsonl:2", "malformed JSON");
+  // A file where no line is a statement is not an outbox (a bad line among good ones is a warning).
+  writeText(file("bad.jsonl"), "{\"actor\": oops}\n");
+  test::expectCleanFailure(runDentsim("report " + inputs() + " " + file("bad.jsonl") + " -o " + out), "bad.jsonl:1", "malformed JSON");
   test::expectCleanFailure(runDentsim("report " + inputs() + " --pass-mark 150 -o " + out), "--pass-mark 150", "[0, 100]");
   EXPECT_EQ(readText(out), "the last good page");
   const std::string fresh = file("never.html");
@@ -175,6 +176,98 @@ TEST_F(ReportCli, AReportAndItsStatementCountOnceAndAnotherAttemptApart) {
   const auto twice = runDentsim("report " + file("lab") + " -o " + file("twice.html"));
   ASSERT_EQ(twice.exit_code, 0) << twice.output;
   EXPECT_NE(twice.output.find("2 attempts by 1 students at 1 tasks"), std::string::npos) << twice.output;
+}
+
+// One bad line in an outbox (a torn write, a hand edit) costs only itself: the report is made from
+// the rest, with one warning naming the file and the line.
+TEST_F(ReportCli, ABadOutboxLineIsLeftOutWithOneWarning) {
+  const std::string outbox = file("torn/outbox.jsonl");
+  writeText(outbox, statement("passed", "caries_removal", 85, "2026-11-27T07:30:00Z", "") + "{\"actor\": oops}\n" +
+                        statement("failed", "class2_cavity", 30, "2026-11-27T08:10:00Z", "") + "{\"id\":\"torn");
+  const auto r = runDentsim("report " + outbox + " -o " + file("torn.html"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("dentsim: warning: " + outbox + ":2: not a JSON statement (malformed JSON); line left out\n"), std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("dentsim: warning: " + outbox + ":4: not a JSON statement (malformed JSON); line left out\n"), std::string::npos)
+      << r.output;
+  EXPECT_EQ(countOf(r.output, "dentsim: warning:"), 2u) << r.output;
+  EXPECT_NE(r.output.find("wrote " + file("torn.html") + ": 2 attempts by 1 students at 2 tasks"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(file("torn.html")));
+}
+
+// The pictures the page embeds are inputs: a page written over one, by its name or a link to it, is
+// refused in one line and the picture is left as it was.
+TEST_F(ReportCli, APageOverAPictureItEmbedsIsRefused) {
+  const std::string picture = file("class/alice/try1/score.png");
+  const std::string before = readText(picture);
+  test::expectCleanFailure(runDentsim("report " + file("class") + " -o " + picture), picture, "is the same file as the input");
+  EXPECT_EQ(readText(picture), before);
+  fs::create_hard_link(picture, file("alias.html"));
+  test::expectCleanFailure(runDentsim("report " + file("class") + " -o " + file("alias.html")), "alias.html",
+                           "is the same file as the input " + picture);
+  EXPECT_EQ(readText(picture), before);
+  // Carol's picture, named by her outbox's statement, the same.
+  test::expectCleanFailure(runDentsim("report " + file("class") + " -o " + file("class/pics/carol.png")), "carol.png",
+                           "is the same file as the input");
+}
+
+// A picture of noise, `side` px square: PNG cannot compress it, so its file is about 3 x side^2 bytes.
+void writeNoise(const std::string& path, int side, uint32_t seed) {
+  RgbImage image;
+  image.width = image.height = side;
+  for (int i = 0; i < 3 * side * side; ++i) {
+    seed = seed * 1664525u + 1013904223u;
+    image.rgb.push_back(uint8_t(seed >> 24));
+  }
+  fs::create_directories(fs::path(path).parent_path());
+  ASSERT_TRUE(writePng(path, image).ok());
+}
+
+// The page's size is capped: an outbox naming one picture 40 times embeds it once (the others link
+// to it), and past the cap on embedded bytes a picture is linked by its path, with one warning; a
+// copy of an embedded picture under another name costs nothing.
+TEST_F(ReportCli, EachPictureIsEmbeddedOnceAndThePagesPicturesAreCapped) {
+  writeNoise(file("big/pics/noise.png"), 128, 1);  // about 48 KiB
+  const uint64_t picture_bytes = fs::file_size(file("big/pics/noise.png"));
+  std::string lines;
+  for (int i = 0; i < 40; ++i)
+    lines += statement("passed", "caries_removal", 60 + i % 30, "2026-11-27T07:" + std::string(i < 10 ? "0" : "") + std::to_string(i) + ":00Z",
+                       "\"https://dentsim.example/xapi/score-picture\":\"pics/noise.png\"");
+  writeText(file("big/outbox.jsonl"), lines);
+  const auto r = runDentsim("report " + file("big/outbox.jsonl") + " -o " + file("big.html"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  const std::string html = readText(file("big.html"));
+  EXPECT_EQ(countOf(html, "src=\"data:image/png;base64,"), 1u);
+  EXPECT_EQ(countOf(html, "<a class=\"samepic\" href=\"#pic-0\">"), 39u);
+  EXPECT_LT(html.size(), 2 * picture_bytes + 200000) << "40 copies would be " << 40 * picture_bytes * 4 / 3;
+
+  // Three pictures in time order: noise, other noise, and a copy of the first under another name.
+  // The cap holds one: the first is embedded, the second linked by its path, the copy shown by a
+  // link to the first.
+  writeNoise(file("cap/pics/one.png"), 128, 1);
+  writeNoise(file("cap/pics/two.png"), 128, 2);
+  fs::copy_file(file("cap/pics/one.png"), file("cap/pics/copy.png"));
+  writeText(file("cap/outbox.jsonl"),
+            statement("passed", "caries_removal", 70, "2026-11-27T07:00:00Z", "\"https://dentsim.example/xapi/score-picture\":\"pics/one.png\"") +
+                statement("passed", "caries_removal", 71, "2026-11-27T07:01:00Z", "\"https://dentsim.example/xapi/score-picture\":\"pics/two.png\"") +
+                statement("passed", "caries_removal", 72, "2026-11-27T07:02:00Z", "\"https://dentsim.example/xapi/score-picture\":\"pics/copy.png\""));
+  const auto capped = runCommand("DENTSIM_REPORT_PICTURE_CAP_BYTES=" + std::to_string(picture_bytes + 1000) + " " +
+                                 std::string(DENTSIM_BINARY) + " report " + file("cap/outbox.jsonl") + " -o " + file("cap.html"));
+  ASSERT_EQ(capped.exit_code, 0) << capped.output;
+  EXPECT_EQ(countOf(capped.output, "dentsim: warning:"), 1u) << capped.output;
+  EXPECT_NE(capped.output.find("1 picture(s) past the " + std::to_string(picture_bytes + 1000) +
+                               " bytes of pictures a page embeds are linked by their path instead (the first: " + file("cap/pics/two.png") + ")"),
+            std::string::npos)
+      << capped.output;
+  const std::string page = readText(file("cap.html"));
+  EXPECT_EQ(countOf(page, "src=\"data:image/png;base64,"), 1u);
+  EXPECT_EQ(countOf(page, "<a class=\"samepic\" href=\"#pic-0\">"), 1u);
+  EXPECT_EQ(countOf(page, "<a class=\"filepic\" href=\"file://" + file("cap/pics/two.png") + "\">"), 1u);
+  EXPECT_EQ(countOf(page, "no picture"), 0u);
+  // Without the lowered cap all three are shown, two embedded.
+  const auto whole = runDentsim("report " + file("cap/outbox.jsonl") + " -o " + file("whole.html"));
+  ASSERT_EQ(whole.exit_code, 0) << whole.output;
+  EXPECT_EQ(countOf(readText(file("whole.html")), "src=\"data:image/png;base64,"), 2u);
 }
 
 // Chromium renders the page: the DOM it built holds the plots' lines and bars, the pictures and the

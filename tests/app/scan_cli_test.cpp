@@ -54,9 +54,10 @@ class ScanCli : public ::testing::Test {
   }
   std::string series() const { return dir_.file("series"); }
   std::string out() const { return dir_.file("tooth.dvol"); }
-  // A refusal: exit code 1, one line starting "dentsim: " that holds `words`, and no output file.
+  // A refusal: exit code 1, one line on stderr starting "dentsim: " that holds `words`, and no
+  // output file. stdout may have said the plan before the error.
   void expectRefused(const std::string& args, const std::string& words) {
-    const auto r = runDentsim(args);
+    const auto r = test::runCommand("{ " + std::string(DENTSIM_BINARY) + " " + args + " >/dev/null; }");
     EXPECT_EQ(r.exit_code, 1) << args << "\n" << r.output;
     EXPECT_EQ(r.output.rfind("dentsim: ", 0), 0u) << r.output;
     EXPECT_NE(r.output.find(words), std::string::npos) << r.output;
@@ -199,6 +200,21 @@ TEST(ScanCliHostile, DeeplyNestedDicomIsOneLine) {
   EXPECT_NE(r.output.find("nested.dcm: sequences nested more than 8 deep"), std::string::npos) << r.output;
   EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
   EXPECT_FALSE(fs::exists(dir.file("out.dvol")));
+}
+
+TEST_F(ScanCli, TheScanReadIsPlannedAndRefusedBeyondTheMemoryBudget) {
+  // 60^3 voxels read slice by slice: 64 MiB for the program and 6 bytes a voxel (floats, the
+  // segmentation), about 68 MB. The plan says so before the read; a 40 MiB budget refuses it, in
+  // one line naming the stage, the estimate, the budget and the flag, and writes nothing.
+  const auto ok = runDentsim("voxelize --dicom " + series() + " --level 6 -o " + out());
+  ASSERT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_NE(ok.output.find("plan: reading the scan (216 000 voxels): about 0.068 GB of memory"), std::string::npos)
+      << ok.output;
+  EXPECT_NE(ok.output.find("plan: level 6 (64^3 voxels)"), std::string::npos) << ok.output;
+  fs::remove(out());
+  expectRefused("--max-memory-mb 40 voxelize --dicom " + series() + " --level 6 -o " + out(),
+                "voxelize: reading the scan (216 000 voxels): about 0.068 GB of memory and under a second, beyond the "
+                "memory budget of 0.042 GB (set with --max-memory-mb)");
 }
 
 }  // namespace

@@ -1,6 +1,9 @@
 // Tests of `dentsim voxelize` with STL layers: the GPU and the CPU reference agree, and bad files or flags fail in one line.
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 
@@ -96,6 +99,27 @@ TEST_F(VoxelizeStlCli, OpenMeshAndOddUnitsAreVoxelizedWithWarnings) {
                                dir_.file("tiny.dvol"));
   EXPECT_EQ(tiny.exit_code, 0) << tiny.output;
   EXPECT_NE(tiny.output.find("does not look like a tooth"), std::string::npos) << tiny.output;
+}
+
+TEST_F(VoxelizeStlCli, LevelThirteenBeyondTheMemoryBudgetIsRefusedBeforeItAllocates) {
+  // The 1 cm cube at level 13: its faces cross about 6.3 million bricks, some 10 GB. With a 4 GB
+  // budget the plan refuses in one line naming the estimate, the budget and the flag, before the
+  // rays or the bricks are made: the child's peak stays that of a program that only read its meshes.
+  const std::string output = dir_.file("huge.dvol");
+  const auto r = runDentsim("--max-memory-mb 4096 voxelize --enamel " + dir_.file("outer.stl") + " --pulp " +
+                            dir_.file("inner.stl") + " --units cm --level 13 --cpu -o " + output);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  const size_t at = r.output.find("dentsim: voxelize: level 13 (8192^3 voxels): about ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  const std::string refusal = r.output.substr(at);
+  EXPECT_EQ(std::count(refusal.begin(), refusal.end(), '\n'), 1) << refusal;
+  EXPECT_NE(refusal.find(" GB of memory"), std::string::npos) << refusal;
+  EXPECT_NE(refusal.find("beyond the memory budget of 4.3 GB (set with --max-memory-mb)"), std::string::npos) << refusal;
+  EXPECT_NE(refusal.find("--force"), std::string::npos) << refusal;
+  EXPECT_FALSE(std::filesystem::exists(output));
+  struct rusage children {};
+  ASSERT_EQ(::getrusage(RUSAGE_CHILDREN, &children), 0);
+  EXPECT_LT(children.ru_maxrss, 1024L * 1024) << "KiB: the refused run allocated what it planned";
 }
 
 }  // namespace

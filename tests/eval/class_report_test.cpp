@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,7 @@
 #include "eval/class_report_html.h"
 #include "eval/cut_score.h"
 #include "eval/learning_record.h"
+#include "test_support.h"
 
 namespace dentsim {
 namespace {
@@ -157,11 +159,55 @@ TEST(StatementInput, ReadsTheIdTheTaskKindAndATitleInAnotherLanguage) {
   EXPECT_FALSE((*read)[0].success);           // "completed" says neither
 }
 
-TEST(StatementInput, AMalformedLineIsNamedByFileAndLine) {
+// A bad line costs only itself: it is left out with one warning naming the file and line, and the
+// statements before and after it are read. A file where no line is a statement is an error.
+TEST(StatementInput, ABadLineIsLeftOutWithAWarningNamingFileAndLine) {
   const std::string good = statement(account("s01", "Ann"), "caries_removal", "passed", 80, "2026-11-27T08:00:00Z");
-  auto broken = parseStatements(good + "\n{\"actor\": \n", "o.jsonl", ".", 0.0, nullptr);
+  const std::string later = statement(account("s02", "Bo"), "caries_removal", "failed", 20, "2026-11-27T09:00:00Z");
+  std::vector<std::string> warnings;
+  int skipped = 0;
+  auto read = parseStatements(good + "\n{\"actor\": \n" + later + "\n[1]\n{\"id\":\"torn", "o.jsonl", ".", 0.0, &skipped, &warnings);
+  ASSERT_TRUE(read.ok()) << read.message();
+  ASSERT_EQ(read->size(), 2u);
+  EXPECT_EQ((*read)[0].student, "s01");
+  EXPECT_EQ((*read)[1].student, "s02");
+  EXPECT_EQ((*read)[1].source, "o.jsonl:3");  // lines keep their numbers past the bad one
+  EXPECT_EQ(skipped, 0);                      // bad lines are not statements without a score
+  ASSERT_EQ(warnings.size(), 3u);
+  EXPECT_EQ(warnings[0], "o.jsonl:2: not a JSON statement (malformed JSON); line left out");
+  EXPECT_EQ(warnings[1], "o.jsonl:4: not a JSON object; line left out");
+  EXPECT_EQ(warnings[2], "o.jsonl:5: not a JSON statement (malformed JSON); line left out");
+  // With nobody to warn, the good lines are still read.
+  EXPECT_EQ(parseStatements(good + "\n{\"actor\": \n", "o.jsonl", ".", 0.0, nullptr)->size(), 1u);
+  // A file name holding a newline or an ESC stays on the warning's one line.
+  warnings.clear();
+  ASSERT_TRUE(parseStatements(good + "\nx\n", "o\n\x1b[2J.jsonl", ".", 0.0, nullptr, &warnings).ok());
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0], "o\\x0a\\x1b[2J.jsonl:2: not a JSON statement (malformed JSON); line left out");
+}
+
+// The same through readAttempts, which the class report calls with a file.
+TEST(StatementInput, AnOutboxFileWithABadLineIsReadWithAWarning) {
+  test::TempDir dir;
+  const std::string path = dir.file("outbox.jsonl");
+  std::ofstream(path) << statement(account("s01", "Ann"), "caries_removal", "passed", 80, "2026-11-27T08:00:00Z") << "\n"
+                      << "garbage\n"
+                      << statement(account("s02", "Bo"), "caries_removal", "passed", 90, "2026-11-27T09:00:00Z") << "\n";
+  std::vector<std::string> warnings;
+  auto read = readAttempts(path, {}, nullptr, &warnings);
+  ASSERT_TRUE(read.ok()) << read.message();
+  EXPECT_EQ(read->size(), 2u);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_EQ(warnings[0], path + ":2: not a JSON statement (malformed JSON); line left out");
+  // Nothing but bad lines: not an outbox, and the error names the first.
+  std::ofstream(path) << "garbage\nmore\n";
+  EXPECT_EQ(readAttempts(path, {}, nullptr, nullptr).message(), path + ":1: not a JSON statement (malformed JSON)");
+}
+
+TEST(StatementInput, AMalformedLineIsNamedByFileAndLine) {
+  auto broken = parseStatements("{\"actor\": \n", "o.jsonl", ".", 0.0, nullptr);
   ASSERT_FALSE(broken.ok());
-  EXPECT_EQ(broken.message(), "o.jsonl:2: not a JSON statement (malformed JSON)");
+  EXPECT_EQ(broken.message(), "o.jsonl:1: not a JSON statement (malformed JSON)");
   auto range = parseStatements(statement(account("s01", "Ann"), "t", "passed", 180, "2026-11-27T08:00:00Z"), "o.jsonl", ".", 0, nullptr);
   ASSERT_FALSE(range.ok());
   EXPECT_EQ(range.message(), "o.jsonl:1: result.score.raw: not a number in [0, 100]");
@@ -548,6 +594,34 @@ TEST(ClassReportHtml, EachAttemptShowsWhichPartLostPointsItsTimeAndItsAgreement)
   EXPECT_NE(partsHtml(odd).find("data-part=\"&lt;b&gt;x&quot;\""), std::string::npos);
 }
 
+// Each distinct picture goes into the page once: the six attempts name the same picture by two
+// paths (equal bytes) and another picture once; the first showing of each embeds it, the others link
+// to it by its id. A picture past the cap is a link to its file, its path escaped.
+TEST(ClassReportHtml, EachDistinctPictureIsEmbeddedOnceAndOthersLinked) {
+  ClassReport r = sampleReport();
+  ASSERT_EQ(r.attempts.size(), 6u);
+  const char* names[6] = {"a.png", "a.png", "copy-of-a.png", "b.png", "a.png", "far/x \"<y>.png"};
+  for (size_t i = 0; i < 6; ++i) r.attempts[i].picture = names[i];
+  ReportPictures pictures;
+  EXPECT_TRUE(pictures.add("a.png", {1, 2, 3}));
+  EXPECT_FALSE(pictures.add("copy-of-a.png", {1, 2, 3}));  // the same bytes: no second copy
+  EXPECT_TRUE(pictures.add("b.png", {4, 5, 6}));
+  pictures.linked.insert("far/x \"<y>.png");
+  EXPECT_EQ(pictures.pngs.size(), 2u);
+  EXPECT_EQ(pictures.count(), 4u);
+  const std::string html = classReportHtml(r, pictures);
+  EXPECT_EQ(countOf(html, "data:image/png;base64,AQID"), 1u);
+  EXPECT_EQ(countOf(html, "data:image/png;base64,BAUG"), 1u);
+  EXPECT_EQ(countOf(html, "\" id=\"pic-0\" src=\"data:image/png;base64,AQID\">"), 1u);
+  EXPECT_EQ(countOf(html, "\" id=\"pic-1\" src=\"data:image/png;base64,BAUG\">"), 1u);
+  EXPECT_EQ(countOf(html, "<a class=\"samepic\" href=\"#pic-0\">"), 3u);
+  EXPECT_EQ(countOf(html, "<a class=\"samepic\""), 3u);
+  EXPECT_EQ(countOf(html, "<a class=\"filepic\""), 1u);
+  EXPECT_NE(html.find("/far/x%20%22%3Cy%3E.png\">far/x &quot;&lt;y&gt;.png</a>"), std::string::npos);
+  EXPECT_EQ(html.find("<y>"), std::string::npos);
+  EXPECT_EQ(countOf(html, "no picture"), 0u);
+}
+
 TEST(ClassReportHtml, Base64MatchesTheStandardsVectors) {
   auto b64 = [](const std::string& s) { return base64({reinterpret_cast<const uint8_t*>(s.data()), s.size()}); };
   // RFC 4648, section 10.
@@ -575,7 +649,9 @@ TEST(ClassReportHtml, PlotsOneLinePerStudentAndOneBarPerFilledBin) {
   // The page: a plot pair per task, the flagged table's rows, a place for each attempt's picture.
   ClassReport with_picture = r;
   with_picture.attempts[0].picture = "p.png";
-  const std::string html = classReportHtml(with_picture, {{"p.png", {1, 2, 3}}});
+  ReportPictures one;
+  one.add("p.png", {1, 2, 3});
+  const std::string html = classReportHtml(with_picture, one);
   EXPECT_EQ(countOf(html, "<svg class=\"progress\""), 3u);
   EXPECT_EQ(countOf(html, "<svg class=\"histogram\""), 3u);
   EXPECT_EQ(countOf(html, "<tr class=\"flagged\">"), 4u);

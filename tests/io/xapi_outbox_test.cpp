@@ -1,5 +1,7 @@
-// The learning records' outbox: statements kept in order, each id once, a sent log that turns them from pending to sent, bad lines named and set aside, and one sender at a time.
+// The learning records' outbox: statements appended in order (earlier bytes never rewritten, a torn line costing only itself), each id once, a sent log that turns them from pending to sent, bad lines named and set aside, and one sender at a time.
 #include <gtest/gtest.h>
+
+#include <sys/stat.h>
 
 #include <filesystem>
 #include <fstream>
@@ -61,8 +63,76 @@ TEST(XapiOutbox, BadLinesAreNamedByFileAndLine) {
   const std::string outbox = dir.file("outbox.jsonl");
   std::ofstream(outbox) << R"({"id":"a"})" "\n" "{not json\n";
   EXPECT_EQ(readOutbox(outbox).message(), outbox + ":2: not valid JSON");
+  // Recording passes a bad line over rather than stopping at it; setting it aside is another step.
   std::ofstream(outbox) << R"({"id":"a"})" "\n" R"({"id":3})" "\n";
-  EXPECT_EQ(appendToOutbox(outbox, statement("c", 0)).message(), outbox + ":2: not a JSON object with a string \"id\"");
+  EXPECT_TRUE(*appendToOutbox(outbox, statement("c", 0)));
+  EXPECT_FALSE(*appendToOutbox(outbox, statement("a", 0)));
+  EXPECT_EQ(readText(outbox), R"({"id":"a"})" "\n" R"({"id":3})" "\n" R"({"id":"c","result":{"score":{"raw":0.0}}})" "\n");
+}
+
+// Recording and marking sent append: after each of 20 recordings the file holds the earlier bytes
+// unchanged, in the same file (a rewrite by rename would give it a new inode).
+TEST(XapiOutbox, RecordingAndMarkingSentAppendAndNeverRewriteEarlierBytes) {
+  test::TempDir dir;
+  const std::string outbox = dir.file("outbox.jsonl");
+  std::string before;
+  ino_t inode = 0;
+  for (int i = 0; i < 20; ++i) {
+    ASSERT_TRUE(*appendToOutbox(outbox, statement("s" + std::to_string(i), i)));
+    const std::string now = readText(outbox);
+    ASSERT_GT(now.size(), before.size());
+    EXPECT_EQ(now.substr(0, before.size()), before) << "recording " << i << " changed earlier bytes";
+    EXPECT_EQ(now.back(), '\n');
+    struct stat st {};
+    ASSERT_EQ(::stat(outbox.c_str(), &st), 0);
+    if (i > 0) {
+      EXPECT_EQ(st.st_ino, inode) << "recording " << i << " replaced the file";
+    }
+    inode = st.st_ino;
+    before = now;
+  }
+  std::string log;
+  for (int i = 0; i < 20; i += 2) {
+    ASSERT_TRUE(markSent(outbox, {"s" + std::to_string(i), "s0"}).ok());  // "s0" again: logged once
+    const std::string now = readText(sentLogPath(outbox));
+    EXPECT_EQ(now.substr(0, log.size()), log);
+    log = now;
+  }
+  EXPECT_EQ(log.substr(0, 9), "s0\ns2\ns4\n");
+  EXPECT_EQ(pendingStatements(outbox)->size(), 10u);
+  EXPECT_EQ(readOutbox(outbox)->size(), 20u);
+}
+
+// A crash mid-write leaves a torn last line (here appended by hand). The next recording ends it
+// first, so the torn line is set aside alone and every whole statement before and after it is kept;
+// the same for a torn id in the sent log.
+TEST(XapiOutbox, ATornLastLineCostsOnlyItself) {
+  test::TempDir dir;
+  const std::string outbox = dir.file("outbox.jsonl");
+  ASSERT_TRUE(*appendToOutbox(outbox, statement("a", 1)));
+  ASSERT_TRUE(*appendToOutbox(outbox, statement("b", 2)));
+  const std::string whole = readText(outbox);
+  std::ofstream(outbox, std::ios::app) << R"({"id":"c","result":{"sco)";
+  EXPECT_TRUE(*appendToOutbox(outbox, statement("d", 4)));
+  EXPECT_EQ(readText(outbox), whole + R"({"id":"c","result":{"sco)" "\n" R"({"id":"d","result":{"score":{"raw":4.0}}})" "\n");
+  auto moved = setAsideBadLines(outbox);
+  ASSERT_TRUE(moved.ok()) << moved.message();
+  EXPECT_EQ(moved->count, 1u);
+  EXPECT_EQ(moved->first, outbox + ":3: not valid JSON");
+  auto all = readOutbox(outbox);
+  ASSERT_TRUE(all.ok()) << all.message();
+  ASSERT_EQ(all->size(), 3u);
+  EXPECT_EQ((*all)[0]["id"], "a");
+  EXPECT_EQ((*all)[1]["id"], "b");
+  EXPECT_EQ((*all)[2]["id"], "d");
+
+  ASSERT_TRUE(markSent(outbox, {"a"}).ok());
+  std::ofstream(sentLogPath(outbox), std::ios::app) << "b-torn";
+  ASSERT_TRUE(markSent(outbox, {"d"}).ok());
+  EXPECT_EQ(readText(sentLogPath(outbox)), "a\nb-torn\nd\n");
+  auto pending = pendingStatements(outbox);
+  ASSERT_EQ(pending->size(), 1u);
+  EXPECT_EQ((*pending)[0]["id"], "b");
 }
 
 TEST(XapiOutbox, BadLinesAreSetAsideAndTheGoodOnesKept) {

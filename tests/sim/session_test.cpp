@@ -3,17 +3,17 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
+#include <thread>
 
 #include "io/atomic_file.h"
 #include "io/pen_playback.h"
-#include "sim/builtin_tooth.h"
 #include "sim/haptic_loop.h"
-#include "sim/scripted_paths.h"
 #include "sim/session_recorder.h"
 #include "sim/tool_library.h"
+#include "sim_fixtures.h"
+#include "test_support.h"
 #include "volume/tooth_file.h"
 #include "volume/volume_hash.h"
 
@@ -22,46 +22,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr int kLevel = 7;  // the molar in 0.17 mm voxels: quick, and the bur still spans several
+using test::molar;
 
-struct Scratch {
-  fs::path dir;
-  Scratch() {
-    dir = fs::temp_directory_path() / ("dentsim_session_test_" + std::to_string(::getpid()) + "_" +
-                                       ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  ~Scratch() { fs::remove_all(dir); }
-  std::string file(const std::string& name) const { return (dir / name).string(); }
-};
-
-const ToothVolume& molar() {
-  static const ToothVolume tooth = [] {
-    auto t = builtinMolarTooth(kLevel);
-    EXPECT_TRUE(t.ok()) << t.message();
-    return std::move(t).value();
-  }();
-  return tooth;
-}
-
-// A short class I groove: a third of a lap, about 1.3 s of drilling.
-PenPath shortCavity(const ToothVolume& tooth) {
-  CavityPathSettings s;
-  s.laps = 0.3;
-  auto path = cavityPreparationPath(tooth.voxels, tooth.frame, s);
-  EXPECT_TRUE(path.ok()) << path.message();
-  return path->path;
-}
-
-SessionInfo testInfo() {
-  SessionInfo info;
-  info.created_utc = "2026-11-22T10:00:00Z";
-  info.program = "dentsim test";
-  info.task = "caries_removal";
-  info.tooth_source = "builtin:molar:7";
-  return info;
-}
+// This suite's sessions: caries removal on the molar.
+SessionInfo testInfo() { return test::molarSessionInfo("2026-11-22T10:00:00Z", "caries_removal"); }
 
 // The header recordScriptedSession fills in, for tests that drive the recorder themselves.
 SessionInfo recorderInfo(const SimParams& params) {
@@ -69,22 +33,33 @@ SessionInfo recorderInfo(const SimParams& params) {
   info.rate_hz = params.device.rate_hz;
   info.drill_tool = "round_bur_010";
   info.tooth_hash = volumeHashHex(molar().voxels, molar().frame);
-  info.tooth_level = kLevel;
+  info.tooth_level = test::kMolarLevel;
   info.voxel_mm = molar().frame.voxel_mm;
   info.params_json = simParamsJson(params);
   return info;
 }
 
-std::vector<uint8_t> fileBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+// The drill on a scripted groove, as the recorder tests drive it: the round bur's loop on `tooth`,
+// its pen following `path` from the path's start. The tool is loaded first: the loop keeps a
+// reference to it.
+struct GrooveDrill {
+  GrooveDrill(ToothVolume& tooth, const SimParams& params, const PenPath& path)
+      : tool(loadToolModel("round_bur_010", params.point_shell).value()),
+        loop(tooth.voxels, tooth.frame, params, tool, nullptr, nullptr),
+        pen(path, PenRole::Drill) {
+    loop.attach(PenRole::Drill, &pen);
+    loop.placeTool(PenRole::Drill, path.samples.front().pose);
+  }
+  ToolModel tool;
+  HapticLoop loop;
+  ScriptedPen pen;
+};
 
 TEST(Session, ARecordedSessionReplaysToTheSameVoxelsByteForByte) {
-  Scratch scratch;
+  test::TempDir scratch;
   ToothVolume live = molar();
   const SimParams params = defaultSimParams();
-  auto run = recordScriptedSession(live, params, shortCavity(molar()), scratch.file("s.dses"), testInfo(), {});
+  auto run = recordScriptedSession(live, params, test::molarGroove(), scratch.file("s.dses"), testInfo(), {});
   ASSERT_TRUE(run.ok()) << run.message();
   EXPECT_GT(run->removed_mm3, 0.05);  // it did cut
   EXPECT_EQ(run->steps_lost, 0u);
@@ -112,18 +87,18 @@ TEST(Session, ARecordedSessionReplaysToTheSameVoxelsByteForByte) {
     EXPECT_TRUE(tooth.voxels == live.voxels);
     const std::string out = scratch.file("final" + std::to_string(k) + ".dvol");
     ASSERT_TRUE(saveTooth(out, tooth).ok());
-    saved[k] = fileBytes(out);
+    saved[k] = test::readBytes(out);
   }
   EXPECT_FALSE(saved[0].empty());
   EXPECT_EQ(saved[0], saved[1]);
 }
 
 TEST(Session, ASessionRecordedOnTheRealTimeThreadReplaysToo) {
-  Scratch scratch;
+  test::TempDir scratch;
   ToothVolume live = molar();
   ScriptedSessionOptions options;
   options.realtime = true;
-  auto run = recordScriptedSession(live, defaultSimParams(), shortCavity(molar()), scratch.file("rt.dses"), testInfo(),
+  auto run = recordScriptedSession(live, defaultSimParams(), test::molarGroove(), scratch.file("rt.dses"), testInfo(),
                                    options);
   ASSERT_TRUE(run.ok()) << run.message();
   auto session = readSessionFile(scratch.file("rt.dses"));
@@ -142,20 +117,16 @@ TEST(Session, ASessionRecordedOnTheRealTimeThreadReplaysToo) {
 }
 
 TEST(Session, AParameterChangeIsRecordedFromTheStepThatUsedItAndReplayed) {
-  Scratch scratch;
+  test::TempDir scratch;
   ToothVolume live = molar();
   const SimParams params = defaultSimParams();
   SimParams harder = params;
   for (TissueParams& t : harder.tissues) t.hardness *= 0.25;  // a teacher slows the cutting down
-  const PenPath path = shortCavity(molar());
-  auto drill = loadToolModel("round_bur_010", params.point_shell);
-  ASSERT_TRUE(drill.ok());
+  const PenPath path = test::molarGroove();
   constexpr uint64_t kSteps = 1200, kChangeAt = 700;
   {
-    HapticLoop loop(live.voxels, live.frame, params, *drill, nullptr, nullptr);
-    ScriptedPen pen(path, PenRole::Drill);
-    loop.attach(PenRole::Drill, &pen);
-    loop.placeTool(PenRole::Drill, path.samples.front().pose);
+    GrooveDrill drill(live, params, path);
+    HapticLoop& loop = drill.loop;
     SessionRecorder recorder;
     const SessionInfo info = recorderInfo(params);
     ASSERT_TRUE(recorder.start(loop, scratch.file("p.dses"), info).ok());
@@ -191,12 +162,12 @@ TEST(Session, AParameterChangeIsRecordedFromTheStepThatUsedItAndReplayed) {
 }
 
 TEST(Session, ATruncatedSessionReplaysUpToItsLastWholeRecord) {
-  Scratch scratch;
+  test::TempDir scratch;
   ToothVolume live = molar();
-  auto run = recordScriptedSession(live, defaultSimParams(), shortCavity(molar()), scratch.file("t.dses"), testInfo(), {});
+  auto run = recordScriptedSession(live, defaultSimParams(), test::molarGroove(), scratch.file("t.dses"), testInfo(), {});
   ASSERT_TRUE(run.ok()) << run.message();
   // A crash mid-write: the file ends inside a record, about two thirds of the way through.
-  std::vector<uint8_t> bytes = fileBytes(scratch.file("t.dses"));
+  std::vector<uint8_t> bytes = test::readBytes(scratch.file("t.dses"));
   bytes.resize(bytes.size() * 2 / 3 + 7);
   ASSERT_TRUE(writeFileAtomic(scratch.file("cut.dses"), bytes).ok());
   auto session = readSessionFile(scratch.file("cut.dses"));
@@ -217,21 +188,17 @@ TEST(Session, ATruncatedSessionReplaysUpToItsLastWholeRecord) {
   // The same as the scripted drilling stopped after that many steps.
   ToothVolume reference = molar();
   const SimParams params = defaultSimParams();
-  auto drill = loadToolModel("round_bur_010", params.point_shell);
-  ASSERT_TRUE(drill.ok());
-  const PenPath path = shortCavity(molar());
-  HapticLoop loop(reference.voxels, reference.frame, params, *drill, nullptr, nullptr);
-  ScriptedPen pen(path, PenRole::Drill);
-  loop.attach(PenRole::Drill, &pen);
-  loop.placeTool(PenRole::Drill, path.samples.front().pose);
+  const PenPath path = test::molarGroove();
+  GrooveDrill drill(reference, params, path);
+  HapticLoop& loop = drill.loop;
   for (size_t k = 0; k < kept; ++k) loop.step();
   EXPECT_TRUE(reference.voxels == tooth.voxels);
 }
 
 TEST(Session, AnotherToothIsRefusedUnlessAllowed) {
-  Scratch scratch;
+  test::TempDir scratch;
   ToothVolume live = molar();
-  auto run = recordScriptedSession(live, defaultSimParams(), shortCavity(molar()), scratch.file("o.dses"), testInfo(), {});
+  auto run = recordScriptedSession(live, defaultSimParams(), test::molarGroove(), scratch.file("o.dses"), testInfo(), {});
   ASSERT_TRUE(run.ok()) << run.message();
   auto session = readSessionFile(scratch.file("o.dses"));
   ASSERT_TRUE(session.ok()) << session.message();
@@ -251,18 +218,14 @@ TEST(Session, AnotherToothIsRefusedUnlessAllowed) {
 }
 
 TEST(Session, StepsTheRecorderCouldNotKeepAreAGapWhereReplayStops) {
-  Scratch scratch;
+  test::TempDir scratch;
   ToothVolume live = molar();
   const SimParams params = defaultSimParams();
-  const PenPath path = shortCavity(molar());
-  auto drill = loadToolModel("round_bur_010", params.point_shell);
-  ASSERT_TRUE(drill.ok());
+  const PenPath path = test::molarGroove();
   uint64_t lost = 0;
   {
-    HapticLoop loop(live.voxels, live.frame, params, *drill, nullptr, nullptr);
-    ScriptedPen pen(path, PenRole::Drill);
-    loop.attach(PenRole::Drill, &pen);
-    loop.placeTool(PenRole::Drill, path.samples.front().pose);
+    GrooveDrill drill(live, params, path);
+    HapticLoop& loop = drill.loop;
     SessionRecorder recorder(3);  // room for 8 steps: the loop outruns the writing thread
     const SessionInfo info = recorderInfo(params);
     ASSERT_TRUE(recorder.start(loop, scratch.file("g.dses"), info).ok());
@@ -286,6 +249,66 @@ TEST(Session, StepsTheRecorderCouldNotKeepAreAGapWhereReplayStops) {
   EXPECT_EQ(replayed->steps, session->gaps.front().first_step - session->steps.front().step);
   ASSERT_FALSE(replayed->warnings.empty());
   EXPECT_NE(replayed->warnings.back().find("lost steps"), std::string::npos) << replayed->warnings.back();
+}
+
+// A kill -9 keeps what the recorder handed to the kernel. A loop stepped back to back (lockstep,
+// a scripted run) runs many times faster than the wall clock, so a flush every 200 ms of wall time
+// once lost over 2 s of loop time; keepUp() holds the loop to within half a second of the kernel's copy.
+TEST(Session, AKilledBackToBackRecordingLosesAtMostASecondOfLoopTime) {
+  test::TempDir scratch;
+  ToothVolume live = molar();
+  const SimParams params = defaultSimParams();
+  const PenPath path = test::molarGroove();
+  GrooveDrill drill(live, params, path);
+  HapticLoop& loop = drill.loop;
+  SessionRecorder recorder;
+  const SessionInfo info = recorderInfo(params);
+  const auto second = uint64_t(info.rate_hz);  // one second of loop time [steps]
+  ASSERT_TRUE(recorder.start(loop, scratch.file("k.dses"), info).ok());
+  // Four seconds of loop time; after each second, the ".part" file as a kill would leave it now.
+  for (int checkpoint = 1; checkpoint <= 4; ++checkpoint) {
+    while (loop.stepsRun() < uint64_t(checkpoint) * second) {
+      loop.step();
+      recorder.keepUp();
+    }
+    auto part = readSessionFile(scratch.file("k.dses.part"));
+    ASSERT_TRUE(part.ok()) << part.message();
+    ASSERT_FALSE(part->steps.empty()) << "nothing on disk after " << loop.stepsRun() << " steps";
+    EXPECT_TRUE(part->gaps.empty());
+    // The last step on disk is within a second of loop time of the loop's last step.
+    EXPECT_GE(part->steps.back().step + second, loop.stepsRun() - 1) << "at checkpoint " << checkpoint;
+  }
+  // No finish(): the recorder's destructor stands in for the kill, leaving the ".part" file.
+}
+
+// On the real-time thread the loop keeps the wall clock's pace: the recorder's own flushes keep
+// the file within a second of loop time, without anyone calling keepUp(). Polled with a generous
+// limit, so a loaded machine only makes it slower.
+TEST(Session, ARealTimeRecordingOnDiskStaysWithinASecondOfTheLoop) {
+  test::TempDir scratch;
+  ToothVolume live = molar();
+  const SimParams params = defaultSimParams();
+  const PenPath path = test::molarGroove();
+  GrooveDrill drill(live, params, path);
+  HapticLoop& loop = drill.loop;
+  SessionRecorder recorder;
+  const SessionInfo info = recorderInfo(params);
+  const auto second = uint64_t(info.rate_hz);  // one second of loop time [steps]
+  ASSERT_TRUE(recorder.start(loop, scratch.file("r.dses"), info).ok());
+  ASSERT_TRUE(loop.start().ok());
+  bool within = false;
+  uint64_t last_on_disk = 0, loop_steps = 0;
+  for (int poll = 0; poll < 1000 && !within; ++poll) {  // up to 10 s
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    loop_steps = loop.stepsRun();  // before the read: the file is compared with the loop as it was then
+    if (loop_steps < 2 * second) continue;
+    auto part = readSessionFile(scratch.file("r.dses.part"));
+    ASSERT_TRUE(part.ok()) << part.message();
+    last_on_disk = part->steps.empty() ? 0 : part->steps.back().step;
+    within = !part->steps.empty() && last_on_disk + second >= loop_steps - 1;
+  }
+  loop.stop();
+  EXPECT_TRUE(within) << "last step on disk " << last_on_disk << ", loop at " << loop_steps;
 }
 
 }  // namespace

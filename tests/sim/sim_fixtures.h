@@ -1,13 +1,22 @@
-// Shared fixtures of the sim tests: a flat tissue block in a small grid and a spherical bur.
+// Shared fixtures of the sim tests: a flat tissue block in a small grid, a spherical bur, the level-7 built-in molar with a short groove on it.
 #pragma once
+
+#include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
+#include <string>
+#include <utility>
 
 #include "core/volume_frame.h"
+#include "io/pen_playback.h"
+#include "io/session_file.h"
+#include "sim/builtin_tooth.h"
+#include "sim/scripted_paths.h"
 #include "sim/sim_params.h"
 #include "sim/tool_library.h"
 #include "test_meshes.h"
+#include "test_sessions.h"
 #include "volume/brick_volume.h"
 
 namespace dentsim::test {
@@ -53,5 +62,36 @@ inline ToolModel sphereBur(double r, double spacing_mm, Vec3 grip_local = {0, 0,
 // Tissue-on-sphere spring force for a sphere of radius r pressed d deep into a flat surface:
 // the integral of stiffness * depth over the spherical cap, k * pi * r * d^2 [N].
 inline double capSpringForce(double k, double r, double d) { return k * std::numbers::pi * r * d * d; }
+
+// Level 7: the molar in 0.17 mm voxels, coarse, but a cut takes seconds rather than minutes and the
+// bur still spans several voxels.
+inline constexpr int kMolarLevel = 7;
+
+// The built-in molar at kMolarLevel, voxelized once per test binary; tests drill copies of it.
+inline const ToothVolume& molar() {
+  static const ToothVolume tooth = [] {
+    auto t = builtinMolarTooth(kMolarLevel);
+    EXPECT_TRUE(t.ok()) << t.message();
+    return std::move(t).value();
+  }();
+  return tooth;
+}
+
+// A short class I groove on molar(): a third of a lap, about 1.3 s of drilling.
+inline PenPath molarGroove() {
+  CavityPathSettings s;
+  s.laps = 0.3;
+  auto path = cavityPreparationPath(molar().voxels, molar().frame, s);
+  EXPECT_TRUE(path.ok()) << path.message();
+  return path->path;
+}
+
+// The header of a session on molar(), for `task` (empty: free drilling).
+inline SessionInfo molarSessionInfo(const std::string& created_utc, const std::string& task) {
+  SessionInfo info = sessionInfo(created_utc);
+  info.task = task;
+  info.tooth_source = "builtin:molar:" + std::to_string(kMolarLevel);
+  return info;
+}
 
 }  // namespace dentsim::test

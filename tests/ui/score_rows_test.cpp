@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdarg>
 #include <cstdio>
 
 #include "eval/eval_fixtures.h"
@@ -21,9 +22,13 @@ ToothVolume slab(bool cut) {
   return t;
 }
 
-std::string fixed(double v, const char* format) {
+// The attribute has the compiler check each call's literal format against its arguments.
+__attribute__((format(printf, 1, 2))) std::string fixed(const char* format, ...) {
   char text[64];
-  std::snprintf(text, sizeof text, format, v);
+  va_list args;
+  va_start(args, format);
+  std::vsnprintf(text, sizeof text, format, args);
+  va_end(args);
   return text;
 }
 
@@ -37,12 +42,12 @@ TEST(ScoreRows, EachPartAndScoredDeductionOfTheReportInItsOrder) {
   EXPECT_EQ(s.total_max, 50.0);  // no session: time and force not scored
   std::vector<ui::ScoreRow> expected;
   for (const auto& [name, part] : score->report["components"].items())
-    expected.push_back({name, part["points"].is_number() ? fixed(part["points"].get<double>(), "%.1f / ") +
+    expected.push_back({name, part["points"].is_number() ? fixed("%.1f / ", part["points"].get<double>()) +
                                                                std::to_string(part["max"].get<int>())
                                                          : "not scored"});
   for (const auto& [name, part] : score->report["deductions"].items())
-    if (part.contains("points") && part["points"].is_number()) expected.push_back({name, fixed(part["points"].get<double>(), "-%.1f")});
-  expected.push_back({"caries left", fixed(score->report["caries_remaining_mm3"].get<double>(), "%.3f mm^3")});
+    if (part.contains("points") && part["points"].is_number()) expected.push_back({name, fixed("-%.1f", part["points"].get<double>())});
+  expected.push_back({"caries left", fixed("%.3f mm^3", score->report["caries_remaining_mm3"].get<double>())});
   expected.push_back({"pulp exposed", "no"});
   ASSERT_EQ(s.rows.size(), expected.size());
   for (size_t i = 0; i < expected.size(); ++i) {

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
+#include "io/input_budget.h"
 #include "test_meshes.h"
 #include "volume/label_import.h"
 #include "voxelize_support.h"
@@ -69,7 +72,7 @@ TEST(VoxelizePlan, RefusesBeyondFreeMemoryUnlessForced) {
   const Status refused = checkAffordable(c, 8'000'000'000, false, "voxelize");
   ASSERT_FALSE(refused.ok());
   EXPECT_NE(refused.message().find("16 GB"), std::string::npos) << refused.message();
-  EXPECT_NE(refused.message().find("8 GB free"), std::string::npos) << refused.message();
+  EXPECT_NE(refused.message().find("memory budget of 8 GB"), std::string::npos) << refused.message();
   EXPECT_NE(refused.message().find("--force"), std::string::npos) << refused.message();
   EXPECT_TRUE(checkAffordable(c, 8'000'000'000, true, "voxelize").ok());
   EXPECT_TRUE(checkAffordable(c, 0, false, "voxelize").ok());  // unknown: never refused
@@ -96,12 +99,31 @@ TEST(VoxelizePlan, RefusesMeshesThatAreNotATooth) {
   EXPECT_TRUE(checkAffordable(piled, 0, true, "voxelize").ok());
 }
 
-TEST(VoxelizePlan, MachineMemoryIsReadOrOverridden) {
-  // On Linux /proc/meminfo tells; DENTSIM_MEMORY_LIMIT_MB sets what counts as free instead.
-  EXPECT_GT(availableMemoryBytes(), 0u);
-  setenv("DENTSIM_MEMORY_LIMIT_MB", "300", 1);
-  EXPECT_EQ(availableMemoryBytes(), 300u * 1024 * 1024);
-  unsetenv("DENTSIM_MEMORY_LIMIT_MB");
+TEST(VoxelizePlan, MemoryBudgetIsHalfTheMachineOrTheFlag) {
+  // By default half of MemTotal, never more than MemAvailable; --max-memory-mb (setMemoryBudget)
+  // replaces the rule, and 0 brings it back.
+  const MachineMemory m = machineMemory();
+  ASSERT_GT(m.total_bytes, 0u);
+  ASSERT_GT(m.available_bytes, 0u);
+  const uint64_t budget = memoryBudgetBytes();
+  EXPECT_LE(budget, m.total_bytes / 2 + 1);
+  EXPECT_GT(budget, 0u);
+  // MemAvailable moves between the two reads: compare with the smaller of half and a fresh read, loosely.
+  EXPECT_GE(double(budget), 0.9 * double(std::min(m.total_bytes / 2, machineMemory().available_bytes)));
+  EXPECT_NE(memoryBudgetOrigin().find("half of this machine's"), std::string::npos) << memoryBudgetOrigin();
+  setMemoryBudget(uint64_t{300} << 20);
+  EXPECT_EQ(memoryBudgetBytes(), uint64_t{300} << 20);
+  EXPECT_EQ(memoryBudgetOrigin(), "set with --max-memory-mb");
+  VoxelizeCost c;
+  c.level = 13;
+  c.memory_bytes = 4'700'000'000;
+  const Status refused = checkAffordable(c, memoryBudgetBytes(), false, "voxelize");
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.message().find("4.7 GB of memory"), std::string::npos) << refused.message();
+  EXPECT_NE(refused.message().find("memory budget of 0.31 GB"), std::string::npos) << refused.message();
+  EXPECT_NE(refused.message().find("--max-memory-mb"), std::string::npos) << refused.message();
+  setMemoryBudget(0);
+  EXPECT_EQ(memoryBudgetBytes() > (uint64_t{300} << 20), m.total_bytes / 2 > (uint64_t{400} << 20));
 }
 
 TEST(VoxelizePlan, LabelImportAsksBeforeItResamples) {
@@ -131,8 +153,10 @@ TEST(VoxelizePlan, LabelImportAsksBeforeItResamples) {
   EXPECT_EQ(calls, 1);
   EXPECT_EQ(seen.level, 7);
   // The block's 6 faces of 10 x 10 source voxels, each 0.1 mm, in target voxels of 1.0 / 124 mm:
-  // 6 * 1 mm^2 / (1/124 mm)^2 = 92 256 voxel faces -> 1.5 * 92 256 / 64 = 2162.25 -> 2163 bricks.
-  EXPECT_EQ(seen.surface_bricks, 2163u);
+  // 6 * 1 mm^2 / (1/124 mm)^2 = 92 256 voxel faces -> 92 256 / 64 = 1441.5 -> 1442 bricks. The
+  // faces are counted voxel face by voxel face, a staircase's own area, so there is no factor for
+  // slope as there is for a mesh's triangles; a face aligned with the grid crosses 1441 bricks.
+  EXPECT_EQ(seen.surface_bricks, 1442u);
 }
 
 }  // namespace
