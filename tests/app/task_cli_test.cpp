@@ -11,6 +11,7 @@
 #include "io/session_file.h"
 #include "io/stl_file.h"
 #include "test_meshes.h"
+#include "test_sessions.h"
 #include "test_support.h"
 #include "volume/tooth_file.h"
 #include "volume/volume_hash.h"
@@ -189,13 +190,8 @@ std::vector<uint8_t> professionalSession(const std::string& tooth, const std::st
   auto cut = loadTooth(final_tooth);
   EXPECT_TRUE(initial.ok() && cut.ok());
   SessionRecording r;
-  r.info.created_utc = "2026-01-05T09:00:00Z";
-  r.info.program = "dentsim test";
-  r.info.tooth_hash = volumeHashHex(initial->voxels, initial->frame);
-  r.info.tooth_level = initial->voxels.level();
-  r.info.voxel_mm = initial->frame.voxel_mm;
-  r.info.drill_tool = drill;
-  r.info.params_json = "{}\n";
+  r.info = test::handMadeSessionInfo(volumeHashHex(initial->voxels, initial->frame), initial->voxels.level(),
+                                     initial->frame.voxel_mm, drill);
   for (uint64_t k = 0; k < 4000; ++k) {
     SessionStep s;
     s.step = k;

@@ -8,7 +8,6 @@
 #include "audio/sound_engine.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -23,6 +22,7 @@
 
 #include "audio/spectrum.h"
 #include "io/wav_file.h"
+#include "test_support.h"
 
 namespace dentsim::audio {
 namespace {
@@ -70,23 +70,7 @@ std::vector<float> channel(const WavAudio& audio, int which, size_t first, size_
 #define REQUIRE_LOOPBACK()                                                                          \
   if (!SoundEngine::offlineAvailable()) GTEST_SKIP() << "this OpenAL has no ALC_SOFT_loopback: offline rendering cannot be tested"
 
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = std::filesystem::temp_directory_path() /
-            ("dentsim_sound_" + std::to_string(::getpid()) + "_" + std::string(info ? info->name() : "x"));
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  std::filesystem::path path_;
-};
+using dentsim::test::TempDir;
 
 // A steady state: the turbine at `rpm`, cutting `removal` of one tissue when removal > 0.
 SoundInput steady(double rpm, double removal = 0.0, Material tissue = Material::Enamel, bool contact = false,

@@ -1,12 +1,9 @@
 // Tests of the synthesized voices and the sample voice, measured on their output: pitch, spin times, load, band power, centroids, silence, continuity, bounds.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -15,6 +12,7 @@
 #include "io/wav_file.h"
 
 #include "audio/spectrum.h"
+#include "test_support.h"
 
 namespace dentsim::audio {
 namespace {
@@ -351,14 +349,8 @@ TEST(VoicesTest, StayWithinBoundsAtEverythingMaximal) {
 
 class SampleVoiceTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() / ("dentsim_voices_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-
   std::string writeSine(const std::string& name, double hz, double seconds, int rate, double amplitude = 0.8) {
-    const std::string path = (dir_ / name).string();
+    const std::string path = dir_.file(name);
     Result<WavWriter> w = WavWriter::create(path, 1, rate);
     EXPECT_TRUE(w.ok()) << w.message();
     std::vector<float> x(size_t(seconds * rate));
@@ -368,7 +360,7 @@ class SampleVoiceTest : public ::testing::Test {
     return path;
   }
 
-  std::filesystem::path dir_;
+  dentsim::test::TempDir dir_;
 };
 
 TEST_F(SampleVoiceTest, TurbineSamplePitchFollowsRpmOverRecordedRpm) {
@@ -433,7 +425,7 @@ TEST_F(SampleVoiceTest, SilentAtRestAndBounded) {
 
 TEST_F(SampleVoiceTest, BadSamplesAreOneLineErrorsNamingTheFile) {
   const SynthParams p = defaultSynthParams();
-  const std::string missing = (dir_ / "missing.wav").string();
+  const std::string missing = dir_.file("missing.wav");
   Result<std::unique_ptr<Voice>> r = makeSampleVoice(missing, SampleRole::Cutting, 0.0, p);
   ASSERT_FALSE(r.ok());
   EXPECT_EQ(r.message().rfind(missing + ": ", 0), 0u) << r.message();

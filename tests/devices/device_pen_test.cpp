@@ -12,6 +12,7 @@
 #include "sim/haptic_loop.h"
 #include "sim/session_recorder.h"
 #include "sim/sim_fixtures.h"
+#include "test_sessions.h"
 #include "test_support.h"
 #include "volume/volume_hash.h"
 
@@ -140,9 +141,7 @@ TEST(DevicePen, UnplugMidSessionFaultsToZeroFreezesThePenAndKeepsTheRecording) {
     ASSERT_TRUE(pen.read(0.0, &first));
     loop.placeTool(PenRole::Drill, first.grip);
     SessionRecorder recorder;
-    SessionInfo info;
-    info.created_utc = "2026-11-22T10:00:00Z";
-    info.program = "dentsim test";
+    SessionInfo info = dentsim::test::sessionInfo("2026-11-22T10:00:00Z");
     info.rate_hz = params.device.rate_hz;
     info.drill_tool = "test_sphere";
     info.tooth_level = dentsim::test::Block::kLevel;

@@ -21,6 +21,7 @@
 #include "sim/builtin_tooth.h"
 #include "sim/scripted_paths.h"
 #include "sim/tool_library.h"
+#include "test_sessions.h"
 #include "test_support.h"
 #include "volume/volume_hash.h"
 
@@ -358,10 +359,8 @@ TEST_F(OpenHapticsPair, ATwoPenSessionRecordsAndReplaysToTheSameVolumeAndAMirror
     loop.placeTool(PenRole::Drill, first.grip);
     ASSERT_TRUE(waitFor([&] { return mirror.read(0.0, &first); }));
     loop.placeTool(PenRole::Mirror, first.grip);
-    SessionInfo info;
-    info.created_utc = "2026-11-27T10:00:00Z";
-    info.program = "dentsim test";
-    info = sessionHeader(info, start, params, kDefaultBur, kDefaultMirror);
+    const SessionInfo info =
+        sessionHeader(dentsim::test::sessionInfo("2026-11-27T10:00:00Z"), start, params, kDefaultBur, kDefaultMirror);
     SessionRecorder recorder;
     ASSERT_TRUE(recorder.start(loop, file, info).ok());
     enableBoth();

@@ -26,15 +26,15 @@
 #include "eval/session_stats.h"
 #include "eval/task_tooth.h"
 #include "io/session_file.h"
-#include "sim/builtin_tooth.h"
 #include "sim/course_paths.h"
 #include "sim/session_run.h"
+#include "sim/sim_fixtures.h"
 #include "test_support.h"
 
 namespace dentsim {
 namespace {
 
-constexpr int kLevel = 7;
+using test::molar;
 
 // The task files, sorted. A file that does not parse is kept, so that its test fails and names it.
 std::vector<std::string> courseTaskFiles() {
@@ -47,15 +47,6 @@ std::vector<std::string> courseTaskFiles() {
   }
   std::sort(files.begin(), files.end());
   return files;
-}
-
-const ToothVolume& molar() {
-  static const ToothVolume tooth = [] {
-    auto t = builtinMolarTooth(kLevel);
-    EXPECT_TRUE(t.ok()) << t.message();
-    return std::move(t).value();
-  }();
-  return tooth;
 }
 
 // The attempt drilled by the scripted pen, recorded, read back and scored like a student's, against

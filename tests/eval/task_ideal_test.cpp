@@ -13,6 +13,7 @@
 #include "eval_fixtures.h"
 #include "io/file_hash.h"
 #include "io/session_file.h"
+#include "test_sessions.h"
 #include "test_support.h"
 #include "volume/tooth_file.h"
 #include "volume/volume_hash.h"
@@ -162,13 +163,7 @@ struct ProfessionalFolder {
     auto loaded_final = loadTooth(dir.file("final.dvol"));
     final_hash = volumeHashHex(loaded_final->voxels, loaded_final->frame);
     SessionRecording r;
-    r.info.created_utc = "2026-01-05T09:00:00Z";
-    r.info.program = "dentsim test";
-    r.info.tooth_hash = initial_hash;
-    r.info.tooth_level = initial.voxels.level();
-    r.info.voxel_mm = initial.frame.voxel_mm;
-    r.info.drill_tool = drill;
-    r.info.params_json = "{}\n";
+    r.info = test::handMadeSessionInfo(initial_hash, initial.voxels.level(), initial.frame.voxel_mm, drill);
     const uint64_t n = steps.size();
     r.steps = std::move(steps);
     r.end = SessionEnd{n, final_hash, "completed"};

@@ -10,6 +10,7 @@
 #include <random>
 
 #include "gpu_fixture.h"
+#include "test_volumes.h"
 #include "io/mesh_topology.h"
 #include "volume/surface_mesher.h"
 #include "volume/volume_edit.h"
@@ -17,40 +18,8 @@
 namespace dentsim::gpu::test {
 namespace {
 
-// Random voxels in random bricks: tiles of each kind, dense bricks of mixed tissues and fills, and
-// empty space, so that every corner configuration and tissue pairing turns up.
-BrickVolume randomVolume(int level, uint32_t seed) {
-  BrickVolume vol(level);
-  std::mt19937 rng(seed);
-  const uint32_t bd = vol.brickDim();
-  std::array<Voxel, DS_BRICK_VOXELS> buf{};
-  for (uint32_t z = 0; z < bd; ++z)
-    for (uint32_t y = 0; y < bd; ++y)
-      for (uint32_t x = 0; x < bd; ++x) {
-        const uint32_t kind = rng() % 6;
-        if (kind == 0) continue;  // empty
-        if (kind == 1) {
-          vol.setBrickUniform({x, y, z}, makeVoxel(Material(1 + rng() % 4)));
-          continue;
-        }
-        // Smooth-ish fills: a random plane through the brick, so surfaces are not all noise.
-        const double n[3] = {double(rng() % 200) - 100, double(rng() % 200) - 100, double(rng() % 200) - 100};
-        const double off = double(rng() % 80) / 10.0 - 4.0;
-        const bool noisy = kind == 5;
-        for (uint32_t k = 0; k < 8; ++k)
-          for (uint32_t j = 0; j < 8; ++j)
-            for (uint32_t i = 0; i < 8; ++i) {
-              const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) + 1e-9;
-              const double d = ((i - 3.5) * n[0] + (j - 3.5) * n[1] + (k - 3.5) * n[2]) / len - off;
-              int fill = int(std::lround(std::clamp(0.5 - d, 0.0, 1.0) * 31.0));
-              if (noisy) fill = int(rng() % 32);
-              const Material m = Material(1 + rng() % 4);
-              buf[layout::brickCoordToOffset(i, j, k)] = fill ? makeVoxel(m, uint32_t(fill)) : Voxel(0);
-            }
-        vol.setBrick({x, y, z}, buf.data());
-      }
-  return vol;
-}
+using dentsim::test::NoiseMaterials;
+using dentsim::test::randomVolume;
 
 // A ball of `material` with fill from the distance to its sphere (a one-voxel ramp).
 void addBall(BrickVolume& vol, double cx, double cy, double cz, double r, Material material) {
@@ -155,7 +124,7 @@ class GpuSurfaceTest : public GpuTest {};
 
 TEST_F(GpuSurfaceTest, MatchesTheCpuReferenceOnRandomVolumes) {
   for (uint32_t seed : {1u, 2u}) {
-    const BrickVolume vol = randomVolume(5, seed);
+    const BrickVolume vol = randomVolume(5, seed, NoiseMaterials::Tissues);
     for (int normals : {8, 64, 216})
       for (Material tissue : {Material::Empty, Material::Dentin}) {
         SCOPED_TRACE("seed " + std::to_string(seed) + ", " + std::to_string(normals) + " normals, tissue " +
@@ -170,7 +139,7 @@ TEST_F(GpuSurfaceTest, MatchesTheCpuReferenceOnRandomVolumes) {
 }
 
 TEST_F(GpuSurfaceTest, SplitDispatchesSmallPoolsAndManyPagesGiveTheSameSurface) {
-  const BrickVolume vol = randomVolume(5, 3);
+  const BrickVolume vol = randomVolume(5, 3, NoiseMaterials::Tissues);
   auto reference = gpuBlocks(ctx(), vol, {.normal_neighbours = 64});
   ASSERT_TRUE(reference.ok()) << reference.message();
   SurfaceUpdateStats stats;
@@ -331,7 +300,7 @@ TEST_F(GpuSurfaceTest, AutoPicksTheCpuMesherOnACpuDevice) {
 }
 
 TEST_F(GpuSurfaceTest, CpuMesherEqualsTheReferenceBitForBitAndTheKernelToItsRounding) {
-  const BrickVolume vol = randomVolume(5, 4);
+  const BrickVolume vol = randomVolume(5, 4, NoiseMaterials::Tissues);
   for (int normals : {8, 64, 216})
     for (Material tissue : {Material::Empty, Material::Enamel, Material::Dentin}) {
       SCOPED_TRACE(std::to_string(normals) + " normals, tissue " + materialName(tissue));

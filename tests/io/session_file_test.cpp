@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 #include <xxhash.h>
 
+#include "test_sessions.h"
 #include "test_support.h"
 
 namespace dentsim {
@@ -34,20 +35,7 @@ const std::string kParamsJson =
     "  \"subnormal\": 5e-324,\n  \"count\": 3,\n  \"nested\": {\n    \"k\": [\n      1.5,\n      2\n    ]\n  }\n}\n";
 
 SessionInfo testInfo() {
-  SessionInfo info;
-  info.created_utc = "2026-11-22T10:21:44Z";
-  info.program = "dentsim 0.1.0";
-  info.rate_hz = 1000.0;
-  info.task = "caries_removal";
-  info.tooth_hash = "0123456789abcdef";
-  info.tooth_file = "teeth/molar.dvol";
-  info.tooth_source = "built-in molar, level 9, CPU voxelizer";
-  info.tooth_level = 9;
-  info.voxel_mm = 0.034;
-  info.drill_tool = "round_bur_010";
-  info.mirror_tool = "mirror";
-  info.params_json = kParamsJson;
-  return info;
+  return test::fullSessionInfo("teeth/molar.dvol", "built-in molar, level 9, CPU voxelizer", kParamsJson);
 }
 
 SessionPenReading reading(double seed, double pedal) {

@@ -16,6 +16,7 @@
 #include "io/session_file.h"
 
 #include "fuzz_mutations.h"
+#include "test_sessions.h"
 
 namespace dentsim {
 namespace {
@@ -55,19 +56,7 @@ SessionStep seedStep(uint64_t k, uint8_t pens, uint32_t params_serial) {
 // Steps 3..6 with both pens, drill only and none; parameter sets; a gap; device events; the end record.
 SessionRecording seedRecording() {
   SessionRecording r;
-  SessionInfo& info = r.info;
-  info.created_utc = "2026-11-22T10:21:44Z";
-  info.program = "dentsim 0.1.0";
-  info.rate_hz = 1000;
-  info.task = "caries_removal";
-  info.tooth_hash = "0123456789abcdef";
-  info.tooth_file = "molar.dvol";
-  info.tooth_source = "built-in molar";
-  info.tooth_level = 9;
-  info.voxel_mm = 0.034;
-  info.drill_tool = "round_bur_010";
-  info.mirror_tool = "mirror";
-  info.params_json = R"({"k": 0.1, "b": [1, 2.5], "o": {"x": -0.0}})";
+  r.info = test::fullSessionInfo("molar.dvol", "built-in molar", R"({"k": 0.1, "b": [1, 2.5], "o": {"x": -0.0}})");
   r.steps = {seedStep(3, 0b11, 0), seedStep(4, 0b01, 1), seedStep(5, 0b00, 1), seedStep(9, 0b10, 2)};
   r.params = {{1, 4, R"({"k": 0.2})"}, {2, 6, R"({"k": 0.3})"}};
   r.gaps = {{6, 3}};

@@ -1,8 +1,6 @@
 // Tests of the WAV reader on hand-built files of every format variant and of bad files, and of the streaming writer's bytes and its .part semantics.
 #include <gtest/gtest.h>
 
-#include <unistd.h>
-
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -12,6 +10,7 @@
 #include <vector>
 
 #include "io/wav_file.h"
+#include "test_support.h"
 
 namespace dentsim {
 namespace {
@@ -219,17 +218,8 @@ TEST(WavReadTest, BadFilesAreOneLineErrors) {
 
 class WavFileTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() / ("dentsim_wav_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  static Bytes fileBytes(const std::string& p) {
-    std::ifstream in(p, std::ios::binary);
-    return Bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  }
-  std::filesystem::path dir_;
+  std::string path(const std::string& name) const { return dir_.file(name); }
+  test::TempDir dir_;
 };
 
 TEST_F(WavFileTest, RoundTripWithin16BitQuantization) {
@@ -250,7 +240,7 @@ TEST_F(WavFileTest, RoundTripWithin16BitQuantization) {
   EXPECT_FALSE(std::filesystem::exists(out + ".part"));
 
   // The header, byte by byte: 44 bytes, RIFF size 36 + data, 16-bit PCM.
-  const Bytes bytes = fileBytes(out);
+  const Bytes bytes = test::readBytes(out);
   const uint32_t data_bytes = uint32_t((all.size() + edges.size()) * 2);
   ASSERT_EQ(bytes.size(), 44u + data_bytes);
   const auto u32 = [&](size_t at) { return uint32_t(bytes[at] | bytes[at + 1] << 8 | bytes[at + 2] << 16 | bytes[at + 3] << 24); };
@@ -294,13 +284,13 @@ TEST_F(WavFileTest, UnfinishedWriterLeavesNoFileAndKeepsTheOldOne) {
     ASSERT_TRUE(w->append(std::vector<float>(10, 0.25f)).ok());
     ASSERT_TRUE(w->finish().ok());
   }
-  const Bytes finished = fileBytes(out);
+  const Bytes finished = test::readBytes(out);
   {
     Result<WavWriter> w = WavWriter::create(out, 1, 48000);
     ASSERT_TRUE(w.ok());
     ASSERT_TRUE(w->append(std::vector<float>(1000, -0.25f)).ok());
   }
-  EXPECT_EQ(fileBytes(out), finished);
+  EXPECT_EQ(test::readBytes(out), finished);
   EXPECT_FALSE(std::filesystem::exists(out + ".part"));
 }
 

@@ -4,14 +4,14 @@
 #include <gtest/gtest.h>
 
 #include "io/pen_playback.h"
-#include "sim/builtin_tooth.h"
 #include "sim/novice_paths.h"
 #include "sim/pro_path.h"
 #include "sim/scripted_paths.h"
 #include "sim/session_run.h"
 #include "sim/yielding_hand.h"
-#include "volume/volume_hash.h"
+#include "sim_fixtures.h"
 #include "test_support.h"
+#include "volume/volume_hash.h"
 
 namespace dentsim {
 namespace {
@@ -137,54 +137,30 @@ TEST(YieldingHand, GivesWayByForceOverStiffnessAfterItsLag) {
 
 // ---- a guided session --------------------------------------------------------------------------------
 
-const ToothVolume& molar7() {
-  static const ToothVolume tooth = [] {
-    auto t = builtinMolarTooth(7);
-    EXPECT_TRUE(t.ok()) << t.message();
-    return std::move(t).value();
-  }();
-  return tooth;
-}
-
-PenPath shortGroove() {
-  CavityPathSettings s;
-  s.laps = 0.3;
-  auto path = cavityPreparationPath(molar7().voxels, molar7().frame, s);
-  EXPECT_TRUE(path.ok()) << path.message();
-  return path->path;
-}
-
-SessionInfo info() {
-  SessionInfo i;
-  i.created_utc = "2026-11-27T10:00:00Z";
-  i.program = "dentsim test";
-  i.task = "class1_cavity";
-  i.tooth_source = "builtin:molar:7";
-  return i;
-}
+SessionInfo info() { return test::molarSessionInfo("2026-11-27T10:00:00Z", "class1_cavity"); }
 
 TEST(GuidedSession, ReplaysToTheSameVoxelsAndForcesFromItsHeaderAlone) {
   test::TempDir scratch;
   const SimParams params = defaultSimParams();
   // The professional: the groove as scripted.
-  ToothVolume pro_tooth = molar7();
-  ASSERT_TRUE(recordScriptedSession(pro_tooth, params, shortGroove(), scratch.file("pro.dses"), info(), {}));
+  ToothVolume pro_tooth = test::molar();
+  ASSERT_TRUE(recordScriptedSession(pro_tooth, params, test::molarGroove(), scratch.file("pro.dses"), info(), {}));
   GuideSettings settings;
   settings.stiffness_n_per_mm = 2.0;
   auto guide = loadGuidePath(scratch.file("pro.dses"), settings);
   ASSERT_TRUE(guide) << guide.message();
-  EXPECT_EQ(guide->source_tooth_hash, volumeHashHex(molar7().voxels, molar7().frame));
+  EXPECT_EQ(guide->source_tooth_hash, volumeHashHex(test::molar().voxels, test::molar().frame));
 
   // The student: the same groove by a wandering hand that yields, guided; then again unguided.
   ScriptedSessionOptions o;
   o.guide = *guide;
   o.hand = HandSettings{2.0, 0.03};
-  ToothVolume guided_tooth = molar7();
-  auto guided = recordScriptedSession(guided_tooth, params, wanderingPath(shortGroove(), 0.8), scratch.file("g.dses"), info(), o);
+  ToothVolume guided_tooth = test::molar();
+  auto guided = recordScriptedSession(guided_tooth, params, wanderingPath(test::molarGroove(), 0.8), scratch.file("g.dses"), info(), o);
   ASSERT_TRUE(guided) << guided.message();
   o.guide.reset();
-  ToothVolume free_tooth = molar7();
-  auto free = recordScriptedSession(free_tooth, params, wanderingPath(shortGroove(), 0.8), scratch.file("f.dses"), info(), o);
+  ToothVolume free_tooth = test::molar();
+  auto free = recordScriptedSession(free_tooth, params, wanderingPath(test::molarGroove(), 0.8), scratch.file("f.dses"), info(), o);
   ASSERT_TRUE(free) << free.message();
   EXPECT_NE(guided->final_hash, free->final_hash);  // the guide moved the yielding hand, so the cut differs
 
@@ -196,7 +172,7 @@ TEST(GuidedSession, ReplaysToTheSameVoxelsAndForcesFromItsHeaderAlone) {
   EXPECT_EQ(recorded_guide->points, guide->points);
   EXPECT_EQ(recorded_guide->settings.stiffness_n_per_mm, 2.0);
   // The header's guide alone makes the same forces and voxels again.
-  ToothVolume tooth = molar7();
+  ToothVolume tooth = test::molar();
   auto replayed = replaySession(*session, tooth, {});
   ASSERT_TRUE(replayed) << replayed.message();
   EXPECT_EQ(replayed->final_hash, guided->final_hash);
@@ -205,7 +181,7 @@ TEST(GuidedSession, ReplaysToTheSameVoxelsAndForcesFromItsHeaderAlone) {
   // Without it the readings still cut the same voxels, but the forces are not the recorded ones:
   // the recorded forces held the guide's spring.
   session->info.guide_json.clear();
-  tooth = molar7();
+  tooth = test::molar();
   auto unguided = replaySession(*session, tooth, {});
   ASSERT_TRUE(unguided) << unguided.message();
   EXPECT_EQ(unguided->final_hash, guided->final_hash);

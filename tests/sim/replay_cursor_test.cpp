@@ -3,46 +3,30 @@
 
 #include <gtest/gtest.h>
 
-#include <filesystem>
+#include <string>
 #include <vector>
 
-#include "sim/builtin_tooth.h"
-#include "sim/scripted_paths.h"
 #include "sim/session_run.h"
+#include "sim_fixtures.h"
+#include "test_support.h"
 #include "volume/volume_hash.h"
 
 namespace dentsim {
 namespace {
 
-namespace fs = std::filesystem;
-
-const ToothVolume& molar() {
-  static const ToothVolume tooth = [] {
-    auto t = builtinMolarTooth(7);
-    EXPECT_TRUE(t.ok()) << t.message();
-    return std::move(t).value();
-  }();
-  return tooth;
-}
+using test::molar;
 
 // A short class I groove (about 1.3 s of drilling) recorded once for the suite.
 const SessionRecording& recorded() {
   static const SessionRecording session = [] {
-    const fs::path file = fs::temp_directory_path() / ("dentsim_replay_cursor_" + std::to_string(::getpid()) + ".dses");
-    CavityPathSettings s;
-    s.laps = 0.3;
-    auto path = cavityPreparationPath(molar().voxels, molar().frame, s);
-    EXPECT_TRUE(path.ok()) << path.message();
+    const test::TempDir dir;
+    const std::string file = dir.file("cursor.dses");
     ToothVolume live = molar();
-    SessionInfo info;
-    info.created_utc = "2026-11-27T10:00:00Z";
-    info.program = "dentsim test";
-    info.tooth_source = "builtin:molar:7";
-    auto run = recordScriptedSession(live, defaultSimParams(), path->path, file.string(), info, {});
+    auto run = recordScriptedSession(live, defaultSimParams(), test::molarGroove(), file,
+                                     test::molarSessionInfo("2026-11-27T10:00:00Z", ""), {});
     EXPECT_TRUE(run.ok()) << run.message();
-    auto read = readSessionFile(file.string());
+    auto read = readSessionFile(file);
     EXPECT_TRUE(read.ok()) << read.message();
-    fs::remove(file);
     return std::move(read).value();
   }();
   return session;

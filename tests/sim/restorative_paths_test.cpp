@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "sim/builtin_tooth.h"
 #include "sim/course_paths.h"
 #include "sim/session_run.h"
 #include "sim_fixtures.h"
@@ -14,16 +13,7 @@
 namespace dentsim {
 namespace {
 
-constexpr int kLevel = 7;  // 0.17 mm voxels: coarse, but each cut takes seconds, not minutes
-
-const ToothVolume& molar() {
-  static const ToothVolume tooth = [] {
-    auto t = builtinMolarTooth(kLevel);
-    EXPECT_TRUE(t.ok()) << t.message();
-    return std::move(t).value();
-  }();
-  return tooth;
-}
+using test::molar;
 
 // Every voxel whose fill went down: its centre [mm], its initial material and how much it lost [mm^3].
 struct Removed {

@@ -6,47 +6,13 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
-#include <random>
 #include <string>
 
+#include "test_volumes.h"
 #include "volume/volume_fixtures.h"
 
 namespace dentsim {
 namespace {
-
-// Random bricks: empty, tiles of each tissue, planes of rising fill through a brick, noise of every
-// fill and tissue (including the spare material codes 5..7, which no importer writes but a byte can
-// hold), so every corner configuration, tissue pairing and the grid's borders turn up.
-BrickVolume randomVolume(int level, uint32_t seed) {
-  BrickVolume vol(level);
-  std::mt19937 rng(seed);
-  const uint32_t bd = vol.brickDim();
-  std::array<Voxel, DS_BRICK_VOXELS> buf{};
-  for (uint32_t z = 0; z < bd; ++z)
-    for (uint32_t y = 0; y < bd; ++y)
-      for (uint32_t x = 0; x < bd; ++x) {
-        const uint32_t kind = rng() % 6;
-        if (kind == 0) continue;
-        if (kind == 1) {
-          vol.setBrickUniform({x, y, z}, makeVoxel(Material(1 + rng() % 4)));
-          continue;
-        }
-        const double n[3] = {double(rng() % 200) - 100, double(rng() % 200) - 100, double(rng() % 200) - 100};
-        const double len = std::sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]) + 1e-9;
-        const double off = double(rng() % 80) / 10.0 - 4.0;
-        for (uint32_t k = 0; k < 8; ++k)
-          for (uint32_t j = 0; j < 8; ++j)
-            for (uint32_t i = 0; i < 8; ++i) {
-              const double d = ((i - 3.5) * n[0] + (j - 3.5) * n[1] + (k - 3.5) * n[2]) / len - off;
-              int fill = int(std::lround(std::clamp(0.5 - d, 0.0, 1.0) * 31.0));
-              if (kind == 5) fill = int(rng() % 32);
-              const uint32_t material = kind == 5 ? rng() % 8 : 1 + rng() % 4;
-              buf[layout::brickCoordToOffset(i, j, k)] = fill ? Voxel(layout::makeVoxel(material, uint32_t(fill))) : Voxel(0);
-            }
-        vol.setBrick({x, y, z}, buf.data());
-      }
-  return vol;
-}
 
 ::testing::AssertionResult sameBlock(const BlockMesh& fast, const BlockMesh& ref) {
   const MeshBlock& b = ref.block;
@@ -87,7 +53,7 @@ void expectSameAsReference(const BrickVolume& vol, Material tissue, NormalMode m
 
 TEST(BlockMesher, EqualsTheReferenceOnRandomBlocksInEveryModeAndTissue) {
   for (uint32_t seed : {11u, 12u}) {
-    const BrickVolume vol = randomVolume(5, seed);
+    const BrickVolume vol = test::randomVolume(5, seed, test::NoiseMaterials::AnyCode);
     for (NormalMode mode : kNormalModes)
       for (Material tissue : {Material::Empty, Material::Enamel, Material::Dentin, Material::Pulp, Material::Caries}) {
         SCOPED_TRACE("seed " + std::to_string(seed) + ", " + normalModeName(mode) + " normals, tissue " +
