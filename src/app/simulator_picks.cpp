@@ -95,22 +95,23 @@ Status Simulator::pickTask() {
 // Teacher mode: the segment ends, its session is finished and its final tooth saved beside it, and
 // both become the task file's ideal. The result, or why not, shows in the panel.
 Status Simulator::recordIdeal() {
-  auto fail = [&](const std::string& why) {
+  // Not recording is the teacher's to read on the panel, not an error that ends the run.
+  auto notRecorded = [&](const std::string& why) {
     ui_.ideal_status = "not recorded: " + why;
     note(ui_.ideal_status);
     return Status(Ok{});
   };
-  if (!ui_.task_is_file) return fail("the task is built in, not a file");
-  if (!segments_.recording()) return fail("this segment is not being recorded");
+  if (!ui_.task_is_file) return notRecorded("the task is built in, not a file");
+  if (!segments_.recording()) return notRecorded("this segment is not being recorded");
   if (Status st = endSegment("recorded as ideal"); !st) return st;
   const std::string session = segments_.sessionPath();
   const std::string final_path =
       outPath(std::filesystem::path(session).stem().string() + "-final.dvol");  // session-3-final.dvol
   ToothVolume final_tooth = cut_;  // saving compacts: a copy, so the tooth in use keeps its spare bricks
-  if (Status st = saveTooth(final_path, final_tooth); !st) return fail(st.message());
+  if (Status st = saveTooth(final_path, final_tooth); !st) return notRecorded(st.message());
   out_.written.push_back(final_path);
   auto record = setTaskIdeal(task_source_, session, final_path);
-  if (!record) return fail(record.message());
+  if (!record) return notRecorded(record.message());
   // The task file now names its new ideal: read it again, so that Score uses it.
   if (auto task = builtinTask(task_source_); task) task_ = std::move(*task);
   ui_.course = ui::listCourse(o_.course);  // the folder's files may have changed with it

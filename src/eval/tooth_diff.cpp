@@ -55,7 +55,7 @@ double ToothDiff::mm3(uint64_t units) const { return double(units) * (voxel_mm *
 namespace {
 
 // Index into kScoredTissues of an initial material code, or -1 for empty and the spare codes.
-int tissueIndex(uint32_t material) { return kTissueIndexByCode[material & (DS_MATERIAL_COUNT - 1)]; }
+int scoredTissueIndex(uint32_t material) { return kTissueIndexByCode[material & (DS_MATERIAL_COUNT - 1)]; }
 
 std::string number(double v) {
   std::ostringstream s;
@@ -91,7 +91,7 @@ namespace {
 
 // The ideal's share of a voxel's initial fill: c = i - min(k, i), for tissue only.
 uint32_t idealCavityOf(Voxel initial, Voxel ideal) {
-  if (tissueIndex(layout::voxelMaterial(initial)) < 0) return 0;
+  if (scoredTissueIndex(layout::voxelMaterial(initial)) < 0) return 0;
   const uint32_t fi = voxelFill(initial);
   return fi - std::min(voxelFill(ideal), fi);
 }
@@ -141,7 +141,7 @@ class BrickPass {
     if (!target && !band && vi.sameVoxels(vf) && vi.sameVoxels(vk)) return untouched(vi);
     for (uint32_t n = 0; n < DS_BRICK_VOXELS; ++n) {
       const Voxel v = vi.at(n);
-      const int t = tissueIndex(layout::voxelMaterial(v));
+      const int t = scoredTissueIndex(layout::voxelMaterial(v));
       if (t < 0) continue;
       const uint32_t fi = voxelFill(v);
       const uint32_t r = std::min(voxelFill(vf.at(n)), fi);
@@ -174,7 +174,7 @@ class BrickPass {
   // A brick equal in all volumes and away from the target: all of it remains, in the container.
   void untouched(const BrickView& b) {
     auto add = [&](Voxel v, uint64_t count) {
-      const int t = tissueIndex(layout::voxelMaterial(v));
+      const int t = scoredTissueIndex(layout::voxelMaterial(v));
       if (t < 0) return;
       const uint64_t units = uint64_t{voxelFill(v)} * count;
       TissueAmounts& a = out_->tissues[size_t(t)];
