@@ -1,6 +1,8 @@
 // The parameter window's shared widgets: sliders on doubles, colour pickers, section headers, error lines and tooltips.
 #include "ui/panel_widgets.h"
 
+#include <imgui_internal.h>  // the one file that does: see panel_widgets.h
+
 #include <algorithm>
 #include <cassert>
 #include <cctype>
@@ -9,6 +11,19 @@
 #include <cstring>
 
 namespace dentsim::ui::panel {
+
+bool sliderBeingTyped(const char* id) { return ImGui::TempInputIsActive(ImGui::GetID(id)); }
+
+bool windowLayout(const char* name, WindowLayout* layout) {
+  const ImGuiWindow* window = ImGui::FindWindowByName(name);
+  if (window == nullptr) return false;
+  layout->rect = WidgetRect{window->Pos.x, window->Pos.y, window->Pos.x + window->Size.x, window->Pos.y + window->Size.y};
+  layout->scroll_max_y = window->ScrollMax.y;
+  layout->content_height = window->ContentSize.y;
+  return true;
+}
+
+int windowsLeftOpen() { return GImGui->CurrentWindowStack.Size; }
 
 namespace {
 // The digits of a fixed-point format "%.<digits>f", the only shape the sliders use.

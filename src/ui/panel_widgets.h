@@ -4,11 +4,25 @@
 #include <string>
 
 #include <imgui.h>
-#include <imgui_internal.h>  // TempInputIsActive: a slider being typed into shows its own text
 
 #include "ui/param_panel.h"
 
 namespace dentsim::ui::panel {
+
+// What the panel and its tests need from ImGui's internals, behind this one wrapper so that no
+// other file includes imgui_internal.h (an interface ImGui may change in any release):
+// whether the slider `id` is being typed into (Ctrl+click), so that it shows its own text;
+bool sliderBeingTyped(const char* id);
+// a window's place on the screen and whether its content scrolls, for the tests that check the
+// panel fits (false when no window has that name);
+struct WindowLayout {
+  WidgetRect rect;
+  float scroll_max_y = 0;    // how far its content scrolls [px]; 0: it all shows
+  float content_height = 0;  // [px]
+};
+bool windowLayout(const char* name, WindowLayout* layout);
+// and the windows begun but not ended in this frame (0 after a whole frame: every Begin has its End).
+int windowsLeftOpen();
 
 inline constexpr float kLabelWidth = 170.0f;  // room left for a widget's label [px]
 inline constexpr float kValueWidth = 64.0f;   // a slider's value, beside its track: "100000.0" in the 7 px font [px]
@@ -53,7 +67,7 @@ inline bool sliderRow(const Frame& f, const std::string& key, const char* label,
   const ImGuiStyle& style = ImGui::GetStyle();
   const std::string hidden = std::string("##") + label;
   const float track = std::max(40.0f, ImGui::CalcItemWidth() - kValueWidth - style.ItemInnerSpacing.x);
-  const bool typing = ImGui::TempInputIsActive(ImGui::GetID(hidden.c_str()));
+  const bool typing = sliderBeingTyped(hidden.c_str());
   Probe probe{f};
   probe.width = track;
   ImGui::SetNextItemWidth(track);

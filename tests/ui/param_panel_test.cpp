@@ -9,7 +9,7 @@
 #include <vector>
 
 #include <imgui.h>
-#include <imgui_internal.h>
+#include "ui/panel_widgets.h"
 
 #include "test_support.h"
 #include "ui/preset.h"
@@ -60,7 +60,7 @@ class PanelTest : public ::testing::Test {
     PanelActions a = drawParamPanel(state_, &rects_);
     drawOverlay(state_);
     ImGui::Render();
-    EXPECT_EQ(GImGui->CurrentWindowStack.Size, 0);
+    EXPECT_EQ(panel::windowsLeftOpen(), 0);
     EXPECT_NE(ImGui::GetDrawData(), nullptr);
     return a;
   }
@@ -562,9 +562,9 @@ TEST_F(SmallPanelTest, EveryPageFitsIn800PixelsAndNoValueIsUnderItsSlider) {
   state_.ideal_status = "ideal recorded: t.ideal.dses and t.ideal.dvol beside t.json";
   state_.status = "a status line long enough to wrap once in the panel's width, as notices often do";
   frame();
-  ImGuiWindow* panel = ImGui::FindWindowByName("Parameters");
-  ASSERT_NE(panel, nullptr);
-  EXPECT_LE(panel->Pos.y + panel->Size.y, kSmallDisplayH) << "the panel itself fits the window";
+  panel::WindowLayout panel;
+  ASSERT_TRUE(panel::windowLayout("Parameters", &panel));
+  EXPECT_LE(panel.rect.max_y, kSmallDisplayH) << "the panel itself fits the window";
   int values = 0;
   for (const char* page : {"page.task", "page.tissues", "page.tools", "page.view", "page.presets", "page.score"}) {
     showPage(page);
@@ -574,14 +574,15 @@ TEST_F(SmallPanelTest, EveryPageFitsIn800PixelsAndNoValueIsUnderItsSlider) {
       ASSERT_TRUE(rects_.count("device.max_force_n"));
     }
     frame();
-    EXPECT_EQ(panel->ScrollMax.y, 0.0f) << page << " scrolls: its content is " << panel->ContentSize.y << " px high";
+    ASSERT_TRUE(panel::windowLayout("Parameters", &panel));
+    EXPECT_EQ(panel.scroll_max_y, 0.0f) << page << " scrolls: its content is " << panel.content_height << " px high";
     for (const auto& [key, r] : rects_) {
-      EXPECT_LE(r.max_y, panel->Pos.y + panel->Size.y) << page << ": " << key << " is below the panel";
+      EXPECT_LE(r.max_y, panel.rect.max_y) << page << ": " << key << " is below the panel";
       if (!key.starts_with("value.")) continue;
       const std::string slider = key.substr(6);
       ASSERT_TRUE(rects_.count(slider)) << key;
       EXPECT_GE(r.min_x, rects_.at(slider).max_x) << key << " overlaps its track";
-      EXPECT_LE(r.max_x, panel->Pos.x + panel->Size.x) << key << " runs off the panel";
+      EXPECT_LE(r.max_x, panel.rect.max_x) << key << " runs off the panel";
       ++values;
     }
   }
