@@ -10,16 +10,22 @@ std::string Simulator::ghostSource() const {
   return "";
 }
 
+// Both ways in (--ghost at set-up, the task's ideal when first shown) read and warn through here.
+Status Simulator::loadGhost(const std::string& source) {
+  auto g = GhostDriver::load(source, params_.point_shell, initial_);
+  if (!g) return g.error();
+  ghost_ = std::move(*g);
+  for (const std::string& w : ghost_->warnings()) noteWarning(w);
+  return Ok{};
+}
+
 Status Simulator::setUpGhost() {
   const std::optional<GhostFollow> follow = parseGhostFollow(o_.ghost_follow);
   if (!follow) return makeError("--ghost-follow", "\"" + o_.ghost_follow + "\" is not time or nearest");
   ui_.ghost_nearest = *follow == GhostFollow::Nearest;
   if (o_.ghost.empty()) return Ok{};
   // Asked for by name, a session that does not read ends the run before anything opens.
-  auto g = Ghost::load(o_.ghost, params_.point_shell);
-  if (!g) return g.error();
-  ghost_ = std::move(*g);
-  if (const std::string w = ghost_->toothWarning(initial_); !w.empty()) noteWarning(w);
+  if (Status st = loadGhost(o_.ghost); !st) return st;
   ui_.ghost_shown = true;
   ui_.ghost_source = "ghost: " + o_.ghost;
   return Ok{};
@@ -40,16 +46,13 @@ void Simulator::followGhost(const HapticState& state) {
       ui_.ghost_shown = false;
       return;
     }
-    auto g = Ghost::load(source, params_.point_shell);
-    if (!g) {
+    if (Status st = loadGhost(source); !st) {
       ghost_failed_ = source;
       ui_.ghost_shown = false;
-      note("no ghost: " + g.message());
-      ui_.ghost_source = "no ghost: " + g.message();
+      note("no ghost: " + st.message());
+      ui_.ghost_source = "no ghost: " + st.message();
       return;
     }
-    ghost_ = std::move(*g);
-    if (const std::string w = ghost_->toothWarning(initial_); !w.empty()) noteWarning(w);
     ui_.ghost_source = "ghost: the task's ideal, " + source;
   }
   if (ui_.ghost_nearest)
@@ -59,7 +62,7 @@ void Simulator::followGhost(const HapticState& state) {
 }
 
 void Simulator::showGhost(render::FrameState& fs) const {
-  if (ghost_ && ui_.ghost_shown && ghost_->source() == ghostSource()) ghost_->show(fs, ui_.ghost_opacity);
+  if (ghost_ && ui_.ghost_shown && ghost_->source() == ghostSource()) poseGhost(*ghost_, ui_.ghost_opacity, fs);
 }
 
 }  // namespace dentsim::app

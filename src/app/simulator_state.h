@@ -141,7 +141,8 @@ class Simulator {
   void followGhost(const HapticState& state);  // this frame's ghost pose, loading it when first shown
   void showGhost(render::FrameState& fs) const;
   std::string ghostSource() const;           // --ghost, else the task's ideal session; empty: none
-  std::optional<Ghost> ghost_;
+  Status loadGhost(const std::string& source);  // ghost_ read from `source`, its warnings noted
+  std::optional<GhostDriver> ghost_;
   std::string ghost_failed_;                 // a source that did not load (not tried again)
   double ghost_t0_ = 0.0;                    // loop time at the segment's start [s]
 };
