@@ -7,6 +7,7 @@
 
 #include "app/ghost_driver.h"
 #include "io/session_file.h"
+#include "sim/sim_fixtures.h"
 #include "sim/sim_params.h"
 #include "test_sessions.h"
 #include "test_support.h"
@@ -29,20 +30,11 @@ ToothVolume smallTooth(bool one_voxel) {
 // coupling of 1 N/mm its tool's grip stood 2 mm above the pen. No mirror.
 std::string writeStroke(const test::TempDir& dir, const std::string& file, const ToothVolume& tooth,
                         const std::string& drill = "round_bur_010") {
-  SimParams params = defaultSimParams();
-  params.coupling.stiffness_n_per_mm = 1.0;
-  SessionRecording s;
+  SessionRecording s = test::straightStroke(1.0, drill);
+  const SessionInfo stroke = s.info;  // its rate and parameters, under a header made for `tooth`
   s.info = test::handMadeSessionInfo(volumeHashHex(tooth.voxels, tooth.frame), DS_MIN_LEVEL, 0.1, drill);
-  s.info.rate_hz = 1000.0;
-  s.info.params_json = simParamsJson(params);
-  for (uint64_t k = 0; k <= 100; ++k) {
-    SessionStep step;
-    step.step = k;
-    step.pens = 1;
-    step.reading[0].grip.position = {0.01 * double(k), 0.0, 0.0};
-    step.force_n[0] = {0.0, 0.0, 2.0};
-    s.steps.push_back(step);
-  }
+  s.info.rate_hz = stroke.rate_hz;
+  s.info.params_json = stroke.params_json;
   s.end = SessionEnd{101, s.info.tooth_hash, "completed"};
   const std::vector<uint8_t> bytes = encodeSession(s);
   std::ofstream(dir.file(file), std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));

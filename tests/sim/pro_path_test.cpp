@@ -2,30 +2,13 @@
 #include <gtest/gtest.h>
 
 #include "sim/pro_path.h"
+#include "sim/sim_fixtures.h"
 #include "sim/sim_params.h"
 
 namespace dentsim {
 namespace {
 
-// A drill pen moving along +x at 10 mm/s from the origin for 0.1 s (101 steps at 1 kHz), told to
-// render a force of (0, 0, 2) N: with the default coupling of 1 N/mm its tool stood 2 mm above it.
-SessionRecording straightStroke(double stiffness_n_per_mm = 1.0) {
-  SimParams params = defaultSimParams();
-  params.coupling.stiffness_n_per_mm = stiffness_n_per_mm;
-  SessionRecording s;
-  s.info.rate_hz = 1000.0;
-  s.info.drill_tool = "round_bur_010";
-  s.info.params_json = simParamsJson(params);
-  for (uint64_t k = 0; k <= 100; ++k) {
-    SessionStep step;
-    step.step = k;
-    step.pens = 1;
-    step.reading[0].grip.position = {0.01 * double(k), 0.0, 0.0};
-    step.force_n[0] = {0.0, 0.0, 2.0};
-    s.steps.push_back(step);
-  }
-  return s;
-}
+using test::straightStroke;
 
 TEST(ProPath, ToolStandsWhereTheRenderedForceSaysAndIsSampledAHundredTimesASecond) {
   auto path = ProPath::fromSession(straightStroke(), "stroke");

@@ -55,6 +55,18 @@ struct GrooveDrill {
   ScriptedPen pen;
 };
 
+// The groove drilled on the molar while a recorder writes it: the recorder tests' whole set-up.
+// The recorder is declared last, so it stops before the loop it records goes away.
+struct RecordedGroove {
+  ToothVolume live = molar();
+  SimParams params = defaultSimParams();
+  PenPath path = test::molarGroove();
+  GrooveDrill drill{live, params, path};
+  SessionInfo info = recorderInfo(params);
+  uint64_t second = uint64_t(info.rate_hz);  // one second of loop time [steps]
+  SessionRecorder recorder;
+};
+
 TEST(Session, ARecordedSessionReplaysToTheSameVoxelsByteForByte) {
   test::TempDir scratch;
   ToothVolume live = molar();
@@ -256,15 +268,11 @@ TEST(Session, StepsTheRecorderCouldNotKeepAreAGapWhereReplayStops) {
 // once lost over 2 s of loop time; keepUp() holds the loop to within half a second of the kernel's copy.
 TEST(Session, AKilledBackToBackRecordingLosesAtMostASecondOfLoopTime) {
   test::TempDir scratch;
-  ToothVolume live = molar();
-  const SimParams params = defaultSimParams();
-  const PenPath path = test::molarGroove();
-  GrooveDrill drill(live, params, path);
-  HapticLoop& loop = drill.loop;
-  SessionRecorder recorder;
-  const SessionInfo info = recorderInfo(params);
-  const auto second = uint64_t(info.rate_hz);  // one second of loop time [steps]
-  ASSERT_TRUE(recorder.start(loop, scratch.file("k.dses"), info).ok());
+  RecordedGroove g;
+  HapticLoop& loop = g.drill.loop;
+  SessionRecorder& recorder = g.recorder;
+  const uint64_t second = g.second;
+  ASSERT_TRUE(recorder.start(loop, scratch.file("k.dses"), g.info).ok());
   // Four seconds of loop time; after each second, the ".part" file as a kill would leave it now.
   for (int checkpoint = 1; checkpoint <= 4; ++checkpoint) {
     while (loop.stepsRun() < uint64_t(checkpoint) * second) {
@@ -286,15 +294,11 @@ TEST(Session, AKilledBackToBackRecordingLosesAtMostASecondOfLoopTime) {
 // limit, so a loaded machine only makes it slower.
 TEST(Session, ARealTimeRecordingOnDiskStaysWithinASecondOfTheLoop) {
   test::TempDir scratch;
-  ToothVolume live = molar();
-  const SimParams params = defaultSimParams();
-  const PenPath path = test::molarGroove();
-  GrooveDrill drill(live, params, path);
-  HapticLoop& loop = drill.loop;
-  SessionRecorder recorder;
-  const SessionInfo info = recorderInfo(params);
-  const auto second = uint64_t(info.rate_hz);  // one second of loop time [steps]
-  ASSERT_TRUE(recorder.start(loop, scratch.file("r.dses"), info).ok());
+  RecordedGroove g;
+  HapticLoop& loop = g.drill.loop;
+  SessionRecorder& recorder = g.recorder;
+  const uint64_t second = g.second;
+  ASSERT_TRUE(recorder.start(loop, scratch.file("r.dses"), g.info).ok());
   ASSERT_TRUE(loop.start().ok());
   bool within = false;
   uint64_t last_on_disk = 0, loop_steps = 0;

@@ -86,6 +86,27 @@ inline PenPath molarGroove() {
   return path->path;
 }
 
+// A professional's stroke as a session holds it: 0.1 s along +x at 1 kHz (101 steps 0.01 mm
+// apart), the drill `drill` rendering (0, 0, 2) N through a coupling of `stiffness_n_per_mm`, so
+// each step's tool stands 2 / stiffness mm above its pen. Tests of the pro path and the ghost.
+inline SessionRecording straightStroke(double stiffness_n_per_mm = 1.0, const std::string& drill = "round_bur_010") {
+  SimParams params = defaultSimParams();
+  params.coupling.stiffness_n_per_mm = stiffness_n_per_mm;
+  SessionRecording s;
+  s.info.rate_hz = 1000.0;
+  s.info.drill_tool = drill;
+  s.info.params_json = simParamsJson(params);
+  for (uint64_t k = 0; k <= 100; ++k) {
+    SessionStep step;
+    step.step = k;
+    step.pens = 1;
+    step.reading[0].grip.position = {0.01 * double(k), 0.0, 0.0};
+    step.force_n[0] = {0.0, 0.0, 2.0};
+    s.steps.push_back(step);
+  }
+  return s;
+}
+
 // The header of a session on molar(), for `task` (empty: free drilling).
 inline SessionInfo molarSessionInfo(const std::string& created_utc, const std::string& task) {
   SessionInfo info = sessionInfo(created_utc);
