@@ -10,6 +10,7 @@
 #include "io/nifti_labels.h"
 #include "volume/label_import.h"
 #include "volume/scan_model.h"
+#include "volume/tissue_table.h"
 
 namespace dentsim::app {
 namespace {
@@ -23,6 +24,19 @@ struct MakeScanOptions {
   bool scramble_names = false;
   std::string output;       // a new or empty folder
 };
+
+// Each value the phantom paints, empty first and then every tissue of the table: "empty -1000,
+// enamel 2900, dentin 1700, pulp 40, caries 700".
+std::string tissueValuesText(const ScanModel& model) {
+  const auto item = [&](const char* name, Material m) {
+    char value[32];
+    std::snprintf(value, sizeof value, "%.0f", double(model.value[size_t(m)]));
+    return std::string(name) + " " + value;
+  };
+  std::string out = item("empty", Material::Empty);
+  for (const TissueRow& row : kTissueTable) out += ", " + item(row.name, row.material);
+  return out;
+}
 
 int runMakeScan(const MakeScanOptions& o) {
   if (Status st = checkOutputsAreNotInputs({o.labels}, {o.output}); !st) return fail(st.message());
@@ -43,9 +57,8 @@ int runMakeScan(const MakeScanOptions& o) {
   if (!files) return fail(files.message());
   std::printf("%s: %zu DICOM slices of %d x %d, voxel %.4g x %.4g x %.4g mm\n", o.output.c_str(), files->size(),
               scan->dims[0], scan->dims[1], scan->pitch_mm[0], scan->pitch_mm[1], scan->pitch_mm[2]);
-  std::printf("  values (HU): empty %.0f, enamel %.0f, dentin %.0f, pulp %.0f, caries %.0f; blur %.4g mm, noise %.4g HU (seed %u)\n",
-              o.model.value[0], o.model.value[1], o.model.value[2], o.model.value[3], o.model.value[4], o.model.blur_mm,
-              o.model.noise, o.model.seed);
+  std::printf("  values (HU): %s; blur %.4g mm, noise %.4g HU (seed %u)\n", tissueValuesText(o.model).c_str(),
+              o.model.blur_mm, o.model.noise, o.model.seed);
   return 0;
 }
 

@@ -1,6 +1,9 @@
 // dentsim voxelize: builds a .dvol tooth from STL tissue layers (GPU depth peeling) or from a segmented CT label volume.
 #include <unistd.h>
 
+#include <algorithm>
+#include <array>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -41,8 +44,9 @@ namespace {
 constexpr double kMinVoxelMm = 1e-3, kMaxVoxelMm = 10.0;
 
 struct VoxelizeOptions {
-  // STL layers (one file per tissue) or a one-layer tooth
-  std::string enamel, dentin, pulp, caries, tooth;
+  // STL layers, one file per tissue of the table (--enamel, --dentin, ...), or a one-layer tooth
+  std::array<std::string, kTissueCount> layer;  // by tissue table row; empty: none
+  std::string tooth;
   std::string tooth_material = "dentin";  // tissue of a --tooth mesh
   std::string units = "mm";               // unit of the STL coordinates
   double scale = 1.0;                     // extra factor after the unit
@@ -151,6 +155,32 @@ void printCleanup(const PieceCleanup& c, long long min_piece) {
     std::printf("  pieces under %lld voxels relabelled: %s; voxels now %s\n", min_piece, from.c_str(), into.c_str());
 }
 
+// ---- the per-tissue STL layers: one flag per tissue table row ----
+
+bool hasMeshes(const VoxelizeOptions& o) {
+  for (const std::string& path : o.layer)
+    if (!path.empty()) return true;
+  return !o.tooth.empty();
+}
+
+// "--enamel/--dentin/--pulp/--caries", for messages.
+std::string layerFlagList() {
+  std::string out;
+  for (const TissueRow& row : kTissueTable) out += (out.empty() ? "--" : "/--") + std::string(row.name);
+  return out;
+}
+
+// The table rows in the voxelizer's priority, lowest first (enamel, dentin, caries, pulp): the order
+// the layers are loaded and then listed in, whatever order the table keeps.
+std::array<size_t, kTissueCount> layersByPriority() {
+  std::array<size_t, kTissueCount> rows{};
+  for (size_t t = 0; t < kTissueCount; ++t) rows[t] = t;
+  std::stable_sort(rows.begin(), rows.end(), [](size_t a, size_t b) {
+    return materialPriority(kTissueTable[a].material) < materialPriority(kTissueTable[b].material);
+  });
+  return rows;
+}
+
 struct LoadedLayer {
   std::string path;
   Material material = Material::Dentin;
@@ -222,9 +252,8 @@ int runVoxelizeMeshes(const VoxelizeOptions& o) {
       return fail("--tooth-material: unknown tissue '" + escapeControl(o.tooth_material) + "'");
     inputs.push_back({o.tooth, m});
   }
-  for (auto [path, m] : {std::pair{&o.enamel, Material::Enamel}, {&o.dentin, Material::Dentin},
-                         {&o.caries, Material::Caries}, {&o.pulp, Material::Pulp}})
-    if (!path->empty()) inputs.push_back({*path, m});
+  for (size_t t : layersByPriority())
+    if (!o.layer[t].empty()) inputs.push_back({o.layer[t], kTissueTable[t].material});
 
   std::vector<LoadedLayer> loaded;
   Bounds3 bounds;
@@ -451,7 +480,7 @@ int runVoxelizeScan(const VoxelizeOptions& o) {
 // Options the chosen input cannot use, each refused with the reason; `given` says whether the user
 // gave an option (CLI::App::count()), since a default value looks the same as one given.
 Status checkVoxelizeOptions(const VoxelizeOptions& o, const std::function<bool(const char*)>& given) {
-  const bool meshes = !(o.enamel.empty() && o.dentin.empty() && o.pulp.empty() && o.caries.empty() && o.tooth.empty());
+  const bool meshes = hasMeshes(o);
   if (meshes) {
     if (Status st = refuseOption(given("--voxel-size") && given("--level"), "--voxel-size",
                                  "sets the grid's voxel, --level its size; with STL layers give one of the two");
@@ -494,15 +523,17 @@ Status checkVoxelizeOptions(const VoxelizeOptions& o, const std::function<bool(c
 }
 
 int runVoxelize(const VoxelizeOptions& o) {
-  const bool meshes = !(o.enamel.empty() && o.dentin.empty() && o.pulp.empty() && o.caries.empty() && o.tooth.empty());
+  const bool meshes = hasMeshes(o);
   const int sources = int(meshes) + int(!o.labels.empty()) + int(!o.dicom.empty()) + int(!o.ct.empty());
   if (sources > 1) return fail("give one source: STL layers, --labels, --dicom or --ct");
-  if (Status st = checkOutputsAreNotInputs({o.enamel, o.dentin, o.pulp, o.caries, o.tooth, o.labels, o.frame_of, o.dicom, o.ct}, {o.output, o.plan_json}); !st)
+  std::vector<std::string> inputs(o.layer.begin(), o.layer.end());
+  inputs.insert(inputs.end(), {o.tooth, o.labels, o.frame_of, o.dicom, o.ct});
+  if (Status st = checkOutputsAreNotInputs(inputs, {o.output, o.plan_json}); !st)
     return fail(st.message());
   if (meshes && (o.min_piece != 0 || !o.label_map.empty() || !o.fill_enclosed.empty()))
     return fail("--min-piece, --label-map and --fill-enclosed apply to --labels, not to STL layers");
   if (sources == 0)
-    return fail("nothing to voxelize: give --enamel/--dentin/--pulp/--caries STL layers, --tooth, --labels, --dicom or --ct");
+    return fail("nothing to voxelize: give " + layerFlagList() + " STL layers, --tooth, --labels, --dicom or --ct");
   if (meshes) return runVoxelizeMeshes(o);
   if (!o.dicom.empty() || !o.ct.empty()) return runVoxelizeScan(o);
   if (!o.frame_of.empty()) return fail("--frame-of applies to STL layers; --labels keeps the label volume's grid");
@@ -554,10 +585,11 @@ int runVoxelize(const VoxelizeOptions& o) {
 void addVoxelizeCommand(CLI::App& root, Action& action) {
   auto opts = std::make_shared<VoxelizeOptions>();
   CLI::App* cmd = root.add_subcommand("voxelize", "Build a .dvol tooth from STL tissue layers, a segmented CT label volume, or a scan (DICOM, NIfTI, NRRD)");
-  cmd->add_option("--enamel", opts->enamel, "Enamel surface (STL)");
-  cmd->add_option("--dentin", opts->dentin, "Dentin surface (STL)");
-  cmd->add_option("--pulp", opts->pulp, "Pulp surface (STL)");
-  cmd->add_option("--caries", opts->caries, "Caries lesion surface (STL)");
+  for (size_t t = 0; t < kTissueCount; ++t) {
+    std::string help = kTissueTable[t].name;
+    help[0] = char(std::toupper(static_cast<unsigned char>(help[0])));
+    cmd->add_option("--" + std::string(kTissueTable[t].name), opts->layer[t], help + " surface (STL)");
+  }
   cmd->add_option("--tooth", opts->tooth, "A one-layer tooth (STL), filled with --tooth-material");
   cmd->add_option("--tooth-material", opts->tooth_material, "Tissue of --tooth")->capture_default_str();
   cmd->add_option("--units", opts->units, "Unit of the STL coordinates: mm, cm, m or um")->capture_default_str();

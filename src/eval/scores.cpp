@@ -88,9 +88,7 @@ CariesScore scoreCariesRemoval(const ToothDiff& diff, const SessionStats* stats,
   s.caries_initial_mm3 = diff.mm3(caries.initial);
   s.caries_removed_mm3 = diff.mm3(caries.removed);
   s.caries_remaining_mm3 = diff.mm3(caries.remaining);
-  s.enamel_removed_mm3 = diff.mm3(diff.tissue(Material::Enamel).removed);
-  s.dentin_removed_mm3 = diff.mm3(diff.tissue(Material::Dentin).removed);
-  s.pulp_removed_mm3 = diff.mm3(diff.tissue(Material::Pulp).removed);
+  for (size_t t = 0; t < kTissueCount; ++t) s.removed_mm3[t] = diff.mm3(diff.tissue(kTissueTable[t].material).removed);
   return s;
 }
 
@@ -415,8 +413,10 @@ ojson scoreReportJson(const Task& task, const ScoreInputs& inputs, const ToothDi
                   {"coefficient", task.caries.healthy_coefficient}};
   d["pulp_exposure"] = pulpCapJson(task, s.pulp_exposed, s.pulp_cap_applied, s.total_max);
   j["deductions"] = std::move(d);
-  j["healthy_removed_mm3"] = {
-      {"enamel", s.enamel_removed_mm3}, {"dentin", s.dentin_removed_mm3}, {"pulp", s.pulp_removed_mm3}};
+  ojson healthy = ojson::object();
+  for (size_t t = 0; t < kTissueCount; ++t)
+    if (isHealthyTissue(kTissueTable[t].material)) healthy[kTissueTable[t].name] = s.removed_mm3[t];
+  j["healthy_removed_mm3"] = std::move(healthy);
   j["caries_remaining_mm3"] = s.caries_remaining_mm3;
   j["pulp_exposed"] = s.pulp_exposed;
   return tail(std::move(j), diff, stats, inputs);
@@ -525,11 +525,17 @@ std::string scoreSummary(const CariesScore& s, const ScoreInputs& inputs) {
                      (s.pulp_cap_applied ? ", capped: pulp exposed" : "") +
                      notScoredText(missing, inputs) + "; time and force earned at the share removed; Table 4 alone " +
                      fixed(s.paper_total) + "): ";
+  // Summed in table order, the order the report has always added them in, so the total keeps its bits.
+  double healthy_mm3 = 0.0;
+  std::string by_tissue;
+  for (size_t t = 0; t < kTissueCount; ++t) {
+    if (!isHealthyTissue(kTissueTable[t].material)) continue;
+    healthy_mm3 += s.removed_mm3[t];
+    by_tissue += (by_tissue.empty() ? "" : ", ") + std::string(kTissueTable[t].name) + " " + fixed(s.removed_mm3[t], 3);
+  }
   line += fixed(100.0 * s.removed_fraction, 1) + "% of " + fixed(s.caries_initial_mm3, 3) + " mm^3 caries removed; healthy " +
-          fixed(s.enamel_removed_mm3 + s.dentin_removed_mm3 + s.pulp_removed_mm3, 3) + " mm^3 removed (enamel " +
-          fixed(s.enamel_removed_mm3, 3) + ", dentin " + fixed(s.dentin_removed_mm3, 3) + ", pulp " +
-          fixed(s.pulp_removed_mm3, 3) + "), " + fixed(s.healthy_outside_mm3, 3) + " mm^3 of it outside the allowed zone; pulp " +
-          (s.pulp_exposed ? "exposed" : "not exposed");
+          fixed(healthy_mm3, 3) + " mm^3 removed (" + by_tissue + "), " + fixed(s.healthy_outside_mm3, 3) +
+          " mm^3 of it outside the allowed zone; pulp " + (s.pulp_exposed ? "exposed" : "not exposed");
   return line;
 }
 

@@ -5,6 +5,7 @@
 // missing is "not scored" (never free points), and an attempt that misses its target earns nothing.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -16,6 +17,7 @@
 #include "eval/session_stats.h"
 #include "eval/task.h"
 #include "eval/tooth_diff.h"
+#include "volume/tissue_table.h"
 
 namespace dentsim {
 
@@ -39,9 +41,10 @@ struct CariesScore {
   double caries_initial_mm3 = 0.0;
   double caries_removed_mm3 = 0.0;
   double caries_remaining_mm3 = 0.0;
-  double enamel_removed_mm3 = 0.0;      // healthy tissue removed anywhere [mm^3]
-  double dentin_removed_mm3 = 0.0;
-  double pulp_removed_mm3 = 0.0;
+  // Each tissue removed anywhere, by tissue table row [mm^3]; the report lists the healthy ones
+  // (isHealthyTissue), since the caries removed has its own fields above.
+  std::array<double, kTissueCount> removed_mm3{};
+  double removedMm3(Material m) const { return removed_mm3[size_t(tissueIndex(m))]; }  // m a tissue of the table
   double healthy_outside_mm3 = 0.0;     // enamel, dentin and pulp removed in the container [mm^3]
   double healthy_outside_percent = 0.0; // of the initial caries volume
   bool pulp_exposed = false;

@@ -9,12 +9,9 @@ namespace dentsim {
 namespace {
 
 // STL headers name the frame, so a file says what it holds wherever it ends up.
-constexpr const char* kMolarHeaders[4] = {
-    "dentsim lower first molar: enamel shell; mm; CEJ at z=0, crown +z",
-    "dentsim lower first molar: dentin incl. pulp space; mm; CEJ at z=0, crown +z",
-    "dentsim lower first molar: pulp; mm; CEJ at z=0, crown +z",
-    "dentsim lower first molar: caries; mm; CEJ at z=0, crown +z",
-};
+std::string molarHeader(const MolarLayerRow& row) {
+  return "dentsim lower first molar: " + std::string(row.description) + "; mm; CEJ at z=0, crown +z";
+}
 
 Result<TriangleMesh> parseEmbedded(const std::string& path) {
   const std::span<const uint8_t> bytes = builtinAssetBytes(path);
@@ -41,11 +38,10 @@ std::vector<std::string> builtinAssetPaths() {
 
 Result<MolarLayers> loadBuiltinMolar() {
   MolarLayers layers;
-  TriangleMesh* out[4] = {&layers.enamel, &layers.dentin, &layers.pulp, &layers.caries};
-  for (int i = 0; i < 4; ++i) {
-    auto mesh = parseEmbedded(kMolarLayerFiles[i]);
+  for (const MolarLayerRow& row : kMolarLayers) {
+    auto mesh = parseEmbedded(molarLayerFile(row));
     if (!mesh) return mesh.error();
-    *out[i] = std::move(*mesh);
+    layers.*row.mesh = std::move(*mesh);
   }
   return layers;
 }
@@ -61,8 +57,8 @@ Result<TriangleMesh> loadBuiltinTool(std::string_view name) {
 GeneratedAssets generateAssets(const MolarOptions& options) {
   GeneratedAssets g;
   g.molar = generateMolar(options);
-  const TriangleMesh* layers[4] = {&g.molar.enamel, &g.molar.dentin, &g.molar.pulp, &g.molar.caries};
-  for (int i = 0; i < 4; ++i) g.files.push_back({kMolarLayerFiles[i], encodeStlBinary(*layers[i], kMolarHeaders[i])});
+  for (const MolarLayerRow& row : kMolarLayers)
+    g.files.push_back({molarLayerFile(row), encodeStlBinary(g.molar.*row.mesh, molarHeader(row))});
   for (const ToolSpec& t : toolCatalog()) {
     g.tools.push_back(generateTool(t));
     const std::string header = std::string("dentsim tool ") + t.name + " (" + toolKindName(t.kind) +

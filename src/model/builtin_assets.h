@@ -48,8 +48,7 @@ struct GeneratedAssets {
 // Runs the generators and encodes every asset file (binary STL, fixed headers). Deterministic.
 GeneratedAssets generateAssets(const MolarOptions& options = {});
 
-// File names of the molar layers under assets/.
-inline constexpr const char* kMolarLayerFiles[4] = {"teeth/molar_enamel.stl", "teeth/molar_dentin.stl",
-                                                    "teeth/molar_pulp.stl", "teeth/molar_caries.stl"};
+// The file of a molar layer under assets/: "teeth/molar_enamel.stl".
+inline std::string molarLayerFile(const MolarLayerRow& row) { return "teeth/molar_" + std::string(row.tissue) + ".stl"; }
 
 }  // namespace dentsim

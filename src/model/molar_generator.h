@@ -17,6 +17,7 @@
 //
 // Entry points:
 //   generateMolar()      the four layers as welded, closed, outward meshes
+//   kMolarLayers         the layers by tissue name, in the tissue table's order
 //   molarToothField() .. the implicit fields behind them (negative inside), for tests and tools
 #pragma once
 
@@ -33,15 +34,31 @@ struct MolarLayers {
   TriangleMesh caries;  // carious lesion [mm]
 
   // The layer of the tissue named `tissue` (the tissue table's name), or nullptr: the molar's own
-  // layers, so that a tissue the molar lacks (cementum) simply has no layer.
-  const TriangleMesh* layer(std::string_view tissue) const {
-    if (tissue == "enamel") return &enamel;
-    if (tissue == "dentin") return &dentin;
-    if (tissue == "pulp") return &pulp;
-    if (tissue == "caries") return &caries;
-    return nullptr;
-  }
+  // layers (kMolarLayers), so that a tissue the molar lacks (cementum) simply has no layer.
+  const TriangleMesh* layer(std::string_view tissue) const;
 };
+
+// The molar's layers, one row each, in the tissue table's order. The names are the table's, written
+// here because `model` sits below `volume` and may not include the table; tests/model checks that
+// every tissue of the table is a row, so a tissue added there fails the tests until the molar grows
+// its layer (or that test says why the molar lacks it).
+struct MolarLayerRow {
+  const char* tissue;               // the tissue table's name
+  TriangleMesh MolarLayers::*mesh;  // the layer in MolarLayers
+  const char* description;          // what the layer holds, for the asset's STL header
+};
+inline constexpr MolarLayerRow kMolarLayers[] = {
+    {"enamel", &MolarLayers::enamel, "enamel shell"},
+    {"dentin", &MolarLayers::dentin, "dentin incl. pulp space"},
+    {"pulp", &MolarLayers::pulp, "pulp"},
+    {"caries", &MolarLayers::caries, "caries"},
+};
+
+inline const TriangleMesh* MolarLayers::layer(std::string_view tissue) const {
+  for (const MolarLayerRow& row : kMolarLayers)
+    if (tissue == row.tissue) return &(this->*row.mesh);
+  return nullptr;
+}
 
 struct MolarOptions {
   // Lattice spacing [mm]. The default is what assets/teeth/ holds (about 134k triangles in all);

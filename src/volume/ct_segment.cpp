@@ -365,9 +365,8 @@ Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOption
   std::vector<uint8_t>& cells = box.cells;
   for (uint8_t& c : cells) {
     using namespace tooth_cell;
-    c = classOf(c);
-    c = c == kEnamel ? makeVoxel(Material::Enamel) : c == kDentin ? makeVoxel(Material::Dentin)
-                                                 : c == kCaries ? makeVoxel(Material::Caries) : Voxel(0);
+    const Material m = kClassTissue[classOf(c)];
+    c = m == Material::Empty ? Voxel(0) : makeVoxel(m);
   }
   const double voxel_mm3 = image.pitch_mm[0] * image.pitch_mm[1] * image.pitch_mm[2];
   rep.min_island_voxels = options.min_island_mm3 / voxel_mm3;
@@ -397,9 +396,7 @@ Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOption
     const Material m = static_cast<Material>(voxelMaterial(cells[o]));
     const TissueRow* row = findTissue(m);
     out.labels[o] = row ? Label(row->nifti_label) : Label(0);
-    rep.enamel_voxels += m == Material::Enamel;
-    rep.dentin_voxels += m == Material::Dentin;
-    rep.caries_voxels += m == Material::Caries;
+    if (row) ++rep.tissue_voxels[size_t(row - kTissueTable)];
   }
   if (!job.report(1.0)) return cancelled(where);
   interrupter.end();

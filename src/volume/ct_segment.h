@@ -24,6 +24,7 @@
 #include "io/grey_image.h"
 #include "io/nifti_labels.h"
 #include "volume/otsu_thresholds.h"
+#include "volume/tissue_table.h"
 #include "volume/tooth_thresholds.h"
 
 namespace dentsim {
@@ -82,7 +83,9 @@ struct ToothSegmentReport {
   std::string thresholds_from;
   std::array<int64_t, 3> roi_lo{}, roi_hi{};  // the ROI as an inclusive voxel box of the image
   std::array<int64_t, 3> out_lo{}, out_hi{};  // the output's inclusive voxel box of the image
-  uint64_t enamel_voxels = 0, dentin_voxels = 0, caries_voxels = 0;  // in the output
+  // Voxels of each tissue in the output, by tissue table row: 0 for a tissue no grey class gives
+  // (pulp; tooth_cell::isGreyClass in tissue_boundary_rules.h).
+  std::array<uint64_t, kTissueCount> tissue_voxels{};
   uint64_t islands_removed = 0, island_voxels = 0;  // pieces (tissue and holes) relabelled
   uint64_t partial_volume_voxels = 0;         // voxels reassigned by the partial-volume rule
   uint64_t edge_voxels = 0;                   // tooth voxels emptied by the edge rule

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "io/grey_image.h"
+#include "volume/tissue_table.h"
 #include "volume/tooth_thresholds.h"
 #include "volume/voxel_grid_ops.h"
 
@@ -34,6 +35,21 @@ constexpr uint8_t kNearHard = 1u << 4;     // within w of dentin or enamel
 constexpr uint8_t kOutside = 1u << 5;      // empty and connected to the box's border through empty
 constexpr uint8_t kScratchA = 1u << 6, kScratchB = 1u << 7;  // the rules' own, clear between them
 inline uint8_t classOf(uint8_t cell) { return cell & kClassMask; }
+
+// The tissue each class becomes, by class: the tissues a scan's grey values tell apart, darkest
+// first, since the rules compare classes by brightness. Pulp is no class: its grey values are soft
+// tissue's, and importLabels fills it as the space the dentin encloses (ct_segment.h).
+constexpr std::array<Material, 4> kClassTissue = {Material::Empty, Material::Caries, Material::Dentin, Material::Enamel};
+static_assert(kClassTissue[kCaries] == Material::Caries && kClassTissue[kDentin] == Material::Dentin &&
+                  kClassTissue[kEnamel] == Material::Enamel,
+              "kClassTissue follows the class codes");
+
+// Whether tissue m is one of the classes, that is, read from the grey values.
+constexpr bool isGreyClass(Material m) {
+  for (size_t c = 1; c < kClassTissue.size(); ++c)
+    if (kClassTissue[c] == m) return true;
+  return false;
+}
 }  // namespace tooth_cell
 
 // The output box's cells over the image's grey values.

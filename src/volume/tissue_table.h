@@ -117,6 +117,10 @@ constexpr std::array<Material, kTissueCount> tissuesInDrawOrder() {
   return out;
 }
 
+// Whether a tissue is sound tooth: every tissue but caries, the lesion a caries removal is meant to
+// take. The scores report and charge the healthy tissues that a cut removes.
+constexpr bool isHealthyTissue(Material m) { return m != Material::Caries; }
+
 // The tissue names for messages and help: "enamel, dentin, pulp or caries"; with_empty appends
 // "empty" as the last choice.
 inline std::string tissueNameList(bool with_empty = false) {

@@ -15,6 +15,8 @@
 #include "dicom/nested_sequences.h"
 #include "io/dicom_series.h"
 #include "io/nifti_labels.h"
+#include "volume/scan_model.h"
+#include "volume/tissue_table.h"
 #include "test_support.h"
 
 namespace dentsim {
@@ -51,6 +53,7 @@ class ScanCli : public ::testing::Test {
     const auto made = runDentsim("make-scan --labels " + dir_.file("tooth.nii.gz") +
                                  " --label-map 2=enamel,3=dentin --blur-mm 0.1 --noise-hu 80 -o " + series());
     ASSERT_EQ(made.exit_code, 0) << made.output;
+    made_output_ = made.output;
   }
   std::string series() const { return dir_.file("series"); }
   std::string out() const { return dir_.file("tooth.dvol"); }
@@ -65,7 +68,19 @@ class ScanCli : public ::testing::Test {
     EXPECT_FALSE(fs::exists(out())) << args;
   }
   test::TempDir dir_;
+  std::string made_output_;  // what make-scan printed in SetUp
 };
+
+// make-scan says the value it painted for empty and for every tissue of the table, in table order:
+// a tissue added to the table shows up without another list to edit.
+TEST_F(ScanCli, MakeScanNamesTheValueOfEveryTissueOfTheTable) {
+  const ScanModel model;
+  std::string expected = "  values (HU): empty " + std::to_string(std::lround(model.value[0]));
+  for (const TissueRow& row : kTissueTable)
+    expected += ", " + std::string(row.name) + " " + std::to_string(std::lround(model.value[size_t(row.material)]));
+  expected += "; blur 0.1 mm";
+  EXPECT_NE(made_output_.find(expected), std::string::npos) << expected << "\n" << made_output_;
+}
 
 TEST_F(ScanCli, APhantomBecomesAToothWithItsTissues) {
   const auto r = runDentsim("voxelize --dicom " + series() + " --level 7 -o " + out());

@@ -10,6 +10,7 @@
 #include "io/stl_file.h"
 #include "test_meshes.h"
 #include "test_support.h"
+#include "volume/tissue_table.h"
 #include "volume/tooth_file.h"
 
 namespace dentsim {
@@ -81,6 +82,27 @@ TEST_F(VoxelizeStlCli, BadInputFailsInOneLineAndWritesNothing) {
     EXPECT_EQ(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
     EXPECT_FALSE(std::filesystem::exists(out)) << c.args;
   }
+}
+
+// Every tissue of the table has its STL flag, named as the table names it, that fills the layer with
+// that tissue; the message for no input names them all. A tissue added to the table gets its flag
+// without another list to edit.
+TEST_F(VoxelizeStlCli, EveryTissueOfTheTableHasItsLayerFlag) {
+  std::string flags;
+  for (const TissueRow& row : kTissueTable) {
+    const std::string out = dir_.file(std::string(row.name) + ".dvol");
+    const auto r = runDentsim("voxelize --" + std::string(row.name) + " " + dir_.file("outer.stl") +
+                              " --units cm --level 5 --cpu -o " + out);
+    ASSERT_EQ(r.exit_code, 0) << row.name << "\n" << r.output;
+    EXPECT_NE(r.output.find("  layer " + std::string(row.name)), std::string::npos) << r.output;
+    auto t = loadTooth(out);
+    ASSERT_TRUE(t.ok()) << row.name;
+    const MaterialTotals totals = t->voxels.materialTotals();
+    EXPECT_NEAR(totals.volumeMm3(row.material, t->frame.voxel_mm) / 1000.0, 1.0, 0.02) << row.name;
+    flags += (flags.empty() ? "--" : "/--") + std::string(row.name);
+  }
+  const auto none = runDentsim("voxelize --cpu -o " + dir_.file("never.dvol"));
+  EXPECT_NE(none.output.find("give " + flags + " STL layers"), std::string::npos) << none.output;
 }
 
 TEST_F(VoxelizeStlCli, OpenMeshAndOddUnitsAreVoxelizedWithWarnings) {

@@ -75,9 +75,9 @@ TEST(CariesScore, HandCountedComponents) {
   EXPECT_NEAR(s.caries_initial_mm3, 0.008, 1e-15);
   EXPECT_NEAR(s.caries_removed_mm3, 0.004, 1e-15);
   EXPECT_NEAR(s.caries_remaining_mm3, 0.004, 1e-15);
-  EXPECT_NEAR(s.enamel_removed_mm3, 0.002, 1e-15);
+  EXPECT_NEAR(s.removedMm3(Material::Enamel), 0.002, 1e-15);
   EXPECT_NEAR(s.healthy_outside_mm3, 0.002, 1e-15);
-  EXPECT_EQ(s.dentin_removed_mm3, 0.0);
+  EXPECT_EQ(s.removedMm3(Material::Dentin), 0.0);
   EXPECT_FALSE(s.pulp_exposed);
 }
 
@@ -107,7 +107,7 @@ TEST(CariesScore, HealthyTissueInsideTheLeewayIsFree) {
   const SessionStats st = stats(10, 100, 0);
   const CariesScore s = scoreCariesRemoval(diffOf(t, student, nullptr), &st, test::cariesTask());
   EXPECT_EQ(s.healthy_deduction, 0.0);
-  EXPECT_NEAR(s.enamel_removed_mm3, 0.003, 1e-15);
+  EXPECT_NEAR(s.removedMm3(Material::Enamel), 0.003, 1e-15);
   EXPECT_EQ(s.total, 100.0);
   student.voxels.setVoxel(1, 4, 7, kEmpty);   // 0.3 mm: outside
   const CariesScore out = scoreCariesRemoval(diffOf(t, student, nullptr), &st, test::cariesTask());
@@ -591,6 +591,33 @@ TEST(ScoreReport, CariesReportShowsComponentsDeductionsAndZones) {
   EXPECT_DOUBLE_EQ(j["zones"]["target_removed_percent"].get<double>(), 50.0);
   EXPECT_NEAR(j["zones"]["healthy_outside_zone_mm3"].get<double>(), 0.002, 1e-15);
   EXPECT_FALSE(j["volumes"]["caries"].contains("overcut_mm3"));  // no ideal, no over-cut
+}
+
+// The healthy tissues the report and the line list are the tissue table's, in its order: a tissue
+// added to the table is reported without another list to edit.
+TEST(ScoreReport, HealthyRemovedListsEveryHealthyTissueOfTheTable) {
+  const ToothVolume t = cariousSlab();
+  ToothVolume student = t;
+  setBox(student, {0, 0, 7}, {2, 1, 8}, kEmpty);  // two enamel voxels, outside the zone
+  const ToothDiff d = diffOf(t, student, nullptr);
+  const CariesScore s = scoreCariesRemoval(d, nullptr, test::cariesTask());
+  const nlohmann::ordered_json j = scoreReportJson(test::cariesTask(), {}, d, nullptr, s);
+  std::vector<std::string> expected, reported;
+  for (const TissueRow& row : kTissueTable)
+    if (isHealthyTissue(row.material)) expected.push_back(row.name);
+  for (const auto& [name, mm3] : j["healthy_removed_mm3"].items()) reported.push_back(name);
+  EXPECT_EQ(reported, expected);
+  EXPECT_EQ(expected, (std::vector<std::string>{"enamel", "dentin", "pulp"}));  // caries is the lesion
+  EXPECT_GT(j["healthy_removed_mm3"]["enamel"].get<double>(), 0.0);
+  EXPECT_EQ(j["healthy_removed_mm3"]["dentin"].get<double>(), 0.0);
+  const std::string line = scoreSummary(s, ScoreInputs{});
+  // "... mm^3 removed (enamel 0.002, dentin 0.000, pulp 0.000), ...": each healthy tissue, in order.
+  size_t at = line.find("mm^3 removed (");
+  ASSERT_NE(at, std::string::npos) << line;
+  for (const std::string& name : expected) {
+    at = line.find(name + " ", at);
+    ASSERT_NE(at, std::string::npos) << name << " missing from: " << line;
+  }
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <numeric>
 #include <set>
 #include <unordered_map>
@@ -10,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "io/mesh_topology.h"
+#include "volume/tissue_table.h"
 
 namespace dentsim {
 namespace {
@@ -21,6 +23,25 @@ constexpr double kCoarse = 0.35;  // [mm]
 const MolarLayers& coarseMolar() {
   static const MolarLayers layers = generateMolar({.grid_mm = kCoarse});
   return layers;
+}
+
+// Every tissue of the tissue table is a layer of the molar, in the table's order, each row on its
+// own mesh: a tissue added to the table fails here until the molar has its layer.
+TEST(MolarLayers, EveryTissueOfTheTableIsALayer) {
+  ASSERT_EQ(std::size(kMolarLayers), kTissueCount);
+  for (size_t t = 0; t < kTissueCount; ++t) EXPECT_STREQ(kMolarLayers[t].tissue, kTissueTable[t].name);
+  const MolarLayers& m = coarseMolar();
+  std::set<const TriangleMesh*> meshes;
+  for (const TissueRow& row : kTissueTable) {
+    const TriangleMesh* mesh = m.layer(row.name);
+    ASSERT_NE(mesh, nullptr) << row.name;
+    EXPECT_GT(mesh->triangleCount(), 0u) << row.name;
+    meshes.insert(mesh);
+  }
+  EXPECT_EQ(meshes.size(), kTissueCount);
+  EXPECT_EQ(m.layer("enamel"), &m.enamel);
+  EXPECT_EQ(m.layer("caries"), &m.caries);
+  EXPECT_EQ(m.layer("cementum"), nullptr);  // a tissue the molar lacks has no layer
 }
 
 Vec3d toD(const Vec3f& p) { return {p[0], p[1], p[2]}; }

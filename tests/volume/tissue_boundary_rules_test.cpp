@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "volume/tissue_table.h"
+
 namespace dentsim {
 namespace {
 
@@ -21,6 +23,17 @@ struct Box {
     return im;
   }
 };
+
+// Every tissue of the table is either a class the grey values give or pulp, which importLabels fills
+// as enclosed space: a tissue added to the table fails here until segmentation decides which it is.
+// Each class is a table tissue, darker classes first (caries < dentin < enamel in mineral).
+TEST(TissueBoundaryRules, EveryTissueOfTheTableIsAGreyClassOrFilledAfter) {
+  for (const TissueRow& row : kTissueTable)
+    EXPECT_NE(isGreyClass(row.material), row.material == Material::Pulp) << row.name;
+  EXPECT_EQ(kClassTissue[0], Material::Empty);
+  for (size_t c = 1; c < kClassTissue.size(); ++c) EXPECT_NE(findTissue(kClassTissue[c]), nullptr) << c;
+  EXPECT_EQ(kClassTissue, (std::array<Material, 4>{Material::Empty, Material::Caries, Material::Dentin, Material::Enamel}));
+}
 
 TEST(TissueBoundaryRules, ClassifyByValueAndMeansByHand) {
   // Thresholds hard 500 | caries_below 1000 | enamel 2000 on a row of five: two empty cells (100 and
