@@ -8,16 +8,23 @@
 
 #include "app/cli_checks.h"
 #include "app/commands.h"
+#include "core/text_escape.h"
 #include "io/input_budget.h"
 
 namespace dentsim::app {
 
+// Both end every message the same way: whatever outside text it quotes (a picture's name from an
+// outbox, a tool named in a session) has its control bytes escaped here, once for every caller, so
+// a message stays one line and cannot drive the terminal. Escaping is idempotent: text a reader
+// escaped already reads the same.
 int fail(const std::string& message) {
-  std::cerr << "dentsim: " << message << "\n";
+  std::cerr << "dentsim: " << escapeControl(message, message.size()) << "\n";
   return 1;
 }
 
-void warn(const std::string& message) { std::cerr << "dentsim: warning: " << message << "\n"; }
+void warn(const std::string& message) {
+  std::cerr << "dentsim: warning: " << escapeControl(message, message.size()) << "\n";
+}
 
 void warnf(const char* format, ...) {
   std::va_list args;
