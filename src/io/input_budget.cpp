@@ -14,12 +14,6 @@ namespace {
 std::atomic<uint64_t> g_max_bytes{kDefaultInputBudgetBytes};
 std::atomic<uint64_t> g_memory_budget{0};  // 0: the default rule
 
-std::string gigabytesText(uint64_t bytes) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2g GB", double(bytes) / 1e9);
-  return buf;
-}
-
 }  // namespace
 
 InputBudget inputBudget() { return InputBudget{g_max_bytes.load(std::memory_order_relaxed)}; }
@@ -60,6 +54,12 @@ std::string memoryBudgetOrigin() {
   const MachineMemory m = machineMemory();
   return "half of this machine's " + gigabytesText(m.total_bytes) + ", at most its " +
          gigabytesText(m.available_bytes) + " free; set it with " + flag;
+}
+
+std::string gigabytesText(uint64_t bytes) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2g GB", double(bytes) / 1e9);
+  return buf;
 }
 
 }  // namespace dentsim

@@ -51,4 +51,7 @@ void setMemoryBudget(uint64_t bytes);
 // machine's 24 GB, at most its 20 GB free; set it with --max-memory-mb N, in MiB".
 std::string memoryBudgetOrigin();
 
+// Bytes as the budgets' messages and the plan show them: "4.3 GB", two significant digits.
+std::string gigabytesText(uint64_t bytes);
+
 }  // namespace dentsim

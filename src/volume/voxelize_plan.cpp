@@ -59,11 +59,6 @@ std::string withThousands(uint64_t v) {
   return s;
 }
 
-std::string gigabytes(uint64_t bytes) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.2g GB", double(bytes) / 1e9);
-  return buf;
-}
 
 }  // namespace
 
@@ -125,13 +120,13 @@ std::string describeCost(const VoxelizeCost& c) {
   else std::snprintf(time, sizeof time, "%.0f min", c.seconds / 60.0);
   std::ostringstream out;
   if (c.level == 0) {
-    out << "reading the scan (" << withThousands(c.scan_voxels) << " voxels): about " << gigabytes(c.memory_bytes)
+    out << "reading the scan (" << withThousands(c.scan_voxels) << " voxels): about " << gigabytesText(c.memory_bytes)
         << " of memory and " << time;
     return out.str();
   }
   const uint64_t side = uint64_t{1} << c.level;
   out << "level " << c.level << " (" << side << "^3 voxels): about " << withThousands(c.surface_bricks)
-      << " dense bricks, " << gigabytes(c.memory_bytes) << " of memory and " << time;
+      << " dense bricks, " << gigabytesText(c.memory_bytes) << " of memory and " << time;
   return out.str();
 }
 
@@ -148,7 +143,7 @@ Status checkAffordable(const VoxelizeCost& cost, uint64_t budget, bool force, co
   // A scan's read has no level to lower: its size is the file's.
   const char* advice = cost.level == 0 ? "read a smaller export of the scan (cropped to the tooth) or raise the budget"
                                        : "choose a lower --level (or a larger voxel)";
-  return makeError(where, describeCost(cost) + ", beyond the memory budget of " + gigabytes(budget) + " (" +
+  return makeError(where, describeCost(cost) + ", beyond the memory budget of " + gigabytesText(budget) + " (" +
                               memoryBudgetOrigin() + "); " + advice + ", or give --force to try it all the same");
 }
 
