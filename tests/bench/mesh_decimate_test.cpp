@@ -1,6 +1,8 @@
 // Tests of decimateMesh: triangle counts near the target, volume kept, a closed result, determinism.
 #include "bench/mesh_decimate.h"
 
+#include "test_meshes.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -9,35 +11,8 @@
 namespace dentsim::bench {
 namespace {
 
-// A UV sphere of radius r [mm]: `slices` around, `stacks` from pole to pole, one vertex per pole.
-// Triangles: a fan of `slices` at each pole plus 2 x slices per band between them, so
-// 2 x slices x (stacks - 1) in all; corners counter-clockwise seen from outside.
-TriangleMesh uvSphere(double r, uint32_t slices, uint32_t stacks) {
-  TriangleMesh m;
-  m.positions.push_back({0.0f, 0.0f, float(r)});
-  for (uint32_t i = 1; i < stacks; ++i) {
-    const double theta = std::numbers::pi * i / stacks;
-    for (uint32_t j = 0; j < slices; ++j) {
-      const double phi = 2.0 * std::numbers::pi * j / slices;
-      m.positions.push_back({float(r * std::sin(theta) * std::cos(phi)), float(r * std::sin(theta) * std::sin(phi)),
-                             float(r * std::cos(theta))});
-    }
-  }
-  m.positions.push_back({0.0f, 0.0f, float(-r)});
-  const uint32_t south = uint32_t(m.positions.size() - 1);
-  auto ring = [slices](uint32_t i, uint32_t j) { return 1 + (i - 1) * slices + j % slices; };
-  for (uint32_t j = 0; j < slices; ++j) m.triangles.push_back({0, ring(1, j), ring(1, j + 1)});
-  for (uint32_t i = 1; i + 1 < stacks; ++i)
-    for (uint32_t j = 0; j < slices; ++j) {
-      m.triangles.push_back({ring(i, j), ring(i + 1, j), ring(i + 1, j + 1)});
-      m.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i, j + 1)});
-    }
-  for (uint32_t j = 0; j < slices; ++j) m.triangles.push_back({south, ring(stacks - 1, j + 1), ring(stacks - 1, j)});
-  return m;
-}
-
 TEST(MeshDecimateTest, SphereAtAQuarterKeepsCountVolumeAndClosure) {
-  const TriangleMesh sphere = uvSphere(5.0, 100, 101);  // 2 x 100 x 100 = 20,000 triangles
+  const TriangleMesh sphere = test::uvSphere({0, 0, 0}, 5.0, 100, 101);  // 2 x 100 x 100 = 20,000 triangles
   ASSERT_EQ(sphere.triangleCount(), 20000u);
   ASSERT_TRUE(analyzeTopology(sphere).closed());
   DecimateInfo info;
@@ -54,7 +29,7 @@ TEST(MeshDecimateTest, SphereAtAQuarterKeepsCountVolumeAndClosure) {
 }
 
 TEST(MeshDecimateTest, SameInputGivesSameOutput) {
-  const TriangleMesh sphere = uvSphere(2.0, 40, 41);
+  const TriangleMesh sphere = test::uvSphere({0, 0, 0}, 2.0, 40, 41);
   const TriangleMesh a = decimateMesh(sphere, 0.12);
   const TriangleMesh b = decimateMesh(sphere, 0.12);
   EXPECT_EQ(a.triangles, b.triangles);
@@ -62,7 +37,7 @@ TEST(MeshDecimateTest, SameInputGivesSameOutput) {
 }
 
 TEST(MeshDecimateTest, FractionOneIsACopy) {
-  const TriangleMesh sphere = uvSphere(1.0, 8, 5);  // 2 x 8 x 4 = 64 triangles
+  const TriangleMesh sphere = test::uvSphere({0, 0, 0}, 1.0, 8, 5);  // 2 x 8 x 4 = 64 triangles
   DecimateInfo info;
   const TriangleMesh same = decimateMesh(sphere, 1.0, &info);
   EXPECT_EQ(info.method, "copy");
@@ -71,7 +46,7 @@ TEST(MeshDecimateTest, FractionOneIsACopy) {
 }
 
 TEST(MeshDecimateTest, SmallFractionsStillReachTheCount) {
-  const TriangleMesh sphere = uvSphere(5.0, 100, 101);
+  const TriangleMesh sphere = test::uvSphere({0, 0, 0}, 5.0, 100, 101);
   for (double f : {0.06, 0.12, 0.5}) {
     DecimateInfo info;
     const TriangleMesh d = decimateMesh(sphere, f, &info);

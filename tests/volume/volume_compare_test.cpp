@@ -1,6 +1,8 @@
 // Tests for src/volume/volume_compare.cpp: per-tissue intersection, union and IoU counted by hand and against a voxel-by-voxel tally.
 #include "volume/volume_compare.h"
 
+#include "test_volumes.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -87,31 +89,9 @@ TEST(VolumeCompare, DifferentLevelsAreAnError) {
   EXPECT_NE(o.message().find("level 5 and level 6"), std::string::npos) << o.message();
 }
 
-// Random tissues and fills over part of a level-5 grid, with tiles and empty space between.
-BrickVolume randomVolume(uint32_t seed) {
-  BrickVolume v(5);
-  std::mt19937 rng(seed);
-  for (uint32_t z = 0; z < 4; ++z)
-    for (uint32_t y = 0; y < 4; ++y)
-      for (uint32_t x = 0; x < 4; ++x) {
-        const uint32_t kind = rng() % 3;
-        if (kind == 0) continue;
-        if (kind == 1) {
-          v.setBrickUniform({x, y, z}, makeVoxel(Material(1 + rng() % 4), 1 + rng() % 31));
-          continue;
-        }
-        std::vector<Voxel> voxels(DS_BRICK_VOXELS);
-        for (Voxel& vox : voxels) {
-          const auto m = Material(rng() % DS_TISSUE_COUNT);
-          vox = makeVoxel(m, 1 + rng() % 31);
-        }
-        v.setBrick({x, y, z}, voxels.data());
-      }
-  return v;
-}
-
 TEST(VolumeCompare, MatchesAVoxelByVoxelTallyAndIsSymmetric) {
-  const BrickVolume a = randomVolume(1), b = randomVolume(2);
+  const BrickVolume a = test::randomVolume(5, 1, test::NoiseMaterials::Tissues);
+  const BrickVolume b = test::randomVolume(5, 2, test::NoiseMaterials::Tissues);
   for (uint32_t m = 1; m < DS_TISSUE_COUNT; ++m) {
     const auto tissue = Material(m);
     uint64_t in_a = 0, in_b = 0, both = 0, either = 0, lo = 0, hi = 0;
