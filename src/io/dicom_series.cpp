@@ -28,16 +28,7 @@
 #include <gdcmUIDs.h>
 #include <gdcmWriter.h>
 
-#include <fcntl.h>
-#include <sys/mman.h>
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <cerrno>
-#include <chrono>
-#include <csignal>
 #include <functional>
 #include <array>
 #include <cmath>
@@ -46,13 +37,12 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <new>
 #include <numbers>
 #include <random>
 #include <sstream>
-#include <thread>
 
 #include "io/atomic_file.h"
+#include "io/sandboxed_read.h"
 
 namespace dentsim {
 namespace {
@@ -73,111 +63,21 @@ void quietGdcm() {
 
 // GDCM as Debian builds it keeps its assertions, and some damaged files reach one (a file meta
 // header cut short aborts inside GDCM); others declare an element of gigabytes, which GDCM allocates
-// and fills before it finds the file too short. A damaged file must be a line, not a crash or a
-// gigabyte, so every read runs first in a child process whose data segment may grow by the budget
-// and no more. If the child dies, the file it was on is named; if it fails, its message is the
-// answer; only if it succeeds does the same read run here, where it now cannot go wrong. The price
-// is reading the headers and pixels twice.
-struct ChildReport {
-  char outcome = '?';     // '?' running or died, 'E' an error (message), 'K' read
-  char message[2047] = {};
-  char current_file[2048] = {};
-};
-ChildReport* g_child = nullptr;  // shared with the parent; set only in the checking child
-
-void copyInto(char* dst, size_t cap, const std::string& src) {
-  const size_t n = std::min(src.size(), cap - 1);
-  std::memcpy(dst, src.data(), n);
-  dst[n] = '\0';
-}
-
-void noteFile(const std::string& path) {
-  if (g_child) copyInto(g_child->current_file, sizeof g_child->current_file, path);
-}
-
-// The data segment's size now [B], from /proc/self/status (VmData); 0 when unknown.
-uint64_t dataSegmentBytes() {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line))
-    if (line.rfind("VmData:", 0) == 0) return uint64_t(std::strtoull(line.c_str() + 7, nullptr, 10)) * 1024;
-  return 0;
-}
-
-// The checking child's time limits, scaled to the bytes it reads: GDCM that loops or grows
-// exponentially on a crafted file (as its length calculation does with nesting, section 2) ends
-// as a line, not a hang. Generous: 30 s, and 2 s a MiB besides, of processor time, which decodes
-// any compression GDCM reads; the parent waits twice that, and 30 s more, on a busy machine.
-struct ChildTimeLimits {
-  uint64_t cpu_s = 0;   // RLIMIT_CPU of the child [s]
-  uint64_t wall_s = 0;  // the parent's wait before it kills the child [s]
-};
-ChildTimeLimits childTimeLimits(uint64_t input_bytes) {
-  const uint64_t cpu = 30 + 2 * (input_bytes >> 20);
-  return {cpu, 2 * cpu + 30};
-}
-
-// Waits for `child` until `wall_s` have passed, then kills it; true when it ended by itself.
-bool waitWithin(pid_t child, uint64_t wall_s, int& status) {
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(wall_s);
-  auto nap = std::chrono::milliseconds(1);
-  for (;;) {
-    const pid_t done = ::waitpid(child, &status, WNOHANG);
-    if (done == child || (done < 0 && errno != EINTR)) return true;
-    if (std::chrono::steady_clock::now() >= deadline) break;
-    std::this_thread::sleep_for(nap);
-    nap = std::min(nap * 2, std::chrono::milliseconds(50));
-  }
-  ::kill(child, SIGKILL);
-  while (::waitpid(child, &status, 0) < 0 && errno == EINTR) {
-  }
-  return false;
-}
-
-Status readInChild(const std::string& where, uint64_t budget, uint64_t input_bytes, const std::function<Status()>& work) {
-  const ChildTimeLimits limits = childTimeLimits(input_bytes);
-  void* shared = ::mmap(nullptr, sizeof(ChildReport), PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
-  if (shared == MAP_FAILED) return Ok{};  // no check possible: read unguarded
-  auto* report = new (shared) ChildReport;
-  copyInto(report->current_file, sizeof report->current_file, where);
-  const uint64_t data_now = dataSegmentBytes();
-  std::fflush(nullptr);
-  const pid_t child = ::fork();
-  if (child == 0) {
-    g_child = report;
-    // GDCM's assertion text is not the user's business: the parent prints the one line.
-    if (const int null_fd = ::open("/dev/null", O_WRONLY); null_fd >= 0) ::dup2(null_fd, STDERR_FILENO);
-    if (data_now > 0) {
-      const rlimit cap{rlim_t(data_now + budget + (uint64_t{256} << 20)), rlim_t(data_now + budget + (uint64_t{256} << 20))};
-      ::setrlimit(RLIMIT_DATA, &cap);
-    }
-    const rlimit cpu{rlim_t(limits.cpu_s), rlim_t(limits.cpu_s + 5)};  // SIGXCPU, then SIGKILL 5 s later
-    ::setrlimit(RLIMIT_CPU, &cpu);
-    Status s = work();
-    if (s) {
-      report->outcome = 'K';
-    } else {
-      copyInto(report->message, sizeof report->message, s.message());
-      report->outcome = 'E';
-    }
-    ::_exit(0);
-  }
-  int status = 0;
-  const bool ended = child > 0 ? waitWithin(child, limits.wall_s, status) : true;
-  const char outcome = child > 0 ? report->outcome : 'K';  // fork failed: read unguarded
-  const std::string file(report->current_file), message(report->message);
-  ::munmap(shared, sizeof(ChildReport));
-  if (outcome == 'K') return Ok{};
-  if (outcome == 'E') return Error{message};
-  if (!ended)
-    return makeError(file, "GDCM did not finish reading it within " + std::to_string(limits.wall_s) +
-                               " s (deeply nested, or damaged)");
-  if (WIFSIGNALED(status) && (WTERMSIG(status) == SIGXCPU || WTERMSIG(status) == SIGKILL))
-    return makeError(file, "GDCM took more than " + std::to_string(limits.cpu_s) +
-                               " s of processor time on it (deeply nested, or damaged)");
-  const std::string how = WIFSIGNALED(status) ? "signal " + std::to_string(WTERMSIG(status))
-                                              : "exit code " + std::to_string(WEXITSTATUS(status));
-  return makeError(file, "truncated or damaged DICOM file: GDCM stops on it (" + how + ")");
+// and fills before it finds the file too short. So every read runs first in a child
+// (io/sandboxed_read.h) whose data segment may grow by the budget and 256 MB more, and no further.
+//
+// Its time limits scale with the bytes it reads: GDCM that loops or grows exponentially on a
+// crafted file (as its length calculation does with nesting, section 2) ends as a line, not a hang.
+// Generous: 30 s, and 2 s a MiB besides, of processor time, which decodes any compression GDCM
+// reads; the parent waits twice that, and 30 s more, on a busy machine.
+Status readInChild(const std::string& where, uint64_t budget, uint64_t input_bytes,
+                   const std::function<Status(SandboxNote&)>& work) {
+  SandboxLimits limits;
+  limits.data_growth_bytes = budget + (uint64_t{256} << 20);
+  limits.cpu_s = 30 + 2 * (input_bytes >> 20);
+  limits.wall_s = 2 * limits.cpu_s + 30;
+  const SandboxWords words{"GDCM", "deeply nested, or damaged", "truncated or damaged DICOM file: GDCM stops on it"};
+  return runSandboxed(where, limits, work, words);
 }
 
 // ---- 1. Header values ------------------------------------------------------------------------
@@ -295,8 +195,8 @@ int sequenceDepth(const gdcm::DataSet& ds, int limit) {
 }
 
 // Reads the header up to the pixel data. A file that claims DICOM and cannot be read is an error.
-Result<HeaderKind> readHeader(const std::string& path, SliceHeader& h) {
-  noteFile(path);
+Result<HeaderKind> readHeader(SandboxNote& note, const std::string& path, SliceHeader& h) {
+  note.file(path);
   gdcm::Reader reader;
   reader.SetFileName(path.c_str());
   const bool dicom = hasDicomPreamble(path);
@@ -402,9 +302,9 @@ void toFloats(const char* bytes, size_t count, int bits_stored, bool is_signed, 
 
 // Decodes every frame of `path` into `out` (rows * columns * frames floats), applying its rescale.
 // `frame_step_mm`, when given, receives GDCM's spacing between frames (0 when it has none).
-Status decodePixels(const std::string& path, const SliceHeader& h, float* out, DicomSeriesInfo* info,
+Status decodePixels(SandboxNote& note, const std::string& path, const SliceHeader& h, float* out, DicomSeriesInfo* info,
                     double* frame_step_mm = nullptr) {
-  noteFile(path);
+  note.file(path);
   gdcm::ImageReader reader;
   reader.SetFileName(path.c_str());
   if (!reader.Read()) return makeError(path, "truncated or damaged DICOM file (its pixel data cannot be read)");
@@ -524,10 +424,10 @@ std::array<double, 12> scannerMatrix(const SliceHeader& h, const Vec& origin, co
 }
 
 // ---- 4. readDicomFile ------------------------------------------------------------------------
-Result<GreyImage> readOneFile(const std::string& path, uint64_t max_bytes, DicomSeriesInfo* info,
+Result<GreyImage> readOneFile(SandboxNote& note, const std::string& path, uint64_t max_bytes, DicomSeriesInfo* info,
                               const ScanReadApproval& approve = {}) {
   SliceHeader h;
-  Result<HeaderKind> kind = readHeader(path, h);
+  Result<HeaderKind> kind = readHeader(note, path, h);
   if (!kind) return kind.error();
   if (*kind == HeaderKind::NotDicom) return makeError(path, "not a DICOM file");
   if (*kind == HeaderKind::NotImage) return makeError(path, "a DICOM file without an image (no Rows and Columns)");
@@ -542,7 +442,7 @@ Result<GreyImage> readOneFile(const std::string& path, uint64_t max_bytes, Dicom
   image.dims = {h.columns, h.rows, h.frames};
   image.values.resize(voxels);
   double frame_step = 0.0;
-  if (Status s = decodePixels(path, h, image.values.data(), info, &frame_step); !s) return s.error();
+  if (Status s = decodePixels(note, path, h, image.values.data(), info, &frame_step); !s) return s.error();
   copyDescription(h, image);
   if (!h.has_spacing) h.spacing = {1.0, 1.0};
   // A multi-frame file's frames step along the normal by GDCM's spacing (from its functional groups
@@ -652,12 +552,12 @@ Result<std::vector<std::string>> seriesFiles(const std::string& dir) {
   return files;
 }
 
-Result<GreyImage> readSeries(const std::string& path, const DicomReadOptions& options, Interrupter& interrupter,
+Result<GreyImage> readSeries(SandboxNote& note, const std::string& path, const DicomReadOptions& options, Interrupter& interrupter,
                              DicomSeriesInfo* info) {
   std::error_code ec;
   if (!fs::exists(path, ec)) return makeError(path, "no such file or folder");
   if (fs::is_regular_file(path, ec)) {
-    Result<GreyImage> one = readOneFile(path, options.max_bytes, info, options.approve);
+    Result<GreyImage> one = readOneFile(note, path, options.max_bytes, info, options.approve);
     if (one && one->dims[2] < 2) return makeError(path, "one slice is not a volume; give the folder of the series");
     return one;
   }
@@ -670,7 +570,7 @@ Result<GreyImage> readSeries(const std::string& path, const DicomReadOptions& op
   std::map<std::string, std::vector<SliceHeader>> groups;
   for (size_t n = 0; n < files.size(); ++n) {
     SliceHeader h;
-    Result<HeaderKind> kind = readHeader(files[n], h);
+    Result<HeaderKind> kind = readHeader(note, files[n], h);
     if (!kind) return kind.error();
     if (*kind != HeaderKind::Image) continue;
     groups[h.series_uid].push_back(std::move(h));
@@ -693,7 +593,7 @@ Result<GreyImage> readSeries(const std::string& path, const DicomReadOptions& op
   }
   std::vector<SliceHeader>& slices = *chosen;
   if (slices.size() == 1) {
-    if (slices.front().frames > 1) return readOneFile(slices.front().path, options.max_bytes, info, options.approve);
+    if (slices.front().frames > 1) return readOneFile(note, slices.front().path, options.max_bytes, info, options.approve);
     return makeError(path, "one slice is not a volume (" + fs::path(slices.front().path).filename().string() + ")");
   }
   if (Status s = checkSameGrid(path, slices); !s) return s.error();
@@ -768,7 +668,7 @@ Result<GreyImage> readSeries(const std::string& path, const DicomReadOptions& op
   interrupter.start("reading DICOM slices");
   DicomSeriesInfo local;
   for (size_t k = 0; k < slices.size(); ++k) {
-    if (Status s = decodePixels(slices[k].path, slices[k], image.values.data() + k * plane, &local); !s)
+    if (Status s = decodePixels(note, slices[k].path, slices[k], image.values.data() + k * plane, &local); !s)
       return s.error();
     if (!interrupter.progress(0.1 + 0.9 * double(k + 1) / double(slices.size()))) return makeError(path, "cancelled");
   }
@@ -805,24 +705,26 @@ uint64_t inputBytes(const std::string& path) {
 Result<GreyImage> readDicomFile(const std::string& path, uint64_t max_bytes, DicomSeriesInfo* info) {
   quietGdcm();
   if (Status s = requireRegularFile(path); !s) return s.error();
-  const auto check = [&]() -> Status {
-    Result<GreyImage> r = readOneFile(path, max_bytes, nullptr);
+  const auto check = [&](SandboxNote& note) -> Status {
+    Result<GreyImage> r = readOneFile(note, path, max_bytes, nullptr);
     return r ? Status(Ok{}) : Status(r.error());
   };
   if (Status s = readInChild(path, max_bytes, inputBytes(path), check); !s) return s.error();
-  return readOneFile(path, max_bytes, info);
+  SandboxNote here;  // the read in this process, once the child's succeeded: nothing to note
+  return readOneFile(here, path, max_bytes, info);
 }
 
 Result<GreyImage> readDicomSeries(const std::string& path, const DicomReadOptions& options, Interrupter& interrupter,
                                   DicomSeriesInfo* info) {
   quietGdcm();
-  if (options.in_process) return readSeries(path, options, interrupter, info);  // fuzzing and tests only
-  const auto check = [&]() -> Status {
-    Result<GreyImage> r = readSeries(path, options, nullInterrupter(), nullptr);
+  SandboxNote here;
+  if (options.in_process) return readSeries(here, path, options, interrupter, info);  // fuzzing and tests only
+  const auto check = [&](SandboxNote& note) -> Status {
+    Result<GreyImage> r = readSeries(note, path, options, nullInterrupter(), nullptr);
     return r ? Status(Ok{}) : Status(r.error());
   };
   if (Status s = readInChild(path, options.max_bytes, inputBytes(path), check); !s) return s.error();
-  return readSeries(path, options, interrupter, info);
+  return readSeries(here, path, options, interrupter, info);
 }
 
 // ---- 6. writeDicomSeries -----------------------------------------------------------------------

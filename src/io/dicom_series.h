@@ -104,13 +104,13 @@ Result<std::vector<std::string>> writeDicomSeries(const std::string& dir, const 
 // - Pixels: one sample (MONOCHROME1 or 2), 8 to 16 bits stored (32 allowed), signed or not; bits above
 //   Bits Stored are masked and the sign extended. A transfer syntax GDCM cannot decode is named.
 // - The float volume must fit options.max_bytes (twice the input budget), checked before allocating.
-// - Every read runs first in a forked child whose data segment may grow by max_bytes + 256 MB: GDCM's
-//   assertions (Debian keeps them) and its allocation of a forged element length end the child, not
-//   dentsim, and the file it was on is named. Call these from a process with no other threads
-//   running (the command line), as a forked child inherits only the caller's thread and any lock
-//   another thread held stays locked in it. The child's processor time is limited too (RLIMIT_CPU:
-//   30 s and 2 s a MiB of input), and the parent kills it after twice that and 30 s more: a file
-//   GDCM never finishes is a line naming it, not a hang.
+// - Every read runs first in a forked child (io/sandboxed_read.h) whose data segment may grow by
+//   max_bytes + 256 MB: GDCM's assertions (Debian keeps them) and its allocation of a forged element
+//   length end the child, not dentsim, and the file it was on is named. Call these from a process
+//   with no other threads running (the command line), as a forked child inherits only the caller's
+//   thread and any lock another thread held stays locked in it. The child's processor time is
+//   limited too (RLIMIT_CPU: 30 s and 2 s a MiB of input), and the parent kills it after twice that
+//   and 30 s more: a file GDCM never finishes is a line naming it, not a hang.
 //   options.in_process (fuzzing and tests only) skips the child: the one read runs in the caller.
 // - An image whose sequences nest more than 8 deep is refused when its header is read: GDCM's
 //   length of it, which the truncation check needs, grows about sixfold a level.

@@ -9,7 +9,7 @@
 // Pulp is not labelled here. Its grey values are those of soft tissue, and telling an enclosed pulp
 // chamber from the air around the tooth is a question of shape, not of value: importLabels does it
 // with fill_enclosed = pulp and a seal (seal_mm about 0.3 mm closes the apical foramina), so the
-// output of segmentTooth goes into importLabels with the map "1=enamel,2=dentin,4=caries".
+// output of segmentTooth goes into importLabels with toothSegmentLabelMap() (section 3).
 #pragma once
 
 #include <array>
@@ -23,7 +23,9 @@
 #include "core/result.h"
 #include "io/grey_image.h"
 #include "io/nifti_labels.h"
+#include "volume/label_import.h"
 #include "volume/otsu_thresholds.h"
+#include "volume/tissue_boundary_rules.h"
 #include "volume/tissue_table.h"
 #include "volume/tooth_thresholds.h"
 
@@ -115,6 +117,16 @@ struct ToothSegmentReport {
 // and the output's 2. No copy of the grey values is made.
 Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOptions& options,
                                 Interrupter& interrupter = nullInterrupter(), ToothSegmentReport* report = nullptr);
+
+// segmentTooth's labels back to tissues, for importLabels: one entry per grey class, the class's
+// tissue (tooth_cell::kClassTissue) under its tissue table label, so a class added there is mapped
+// here without a second list to keep in step.
+inline LabelMap toothSegmentLabelMap() {
+  LabelMap map;
+  for (size_t c = 1; c < tooth_cell::kClassTissue.size(); ++c)
+    if (const TissueRow* row = findTissue(tooth_cell::kClassTissue[c])) map[row->nifti_label] = row->material;
+  return map;
+}
 
 // ---- 4. rules -------------------------------------------------------------------------------
 // The rules of every step (ROI, thresholds, the tooth and its cut, tissues, partial volume, edges,

@@ -1,0 +1,271 @@
+// The steps from STL layers, a label volume or a scan to a tooth volume in its frame (volume/tooth_builder.h).
+//
+// Contents
+//   1. Shared helpers
+//   2. buildToothFromMeshes
+//   3. buildToothFromLabels
+//   4. buildToothFromScan and buildToothFromGreyImage
+#include "volume/tooth_builder.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <utility>
+
+#include "core/text_escape.h"
+#include "io/grey_volume_file.h"
+#include "io/mesh_units.h"
+#include "io/stl_file.h"
+
+namespace dentsim {
+namespace {
+
+// ---- 1. Shared helpers ------------------------------------------------------------------------
+void warnVia(const ToothBuildHooks& hooks, const std::string& line) {
+  if (hooks.warn) hooks.warn(line);
+}
+
+Interrupter& progressOf(const ToothBuildHooks& hooks) { return hooks.progress ? *hooks.progress : nullInterrupter(); }
+
+// ---- 2. Meshes --------------------------------------------------------------------------------
+struct LoadedLayer {
+  std::string path;
+  Material material = Material::Dentin;
+  TriangleMesh mesh;
+  double volume_mm3 = 0.0;
+};
+
+// Reads one layer and converts it to mm. What is wrong with the mesh is a warning, since the
+// voxelizer copes (a leaky ray borrows from a closed one); only an unreadable file is an error.
+Result<LoadedLayer> loadLayer(const MeshLayerSource& source, double mm_per_unit, const ToothBuildHooks& hooks) {
+  auto stl = readStl(source.path);
+  if (!stl) return stl.error();
+  LoadedLayer layer{source.path, source.material, std::move(stl->mesh), 0.0};
+  layer.mesh.scale(mm_per_unit);
+  const MeshTopology& topo = stl->info.topology;
+  const std::string shown = shownPath(source.path);  // a file name in a warning could drive the terminal
+  if (topo.open_edges > 0)
+    warnVia(hooks, shown + ": " + std::to_string(topo.open_edges) +
+                       " open edges (holes); rays through a hole borrow the layer from the nearest ray that is closed");
+  if (topo.nonmanifold_edges > 0)
+    warnVia(hooks, shown + ": " + std::to_string(topo.nonmanifold_edges) + " non-manifold edges");
+  if (!topo.consistent())
+    warnVia(hooks, shown + ": " + std::to_string(topo.flipped_edges) +
+                       " edges with inconsistent winding; the inside is taken by winding number");
+  else if (topo.signed_volume_mm3 < 0.0)
+    warnVia(hooks, shown + ": the mesh is inside out (negative volume); it is filled all the same");
+  if (std::string w = toothExtentWarning(layer.mesh.bounds(), source.path); !w.empty())
+    warnVia(hooks, escapeControl(w, w.size()));
+  layer.volume_mm3 = std::abs(layer.mesh.signedVolume());
+  return layer;
+}
+
+// True when the bounds lie within the frame's grid box (to a thousandth of a voxel).
+bool gridHolds(const VolumeFrame& f, const Bounds3& bounds) {
+  const double side = double(f.dim()) * f.voxel_mm;
+  const double slack = 1e-3 * f.voxel_mm;
+  for (int a = 0; a < 3; ++a)
+    if (bounds.lo[a] < f.origin_mm[a] - slack || bounds.hi[a] > f.origin_mm[a] + side + slack) return false;
+  return true;
+}
+
+// The reference grid was turned to stand its tooth up: the meshes turn the same way about its
+// centre, so they land where its voxels did. Returns the turned meshes' bounds.
+Bounds3 turnLikeReference(const VolumeFrame& reference, std::vector<LoadedLayer>& loaded) {
+  const double half = 0.5 * double(reference.dim()) * reference.voxel_mm;
+  const Vec3 centre{reference.origin_mm[0] + half, reference.origin_mm[1] + half, reference.origin_mm[2] + half};
+  Bounds3 bounds;
+  for (LoadedLayer& l : loaded) {
+    for (Vec3f& p : l.mesh.positions) {
+      const Vec3 q = turned(reference.tooth.turn, Vec3{p[0], p[1], p[2]} - centre) + centre;
+      p = Vec3f{float(q.x), float(q.y), float(q.z)};
+    }
+    bounds.add(l.mesh.bounds());
+  }
+  return bounds;
+}
+
+}  // namespace
+
+Result<ToothVolume> buildToothFromMeshes(const MeshToothOptions& options, const ToothAxesHint& hint,
+                                         const ToothBuildHooks& hooks, MeshToothReport* report) {
+  MeshToothReport local;
+  MeshToothReport& rep = report ? *report : local;
+  rep = {};
+  std::vector<LoadedLayer> loaded;
+  Bounds3 bounds;
+  for (const MeshLayerSource& source : options.layers) {
+    auto layer = loadLayer(source, options.mm_per_unit, hooks);
+    if (!layer) return layer.error();
+    bounds.add(layer->mesh.bounds());
+    loaded.push_back(std::move(layer).value());
+  }
+  const std::optional<VolumeFrame>& reference = options.reference;
+  if (reference && reference->tooth.turned()) bounds = turnLikeReference(*reference, loaded);
+  std::vector<MeshLayer> layers;
+  for (const LoadedLayer& l : loaded) layers.push_back({l.material, &l.mesh, l.path});
+
+  Result<VolumeFrame> frame = reference                ? Result<VolumeFrame>(*reference)
+                              : options.voxel_mm > 0.0 ? fitGridToVoxelSize(bounds, options.voxel_mm)
+                                                       : fitGridToLevel(bounds, options.level);
+  if (!frame) return frame.error();
+  if (reference && !gridHolds(*reference, bounds))
+    warnVia(hooks, "the meshes reach outside the grid of " + shownPath(options.reference_name) +
+                       "; what lies outside is dropped");
+  auto setup = makeRaySetup(layers, *frame, options.voxelize);
+  if (!setup) return setup.error();
+
+  bool on_engine = false;
+  if (options.engine.open) {
+    Result<bool> opened = options.engine.open();
+    if (!opened) return opened.error();
+    on_engine = *opened;
+  }
+  if (hooks.approve)
+    if (Status planned = hooks.approve(estimateMeshVoxelize(*setup, on_engine)); !planned) return planned.error();
+  const auto t0 = std::chrono::steady_clock::now();
+  Result<BrickVolume> voxels = on_engine ? options.engine.run(*setup, options.voxelize, progressOf(hooks))
+                                         : voxelizeCpu(*setup, options.voxelize, progressOf(hooks));
+  if (!voxels) return voxels.error();
+  rep.voxelize_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  rep.engine_ran = on_engine;
+  for (const LoadedLayer& l : loaded) rep.layers.push_back({l.path, l.material, l.mesh.triangleCount(), l.volume_mm3});
+
+  ToothVolume tooth{*frame, std::move(voxels).value()};
+  if (!reference)
+    if (Status st = standToothUp(tooth, hint); !st) return st.error();
+  return tooth;
+}
+
+// ---- 3. Labels --------------------------------------------------------------------------------
+Result<ToothVolume> buildToothFromLabels(const LabelImage& image, LabelImportOptions import, const ToothAxesHint& hint,
+                                         const ToothBuildHooks& hooks, LabelImportReport* report) {
+  if (hooks.approve) import.approve = hooks.approve;
+  Result<ToothVolume> tooth = importLabels(image, import, progressOf(hooks), report);
+  if (!tooth) return tooth.error();
+  // A pitch in the wrong unit (metres for mm) makes a tooth kilometres or microns wide: say so.
+  const VoxelBox box = tissueVoxelBoxes(tooth->voxels)[0];
+  if (!box.empty()) {
+    int64_t extent = 0;
+    for (int a = 0; a < 3; ++a) extent = std::max(extent, box.hi[a] - box.lo[a] + 1);
+    if (std::string w = labelPitchWarning(double(extent) * tooth->frame.voxel_mm, tooth->frame.voxel_mm, import.where);
+        !w.empty())
+      warnVia(hooks, escapeControl(w, w.size()));
+  }
+  if (Status st = standToothUp(*tooth, hint); !st) return st.error();
+  return tooth;
+}
+
+// ---- 4. Scans ---------------------------------------------------------------------------------
+namespace {
+
+std::string greyValue(double v, GreyUnit unit) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.6g %s", v, greyUnitName(unit));
+  return buf;
+}
+
+// What the segmentation chose: the lines `voxelize` prints and the volume file keeps for `info`.
+std::vector<std::string> segmentationLines(const std::string& source, const GreyImage& scan,
+                                           const ToothSegmentReport& r) {
+  std::vector<std::string> lines;
+  char buf[512];
+  // The scan's path and the scanner's own words are printed and kept in the file's note: escaped.
+  std::string scanner = escapeControl(scan.manufacturer, 64);
+  if (!scan.model.empty()) scanner += (scanner.empty() ? "" : " ") + escapeControl(scan.model, 64);
+  std::snprintf(buf, sizeof buf, "scan: %s, %d x %d x %d voxels of %.4g x %.4g x %.4g mm, %s%s%s", shownPath(source).c_str(),
+                scan.dims[0], scan.dims[1], scan.dims[2], scan.pitch_mm[0], scan.pitch_mm[1], scan.pitch_mm[2],
+                scan.unit == GreyUnit::Hounsfield ? "Hounsfield units" : "raw values", scanner.empty() ? "" : ", from ",
+                scanner.c_str());
+  lines.push_back(buf);
+  std::string t = "thresholds (" + r.thresholds_from + "): dentin from " + greyValue(r.dentin_above, r.unit) +
+                  ", enamel from " + greyValue(r.enamel_above, r.unit);
+  if (r.caries_below) t += ", caries below " + greyValue(*r.caries_below, r.unit);
+  lines.push_back(t);
+  const std::string how = r.seeded ? ", grown from the seed; " + std::to_string(r.neighbour_voxels_cut) +
+                                         " hard voxels of neighbours or bone cut away at the narrowest joins"
+                                   : std::string(", the largest piece of hard tissue");
+  std::snprintf(buf, sizeof buf, "tooth: voxels %lld..%lld, %lld..%lld, %lld..%lld of the scan%s",
+                (long long)r.out_lo[0], (long long)r.out_hi[0], (long long)r.out_lo[1], (long long)r.out_hi[1],
+                (long long)r.out_lo[2], (long long)r.out_hi[2], how.c_str());
+  lines.push_back(buf);
+  std::snprintf(buf, sizeof buf, "clean-up: %llu partial-volume voxels reassigned, %llu islands under %.3g mm^3 (%llu voxels) relabelled",
+                (unsigned long long)r.partial_volume_voxels, (unsigned long long)r.islands_removed,
+                r.min_island_voxels > 0 ? r.min_island_voxels * scan.pitch_mm[0] * scan.pitch_mm[1] * scan.pitch_mm[2] : 0.0,
+                (unsigned long long)r.island_voxels);
+  lines.push_back(buf);
+  return lines;
+}
+
+}  // namespace
+
+Result<ToothVolume> buildToothFromGreyImage(GreyImage image, const std::string& described, const ScanToothOptions& options,
+                                            const ToothAxesHint& hint, const ToothBuildHooks& hooks,
+                                            ScanToothReport* report) {
+  ScanToothReport local;
+  ScanToothReport& rep = report ? *report : local;
+  const std::string source = options.dicom.empty() ? options.ct : options.dicom;
+  if (options.voxel_mm > 0.0) {  // the header's pitch is wrong
+    image.pitch_mm = {options.voxel_mm, options.voxel_mm, options.voxel_mm};
+    image.scanner_from_voxel = scannerWithPitch(image.scanner_from_voxel, image.pitch_mm);
+  }
+  ToothSegmentOptions seg = options.segment;
+  seg.where = source;
+  Result<LabelImage> labels = segmentTooth(image, seg, progressOf(hooks), &rep.segment);
+  if (!labels) return labels.error();
+  const ToothSegmentReport& r = rep.segment;
+  if (r.seeded && 2 * r.tooth_voxels < r.hard_component_voxels) {
+    char buf[400];
+    std::snprintf(buf, sizeof buf,
+                  "the seed's tooth keeps %.1f %% of the hard tissue joined to it; where the tooth stands "
+                  "alone (an extracted tooth, a micro-CT), leave out --seed: the cut at narrow joins can split a "
+                  "tooth's own walls",
+                  100.0 * double(r.tooth_voxels) / double(r.hard_component_voxels));
+    warnVia(hooks, buf);
+  }
+  rep.lines = segmentationLines(described, image, r);
+  image = GreyImage{};  // frees the grey values before the import
+
+  LabelImportOptions import;
+  import.map = toothSegmentLabelMap();
+  import.where = source;
+  import.level = options.level;
+  import.fill_enclosed = options.fill;
+  import.seal_mm = options.seal_mm;
+  if (hooks.approve) import.approve = hooks.approve;
+  Result<ToothVolume> tooth = importLabels(*labels, import, progressOf(hooks));
+  if (!tooth) return tooth.error();
+  labels = Error{};
+  if (Status st = standToothUp(*tooth, hint); !st) return st.error();
+  char pulp[128];
+  std::snprintf(pulp, sizeof pulp, "pulp: the space the dentin encloses, sealed %.3g mm at open apices; level %d",
+                options.seal_mm, tooth->frame.level);
+  rep.lines.push_back(pulp);
+  for (size_t i = 0; i < rep.lines.size(); ++i) tooth->source_note += (i ? "\n" : "") + rep.lines[i];
+  return tooth;
+}
+
+Result<ToothVolume> buildToothFromScan(const ScanToothOptions& options, const ToothAxesHint& hint,
+                                       const ToothBuildHooks& hooks, ScanToothReport* report) {
+  ScanToothReport local;
+  ScanToothReport& rep = report ? *report : local;
+  rep = {};
+  Result<GreyImage> scan = Error{};
+  DicomSeriesInfo dicom_info;
+  if (!options.dicom.empty()) {
+    DicomReadOptions read;
+    read.series_uid = options.series;
+    read.approve = options.approve_read;
+    scan = readDicomSeries(options.dicom, read, progressOf(hooks), &dicom_info);
+  } else {
+    scan = readGreyVolume(options.ct, greyBudgetBytes(), options.approve_read);
+  }
+  if (!scan) return scan.error();
+  rep.dicom_files = dicom_info.files;
+  const std::string described =
+      options.dicom.empty() ? options.ct : options.dicom + " (" + std::to_string(dicom_info.files) + " DICOM files)";
+  return buildToothFromGreyImage(std::move(scan).value(), described, options, hint, hooks, &rep);
+}
+
+}  // namespace dentsim

@@ -1,0 +1,129 @@
+// One builder per tooth source (STL layers, a label volume, a scan) into a tooth volume standing in its frame: voxelize without its flags.
+//
+// Contents
+//   1. ToothBuildHooks: progress, warnings and the plan, from the caller
+//   2. buildToothFromMeshes: STL layers, voxelized by the CPU reference or an engine the caller gives
+//   3. buildToothFromLabels: a label volume imported
+//   4. buildToothFromScan: a grey-value volume segmented into tissues, then imported
+//
+// Every builder ends with standToothUp (volume/tooth_frame.h): the crown axis from the hint or the
+// enamel, the grid turned unless hint.turn is false. The caller saves and prints. The GPU voxelizer
+// sits in a later stage than this one, so it comes in as a MeshVoxelizeEngine.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/interrupter.h"
+#include "core/result.h"
+#include "io/dicom_series.h"
+#include "io/grey_image.h"
+#include "io/nifti_labels.h"
+#include "volume/brick_volume.h"
+#include "volume/ct_segment.h"
+#include "volume/label_import.h"
+#include "volume/mesh_voxelizer.h"
+#include "volume/tooth_frame.h"
+#include "volume/voxelize_plan.h"
+
+namespace dentsim {
+
+// ---- 1. ToothBuildHooks -----------------------------------------------------------------------
+struct ToothBuildHooks {
+  Interrupter* progress = nullptr;                      // nullptr: nullInterrupter()
+  std::function<void(const std::string&)> warn;         // each warning as it arises, one line; empty: dropped
+  std::function<Status(const VoxelizeCost&)> approve;   // the plan, once a job's cost is known; an error ends the build
+};
+
+// ---- 2. buildToothFromMeshes ------------------------------------------------------------------
+struct MeshLayerSource {
+  std::string path;                     // STL file
+  Material material = Material::Dentin;  // the tissue inside it
+};
+
+// A voxelizer other than the CPU reference (the GPU's, from app), for the same RaySetup and the same
+// result. `open` runs once the rays are set up and before the plan, whose estimate depends on it.
+struct MeshVoxelizeEngine {
+  std::function<Result<bool>()> open;  // true: `run` voxelizes; false: the CPU reference does; an error ends the build
+  std::function<Result<BrickVolume>(const RaySetup&, const VoxelizeOptions&, Interrupter&)> run;
+};
+
+struct MeshToothOptions {
+  std::vector<MeshLayerSource> layers;   // loaded and listed in this order
+  double mm_per_unit = 1.0;              // STL coordinate unit to mm (the unit times any extra scale)
+  // The grid and tooth frame of an existing volume (`--frame-of`), so that the two compare voxel for
+  // voxel; the meshes turn as its tooth was turned, and the frame is kept, not found again.
+  std::optional<VolumeFrame> reference;
+  std::string reference_name;            // names the reference where the meshes reach outside its grid
+  double voxel_mm = 0.0;                 // without a reference: the output voxel edge [mm]; 0: fit to `level`
+  int level = 9;                         // without a reference and voxel_mm: fit into a 2^level grid
+  VoxelizeOptions voxelize;
+  MeshVoxelizeEngine engine;             // empty `open`: the CPU reference
+};
+
+struct MeshToothReport {
+  struct Layer {
+    std::string path;
+    Material material = Material::Dentin;
+    size_t triangles = 0;
+    double volume_mm3 = 0.0;  // |signed volume| of the mesh, after the unit [mm^3]
+  };
+  std::vector<Layer> layers;  // in MeshToothOptions::layers' order
+  bool engine_ran = false;    // the caller's engine voxelized (else the CPU reference)
+  double voxelize_ms = 0.0;   // wall time of the voxelization alone [ms]
+};
+
+// Reads each layer (warning on holes, non-manifold or flipped edges, an inside-out mesh and an
+// implausible extent, naming the file), scales it to mm, fits the grid (or takes the reference's),
+// sets up the rays, asks the engine and the plan, voxelizes, and stands the tooth up (not with a
+// reference, whose frame is kept). Errors: the first file that cannot be read, a grid that does not
+// fit, the engine's or the plan's error, a cancel, and standToothUp's.
+Result<ToothVolume> buildToothFromMeshes(const MeshToothOptions& options, const ToothAxesHint& hint,
+                                         const ToothBuildHooks& hooks, MeshToothReport* report = nullptr);
+
+// ---- 3. buildToothFromLabels ------------------------------------------------------------------
+// Imports `image` with `import` (its `approve` is hooks.approve when the hooks have one), warns when
+// the tissue's extent at the pitch is no tooth's (a header's pitch in the wrong unit), and stands
+// the tooth up. Errors: importLabels' and standToothUp's.
+Result<ToothVolume> buildToothFromLabels(const LabelImage& image, LabelImportOptions import, const ToothAxesHint& hint,
+                                         const ToothBuildHooks& hooks, LabelImportReport* report = nullptr);
+
+// ---- 4. buildToothFromScan --------------------------------------------------------------------
+struct ScanToothOptions {
+  std::string dicom;                 // a DICOM series' folder, or one multi-frame file; empty: `ct`
+  std::string series;                // with dicom: the Series Instance UID to read
+  std::string ct;                    // a NIfTI or NRRD grey-value volume
+  double voxel_mm = 0.0;             // the scan's true voxel edge, when its header is wrong [mm]; 0: the header's
+  ScanReadApproval approve_read;     // asked once the header gives the size (the DICOM reader asks in its child too)
+  ToothSegmentOptions segment;       // `where` is set to the source
+  int level = 9;                     // the tooth is fitted into a 2^level grid
+  Material fill = Material::Pulp;    // the space the dentin encloses
+  double seal_mm = 0.2;              // closing radius for that fill [mm]
+};
+
+struct ScanToothReport {
+  ToothSegmentReport segment;
+  int32_t dicom_files = 0;           // files of the DICOM series read; 0 for --ct
+  // What the segmentation chose, as `voxelize` prints it and the tooth's source_note keeps it: the
+  // scan, the thresholds, the tooth's box, the clean-up, and last the pulp line.
+  std::vector<std::string> lines;
+};
+
+// Reads the scan, applies voxel_mm, segments the tooth (warning when a seed keeps less than half of
+// the hard tissue joined to it), imports the labels with the pulp filled, stands the tooth up and
+// records `lines` in source_note. The grey values are freed before the import. Errors: the reader's,
+// segmentTooth's, importLabels' and standToothUp's.
+Result<ToothVolume> buildToothFromScan(const ScanToothOptions& options, const ToothAxesHint& hint,
+                                       const ToothBuildHooks& hooks, ScanToothReport* report = nullptr);
+
+// The scan path after reading, for a GreyImage already in memory: `described` names it in the
+// first line. The image is consumed (freed before the import).
+Result<ToothVolume> buildToothFromGreyImage(GreyImage image, const std::string& described, const ScanToothOptions& options,
+                                            const ToothAxesHint& hint, const ToothBuildHooks& hooks,
+                                            ScanToothReport* report = nullptr);
+
+}  // namespace dentsim

@@ -1,0 +1,187 @@
+// Tests of src/volume/tooth_builder.cpp: tiny labels, grey values and a box mesh into a tooth volume standing in its frame, counted by hand.
+#include "volume/tooth_builder.h"
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "io/stl_file.h"
+#include "test_meshes.h"
+#include "test_support.h"
+
+namespace dentsim {
+namespace {
+
+// A 4 x 4 x 4 label image of 1 mm voxels: dentin (2) in the 2 x 2 x 2 block i, j = 1..2 at
+// k = `dentin_k`..+1, enamel (1) in the 2 x 2 layer i, j = 1..2 at k = `enamel_k`.
+LabelImage smallTooth(int dentin_k, int enamel_k) {
+  LabelImage im;
+  im.dims = {4, 4, 4};
+  im.pitch_mm = {1.0, 1.0, 1.0};
+  im.scanner_from_voxel = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0};
+  im.labels.assign(64, 0);
+  for (int j = 1; j <= 2; ++j)
+    for (int i = 1; i <= 2; ++i) {
+      im.labels[im.index(i, j, dentin_k)] = 2;
+      im.labels[im.index(i, j, dentin_k + 1)] = 2;
+      im.labels[im.index(i, j, enamel_k)] = 1;
+    }
+  return im;
+}
+
+LabelImportOptions enamelDentinMap() {
+  LabelImportOptions import;
+  import.map = parseLabelMap("1=enamel,2=dentin").value();
+  import.where = "small.nii";
+  return import;
+}
+
+ToothAxesHint crownAlong(double z) {
+  ToothAxesHint hint;
+  hint.crown = Vec3{0, 0, z};
+  return hint;
+}
+
+TEST(ToothBuilder, ALabelVolumeBecomesAToothWithItsVoxelsCounted) {
+  // No level or voxel size: source voxel (i,j,k) is grid voxel (i,j,k), each full. The grid is the
+  // smallest 2^L >= 4 with L >= 3: 8. Dentin 2 x 2 x 2 = 8 voxels, enamel 2 x 2 = 4 on top.
+  Result<ToothVolume> tooth = buildToothFromLabels(smallTooth(0, 2), enamelDentinMap(), crownAlong(1), {});
+  ASSERT_TRUE(tooth) << tooth.message();
+  EXPECT_EQ(tooth->frame.level, 3);
+  const MaterialTotals totals = tooth->voxels.materialTotals();
+  EXPECT_EQ(totals.voxels[DS_MAT_DENTIN], 8u);
+  EXPECT_EQ(totals.voxels[DS_MAT_ENAMEL], 4u);
+  EXPECT_EQ(totals.voxels[DS_MAT_PULP], 0u);
+  EXPECT_EQ(tooth->frame.tooth.crown_source, AxisSource::Given);
+  EXPECT_FALSE(tooth->frame.tooth.turned());  // the crown already points along +z
+}
+
+TEST(ToothBuilder, ACrownThatPointsDownIsStoodUpWithItsVoxels) {
+  // Enamel at k = 0 under dentin at k = 1..2, crown given as -z: a half turn brings the enamel on
+  // top. A quarter turn moves whole voxels, so the counts stay 8 and 4.
+  Result<ToothVolume> tooth = buildToothFromLabels(smallTooth(1, 0), enamelDentinMap(), crownAlong(-1), {});
+  ASSERT_TRUE(tooth) << tooth.message();
+  EXPECT_TRUE(tooth->frame.tooth.turned());
+  EXPECT_NEAR(tooth->frame.tooth.crown[2], 1.0, 1e-9);
+  const MaterialTotals totals = tooth->voxels.materialTotals();
+  EXPECT_EQ(totals.voxels[DS_MAT_DENTIN], 8u);
+  EXPECT_EQ(totals.voxels[DS_MAT_ENAMEL], 4u);
+  const auto boxes = tissueVoxelBoxes(tooth->voxels);
+  EXPECT_GT(boxes[DS_MAT_ENAMEL].lo[2], boxes[DS_MAT_DENTIN].hi[2]);
+}
+
+TEST(ToothBuilder, KeepOrientationRecordsTheAxisButLeavesTheGrid) {
+  ToothAxesHint hint = crownAlong(-1);
+  hint.turn = false;
+  Result<ToothVolume> tooth = buildToothFromLabels(smallTooth(1, 0), enamelDentinMap(), hint, {});
+  ASSERT_TRUE(tooth) << tooth.message();
+  EXPECT_FALSE(tooth->frame.tooth.turned());
+  const auto boxes = tissueVoxelBoxes(tooth->voxels);
+  EXPECT_EQ(boxes[DS_MAT_ENAMEL].lo[2], 0);  // still under the dentin
+}
+
+TEST(ToothBuilder, AnUnmappedLabelIsTheImportsError) {
+  LabelImportOptions import = enamelDentinMap();
+  import.map.erase(1);
+  Result<ToothVolume> tooth = buildToothFromLabels(smallTooth(0, 2), import, crownAlong(1), {});
+  ASSERT_FALSE(tooth);
+  EXPECT_EQ(tooth.message().rfind("small.nii: ", 0), 0u) << tooth.message();
+}
+
+TEST(ToothBuilder, TheSegmentationLabelMapFollowsTheGreyClasses) {
+  // segmentTooth's classes are caries, dentin and enamel, under the tissue table's labels.
+  EXPECT_EQ(toothSegmentLabelMap(), parseLabelMap("1=enamel,2=dentin,4=caries").value());
+}
+
+// A 12^3 grey image of 0.5 mm voxels: a 4^3 block of dentin (1500) at i, j, k = 4..7, its top layer
+// (k = 7) enamel (2500); air 0 elsewhere.
+GreyImage smallScan() {
+  GreyImage im;
+  im.dims = {12, 12, 12};
+  im.pitch_mm = {0.5, 0.5, 0.5};
+  im.scanner_from_voxel = {0.5, 0, 0, 0, 0, 0.5, 0, 0, 0, 0, 0.5, 0};
+  im.values.assign(12 * 12 * 12, 0.0f);
+  for (int k = 4; k <= 7; ++k)
+    for (int j = 4; j <= 7; ++j)
+      for (int i = 4; i <= 7; ++i) im.values[size_t(i + 12 * (j + 12 * k))] = k == 7 ? 2500.0f : 1500.0f;
+  return im;
+}
+
+TEST(ToothBuilder, AScanIsSegmentedImportedAndDescribed) {
+  ScanToothOptions so;
+  so.ct = "small.nrrd";
+  so.segment.dentin_above = 1000;
+  so.segment.enamel_above = 2000;
+  so.segment.partial_volume_voxels = 0;  // plain thresholds: the counts below are the block's
+  so.segment.min_island_mm3 = 0;
+  // Level 3: the 2 mm tissue box in 8 - 4 voxels makes the voxel 0.5 mm, the scan's pitch, so each
+  // grid voxel samples exactly one scan voxel. Enamel 4 x 4 = 16, dentin 4 x 4 x 3 = 48; the block
+  // is solid, so no pulp is enclosed.
+  so.level = 3;
+  ScanToothReport report;
+  Result<ToothVolume> tooth = buildToothFromGreyImage(smallScan(), "small.nrrd", so, {}, {}, &report);
+  ASSERT_TRUE(tooth) << tooth.message();
+  const MaterialTotals totals = tooth->voxels.materialTotals();
+  EXPECT_EQ(totals.voxels[DS_MAT_ENAMEL], 16u);
+  EXPECT_EQ(totals.voxels[DS_MAT_DENTIN], 48u);
+  EXPECT_EQ(totals.voxels[DS_MAT_PULP], 0u);
+  EXPECT_DOUBLE_EQ(tooth->frame.voxel_mm, 0.5);
+  // The crown is found from the enamel on top: +z, no turn.
+  EXPECT_EQ(tooth->frame.tooth.crown_source, AxisSource::Found);
+  EXPECT_FALSE(tooth->frame.tooth.turned());
+  // scan, thresholds, tooth, clean-up, pulp: printed by voxelize and kept as the file's note.
+  ASSERT_EQ(report.lines.size(), 5u);
+  EXPECT_EQ(report.lines[0].rfind("scan: small.nrrd, 12 x 12 x 12 voxels", 0), 0u) << report.lines[0];
+  EXPECT_EQ(report.lines[4].rfind("pulp: ", 0), 0u) << report.lines[4];
+  EXPECT_EQ(tooth->source_note.find(report.lines[1]), tooth->source_note.find('\n') + 1);
+}
+
+TEST(ToothBuilder, ABoxMeshIsVoxelizedOnTheCpuAndTheEngineIsAsked) {
+  // A 4 mm dentin cube at 1 mm voxels: 4 + 2 x 2 margin voxels fit level 3 with the voxel exactly
+  // 1 mm, and the cube, centred, lies on voxel faces: 4^3 = 64 full voxels.
+  test::TempDir dir;
+  const std::string path = dir.file("cube.stl");
+  ASSERT_TRUE(writeStl(path, test::box({0, 0, 0}, {4, 4, 4}), "cube"));
+  MeshToothOptions mo;
+  mo.layers = {{path, Material::Dentin}};
+  mo.voxel_mm = 1.0;
+  int opened = 0;
+  mo.engine.open = [&opened]() -> Result<bool> {
+    ++opened;
+    return false;  // no device: the CPU reference runs
+  };
+  std::vector<VoxelizeCost> plans;
+  ToothBuildHooks hooks;
+  hooks.approve = [&plans](const VoxelizeCost& cost) -> Status {
+    plans.push_back(cost);
+    return Ok{};
+  };
+  MeshToothReport report;
+  Result<ToothVolume> tooth = buildToothFromMeshes(mo, crownAlong(1), hooks, &report);
+  ASSERT_TRUE(tooth) << tooth.message();
+  EXPECT_EQ(opened, 1);
+  EXPECT_EQ(plans.size(), 1u);
+  EXPECT_FALSE(report.engine_ran);
+  EXPECT_EQ(tooth->frame.level, 3);
+  EXPECT_EQ(tooth->voxels.materialTotals().voxels[DS_MAT_DENTIN], 64u);
+  ASSERT_EQ(report.layers.size(), 1u);
+  EXPECT_EQ(report.layers[0].triangles, 12u);
+  EXPECT_NEAR(report.layers[0].volume_mm3, 64.0, 1e-6);
+}
+
+TEST(ToothBuilder, APlanThatRefusesEndsTheBuildWithItsMessage) {
+  test::TempDir dir;
+  const std::string path = dir.file("cube.stl");
+  ASSERT_TRUE(writeStl(path, test::box({0, 0, 0}, {4, 4, 4}), "cube"));
+  MeshToothOptions mo;
+  mo.layers = {{path, Material::Dentin}};
+  ToothBuildHooks hooks;
+  hooks.approve = [](const VoxelizeCost&) -> Status { return Error{"voxelize: beyond the memory budget"}; };
+  Result<ToothVolume> tooth = buildToothFromMeshes(mo, crownAlong(1), hooks);
+  ASSERT_FALSE(tooth);
+  EXPECT_EQ(tooth.message(), "voxelize: beyond the memory budget");
+}
+
+}  // namespace
+}  // namespace dentsim
