@@ -1,40 +1,42 @@
 // `dentsim task new|check|set-ideal`: a teacher's exercise on any tooth, written, checked and given its professional's ideal without editing JSON by hand.
 //
-//   1. defaults     each kind's and class's bur, path and title; what set-ideal reports
-//   2. task new     the defaults, the tooth's own axis, the keys left to the professional
-//   3. task check   every problem of a task file, each on its own line
+//   1. options      `task new`'s flags, the table's lists for help and errors, files copied beside the task,
+//                   what set-ideal reports
+//   2. task new     the kind's defaults (eval/task_kinds.h), the tooth's own axis, the keys left to the professional
+//   3. task check   every problem of a task file (eval/task_checks.h), each on its own line
 //   4. set-ideal    the professional's session as the ideal, and what it set from it
 //   5. the command line
-#include <algorithm>
 #include <array>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
 #include <memory>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "app/cli_checks.h"
 #include "app/commands.h"
 #include "eval/beside_file.h"
 #include "eval/cut_score.h"
 #include "eval/task_axis.h"
+#include "eval/task_checks.h"
 #include "eval/task_ideal.h"
+#include "eval/task_kinds.h"
 #include "eval/task_tooth.h"
-#include "io/atomic_file.h"
+#include "eval/task_writer.h"
 #include "model/tool_generator.h"
 #include "sim/builtin_tooth.h"
+#include "volume/tissue_table.h"
 #include "volume/tooth_file.h"
 #include "volume/tooth_frame.h"
-#include "volume/volume_hash.h"
 
 namespace dentsim::app {
 namespace {
 
 namespace fs = std::filesystem;
 
-// ---- 1. defaults ------------------------------------------------------------------------------------------
+// ---- 1. options -------------------------------------------------------------------------------------------
 
 struct TaskNewOptions {
   std::string tooth;              // a .dvol, or builtin:molar
@@ -54,51 +56,50 @@ struct TaskNewOptions {
   bool force = false;             // replace an existing task file
 };
 
-struct KindDefaults {
-  TaskKind kind;
-  const char* bur;
-  double target_s, failure_s;
-  const char* builtin_ideal;      // the built-in path a new task starts with; null: none
-  const char* title;
-  const char* instructions;
-};
-
-const KindDefaults* defaultsFor(const std::string& kind) {
-  static const KindDefaults caries{TaskKind::Caries, "round_bur_010", 300, 900, nullptr, "Remove the caries",
-                                   "Open the lesion from the occlusal surface and remove all the carious tissue, "
-                                   "keeping the healthy enamel and dentin around it and the pulp closed."};
-  static const KindDefaults cavity{TaskKind::Cavity, "fissure_bur_010", 600, 0, "class1_cavity", "Prepare the cavity",
-                                   "Prepare the cavity as the professional did: the same outline, depth and walls "
-                                   "parallel to the insertion axis, without touching the pulp."};
-  static const KindDefaults access{TaskKind::Access, "round_bur_014", 600, 0, "access_cavity", "Open the pulp chamber",
-                                   "Prepare the endodontic access: go through the occlusal surface into the pulp "
-                                   "chamber and remove its roof, keeping the walls of the crown."};
-  if (kind == "caries") return &caries;
-  if (kind == "cavity") return &cavity;
-  if (kind == "access") return &access;
-  return nullptr;
+// The kinds that end at a failure time, for --failure-s: "a caries task".
+std::string kindsWithFailureTime() {
+  std::string out;
+  for (const TaskKindRow& row : kTaskKindTable)
+    if (hasFailureTime(row)) out += (out.empty() ? "" : " or ") + kindWithArticle(row);
+  return out;
 }
 
-// A cavity's class, where it says more than the kind: the built-in path that starts as its ideal
-// (eval/task_axis.h's builtinPathClass is the same table read backward), its bur and its title.
-struct ClassDefaults {
-  int black;                      // Black's class, 1 to 6
-  const char* builtin_ideal;
-  const char* bur;
-  const char* title;
-};
+// The Black classes that have a built-in path, joined like taskKindNameList: "I, II or V".
+std::string cavityClassList(const char* separator, const char* last_separator) {
+  std::string out;
+  for (size_t i = 0; i < std::size(kCavityClassTable); ++i) {
+    if (i > 0) out += i + 1 == std::size(kCavityClassTable) ? last_separator : separator;
+    out += cavityClassName(kCavityClassTable[i].black);
+  }
+  return out;
+}
 
-constexpr std::array<ClassDefaults, 3> kClassDefaults{{
-    {1, "class1_cavity", "fissure_bur_010", "Prepare a class I cavity"},
-    {2, "class2_cavity", "fissure_bur_010", "Prepare a class II cavity"},
-    // A round bur cuts the rounded axial wall that follows the cervical curve (docs/SCORING.md, section 10).
-    {5, "class5_cavity", "round_bur_010", "Prepare a class V cavity"},
-}};
+// Each kind's default, in table order, for --help: "300, 600, 600".
+template <typename Column>
+std::string defaultsByKind(Column column) {
+  std::string out;
+  for (const TaskKindRow& row : kTaskKindTable) out += (out.empty() ? "" : ", ") + column(row);
+  return out;
+}
 
-const ClassDefaults* classDefaultsFor(int black) {
-  for (const ClassDefaults& c : kClassDefaults)
-    if (c.black == black) return &c;
-  return nullptr;
+// A default for --help: 300, not 300.000000.
+std::string numberText(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
+// --failure-s's help: the kinds that end at a failure time, each with its default ("Caries: ... (default 900)").
+std::string failureTimeHelp() {
+  std::string kinds, defaults;
+  for (const TaskKindRow& row : kTaskKindTable) {
+    if (!hasFailureTime(row)) continue;
+    std::string name = row.name;
+    name[0] = char(std::toupper(static_cast<unsigned char>(name[0])));
+    kinds += (kinds.empty() ? "" : ", ") + name;
+    defaults += (defaults.empty() ? "" : ", ") + numberText(row.default_failure_s);
+  }
+  return kinds + ": the time that earns no time points [s] (default " + defaults + ")";
 }
 
 std::string vecText(const Vec3& v) {
@@ -147,7 +148,7 @@ void printWhatTheIdealSet(const std::string& task_path, const IdealRecord& r) {
   char rule[160];
   std::snprintf(rule, sizeof rule, "%.2f x the professional's %.1f s", kTargetFactor, p.elapsed_s);
   char rest[200];
-  if (t.kind == TaskKind::Caries)
+  if (hasFailureTime(taskKindRow(t.kind)))
     std::snprintf(rest, sizeof rest, "failure_s %.1f s (%.2f x)", timed.failure_s, kFailureFactor);
   else
     std::snprintf(rest, sizeof rest,
@@ -164,28 +165,29 @@ void printWhatTheIdealSet(const std::string& task_path, const IdealRecord& r) {
 // ---- 2. task new ------------------------------------------------------------------------------------------
 
 int runTaskNew(const TaskNewOptions& o) {
-  const KindDefaults* kind = defaultsFor(o.kind);
-  if (!kind) return fail("--kind: \"" + o.kind + "\" is not one of caries, cavity, access");
+  const TaskKindRow* kind = findTaskKind(o.kind);
+  if (!kind) return fail("--kind: \"" + o.kind + "\" is not one of " + taskKindNameList(", ", ", "));
   if (Status st = checkOutputsAreNotInputs({o.tooth, o.ideal_volume, o.ideal_session, o.ideal_final}, {o.output}); !st)
     return fail(st.message());
   if (!o.bur.empty())
     if (Status st = checkCatalogTool("--bur", o.bur, ToolUse::Bur); !st) return fail(st.message());
   if (o.mirror != "none")
     if (Status st = checkCatalogTool("--mirror", o.mirror, ToolUse::Mirror); !st) return fail(st.message());
-  if (o.failure_s > 0 && o.kind != "caries") return fail("--failure-s applies to a caries task, not to " + o.kind);
+  const bool timed_out = hasFailureTime(*kind);
+  if (o.failure_s > 0 && !timed_out) return fail("--failure-s applies to " + kindsWithFailureTime() + ", not to " + o.kind);
   // The class: given, or the one the built-in ideal path cuts; a path of another class is a mistake.
   int black = 0;
   if (!o.cavity_class.empty()) {
-    if (o.kind != "cavity") return fail("--class applies to a cavity task, not to " + o.kind);
+    if (kind->kind != TaskKind::Cavity) return fail("--class applies to a cavity task, not to " + o.kind);
     black = cavityClassFromName(o.cavity_class);
-    if (!classDefaultsFor(black)) return fail("--class: \"" + o.cavity_class + "\" is not one of I, II, V");
+    if (!findCavityClass(black)) return fail("--class: \"" + o.cavity_class + "\" is not one of " + cavityClassList(", ", ", "));
     if (const int path_class = builtinPathClass(o.ideal_path); path_class != 0 && path_class != black)
       return fail("--class " + o.cavity_class + " does not go with --ideal-path " + o.ideal_path + ", a class " +
                   cavityClassName(path_class) + " path");
-  } else if (o.kind == "cavity") {
+  } else if (kind->kind == TaskKind::Cavity) {
     black = builtinPathClass(o.ideal_path);
   }
-  const ClassDefaults* klass = classDefaultsFor(black);
+  const CavityClassRow* klass = findCavityClass(black);
   if (fs::exists(o.output) && !o.force) return fail(o.output + ": exists; give --force to replace it");
   const int ideals = !o.ideal_path.empty() + !o.ideal_volume.empty() + !o.ideal_session.empty();
   if (ideals > 1) return fail("give at most one of --ideal-path, --ideal-volume and --ideal-session");
@@ -196,52 +198,45 @@ int runTaskNew(const TaskNewOptions& o) {
   // The tooth decides the defaults: its crown axis is the insertion axis, its tissues what the kind needs.
   auto tooth = builtin ? builtinMolarTooth(o.level > 0 ? o.level : 9) : loadTooth(o.tooth);
   if (!tooth) return fail(tooth.message());
-  const MaterialTotals totals = tooth->voxels.materialTotals();
-  if (o.kind == "caries" && totals.voxels[size_t(Material::Caries)] == 0)
-    return fail(o.tooth + ": no caries in this tooth, so a caries task has nothing to remove (voxelize it with --caries "
-                          "or a caries label)");
-  if (o.kind == "access" && totals.voxels[size_t(Material::Pulp)] == 0)
-    return fail(o.tooth + ": no pulp in this tooth, so an access cavity has no chamber to open (voxelize it with "
-                          "--pulp or --fill-enclosed pulp)");
+  if (lacksRequiredTissue(*kind, tooth->voxels.materialTotals()))
+    return fail(o.tooth + ": no " + findTissue(kind->required_tissue)->name + " in this tooth, so " +
+                kindWithArticle(*kind) + " " + kind->without_tissue + " (" + kind->tissue_hint + ")");
   const ToothAxes& axes = tooth->frame.tooth;
   if (axes.crown_source == AxisSource::Assumed)
     warn(o.tooth + " has no tooth frame: the crown is taken as +z (voxelize it again to find it)");
 
-  nlohmann::ordered_json j;
-  j["format"] = "dentsim-task";
-  j["version"] = 2;
-  j["name"] = o.name.empty() ? fs::path(o.output).stem().string() : o.name;
-  j["kind"] = o.kind;
-  if (black != 0) j["cavity_class"] = cavityClassName(black);
+  Task t;
+  t.name = o.name.empty() ? fs::path(o.output).stem().string() : o.name;
+  t.kind = kind->kind;
+  t.cavity_class = black;
   const std::string tooth_name = builtin ? "the built-in molar" : fs::path(o.tooth).stem().string();
-  j["title"] = o.title.empty() ? std::string(klass ? klass->title : kind->title) + " (" + tooth_name + ")" : o.title;
-  j["instructions"] = o.instructions.empty() ? kind->instructions : o.instructions;
+  t.title = o.title.empty() ? std::string(klass ? klass->title : kind->title) + " (" + tooth_name + ")" : o.title;
+  t.instructions = o.instructions.empty() ? kind->instructions : o.instructions;
   // A task names files only in its own folder or below it (eval/beside_file.h): a tooth or ideal
   // from elsewhere is copied there, so the course folder holds all it names.
   if (builtin) {
-    j["tooth"] = o.tooth;
+    t.tooth = o.tooth;
+    t.level = o.level > 0 ? o.level : 9;
   } else {
     auto named = nameBesideOrFail("--tooth", o.tooth, o.output);
     if (!named) return fail(named.message());
-    j["tooth"] = *named;
+    t.tooth = *named;
   }
-  if (builtin) j["level"] = o.level > 0 ? o.level : 9;
-  j["tools"] = {{"drill", !o.bur.empty() ? o.bur : klass ? klass->bur : kind->bur}};
-  if (o.mirror != "none") j["tools"]["mirror"] = o.mirror;
-  j["target_s"] = o.target_s > 0 ? o.target_s : kind->target_s;
-  if (o.kind == "caries") j["failure_s"] = o.failure_s > 0 ? o.failure_s : kind->failure_s;
-  j["force_error_n"] = o.force_error_n;
-  if (o.pass_mark >= 0) j["pass_mark"] = o.pass_mark;
+  t.drill_tool = !o.bur.empty() ? o.bur : klass ? klass->bur : kind->default_bur;
+  if (o.mirror != "none") t.mirror_tool = o.mirror;
+  t.target_s = o.target_s > 0 ? o.target_s : kind->default_target_s;
+  if (timed_out) t.failure_s = o.failure_s > 0 ? o.failure_s : kind->default_failure_s;
+  t.force_error_n = o.force_error_n;
+  if (o.pass_mark >= 0) t.pass_mark = o.pass_mark;
   // The tooth's own axis, not the grid's: the crown axis (a class V's buccal axis), as far as the
   // tooth's frame knows it.
   std::string axis_from;
   if (!o.insertion_axis.empty()) {
     if (o.insertion_axis.size() != 3) return fail("--insertion-axis: expected three numbers x,y,z");
-    j["insertion_axis"] = o.insertion_axis;
+    t.insertion_axis = Vec3{o.insertion_axis[0], o.insertion_axis[1], o.insertion_axis[2]};
     axis_from = "as given";
   } else {
-    const Vec3 a = axisForTaskFile(defaultInsertionAxis(kind->kind, black, axes));
-    j["insertion_axis"] = {a.x, a.y, a.z};
+    t.insertion_axis = axisForTaskFile(defaultInsertionAxis(kind->kind, black, axes));
     const bool buccal = black == 5;
     const AxisSource source = buccal ? axes.buccal_source : axes.crown_source;
     axis_from = std::string("the tooth's ") + (buccal ? "buccal axis (a class V is cut from buccal)" : "crown axis") +
@@ -251,27 +246,24 @@ int runTaskNew(const TaskNewOptions& o) {
                   "--buccal-axis, or --insertion-axis here\n",
                   o.tooth.c_str());
   }
-  j["leeway_mm"] = o.leeway_mm;
-  if (!o.ideal_path.empty()) j["ideal"] = {{"kind", "builtin_path"}, {"path", o.ideal_path}};
-  else if (!o.ideal_volume.empty()) {
+  t.leeway_mm = o.leeway_mm;
+  const char* builtin_ideal = klass ? klass->builtin_ideal : kind->builtin_ideal;
+  if (!o.ideal_path.empty()) {
+    t.ideal = idealBuiltinPath(o.ideal_path);
+  } else if (!o.ideal_volume.empty()) {
     auto named = nameBesideOrFail("--ideal-volume", o.ideal_volume, o.output);
     if (!named) return fail(named.message());
-    j["ideal"] = {{"kind", "volume"}, {"path", *named}};
+    t.ideal = idealVolumeFile(*named);
+  } else if (builtin_ideal) {
+    t.ideal = idealBuiltinPath(builtin_ideal);
   }
-  else if (klass) j["ideal"] = {{"kind", "builtin_path"}, {"path", klass->builtin_ideal}};
-  else if (kind->builtin_ideal) j["ideal"] = {{"kind", "builtin_path"}, {"path", kind->builtin_ideal}};
   // What the teacher left to the defaults, the professional's session sets (set-ideal).
-  nlohmann::ordered_json from_ideal = nlohmann::ordered_json::array();
-  if (o.insertion_axis.empty()) from_ideal.push_back("insertion_axis");
-  if (o.target_s <= 0 && o.failure_s <= 0) from_ideal.push_back("target_s");
-  if (!from_ideal.empty()) j["from_ideal"] = from_ideal;
-  if (!o.view.empty()) j["view"] = {{"camera", o.view}, {"elevation_deg", o.view_elevation_deg}, {"fixed", o.fixed_view}};
-  const std::string text = j.dump(2) + "\n";
-  if (auto check = parseTask(text, o.output); !check) return fail(check.message());
-  if (Status st = writeFileAtomic(o.output, text); !st) return fail(st.message());
-  std::printf("wrote %s: %s task \"%s\" on %s, insertion axis (%.4f, %.4f, %.4f): %s\n", o.output.c_str(),
-              o.kind.c_str(), j["title"].get<std::string>().c_str(), o.tooth.c_str(), j["insertion_axis"][0].get<double>(),
-              j["insertion_axis"][1].get<double>(), j["insertion_axis"][2].get<double>(), axis_from.c_str());
+  t.from_ideal.insertion_axis = o.insertion_axis.empty();
+  t.from_ideal.target_s = o.target_s <= 0 && o.failure_s <= 0;
+  if (!o.view.empty()) t.view = TaskView{o.view, o.view_elevation_deg, o.fixed_view};
+  if (auto written = writeTaskFile(o.output, newTaskJson(t)); !written) return fail(written.message());
+  std::printf("wrote %s: %s task \"%s\" on %s, insertion axis (%.4f, %.4f, %.4f): %s\n", o.output.c_str(), o.kind.c_str(),
+              t.title.c_str(), o.tooth.c_str(), t.insertion_axis.x, t.insertion_axis.y, t.insertion_axis.z, axis_from.c_str());
   if (!o.ideal_session.empty()) {
     auto record = setTaskIdeal(o.output, o.ideal_session, o.ideal_final);
     if (!record) return fail(record.message());
@@ -279,13 +271,14 @@ int runTaskNew(const TaskNewOptions& o) {
     printWhatTheIdealSet(o.output, *record);
     return 0;
   }
-  if (j.contains("ideal") && j["ideal"]["kind"] == "builtin_path")
+  if (t.ideal && t.ideal->kind == IdealKind::BuiltinPath)
     std::printf("the ideal is the built-in path %s until you record one: dentsim task set-ideal %s --session PROF.dses\n",
-                j["ideal"]["path"].get<std::string>().c_str(), o.output.c_str());
-  if (!from_ideal.empty())
+                t.ideal->path.c_str(), o.output.c_str());
+  if (t.from_ideal.any())
     std::printf("set-ideal will set %s from the professional's session (the task's from_ideal)\n",
-                from_ideal.size() == 2 ? "the insertion axis and the times"
-                : o.insertion_axis.empty() ? "the insertion axis" : "the times");
+                t.from_ideal.insertion_axis && t.from_ideal.target_s ? "the insertion axis and the times"
+                : t.from_ideal.insertion_axis                       ? "the insertion axis"
+                                                                    : "the times");
   return 0;
 }
 
@@ -295,42 +288,10 @@ int runTaskNew(const TaskNewOptions& o) {
 int runTaskCheck(const std::string& path) {
   auto task = builtinTask(path);
   if (!task) return fail(task.message());
-  std::vector<std::string> errors, warnings;
-  const auto drill = std::find_if(toolCatalog().begin(), toolCatalog().end(),
-                                  [&](const ToolSpec& s) { return task->drill_tool == s.name; });
-  if (drill == toolCatalog().end() || (drill->kind != ToolKind::RoundBur && drill->kind != ToolKind::FissureBur))
-    errors.push_back("tools.drill: \"" + task->drill_tool + "\" is not a bur in the tool catalog (assets/tools/tools.json)");
-  if (!task->mirror_tool.empty()) {
-    const auto mirror = std::find_if(toolCatalog().begin(), toolCatalog().end(),
-                                     [&](const ToolSpec& s) { return task->mirror_tool == s.name; });
-    if (mirror == toolCatalog().end() || mirror->kind != ToolKind::Mirror)
-      errors.push_back("tools.mirror: \"" + task->mirror_tool + "\" is not a mirror in the tool catalog");
-  }
-  auto tooth = taskTooth(*task, 0);
-  if (!tooth) {
-    errors.push_back("tooth: " + tooth.message());
-  } else {
-    const MaterialTotals totals = tooth->voxels.materialTotals();
-    const ToothAxes& axes = tooth->frame.tooth;
-    if (task->kind == TaskKind::Caries && totals.voxels[size_t(Material::Caries)] == 0)
-      errors.push_back("tooth: no caries in " + task->tooth + ", so the caries task has nothing to remove");
-    if (std::string(taskKindName(task->kind)) == "access" && totals.voxels[size_t(Material::Pulp)] == 0)
-      errors.push_back("tooth: no pulp in " + task->tooth + ", so the access cavity has no chamber to open");
-    if (axes.crown_source == AxisSource::Assumed)
-      warnings.push_back("tooth: " + task->tooth + " has no tooth frame; the crown is taken as +z");
-    if (auto problem = checkInsertionAxis(*task, axes)) errors.push_back("insertion_axis: " + *problem);
-    if (task->ideal) {
-      std::vector<std::string> ideal_warnings;
-      auto ideal = idealForTask(*task, *tooth, &ideal_warnings);
-      if (!ideal) errors.push_back("ideal: " + ideal.message());
-      else if (volumeHashHex(ideal->voxels, ideal->frame) == volumeHashHex(tooth->voxels, tooth->frame))
-        errors.push_back("ideal: the professional's tooth is the task's tooth uncut");
-      for (std::string& w : ideal_warnings) warnings.push_back(std::move(w));
-    }
-  }
-  for (const std::string& w : warnings) std::printf("%s: warning: %s\n", path.c_str(), w.c_str());
-  for (const std::string& e : errors) std::printf("%s: error: %s\n", path.c_str(), e.c_str());
-  if (!errors.empty()) return 1;
+  const TaskProblems problems = checkTask(*task);
+  for (const std::string& w : problems.warnings) std::printf("%s: warning: %s\n", path.c_str(), w.c_str());
+  for (const std::string& e : problems.errors) std::printf("%s: error: %s\n", path.c_str(), e.c_str());
+  if (!problems.ok()) return 1;
   const int black = taskCavityClass(*task);
   std::printf("%s: ok: %s task%s \"%s\" on %s, drill %s%s\n", path.c_str(), taskKindName(task->kind),
               black ? (std::string(" (class ") + cavityClassName(black) + ")").c_str() : "", task->title.c_str(),
@@ -364,21 +325,25 @@ void addTaskCommand(CLI::App& root, Action& action) {
   auto n = std::make_shared<TaskNewOptions>();
   CLI::App* make = cmd->add_subcommand("new", "Write a valid task on a tooth");
   make->add_option("--tooth", n->tooth, "The tooth: a .dvol, or builtin:molar")->required();
-  make->add_option("--kind", n->kind, "caries, cavity or access")->capture_default_str();
+  make->add_option("--kind", n->kind, taskKindNameList(", ", " or "))->capture_default_str();
   make->add_option("--class", n->cavity_class,
-                   "A cavity's Black class: I, II or V (its built-in ideal path and bur; a class V's axis is the buccal one)");
+                   "A cavity's Black class: " + cavityClassList(", ", " or ") +
+                       " (its built-in ideal path and bur; a class V's axis is the buccal one)");
   make->add_option("-o,--output", n->output, "The task file to write (.json)")->required();
   make->add_option("--name", n->name, "The task's name (default: the file's stem)");
   make->add_option("--title", n->title, "One line for the task picker");
   make->add_option("--instructions", n->instructions, "What the student is to do");
-  make->add_option("--bur", n->bur, "The drill's bur (default by kind: round_bur_010, fissure_bur_010, round_bur_014)");
+  make->add_option("--bur", n->bur,
+                   "The drill's bur (default by kind: " +
+                       defaultsByKind([](const TaskKindRow& row) { return std::string(row.default_bur); }) + ")");
   make->add_option("--mirror", n->mirror, "The mirror, or none")->capture_default_str();
   make->add_option("--level", n->level, "The built-in molar's level (default 9)")->check(CLI::Range(DS_MIN_LEVEL, DS_MAX_LEVEL));
   make->add_option("--target-s", n->target_s,
-                   "The time a good student needs [s] (default by kind: 300, 600, 600, until set-ideal sets it from the "
-                   "professional)")
+                   "The time a good student needs [s] (default by kind: " +
+                       defaultsByKind([](const TaskKindRow& row) { return numberText(row.default_target_s); }) +
+                       ", until set-ideal sets it from the professional)")
       ->check(finiteIn(1.0, 1e6, "s"));
-  make->add_option("--failure-s", n->failure_s, "Caries: the time that earns no time points [s] (default 900)")
+  make->add_option("--failure-s", n->failure_s, failureTimeHelp())
       ->check(finiteIn(1.0, 1e6, "s"));
   make->add_option("--force-error-n", n->force_error_n, "A contact sample above this force is an error [N]")
       ->check(finiteIn(0.01, 1000.0, "N"))

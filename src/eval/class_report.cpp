@@ -10,6 +10,7 @@
 
 #include "core/percentile.h"
 #include "eval/cut_score.h"
+#include "eval/task_kinds.h"
 
 namespace dentsim {
 
@@ -37,7 +38,9 @@ std::string builtinKind(const std::string& task) {
 
 std::vector<std::string> reasonsFor(const ClassAttempt& a, const std::optional<double>& pass_mark) {
   std::vector<std::string> reasons;
-  if (a.pulp_exposed && a.task_kind != "access") reasons.push_back("pulp exposed");
+  // An unknown kind (a statement of a task from elsewhere) is held to the usual rule.
+  const TaskKindRow* kind = findTaskKind(a.task_kind);
+  if (a.pulp_exposed && (!kind || kind->pulp == PulpRule::ExposureCaps)) reasons.push_back("pulp exposed");
   if (pass_mark && a.score < *pass_mark) {
     char text[64];
     std::snprintf(text, sizeof text, "below the pass mark of %g", *pass_mark);

@@ -10,6 +10,8 @@
 #include <ctime>
 #include <filesystem>
 
+#include "eval/task_kinds.h"
+
 namespace dentsim {
 
 // ---- 1. text helpers ------------------------------------------------------------------------------
@@ -416,7 +418,10 @@ void flaggedSection(std::string& html, const ClassReport& r) {
     html += "<p>No attempt exposed the pulp, failed or fell below a pass mark.</p>";
     return;
   }
-  html += "<p>Attempts that exposed the pulp (not a fault in an access cavity), failed, or fell below the pass mark.</p>";
+  std::string opened;  // the kinds whose students are to open the pulp
+  for (const TaskKindRow& kind : kTaskKindTable)
+    if (kind.pulp == PulpRule::MustOpen) opened += (opened.empty() ? "" : " or ") + kindWithArticle(kind);
+  html += "<p>Attempts that exposed the pulp (not a fault in " + opened + "), failed, or fell below the pass mark.</p>";
   html += "<table class=\"flagged\"><tr><th>student</th><th>task</th><th>date (UTC)</th><th>score</th><th>why</th>"
           "<th>points lost</th><th>from</th></tr>";
   for (const FlaggedAttempt& f : r.flags) {

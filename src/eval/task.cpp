@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "eval/task_kinds.h"
 #include "io/atomic_file.h"
 #include "io/strict_json.h"
 #include "volume/brick_layout.h"
@@ -164,7 +165,7 @@ bool readFromIdeal(const json& root, TaskReader& r, FromIdeal* out) {
 bool readZone(const json& j, const std::string& path, TaskReader& r, Task* t) {
   if (!r.direction(j, path, "insertion_axis", &t->insertion_axis)) return false;
   if (!r.number(j, path, "leeway_mm", false, 0, true, 1, "in [0, 1]", &t->leeway_mm)) return false;
-  const json* ideal = r.member(j, path, "ideal", t->kind != TaskKind::Caries);
+  const json* ideal = r.member(j, path, "ideal", taskKindRow(t->kind).ideal_required);
   if (!ideal) return !r.failed();
   t->ideal.emplace();
   return readIdeal(*ideal, jsonChildPath(path, "ideal"), r, &*t->ideal);
@@ -203,6 +204,15 @@ void readCaries(const json& j, TaskReader& r, Task* t) {
   r.number(j, path, "healthy_coefficient", false, 0, true, kHuge, kNonNegative, &t->caries.healthy_coefficient);
 }
 
+// The kinds whose row passes `has`, quoted for a message: "\"caries\"", or "\"a\" or \"b\"".
+template <typename RowTest>
+std::string quotedKinds(RowTest has) {
+  std::string out;
+  for (const TaskKindRow& row : kTaskKindTable)
+    if (has(row)) out += (out.empty() ? "" : " or ") + quotedForMessage(row.name);
+  return out;
+}
+
 // The whole schema: format and version first, so that another JSON file is named as such.
 void readTask(const json& root, TaskReader& r, Task* t) {
   if (!root.is_object()) {
@@ -234,13 +244,16 @@ void readTask(const json& root, TaskReader& r, Task* t) {
                              "pass_mark", "from_ideal", "cavity_class"});
   if (!r.object(root, "", keys)) return;
   if (!r.string(root, "", "name", true, true, &t->name)) return;
+  std::vector<std::string> kinds;
+  for (const TaskKindRow& row : kTaskKindTable) kinds.push_back(row.name);
   size_t kind = 0;
-  if (!r.choice(root, "", "kind", {"caries", "cavity", "access"}, &kind)) return;
-  if (kind == 2 && version == 1) {
-    r.fail("kind", "\"access\" needs version 2");
+  if (!r.choice(root, "", "kind", kinds, &kind)) return;
+  const TaskKindRow& row = kTaskKindTable[kind];
+  if (version < row.since_version) {
+    r.fail("kind", quotedForMessage(row.name) + " needs version " + std::to_string(row.since_version));
     return;
   }
-  t->kind = static_cast<TaskKind>(kind);
+  t->kind = row.kind;
   t->title = t->name;
   if (!r.string(root, "", "title", false, false, &t->title)) return;
   if (!r.string(root, "", "instructions", false, false, &t->instructions)) return;
@@ -268,16 +281,16 @@ void readTask(const json& root, TaskReader& r, Task* t) {
       t->pass_mark = pass_mark;
     }
   }
-  // Each kind's own keys; the other kind's are mistakes. An access is scored as a cavity, with
-  // its own rule for the pulp in place of the exposure cap.
-  const char* own = t->kind == TaskKind::Caries ? "caries" : "cavity";
-  const char* other = t->kind == TaskKind::Caries ? "cavity" : "caries";
-  if (root.contains(other)) {
-    r.fail(other, std::string("only for kind \"") + other + "\"");
-    return;
-  }
-  if (t->kind == TaskKind::Access && root.contains("pulp_exposure_cap")) {
-    r.fail("pulp_exposure_cap", "not for kind \"access\", which must open the pulp (access.unopened_cap caps one that does not)");
+  // Each kind's own keys; another kind's are mistakes.
+  const std::string own = row.coefficients;
+  for (const TaskKindRow& other : kTaskKindTable)
+    if (other.coefficients != own && root.contains(other.coefficients)) {
+      r.fail(other.coefficients, "only for kind " + quotedForMessage(other.coefficients));
+      return;
+    }
+  if (row.pulp == PulpRule::MustOpen && root.contains("pulp_exposure_cap")) {
+    r.fail("pulp_exposure_cap", "not for kind " + quotedForMessage(row.name) +
+                                    ", which must open the pulp (access.unopened_cap caps one that does not)");
     return;
   }
   if (root.contains("cavity_class")) {
@@ -292,40 +305,33 @@ void readTask(const json& root, TaskReader& r, Task* t) {
     t->cavity_class = int(black) + 1;
   }
   if (const json* access = r.member(root, "", "access", false)) {
-    if (t->kind != TaskKind::Access) {
-      r.fail("access", "only for kind \"access\"");
+    if (row.pulp != PulpRule::MustOpen) {
+      r.fail("access", "only for kind " + quotedKinds([](const TaskKindRow& k) { return k.pulp == PulpRule::MustOpen; }));
       return;
     }
     readAccess(*access, r, t);
     if (r.failed()) return;
   }
-  if (t->kind == TaskKind::Caries) {
+  if (hasFailureTime(row)) {
     if (!r.number(root, "", "failure_s", true, 0, false, kHuge, "> 0 and <= 1e9", &t->failure_s)) return;
     if (!(t->failure_s > t->target_s)) {
       r.fail("failure_s", json(t->failure_s).dump() + " is not > target_s (" + json(t->target_s).dump() + ")");
       return;
     }
-    if (const json* caries = r.member(root, "", own, false)) readCaries(*caries, r, t);
+    if (const json* caries = r.member(root, "", own.c_str(), false)) readCaries(*caries, r, t);
     return;
   }
   if (root.contains("failure_s")) {
-    r.fail("failure_s", "only for kind \"caries\"");
+    r.fail("failure_s", "only for kind " + quotedKinds([](const TaskKindRow& k) { return hasFailureTime(k); }));
     return;
   }
   // Version 1 requires the cavity object (it holds the ideal); version 2 only its coefficients.
-  if (const json* cavity = r.member(root, "", own, version == 1)) readCavity(*cavity, version, r, t);
+  if (const json* cavity = r.member(root, "", own.c_str(), version == 1)) readCavity(*cavity, version, r, t);
 }
 
 }  // namespace
 
-const char* taskKindName(TaskKind kind) {
-  switch (kind) {
-    case TaskKind::Caries: return "caries";
-    case TaskKind::Cavity: return "cavity";
-    case TaskKind::Access: return "access";
-  }
-  return "unknown";
-}
+const char* taskKindName(TaskKind kind) { return taskKindRow(kind).name; }
 
 const char* cavityClassName(int cavity_class) {
   static const char* const kNames[] = {"I", "II", "III", "IV", "V", "VI"};

@@ -45,6 +45,13 @@ inline IdealSpec idealVolumeFile(std::string path) {
   spec.path = std::move(path);
   return spec;
 }
+// An ideal that is a built-in path by name.
+inline IdealSpec idealBuiltinPath(std::string name) {
+  IdealSpec spec;
+  spec.kind = IdealKind::BuiltinPath;
+  spec.path = std::move(name);
+  return spec;
+}
 
 // How the simulator first shows the tooth for this task. A fixed view cannot be turned: the
 // indirect-vision exercises, where the cavity can be seen only in the mirror.

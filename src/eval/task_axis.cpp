@@ -6,6 +6,8 @@
 #include <numbers>
 #include <string>
 
+#include "eval/task_kinds.h"
+
 namespace dentsim {
 namespace {
 
@@ -13,10 +15,8 @@ Vec3 toVec(const std::array<double, 3>& a) { return Vec3{a[0], a[1], a[2]}; }
 
 // "a class I cavity", "a cavity", "an access cavity", "a caries task": what the message is about.
 std::string kindText(TaskKind kind, int cavity_class) {
-  if (kind == TaskKind::Access) return "an access cavity";
-  if (kind == TaskKind::Caries) return "a caries task";
-  if (cavity_class > 0) return std::string("a class ") + cavityClassName(cavity_class) + " cavity";
-  return "a cavity";
+  if (kind == TaskKind::Cavity && cavity_class > 0) return std::string("a class ") + cavityClassName(cavity_class) + " cavity";
+  return kindWithArticle(taskKindRow(kind));
 }
 
 std::string degrees(double deg) { return std::to_string(int(std::lround(deg))); }
@@ -29,9 +29,8 @@ double angleDeg(const Vec3& a, const Vec3& b) {
 }
 
 int builtinPathClass(const std::string& path) {
-  if (path == "class1_cavity") return 1;
-  if (path == "class2_cavity") return 2;
-  if (path == "class5_cavity") return 5;
+  for (const CavityClassRow& row : kCavityClassTable)
+    if (path == row.builtin_ideal) return row.black;
   return 0;
 }
 

@@ -11,7 +11,9 @@
 #include "eval/cut_score.h"
 #include "eval/session_stats.h"
 #include "eval/task_axis.h"
+#include "eval/task_kinds.h"
 #include "eval/task_tooth.h"
+#include "eval/task_writer.h"
 #include "io/atomic_file.h"
 #include "io/file_hash.h"
 #include "io/session_file.h"
@@ -67,7 +69,7 @@ void applyFromIdeal(const ProfessionalFigures& pro, const ToothAxes& axes, Task&
   if (task.from_ideal.target_s && pro.elapsed_s > 0) {
     task = timedFromProfessional(std::move(task), pro.elapsed_s);
     root["target_s"] = task.target_s;
-    if (task.kind == TaskKind::Caries) {
+    if (hasFailureTime(taskKindRow(task.kind))) {
       root["failure_s"] = task.failure_s;
     } else {
       if (!root.contains("cavity")) root["cavity"] = nlohmann::ordered_json::object();
@@ -82,7 +84,7 @@ void applyFromIdeal(const ProfessionalFigures& pro, const ToothAxes& axes, Task&
 Task timedFromProfessional(Task task, double professional_elapsed_s) {
   assert(professional_elapsed_s > 0);
   task.target_s = kTargetFactor * professional_elapsed_s;
-  if (task.kind == TaskKind::Caries)
+  if (hasFailureTime(taskKindRow(task.kind)))
     task.failure_s = kFailureFactor * professional_elapsed_s;
   else
     // time_coefficient is points a minute [points/min]: all of them lost between the two times.
@@ -191,17 +193,10 @@ Result<IdealRecord> setTaskIdeal(const std::string& task_path, const std::string
   out.spec.initial_hash = initial_hash;
   out.spec.final_hash = final_hash;
   out.spec.session_hash = hashHex(*session_hash);
-  root["ideal"] = nlohmann::ordered_json{{"kind", "session"},
-                                         {"path", out.spec.path},
-                                         {"final", out.spec.final_path},
-                                         {"initial_hash", out.spec.initial_hash},
-                                         {"final_hash", out.spec.final_hash},
-                                         {"session_hash", out.spec.session_hash}};
-  const std::string written = root.dump(2) + "\n";
-  auto check = parseTask(written, task_path);
-  if (!check) return check.error();
-  if (Status st = writeFileAtomic(task_path, written); !st) return st.error();
-  out.task = std::move(*check);
+  root["ideal"] = idealJson(out.spec);
+  auto written = writeTaskFile(task_path, root);
+  if (!written) return written.error();
+  out.task = std::move(*written);
   return out;
 }
 

@@ -18,6 +18,7 @@
 #include "eval/cut_score.h"
 #include "eval/session_stats.h"
 #include "eval/task_ideal.h"
+#include "eval/task_kinds.h"
 #include "io/session_file.h"
 #include "sim/course_paths.h"
 #include "sim/session_run.h"
@@ -33,6 +34,8 @@ using ojson = nlohmann::ordered_json;
 
 std::vector<std::string> faultParts(TaskKind kind, Attempt attempt) {
   const bool caries = kind == TaskKind::Caries;
+  // A chamber the kind must open and did not is the pulp cap's (eval/task_kinds.h's pulp rule).
+  const bool must_open = taskKindRow(kind).pulp == PulpRule::MustOpen;
   switch (attempt) {
     case Attempt::Expert: return {};
     case Attempt::Overcut: return {caries ? "healthy" : "overcut"};
@@ -40,8 +43,8 @@ std::vector<std::string> faultParts(TaskKind kind, Attempt attempt) {
     case Attempt::Undercut:
     case Attempt::Token:
       return caries ? std::vector<std::string>{"removal"}
-                    : kind == TaskKind::Access ? std::vector<std::string>{"undercut", "pulp cap"}
-                                               : std::vector<std::string>{"undercut"};
+                    : must_open ? std::vector<std::string>{"undercut", "pulp cap"}
+                                : std::vector<std::string>{"undercut"};
     // dentsim cuts at a rate set by the tissue, the bur and the turbine, not by the force: a hand
     // that presses harder drives the bur past where the professional's stopped, into healthy tissue
     // (docs/SCORING.md section 13).
@@ -51,8 +54,8 @@ std::vector<std::string> faultParts(TaskKind kind, Attempt attempt) {
     // The wrong place leaves the ideal standing and cuts beside it.
     case Attempt::Trench:
       return caries ? std::vector<std::string>{"removal", "healthy"}
-                    : kind == TaskKind::Access ? std::vector<std::string>{"undercut", "overcut", "pulp cap"}
-                                               : std::vector<std::string>{"undercut", "overcut"};
+                    : must_open ? std::vector<std::string>{"undercut", "overcut", "pulp cap"}
+                                : std::vector<std::string>{"undercut", "overcut"};
   }
   return {};
 }

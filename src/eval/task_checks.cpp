@@ -1,0 +1,68 @@
+// A task's checks against the tool catalog, its tooth and its ideal.
+#include "eval/task_checks.h"
+
+#include <algorithm>
+#include <utility>
+
+#include "core/volume_frame.h"
+#include "eval/cut_score.h"
+#include "eval/task_axis.h"
+#include "eval/task_tooth.h"
+#include "model/tool_generator.h"
+#include "volume/tissue_table.h"
+#include "volume/volume_hash.h"
+
+namespace dentsim {
+
+namespace {
+
+const ToolSpec* catalogTool(const std::string& name) {
+  const auto tool = std::find_if(toolCatalog().begin(), toolCatalog().end(), [&](const ToolSpec& s) { return name == s.name; });
+  return tool == toolCatalog().end() ? nullptr : &*tool;
+}
+
+void checkTools(const Task& task, TaskProblems& out) {
+  const ToolSpec* drill = catalogTool(task.drill_tool);
+  if (!drill || (drill->kind != ToolKind::RoundBur && drill->kind != ToolKind::FissureBur))
+    out.errors.push_back("tools.drill: \"" + task.drill_tool + "\" is not a bur in the tool catalog (assets/tools/tools.json)");
+  if (task.mirror_tool.empty()) return;
+  const ToolSpec* mirror = catalogTool(task.mirror_tool);
+  if (!mirror || mirror->kind != ToolKind::Mirror)
+    out.errors.push_back("tools.mirror: \"" + task.mirror_tool + "\" is not a mirror in the tool catalog");
+}
+
+// The tooth's tissues and axes, and the ideal made on it.
+void checkOnTooth(const Task& task, const ToothVolume& tooth, TaskProblems& out) {
+  const TaskKindRow& kind = taskKindRow(task.kind);
+  if (lacksRequiredTissue(kind, tooth.voxels.materialTotals()))
+    out.errors.push_back(std::string("tooth: no ") + findTissue(kind.required_tissue)->name + " in " + task.tooth +
+                         ", so the " + kind.noun + " " + kind.without_tissue);
+  const ToothAxes& axes = tooth.frame.tooth;
+  if (axes.crown_source == AxisSource::Assumed)
+    out.warnings.push_back("tooth: " + task.tooth + " has no tooth frame; the crown is taken as +z");
+  if (auto problem = checkInsertionAxis(task, axes)) out.errors.push_back("insertion_axis: " + *problem);
+  if (!task.ideal) return;
+  std::vector<std::string> ideal_warnings;
+  auto ideal = idealForTask(task, tooth, &ideal_warnings);
+  if (!ideal) out.errors.push_back("ideal: " + ideal.message());
+  else if (volumeHashHex(ideal->voxels, ideal->frame) == volumeHashHex(tooth.voxels, tooth.frame))
+    out.errors.push_back("ideal: the professional's tooth is the task's tooth uncut");
+  for (std::string& w : ideal_warnings) out.warnings.push_back(std::move(w));
+}
+
+}  // namespace
+
+bool lacksRequiredTissue(const TaskKindRow& kind, const MaterialTotals& totals) {
+  return kind.required_tissue != Material::Empty && totals.voxels[size_t(kind.required_tissue)] == 0;
+}
+
+TaskProblems checkTask(const Task& task) {
+  TaskProblems out;
+  checkTools(task, out);
+  auto tooth = taskTooth(task, 0);
+  if (!tooth) out.errors.push_back("tooth: " + tooth.message());
+  else checkOnTooth(task, *tooth, out);
+  return out;
+}
+
+}  // namespace dentsim
