@@ -189,13 +189,12 @@ int runCpuDemo(const DemoOptions& o) {
   if (!score) return fail(score.message());
   for (const std::string& w : score->warnings) warn(w);
   const std::string report_path = (fs::path(o.out) / "score.json").string();
-  if (Status st = stampStatementId(o.learning, *task, score->report, session_path, final_path); !st) return fail(st.message());
+  recordAttemptOrWarn(o.learning, *task, score->report, session_path, final_path);
   if (Status st = writeScoreReport(report_path, score->report); !st) return fail(st.message());
   const std::string png_path = (fs::path(o.out) / "score.png").string();
   if (Status st = writeScoreImage(png_path, *task, initial, *tooth, *score, nullptr); !st) return fail(st.message());
   std::printf("%s\n", score->summary.c_str());
   std::printf("wrote %s: initial.dvol session.dses final.dvol final.ply score.json score.png\n", o.out.c_str());
-  if (Status st = recordAttempt(o.learning, *task, score->report, session_path, final_path); !st) return fail(st.message());
   if (Status st = sendPendingIfConfigured(o.learning); !st) return fail(st.message());
   return 0;
 }

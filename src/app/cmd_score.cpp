@@ -57,8 +57,9 @@ int runScore(const ScoreCliOptions& o) {
   if (!o.deviation_png.empty() && !score->agreement)
     return fail("--deviation-png: task " + task->name +
                 " is a caries removal; the deviation picture needs a cavity or access task, which has an ideal cavity");
-  // The report names its learning record's statement, so that a class report counts the attempt once.
-  if (Status st = stampStatementId(o.learning, *task, score->report, o.session, o.final_); !st) return fail(st.message());
+  // Recorded before the report is written, so that the report names its statement and a class report
+  // counts the attempt once; the record's own failures are a warning, the score stands.
+  recordAttemptOrWarn(o.learning, *task, score->report, o.session, o.final_);
   if (Status st = writeScoreReport(o.report, score->report); !st) return fail(st.message());
   for (const std::string& w : score->warnings) warn(w);
   std::string wrote = o.report;
@@ -72,8 +73,7 @@ int runScore(const ScoreCliOptions& o) {
       return fail(st.message());
     wrote += " and " + o.deviation_png;
   }
-  // The learning record before the report, so that --json's report stays the last thing printed.
-  if (Status st = recordAttempt(o.learning, *task, score->report, o.session, o.final_); !st) return fail(st.message());
+  // Sent before the report is printed, so that --json's report stays the last thing on stdout.
   if (Status st = sendPendingIfConfigured(o.learning); !st) return fail(st.message());
   if (o.json)
     std::printf("%s\n", score->report.dump(2).c_str());

@@ -1,9 +1,7 @@
-// The learning records on the command line: settings from flags, config and environment; the attempt hook; sending; `dentsim outbox`.
+// The learning records on the command line: settings from flags, config and environment; the attempt hook and its warn-never-fail policy; sending; `dentsim outbox`.
 #include "app/learning_cli.h"
 
-#include <algorithm>
 #include <cassert>
-#include <chrono>
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
@@ -17,6 +15,7 @@
 #include "io/file_hash.h"
 #include "io/learning_config.h"
 #include "io/lrs_client.h"
+#include "io/outbox_sender.h"
 #include "io/session_file.h"
 #include "io/strict_json.h"
 #include "io/xapi_outbox.h"
@@ -48,14 +47,19 @@ long sendLimitAfterWorkMs() {
   return (!text.empty() && end && *end == '\0' && ms > 0) ? ms : kSendLimitAfterWorkMs;
 }
 
-// Moves the outbox's damaged lines aside (io/xapi_outbox.h) with one warning, so that recording and
-// sending go on with the good ones.
+// One warning for the damaged lines moved aside, naming the first: recording and sending go on with
+// the good ones, and the user learns where the others went.
+void warnSetAside(const std::string& outbox, const SetAsideLines& moved) {
+  if (moved.count == 0) return;
+  const std::string more = moved.count > 1 ? " (and " + std::to_string(moved.count - 1) + " more bad line(s))" : "";
+  warn(moved.first + more + "; moved to " + badLinesPath(outbox) + ", the other statements are kept");
+}
+
+// Moves the outbox's damaged lines aside (io/xapi_outbox.h) before a statement is added.
 Status setAsideBadLinesWithWarning(const std::string& outbox) {
   auto moved = setAsideBadLines(outbox);
   if (!moved) return moved.error();
-  if (moved->count == 0) return Ok{};
-  const std::string more = moved->count > 1 ? " (and " + std::to_string(moved->count - 1) + " more bad line(s))" : "";
-  warn(moved->first + more + "; moved to " + badLinesPath(outbox) + ", the other statements are kept");
+  warnSetAside(outbox, *moved);
   return Ok{};
 }
 
@@ -99,61 +103,15 @@ Result<LearningSettings> resolveSettings(const LearningCliOptions& o) {
   return s;
 }
 
-struct SendSummary {
-  size_t delivered = 0, pending = 0;
-  std::string problem;  // the first failure's one line; empty: none
-  bool busy = false;    // another dentsim was sending this outbox: nothing was tried
-};
-
-// Sends the pending statements, one request each, for at most limit_ms in all (0: no overall limit;
-// each request keeps its own timeouts either way). One sender at a time: `wait` waits for another
-// to finish (and then finds what it sent no longer pending); without it, another sender at work
-// means nothing is sent now (sum.busy). Each statement is marked sent as soon as the LRS takes it,
-// so a sender killed half-way posts none of those again.
-Result<SendSummary> sendPending(const LearningSettings& s, long limit_ms, bool wait) {
-  OutboxSenderLock sender(s.outbox, wait);
-  if (!sender.error().empty()) return Error{sender.error()};
-  if (!sender.held()) return SendSummary{0, 0, {}, true};
-  if (Status st = setAsideBadLinesWithWarning(s.outbox); !st) return st.error();
-  auto pending = pendingStatements(s.outbox);
-  if (!pending) return pending.error();
-  SendSummary sum;
-  std::vector<std::string> delivered;
-  const auto start = std::chrono::steady_clock::now();
-  const auto elapsed_ms = [&] {
-    return long(std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start).count());
-  };
-  const std::string out_of_time = "sending stopped at its limit of " + std::to_string(limit_ms) + " ms";
-  for (const nlohmann::ordered_json& statement : *pending) {
-    LrsEndpoint lrs = *s.lrs;
-    bool cut = false;  // this request was given less than its own timeout: the limit ends it
-    if (limit_ms > 0) {
-      // The last request gets only what is left, so the limit holds however slow the answer.
-      const long left = limit_ms - elapsed_ms();
-      if (left <= 0) {
-        sum.problem = out_of_time;  // why the rest wait, whatever failed before
-        break;
-      }
-      cut = left < lrs.timeout_ms;
-      lrs.timeout_ms = std::min(lrs.timeout_ms, left);
-      lrs.connect_timeout_ms = std::min(lrs.connect_timeout_ms, left);
-    }
-    const PostOutcome out = postStatement(lrs, statement.dump());
-    if (out.delivery == Delivery::Delivered) {
-      delivered.push_back(statement["id"].get<std::string>());
-      if (Status st = markSent(s.outbox, {delivered.back()}); !st) return st.error();
-      continue;
-    }
-    if (sum.problem.empty()) sum.problem = cut && out.delivery == Delivery::Unreachable ? out_of_time : out.detail;
-    // Nobody answers: the rest would only wait for the same timeout.
-    if (out.delivery == Delivery::Unreachable) break;
-  }
-  sum.delivered = delivered.size();
-  sum.pending = pending->size() - delivered.size();
+// Sends through io (io/outbox_sender.h) and warns about the damaged lines it set aside first.
+Result<OutboxSendResult> sendPending(const LearningSettings& s, long limit_ms, bool wait) {
+  auto sum = sendOutbox(s.outbox, *s.lrs, limit_ms, wait);
+  if (!sum) return sum.error();
+  warnSetAside(s.outbox, sum->set_aside);
   return sum;
 }
 
-void printSendSummary(const LearningSettings& s, const SendSummary& sum) {
+void printSendSummary(const LearningSettings& s, const OutboxSendResult& sum) {
   if (sum.busy) {
     std::printf("learning records: another dentsim is sending %s; the pending statements go with it or the next run\n",
                 s.outbox.c_str());
@@ -261,7 +219,11 @@ Status sendPendingIfConfigured(const LearningCliOptions& o) {
   if (!settings) return settings.error();
   if (!settings->lrs) return Ok{};
   auto sum = sendPending(*settings, sendLimitAfterWorkMs(), false);  // never wait behind another sender
-  if (!sum) return sum.error();
+  // The attempt is scored and its files written: an outbox that cannot be read costs a warning.
+  if (!sum) {
+    warn("the learning records were not sent: " + sum.message());
+    return Ok{};
+  }
   printSendSummary(*settings, *sum);
   return Ok{};
 }

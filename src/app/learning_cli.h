@@ -1,9 +1,12 @@
-// The learning records on the command line: the options score, demo and run share, the one function every scored attempt goes through, and sending the outbox to the LRS.
+// The learning records on the command line: the options score, demo and run share, the one function every scored attempt goes through, and sending the outbox to the LRS after the work.
 //
 // A scored attempt becomes an xAPI statement (eval/learning_record.h) in the outbox
 // (io/xapi_outbox.h) when a student is named, by --student or the config file; without one,
-// nothing is recorded. Sending happens after the work (never inside the frame loop): a dead LRS
-// costs a few seconds and a warning, never the run. docs/LEARNING_RECORDS.md.
+// nothing is recorded. One policy for all three commands: a mistake in the options (a bad
+// --student, --lrs or config) is an error before any work (checkLearningOptions), and after that
+// nothing about the records fails a scored attempt: an outbox that cannot be written or an LRS that
+// does not answer is one warning line, the score files stand and the command succeeds. Sending
+// (io/outbox_sender.h) happens after the work, never inside the frame loop. docs/LEARNING_RECORDS.md.
 #pragma once
 
 #include <string>
@@ -28,7 +31,8 @@ struct LearningCliOptions {
 // --lrs, --outbox and --config.
 void addLearningOptions(CLI::App* cmd, LearningCliOptions& o, const std::string& course_flag = "--course");
 
-// THE hook for a scored attempt: builds its statement and adds it to the outbox (once per id).
+// Builds a scored attempt's statement and adds it to the outbox (once per id); commands go through
+// recordAttemptOrWarn, which joins this and stampStatementId under the one policy.
 // `session_file` is the session the score used (empty: none), `final_file` the final tooth file
 // (used for the attempt's identity when there is no session). Does nothing without a student.
 // Errors: a malformed config (file and key named), an outbox that cannot be written.
@@ -42,12 +46,12 @@ Status recordAttempt(const LearningCliOptions& o, const Task& task, const nlohma
 Status stampStatementId(const LearningCliOptions& o, const Task& task, nlohmann::ordered_json& report,
                         const std::string& session_file, const std::string& final_file);
 
-// Checks the settings (config file, --lrs) before a long run, so that a mistake is named before the
-// drilling rather than after it.
+// Checks the settings (config file, --student, --lrs) before the work, so that a mistake is named
+// before the drilling rather than after it. The one learning-record failure that is the command's.
 Status checkLearningOptions(const LearningCliOptions& o);
-// stampStatementId and recordAttempt for the simulator's on_scored, which writes score.json again
-// when the report gained its statement id. A failure is a warning line, so that the run and the
-// files it wrote stand.
+// THE way score, demo and run record a scored attempt: stampStatementId, then recordAttempt, before
+// the report is written (again), so that the written report names its statement. Any failure is one
+// warning line ("the attempt was not recorded: ..."), never the command's: the attempt was scored.
 void recordAttemptOrWarn(const LearningCliOptions& o, const Task& task, nlohmann::ordered_json& report,
                          const std::string& session_file, const std::string& final_file);
 // The same for a hook that hands a report it may not change: recorded, and the report not stamped.
@@ -56,8 +60,8 @@ void recordAttemptOrWarn(const LearningCliOptions& o, const Task& task, const nl
 
 // Sends the outbox's pending statements when an LRS is named (--lrs or the config), for at most
 // 10 s in all and never while another dentsim is sending; prints what was delivered, or a one-line
-// warning when the LRS could not take them (they stay pending). Only a malformed config or an
-// unreadable outbox is an error.
+// warning when the LRS could not take them (they stay pending) or the outbox could not be read.
+// Only settings that checkLearningOptions would have refused are an error.
 Status sendPendingIfConfigured(const LearningCliOptions& o);
 
 }  // namespace dentsim::app

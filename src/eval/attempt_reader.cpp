@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/text_escape.h"
+#include "eval/score_summary.h"
 #include "io/atomic_file.h"
 
 namespace dentsim {
@@ -211,55 +212,74 @@ std::vector<AttemptPart> readParts(const json& components, const json& deduction
   return parts;
 }
 
+namespace {
+
+// A report's parts as the page shows them, by readParts' rules: a component with its points (or
+// null) and its max; a deduction with its points (or null), or a cap that applied.
+std::vector<AttemptPart> attemptPartsOf(const std::vector<ScoreReportPart>& parts) {
+  std::vector<AttemptPart> out;
+  for (const ScoreReportPart& r : parts) {
+    AttemptPart p;
+    p.name = r.name;
+    p.deduction = r.deduction;
+    if (!r.deduction) {
+      if (!r.has_points || !r.max) continue;
+      p.points = r.points;
+      p.max = r.max;
+      p.earned_share = r.earned_share;
+    } else if (r.has_points) {
+      p.points = r.points;
+    } else if (r.applied && r.cap) {
+      // A cap that did not apply took nothing off, and there is nothing to show for it.
+      if (!*r.applied) continue;
+      p.cap = r.cap;
+    } else {
+      continue;
+    }
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+}  // namespace
+
 Result<ClassAttempt> parseScoreReport(const std::string& text, const std::string& path, double file_time_s,
                                  const std::string& picture, const AttemptReadOptions& options) {
   const json j = json::parse(text, nullptr, false);
   if (j.is_discarded() || !j.is_object()) return Error{path + ": not a JSON object"};
   if (j.value("format", json()) != "dentsim-score") return Error{path + ": not a dentsim score report (no \"format\": \"dentsim-score\")"};
+  auto report = ScoreReportSummary::fromJson(j);
+  if (!report) return Error{path + ": " + report.message()};
   ClassAttempt a;
   a.source = path;
   a.verb = "scored";
-  const json task = j.value("task", json());
-  if (!task.is_object() || !task.value("name", json()).is_string() || task["name"].get<std::string>().empty())
-    return Error{path + ": task.name: missing or not a string"};
-  a.task = task["name"].get<std::string>();
-  a.task_title = task.value("title", json()).is_string() ? task["title"].get<std::string>() : a.task;
-  if (a.task_title.empty()) a.task_title = a.task;
-  if (task.value("kind", json()).is_string()) a.task_kind = task["kind"].get<std::string>();
-  const json total = j.value("total", json());
-  if (!total.is_number() || !std::isfinite(total.get<double>()) || total.get<double>() < 0 || total.get<double>() > 100)
-    return Error{path + ": total: missing or not a number in [0, 100]"};
-  a.score = total.get<double>();
-  const json pulp = j.value("pulp_exposed", json());
-  if (!pulp.is_null() && !pulp.is_boolean()) return Error{path + ": pulp_exposed: not true or false"};
-  a.pulp_exposed = pulp.is_boolean() && pulp.get<bool>();
-  const json guided = j.value("guided", json());
-  if (!guided.is_null() && !guided.is_object()) return Error{path + ": guided: not an object"};
-  a.guided = guided.is_object();
+  a.task = report->task_name;
+  a.task_title = report->task_title.empty() ? a.task : report->task_title;
+  a.task_kind = report->task_kind;
+  a.score = report->total;
+  a.pulp_exposed = report->pulp_exposed;
+  a.guided = report->guided.has_value();
   // The student: the caller's, the report's own, the folders'.
-  const json student = j.value("student", json());
-  if (!student.is_null() && !student.is_string()) return Error{path + ": student: not a string"};
   if (!options.student.empty()) a.student = options.student;
-  else if (student.is_string()) a.student = student.get<std::string>();
+  else if (report->student) a.student = *report->student;
   else a.student = studentFromLayout(path);
   if (a.student.empty()) return Error{path + ": no student: give --student, a \"student\" field, or lay out STUDENT/ATTEMPT/score.json"};
   a.student_name = a.student;
-  const json stamp = j.value("timestamp", json());
-  if (stamp.is_null()) {
+  if (!report->timestamp) {
     a.time_s = file_time_s;
   } else {
-    const auto t = stamp.is_string() ? parseIsoTime(stamp.get<std::string>()) : std::nullopt;
+    const auto t = parseIsoTime(*report->timestamp);
     if (!t) return Error{path + ": timestamp: not an ISO 8601 date and time"};
     a.time_s = *t;
   }
-  const json id = j.value("statement_id", json());
-  if (!id.is_null() && !id.is_string()) return Error{path + ": statement_id: not a string"};
-  if (id.is_string()) a.statement_id = id.get<std::string>();
+  a.statement_id = report->statement_id.value_or("");
   // What the page shows of why: the parts, the time taken, the surface agreement.
-  a.total_max = numberAt(j, "total_max");
-  a.parts = readParts(j.value("components", json()), j.value("deductions", json()));
-  a.duration_s = numberAt(j.value("session", json()), "elapsed_s");
-  a.agreement = agreementOf(j.value("surface_agreement", json()));
+  a.total_max = report->total_max;
+  a.parts = attemptPartsOf(report->parts);
+  if (report->session) a.duration_s = report->session->elapsed_s;
+  // No samples (no ideal surface to measure at) is no agreement, not 0 % of one.
+  if (report->agreement && !(report->agreement->samples && *report->agreement->samples == 0))
+    a.agreement = AttemptAgreement{report->agreement->band_mm, report->agreement->within_percent};
   a.picture = picture;
   return a;
 }

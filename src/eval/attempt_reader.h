@@ -8,9 +8,10 @@
 // attempted) are counted and left out. A line of an outbox that is not a statement (a torn write, a
 // hand edit) is left out with a warning naming the file and line, and the rest are read; a file with
 // no statement at all is an error. Every error and warning is one line naming the file (and the line).
-// The score's parts, the time taken and the surface agreement come from the report's keys, or from
-// a statement's result extensions (eval/learning_record.h) that copy them; they are read leniently,
-// since the scoring's parts change between versions: what is not a number is left out.
+// The score's parts, the time taken and the surface agreement come from the report's keys, read
+// through its typed summary (eval/score_summary.h), or from a statement's result extensions
+// (eval/learning_record.h) that copy them; they are read leniently, since the scoring's parts change
+// between versions: what is not a number is left out.
 #pragma once
 
 #include <cstdint>

@@ -247,6 +247,10 @@ Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, cons
     std::snprintf(k, sizeof k, "%.2f", guide->settings.stiffness_n_per_mm);
     out.summary += "; guided by " + guide->source + " at " + k + " N/mm";
   }
+  // Read back from the report rather than filled beside it, so that the two cannot disagree.
+  auto reported = ScoreReportSummary::fromJson(out.report);
+  if (!reported) return Error{"the score report: " + reported.message()};
+  out.reported = std::move(*reported);
   out.diff = std::move(*diff);
   return out;
 }

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/result.h"
+#include "eval/score_summary.h"
 #include "eval/scores.h"
 #include "eval/surface_agreement.h"
 #include "eval/task.h"
@@ -43,6 +44,7 @@ struct SessionScore {
   double total_max = 100.0;            // 100, or less when parts were not scored
   std::string summary;                 // one line for the terminal
   nlohmann::ordered_json report;       // the "dentsim-score" report
+  ScoreReportSummary reported;         // the report's keys that its readers use, typed (read back from `report`)
   std::optional<ToothVolume> ideal;    // the ideal this score made from the task (none when given or none)
   ToothDiff diff;                      // the comparison, for the picture
   // Cavity and access: how the ideal cavity's surface agrees with the student's (reported, not

@@ -95,86 +95,75 @@ namespace {
 
 using ojson = nlohmann::ordered_json;
 
-// A number at a path of the report, or null where the report has none (a part not scored).
-ojson numberAt(const ojson& report, std::initializer_list<const char*> path) {
-  const ojson* at = &report;
-  for (const char* key : path) {
-    if (!at->is_object() || !at->contains(key)) return nullptr;
-    at = &(*at)[key];
-  }
-  return at->is_number() ? *at : ojson(nullptr);
+// A number the report may not have (a part not scored) as the statement writes it: null when none.
+template <typename Number>
+ojson orNull(const std::optional<Number>& v) {
+  return v ? ojson(*v) : ojson(nullptr);
 }
 
 // The score's parts as the class report reads them (eval/attempt_reader.h, readParts): each
 // component's points, max and earned share (a part earned in proportion to the work done), each
-// deduction's points, or its cap and whether it applied. The
-// formulas and the values they use stay in the score report. Null when the report has neither.
-ojson partsOf(const ojson& report) {
-  const ojson* components = report.contains("components") ? &report["components"] : nullptr;
-  const ojson* deductions = report.contains("deductions") ? &report["deductions"] : nullptr;
-  if ((!components || !components->is_object()) && (!deductions || !deductions->is_object())) return nullptr;
-  // Only the keys that say what a part earned or cost; a part without them is copied as {}.
-  auto cut = [](const ojson* parts, std::initializer_list<const char*> keys) {
-    ojson out = ojson::object();
-    if (!parts || !parts->is_object()) return out;
-    for (const auto& [name, part] : parts->items()) {
-      if (!part.is_object()) continue;
-      ojson kept = ojson::object();
-      for (const char* k : keys)
-        if (part.contains(k) && (part[k].is_number() || part[k].is_boolean() || part[k].is_null())) kept[k] = part[k];
-      out[name] = std::move(kept);
+// deduction's points, or its cap and whether it applied. The formulas and the values they use stay
+// in the score report. Null when the report lists no parts.
+ojson partsOf(const ScoreReportSummary& score) {
+  if (score.parts.empty()) return nullptr;
+  ojson components = ojson::object(), deductions = ojson::object();
+  for (const ScoreReportPart& p : score.parts) {
+    ojson kept = ojson::object();
+    if (p.has_points) kept["points"] = orNull(p.points);
+    if (p.deduction) {
+      if (p.cap) kept["cap"] = *p.cap;
+      if (p.applied) kept["applied"] = *p.applied;
+      deductions[p.name] = std::move(kept);
+    } else {
+      if (p.max) kept["max"] = *p.max;
+      if (p.earned_share) kept["earned_share"] = *p.earned_share;
+      components[p.name] = std::move(kept);
     }
-    return out;
-  };
-  return {{"components", cut(components, {"points", "max", "earned_share"})},
-          {"deductions", cut(deductions, {"points", "cap", "applied"})}};
+  }
+  return {{"components", std::move(components)}, {"deductions", std::move(deductions)}};
 }
 
 // The surface agreement's shares (the per-wall figures stay in the report); null when the report has none.
-ojson surfaceAgreementOf(const ojson& report) {
-  if (!report.contains("surface_agreement") || !report["surface_agreement"].is_object()) return nullptr;
-  const ojson& sa = report["surface_agreement"];
+ojson surfaceAgreementOf(const ScoreReportSummary& score) {
+  if (!score.agreement) return nullptr;
+  const ScoreReportAgreement& a = *score.agreement;
   ojson out = ojson::object();
-  for (const char* k : {"band_mm", "samples", "within_percent", "beyond_percent", "short_percent"})
-    if (sa.contains(k) && sa[k].is_number()) out[k] = sa[k];
-  return out.contains("band_mm") && out.contains("within_percent") ? out : ojson(nullptr);
+  out["band_mm"] = a.band_mm;
+  if (a.samples) out["samples"] = *a.samples;
+  out["within_percent"] = a.within_percent;
+  if (a.beyond_percent) out["beyond_percent"] = *a.beyond_percent;
+  if (a.short_percent) out["short_percent"] = *a.short_percent;
+  return out;
 }
 
 // The extensions a teacher's report reads: what was cut, how hard, on which session, and why it scored so.
-ojson resultExtensions(const Task& task, const ojson& report, const AttemptFacts& facts) {
+ojson resultExtensions(const Task& task, const ScoreReportSummary& score, const AttemptFacts& facts) {
   ojson removed = ojson::object();
-  for (Material m : kScoredTissues) removed[materialName(m)] = numberAt(report, {"volumes", materialName(m).c_str(), "removed_mm3"});
-  // A cavity measures against the ideal; a caries removal has no ideal, and its over-cut is the
-  // healthy tissue cut outside the allowed zone, its under-cut the caries left standing.
-  ojson overcut = numberAt(report, {"volumes", "all", "overcut_mm3"});
-  if (overcut.is_null()) overcut = numberAt(report, {"zones", "healthy_outside_zone_mm3"});
-  ojson undercut = numberAt(report, {"volumes", "all", "undercut_mm3"});
-  if (undercut.is_null()) undercut = numberAt(report, {"caries_remaining_mm3"});
+  for (size_t t = 0; t < kScoredTissues.size(); ++t) removed[materialName(kScoredTissues[t])] = orNull(score.removed_mm3[t]);
   ojson force = nullptr;
-  const ojson contacts = numberAt(report, {"session", "contact_samples"});
-  if (!contacts.is_null()) {
-    const double n = contacts.get<double>();
-    const ojson over = numberAt(report, {"session", "force_over"});
-    force = {{"mean_n", numberAt(report, {"session", "mean_force_n"})},
-             {"max_n", numberAt(report, {"session", "max_force_n"})},
+  if (score.session && score.session->contact_samples) {
+    const ScoreReportSession& s = *score.session;
+    const uint64_t n = *s.contact_samples;
+    force = {{"mean_n", orNull(s.mean_force_n)},
+             {"max_n", orNull(s.max_force_n)},
              {"threshold_n", task.force_error_n},
-             {"over_threshold_fraction", n > 0 && over.is_number() ? ojson(over.get<double>() / n) : ojson(0.0)},
-             {"contact_samples", contacts}};
+             {"over_threshold_fraction", n > 0 && s.force_over ? ojson(double(*s.force_over) / double(n)) : ojson(0.0)},
+             {"contact_samples", n}};
   }
-  const bool pulp_exposed = report.contains("pulp_exposed") && report["pulp_exposed"].is_boolean() && report["pulp_exposed"].get<bool>();
   ojson ext = ojson::object();
   ext[extensionIri("removed-mm3")] = std::move(removed);
-  ext[extensionIri("overcut-mm3")] = std::move(overcut);
-  ext[extensionIri("undercut-mm3")] = std::move(undercut);
+  ext[extensionIri("overcut-mm3")] = orNull(score.overcutOrHealthyOutsideMm3());
+  ext[extensionIri("undercut-mm3")] = orNull(score.undercutOrCariesLeftMm3());
   ext[extensionIri("force")] = std::move(force);
   // A guided attempt's report names its guide (eval/cut_score.h); an unguided one has none.
-  ext[extensionIri("guided")] = report.contains("guided") && report["guided"].is_object();
-  ext[extensionIri("session-hash")] = facts.session_hash ? ojson(*facts.session_hash) : ojson(nullptr);
-  ext[extensionIri("pulp-exposed")] = pulp_exposed;
+  ext[extensionIri("guided")] = score.guided.has_value();
+  ext[extensionIri("session-hash")] = orNull(facts.session_hash);
+  ext[extensionIri("pulp-exposed")] = score.pulp_exposed;
   ext[extensionIri("task-kind")] = taskKindName(task.kind);
-  ext[extensionIri("total-max")] = numberAt(report, {"total_max"});
-  ext[extensionIri("parts")] = partsOf(report);
-  const ojson agreement = surfaceAgreementOf(report);
+  ext[extensionIri("total-max")] = orNull(score.total_max);
+  ext[extensionIri("parts")] = partsOf(score);
+  const ojson agreement = surfaceAgreementOf(score);
   if (!agreement.is_null()) ext[extensionIri("surface-agreement")] = agreement;
   return ext;
 }
@@ -182,12 +171,17 @@ ojson resultExtensions(const Task& task, const ojson& report, const AttemptFacts
 }  // namespace
 
 Result<ojson> buildStatement(const Task& task, const ojson& report, const LearnerContext& learner, const AttemptFacts& facts) {
+  auto score = ScoreReportSummary::fromJson(report);
+  if (!score) return Error{"learning record: the score report's " + score.message()};
+  return buildStatement(task, *score, learner, facts);
+}
+
+Result<ojson> buildStatement(const Task& task, const ScoreReportSummary& score, const LearnerContext& learner,
+                             const AttemptFacts& facts) {
   if (learner.student.empty()) return Error{"learning record: no student (give --student or \"student\" in the config)"};
   if (!isPlainName(learner.course))
     return Error{"learning record: course " + quotedForMessage(learner.course) + " is not a plain name (letters, digits, '_', '-', '.')"};
-  const ojson total_json = numberAt(report, {"total"});
-  if (total_json.is_null()) return Error{"learning record: the score report has no total"};
-  const double total = total_json.get<double>();
+  const double total = score.total;
   const double raw = std::clamp(total, 0.0, 100.0);
   const AttemptVerb verb = attemptVerb(task, total);
   const std::string& lang = learner.language;
@@ -207,9 +201,8 @@ Result<ojson> buildStatement(const Task& task, const ojson& report, const Learne
   result["score"] = {{"scaled", std::round(raw / 100.0 * 1e4) / 1e4}, {"raw", raw}, {"min", 0}, {"max", 100}};
   if (verb != AttemptVerb::Completed) result["success"] = verb == AttemptVerb::Passed;
   result["completion"] = true;
-  const ojson elapsed = numberAt(report, {"session", "elapsed_s"});
-  if (!elapsed.is_null()) result["duration"] = isoDuration(elapsed.get<double>());
-  result["extensions"] = resultExtensions(task, report, facts);
+  if (score.session && score.session->elapsed_s) result["duration"] = isoDuration(*score.session->elapsed_s);
+  result["extensions"] = resultExtensions(task, score, facts);
 
   ojson context = ojson::object();
   context["contextActivities"] = {

@@ -1,4 +1,4 @@
-// Learning records: one scored attempt as an xAPI 1.0.3 statement, built from the score report and the attempt's facts, with its stable name-based id.
+// Learning records: one scored attempt as an xAPI 1.0.3 statement, built from the score report's summary and the attempt's facts, with its stable name-based id.
 //
 // Pure: no files, no network. The outbox that keeps the statements and the client that sends them
 // are io's (io/xapi_outbox.h, io/lrs_client.h); app/learning_cli.h joins them for the commands.
@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/result.h"
+#include "eval/score_summary.h"
 #include "eval/task.h"
 
 namespace dentsim {
@@ -62,9 +63,11 @@ enum class AttemptVerb { Completed, Passed, Failed };
 AttemptVerb attemptVerb(const Task& task, double total);
 const char* attemptVerbName(AttemptVerb verb);
 
-// The statement of one scored attempt. `report` is the "dentsim-score" report that scoreCut made
-// for `task`. Errors (one line) name what is missing: no student, a course that is not a plain name,
-// a report without a total.
+// The statement of one scored attempt. `score` is what the "dentsim-score" report that scoreCut made
+// for `task` says. Errors (one line) name what is missing: no student, a course that is not a plain name.
+Result<nlohmann::ordered_json> buildStatement(const Task& task, const ScoreReportSummary& score,
+                                              const LearnerContext& learner, const AttemptFacts& facts);
+// The same from the whole report; also an error when the report is not one (the key named).
 Result<nlohmann::ordered_json> buildStatement(const Task& task, const nlohmann::ordered_json& report,
                                               const LearnerContext& learner, const AttemptFacts& facts);
 

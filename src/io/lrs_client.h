@@ -1,6 +1,6 @@
 // The HTTP side of the learning records: one xAPI statement POSTed to a school's LRS through libcurl, with short timeouts and Basic credentials.
 //
-// The caller decides what a failure means for its outbox (app/learning_cli.cpp): delivered
+// The caller decides what a failure means for its outbox (io/outbox_sender.h): delivered
 // statements are marked sent; refused or unreachable ones stay pending for the next run.
 #pragma once
 

@@ -341,6 +341,42 @@ TEST_F(LearningCli, ASenderKilledMidSendPostsNothingTwice) {
   EXPECT_EQ(lrs.requests().size(), 2u);  // the killed sender's first statement is not posted again
 }
 
+size_t countOf(const std::string& text, const std::string& part) {
+  size_t n = 0;
+  for (size_t at = text.find(part); at != std::string::npos; at = text.find(part, at + part.size())) ++n;
+  return n;
+}
+
+// After the options are checked, nothing about the records fails a scored attempt: with the LRS down
+// and with an outbox that cannot be written, `score` writes its report, says why in one warning
+// line, and succeeds.
+TEST_F(LearningCli, AnUnreachableLrsOrAnUnwritableOutboxNeverFailsTheScore) {
+  const test::NoLeakCheckForGpuChild no_leak_check;  // the Vulkan loader looks for a device before the CPU path
+  const auto demo = dentsim("demo --headless --level 6 --mirror none --no-sound --attempt expert --params " + preset_ + " --out " +
+                                demoDir(0),
+                            "VK_ICD_FILENAMES=/nonexistent.json ");
+  ASSERT_EQ(demo.exit_code, 0) << demo.output;
+  const std::string down = "http://127.0.0.1:" + std::to_string(freePort()) + "/xapi";
+  const auto r = scoreAs("s1001", 0, down);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_TRUE(fs::exists(dir_.file("s.json")));
+  EXPECT_EQ(countOf(r.output, "dentsim: warning:"), 1u) << r.output;
+  EXPECT_NE(r.output.find("dentsim: warning: LRS " + down), std::string::npos) << r.output;
+  EXPECT_EQ(readJsonLines(outbox_).size(), 1u);  // recorded, and pending
+
+  // The outbox's folder is a file: nothing can be recorded there.
+  const std::string blocker = dir_.file("blocker");
+  std::ofstream(blocker) << "not a folder\n";
+  fs::remove(dir_.file("s.json"));
+  const auto unwritable = dentsim("score --task caries --initial " + demoDir(0) + "/initial.dvol --final " + demoDir(0) +
+                                  "/final.dvol --session " + session(0) + " -o " + dir_.file("s.json") + " --student s1001 --config " +
+                                  config_ + " --outbox " + blocker + "/outbox.jsonl");
+  EXPECT_EQ(unwritable.exit_code, 0) << unwritable.output;
+  EXPECT_TRUE(fs::exists(dir_.file("s.json")));
+  EXPECT_EQ(countOf(unwritable.output, "dentsim: warning:"), 1u) << unwritable.output;
+  EXPECT_NE(unwritable.output.find("dentsim: warning: the attempt was not recorded: "), std::string::npos) << unwritable.output;
+}
+
 TEST_F(LearningCli, MalformedConfigIsOneLineNamingFileAndKey) {
   const std::string bad = dir_.file("bad.json");
   std::ofstream(bad) << R"({"student": "s1", "lrs": "ftp://x"})";

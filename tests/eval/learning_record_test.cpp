@@ -51,6 +51,7 @@ Task cariesTask() {
 ojson cariesReport(double total) {
   ojson r = ojson::object();
   r["format"] = "dentsim-score";
+  r["task"] = {{"name", "caries_removal"}};
   r["total"] = total;
   r["total_max"] = 100.0;
   r["caries_remaining_mm3"] = 0.25;
@@ -212,7 +213,8 @@ TEST(LearningRecord, MissingPiecesAreNamed) {
             std::string::npos);
   ojson no_total = cariesReport(80);
   no_total.erase("total");
-  EXPECT_EQ(buildStatement(cariesTask(), no_total, learner(), facts()).message(), "learning record: the score report has no total");
+  EXPECT_EQ(buildStatement(cariesTask(), no_total, learner(), facts()).message(),
+            "learning record: the score report's total: missing or not a number in [0, 100]");
 }
 
 }  // namespace
