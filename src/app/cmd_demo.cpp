@@ -90,21 +90,21 @@ int runDemo(const DemoOptions& o) {
   so.attempt = o.attempt;
   so.mirror_tool = o.mirror == "none" ? "" : o.mirror;
   so.score_at_end = true;
-  so.headless = o.headless;
-  so.detail_pixels = o.detail_pixels;
-  so.mesher = o.mesher;
+  so.frames.headless = o.headless;
+  so.frames.detail_pixels = o.detail_pixels;
+  so.frames.mesher = o.mesher;
   so.out = o.out;
-  so.width = o.width;
-  so.height = o.height;
-  so.exit_after_s = o.exit_after_s;
+  so.frames.width = o.width;
+  so.frames.height = o.height;
+  so.end.exit_after_s = o.exit_after_s;
   so.view = "buccal";
-  so.shots_s = {1.0};
-  so.sound = o.sound;
+  so.shots.shots_s = {1.0};
+  so.sound.sound = o.sound;
   // Headless (asked for, or no display), the sound goes to a file beside the frames.
-  if (o.sound && (o.headless || !ui::whyNoDisplay().empty())) so.audio_out = (fs::path(o.out) / "sound.wav").string();
-  so.frame_every_s = 20.0;
+  if (o.sound && (o.headless || !ui::whyNoDisplay().empty())) so.sound.audio_out = (fs::path(o.out) / "sound.wav").string();
+  so.shots.frame_every_s = 20.0;
   // The score screen stays up a few seconds, then the window closes by itself (unless --stay).
-  so.linger_s = o.stay ? -1.0 : kScoreScreenS;
+  so.end.linger_s = o.stay ? -1.0 : kScoreScreenS;
   so.on_scored = [&o](const Task& task, nlohmann::ordered_json& report, const std::string& session,
                       const std::string& final_file) { recordAttemptOrWarn(o.learning, task, report, session, final_file); };
   auto run = runSimulator(so);

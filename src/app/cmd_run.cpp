@@ -27,12 +27,12 @@ Status checkRunOptions(const SimulatorOptions& o, const CLI::App& cmd) {
   const Status checks[] = {
       refuseOption(given("--pen-script") && o.demo_script, "--pen-script",
                    "--demo-script plays the task's own path; give one of the two"),
-      refuseOption(given("--audio-out") && !o.sound, "--audio-out", "--no-sound makes no sound to write"),
-      refuseOption((given("--turbine-wav") || given("--cutting-wav")) && !o.sound, "--turbine-wav/--cutting-wav",
+      refuseOption(given("--audio-out") && !o.sound.sound, "--audio-out", "--no-sound makes no sound to write"),
+      refuseOption((given("--turbine-wav") || given("--cutting-wav")) && !o.sound.sound, "--turbine-wav/--cutting-wav",
                    "--no-sound plays no recording"),
-      refuseOption((given("--turbine-wav") || given("--cutting-wav")) && o.headless && o.audio_out.empty(),
+      refuseOption((given("--turbine-wav") || given("--cutting-wav")) && o.frames.headless && o.sound.audio_out.empty(),
                    "--turbine-wav/--cutting-wav", "a headless run plays no sound; give --audio-out to render it to a WAV"),
-      refuseOption(given("--recorded-rpm") && o.turbine_wav.empty(), "--recorded-rpm",
+      refuseOption(given("--recorded-rpm") && o.sound.turbine_wav.empty(), "--recorded-rpm",
                    "is the speed of a --turbine-wav recording; none is given"),
       refuseOption(given("--attempt") && !o.demo_script, "--attempt", "picks the scripted attempt of --demo-script"),
       refuseOption(given("--guide-stiffness") && o.guide.empty(), "--guide-stiffness", "is the spring of --guide; none is given"),
@@ -65,11 +65,11 @@ std::string penFile(const std::string& pen) {
 // No file the run reads is one it writes, and an output folder's recording is kept unless --overwrite.
 Status checkRunFiles(const SimulatorOptions& o, bool overwrite) {
   const std::vector<std::string> inputs = {o.tooth,       o.params,      o.task,
-                                           o.pen_script,  o.guide,       o.ghost,
-                                           o.turbine_wav, o.cutting_wav, o.devices.backends.falcon.firmware_path,
+                                           o.pen_script,  o.guide,       o.ghost.session,
+                                           o.sound.turbine_wav, o.sound.cutting_wav, o.devices.backends.falcon.firmware_path,
                                            penFile(o.devices.drill_pen), penFile(o.devices.mirror_pen)};
   std::vector<std::string> outputs = recordingOutputs(o.out);
-  outputs.push_back(o.audio_out);
+  outputs.push_back(o.sound.audio_out);
   if (Status st = checkOutputsAreNotInputs(inputs, outputs); !st) return st;
   if (!o.out.empty())
     if (Status st = checkRecordingFolder(o.out, overwrite); !st) return st;
@@ -122,11 +122,11 @@ void addRunCommand(CLI::App& root, Action& action) {
   cmd->add_option("--falcon-firmware", o->devices.backends.falcon.firmware_path, "The Novint Falcon's firmware file (you supply it)");
   cmd->add_option("--reach", o->devices.backends.reach_mm, "How much of the scene a hardware pen's workspace spans [mm]")
       ->check(finiteIn(1.0, 1000.0, "mm"))->capture_default_str();
-  cmd->add_option("--audio-out", o->audio_out, "Render the sound offline to this WAV file (headless too) instead of playing it");
-  cmd->add_flag("!--no-sound", o->sound, "No sound at all");
-  cmd->add_option("--turbine-wav", o->turbine_wav, "A turbine recording (WAV) to play instead of the synthesized whine");
-  cmd->add_option("--cutting-wav", o->cutting_wav, "A cutting recording (WAV) to play instead of the synthesized noise");
-  cmd->add_option("--recorded-rpm", o->recorded_rpm, "The turbine recording's speed [1/min]")
+  cmd->add_option("--audio-out", o->sound.audio_out, "Render the sound offline to this WAV file (headless too) instead of playing it");
+  cmd->add_flag("!--no-sound", o->sound.sound, "No sound at all");
+  cmd->add_option("--turbine-wav", o->sound.turbine_wav, "A turbine recording (WAV) to play instead of the synthesized whine");
+  cmd->add_option("--cutting-wav", o->sound.cutting_wav, "A cutting recording (WAV) to play instead of the synthesized noise");
+  cmd->add_option("--recorded-rpm", o->sound.recorded_rpm, "The turbine recording's speed [1/min]")
       ->check(finiteIn(100.0, 1e6, "1/min"))->capture_default_str();
   cmd->add_option("--pen-script", o->pen_script, "Pen path (CSV or JSON) that both pens play, instead of the mouse");
   cmd->add_flag("--demo-script", o->demo_script,
@@ -146,18 +146,18 @@ void addRunCommand(CLI::App& root, Action& action) {
   cmd->add_option("--wander", o->wander_mm,
                   "The pen script's drill wanders sideways up to this far, off its path and back (a shaky hand) [mm]")
       ->check(finiteIn(0.0, 5.0, "mm"));
-  cmd->add_flag("--headless", o->headless, "No window: frames go offscreen, to PNG (also when no display answers)");
-  cmd->add_option("--width", o->width, "Window or frame width [px]")->check(CLI::Range(64, 8192))->capture_default_str();
-  cmd->add_option("--height", o->height, "Window or frame height [px]")->check(CLI::Range(64, 8192))->capture_default_str();
+  cmd->add_flag("--headless", o->frames.headless, "No window: frames go offscreen, to PNG (also when no display answers)");
+  cmd->add_option("--width", o->frames.width, "Window or frame width [px]")->check(CLI::Range(64, 8192))->capture_default_str();
+  cmd->add_option("--height", o->frames.height, "Window or frame height [px]")->check(CLI::Range(64, 8192))->capture_default_str();
   cmd->add_option("--out", o->out,
                   "Folder for the session, the teeth, screenshots and frames; one that already holds a recording "
                   "needs --overwrite");
   cmd->add_flag("--overwrite", *overwrite, "Replace the recording (session and teeth) already in the --out folder");
-  cmd->add_option("--shot", o->shots_s, "Loop time of a screenshot (shot-N.png with shot-N.json) [s]; repeatable")
+  cmd->add_option("--shot", o->shots.shots_s, "Loop time of a screenshot (shot-N.png with shot-N.json) [s]; repeatable")
       ->check(finiteIn(0.0, kMaxLoopTimeS, "s"));
-  cmd->add_option("--frame-every", o->frame_every_s, "Also write frame-N.png every so many seconds of loop time [s]")
+  cmd->add_option("--frame-every", o->shots.frame_every_s, "Also write frame-N.png every so many seconds of loop time [s]")
       ->check(finiteIn(kMinFrameEveryS, kMaxLoopTimeS, "s"));
-  cmd->add_option("--exit-after", o->exit_after_s, "Quit at this loop time, at most 24 h [s]")
+  cmd->add_option("--exit-after", o->end.exit_after_s, "Quit at this loop time, at most 24 h [s]")
       ->check(finiteIn(0.0, kMaxLoopTimeS, "s"));
   cmd->add_flag("--lockstep", o->lockstep, "Step the haptic loop from the frame loop (reproducible frames; always when headless)");
   cmd->add_option("--fps", o->fps, "Loop time per frame in lockstep [frames/s]")
@@ -168,21 +168,21 @@ void addRunCommand(CLI::App& root, Action& action) {
                   "(/dev/cpu_dma_latency; costs power); -1: do not ask")
       ->check(CLI::Range(-1, 1000000))
       ->capture_default_str();
-  cmd->add_flag("!--no-ui", o->ui, "Hide the parameter window and the overlay");
+  cmd->add_flag("!--no-ui", o->frames.ui, "Hide the parameter window and the overlay");
   cmd->add_option("--view", o->view, "First camera view: occlusal, buccal, lingual, mesial or distal (default: the task's, else buccal)");
-  addDrawingOptions(*cmd, &o->detail_pixels, &o->mesher);
+  addDrawingOptions(*cmd, &o->frames.detail_pixels, &o->frames.mesher);
   cmd->add_option_function<bool>(
-      "--progressive", [o](bool on) { o->progressive = on; },
+      "--progressive", [o](bool on) { o->frames.progressive = on; },
       "First frame from the coarse copies, full detail filling in over the next frames (default: in a window, not "
       "headless)");
-  cmd->add_flag("!--no-vsync", o->vsync, "Present as fast as frames come (frame-rate measurements)");
+  cmd->add_flag("!--no-vsync", o->frames.vsync, "Present as fast as frames come (frame-rate measurements)");
   cmd->add_flag("--score-at-end", o->score_at_end, "Score the cut when the pen script ends");
-  cmd->add_flag("--exit-at-end", o->exit_at_end, "Quit one frame after the pen script ends, windowed too");
-  cmd->add_option("--device", o->device, "Vulkan device index or name part");
-  cmd->add_option("--ghost", o->ghost,
+  cmd->add_flag("--exit-at-end", o->end.exit_at_end, "Quit one frame after the pen script ends, windowed too");
+  cmd->add_option("--device", o->frames.device, "Vulkan device index or name part");
+  cmd->add_option("--ghost", o->ghost.session,
                   "A professional's session (.dses): its drill and mirror show translucent beside yours "
                   "(the panel's View page hides it); default: none, or the task's recorded ideal when the panel shows it");
-  cmd->add_option("--ghost-follow", o->ghost_follow,
+  cmd->add_option("--ghost-follow", o->ghost.follow,
                   "How the ghost moves: time (the professional's pose at your task time) or nearest "
                   "(standing where the professional's bur came nearest yours)")
       ->check(CLI::IsMember({"time", "nearest"}))

@@ -66,19 +66,19 @@ SimulatorOptions demoRun(const FramesBenchOptions& o, int level) {
   SimulatorOptions so;
   so.level = level;
   so.demo_script = true;
-  so.headless = !o.window;
+  so.frames.headless = !o.window;
   so.lockstep = true;  // each frame shows 1/30 s more of the drilling, whatever the frame costs
   so.fps = 30.0;
-  so.vsync = false;
-  so.width = o.width;
-  so.height = o.height;
-  so.bench_frames = o.frames;
-  so.bench_from_s = o.from_s;
-  so.device = o.device;
-  so.sound = false;
-  so.mesher = o.mesher;
-  so.ui = false;  // the panel's cost is not the tooth's; the pictures compare the scene alone
-  so.progressive = false;
+  so.frames.vsync = false;
+  so.frames.width = o.width;
+  so.frames.height = o.height;
+  so.end.bench_frames = o.frames;
+  so.end.bench_from_s = o.from_s;
+  so.frames.device = o.device;
+  so.sound.sound = false;
+  so.frames.mesher = o.mesher;
+  so.frames.ui = false;  // the panel's cost is not the tooth's; the pictures compare the scene alone
+  so.frames.progressive = false;
   return so;
 }
 
@@ -161,11 +161,11 @@ int runFramesBench(const FramesBenchOptions& o) {
     std::array<std::string, 2> shots;
     for (int path = 0; path < 2; ++path) {
       SimulatorOptions so = demoRun(o, level);
-      so.detail_pixels = path == 0 ? 0.0f : o.detail_pixels;
+      so.frames.detail_pixels = path == 0 ? 0.0f : o.detail_pixels;
       const fs::path dir = scratch / (std::to_string(level) + (path == 0 ? "-full" : "-screen"));
       fs::remove_all(dir, ec);
       so.out = dir.string();
-      so.shots_s = {shot_s};
+      so.shots.shots_s = {shot_s};
       auto run = runSimulator(so);
       if (!run) return fail(run.message());
       rows.push_back({level, path == 1, *run});
@@ -187,11 +187,11 @@ int runFramesBench(const FramesBenchOptions& o) {
     if (o.first_frame) {
       for (bool parts : {false, true}) {
         SimulatorOptions so = demoRun(o, level);
-        so.bench_frames = parts ? 1000000 : 1;  // in parts: on until full detail is everywhere
-        so.bench_from_s = 0.0;
-        so.progressive = parts;
-        so.detail_pixels = o.detail_pixels;
-        so.quit_at_full_detail = parts;
+        so.end.bench_frames = parts ? 1000000 : 1;  // in parts: on until full detail is everywhere
+        so.end.bench_from_s = 0.0;
+        so.frames.progressive = parts;
+        so.frames.detail_pixels = o.detail_pixels;
+        so.end.quit_at_full_detail = parts;
         auto run = runSimulator(so);
         if (!run) return fail(run.message());
         firsts.push_back({level, parts, run->first_frame_s, parts ? run->full_detail_s : run->first_frame_s});

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "app/commands.h"
+#include "app/first_view.h"
 #include "app/frame_painter.h"
 #include "app/window_input.h"
 #include "io/png_file.h"
@@ -61,7 +62,7 @@ class ReplayViewer {
   EditChannel edits_;
   std::unique_ptr<ReplayCursor> cursor_;
   std::unique_ptr<FramePainter> painter_;
-  ToothVolume view_;                  // the window's copy of the tooth, fed by the edit channel
+  ToothVolume window_tooth_;          // the window's copy of the tooth, fed by the edit channel
   std::vector<uint64_t> batch_;
   std::vector<BrickCoord> dirty_;     // bricks to re-mesh before the next frame is drawn
   ui::ReplayPanelState panel_;
@@ -83,18 +84,18 @@ Status ReplayViewer::setUp() {
   auto cursor = ReplayCursor::open(session_, tooth_, co);
   if (!cursor) return cursor.error();
   cursor_ = std::move(*cursor);
-  view_ = cursor_->start();
+  window_tooth_ = cursor_->start();
   if (box_.empty()) return makeError(o_.title, "the tooth holds no tissue");
-  scene_.tooth_frame = view_.frame;
+  scene_.tooth_frame = window_tooth_.frame;
   scene_.looks = defaultLookParams().looks;
   scene_.bur = session_.info.drill_tool;
   scene_.mirror_tool = !session_.info.mirror_tool.empty();
   if (auto params = parseSimParams(session_.info.params_json, "session parameters")) scene_.max_force_n = params->device.max_force_n;
 
-  // The simulator's first view: buccal, raised 30 degrees, widened when a mirror is in the scene.
-  camera_.setView(render::ViewPreset::Buccal, render::toGlm(box_.centre()), float(0.5 * norm(box_.hi - box_.lo)));
-  camera_.orbit(0.0f, 0.52f);
-  if (!session_.info.mirror_tool.empty()) camera_.setDistance(camera_.distance() * 1.4f);
+  // The simulator's own first view (buccal from the chair), so the replay opens on what the student saw.
+  FirstView first;
+  first.mirror = !session_.info.mirror_tool.empty();
+  placeFirstView(camera_, box_, first);
 
   PainterOptions po;
   po.width = o_.width;
@@ -104,7 +105,7 @@ Status ReplayViewer::setUp() {
   if (!painter) return painter.error();
   painter_ = std::move(*painter);
   input_.setPanel(painter_->panel());
-  if (Status st = painter_->surfaces().build(view_.voxels); !st) return st;
+  if (Status st = painter_->surfaces().build(window_tooth_.voxels); !st) return st;
 
   panel_.title = o_.title;
   panel_.playing = true;
@@ -121,7 +122,7 @@ Status ReplayViewer::setUp() {
 void ReplayViewer::drainEdits() {
   batch_.clear();
   edits_.drain(&batch_);
-  if (!batch_.empty()) applyVoxelEdits(view_.voxels, batch_, &dirty_);
+  if (!batch_.empty()) applyVoxelEdits(window_tooth_.voxels, batch_, &dirty_);
 }
 
 void ReplayViewer::playUpTo(size_t target) {
@@ -145,9 +146,9 @@ void ReplayViewer::seek(double t_s) {
   batch_.clear();
   edits_.drain(&batch_);
   cursor_->restart();
-  view_ = cursor_->start();
+  window_tooth_ = cursor_->start();
   dirty_.clear();
-  if (Status st = painter_->surfaces().build(view_.voxels); !st)
+  if (Status st = painter_->surfaces().build(window_tooth_.voxels); !st)
     warn("re-meshing the starting tooth: " + st.message());
 }
 
@@ -193,7 +194,7 @@ Status ReplayViewer::frame() {
   if (cursor_->atEnd() && !ended_) reachedEnd();
   if (cursor_->atEnd()) panel_.playing = false;
   if (!dirty_.empty())
-    if (Status st = painter_->remesh(view_.voxels, &dirty_); !st) return st;
+    if (Status st = painter_->remesh(window_tooth_.voxels, &dirty_); !st) return st;
 
   // The panel, then the scene under it.
   panel_.time_s = cursor_->time();

@@ -18,12 +18,44 @@
 #include <nlohmann/json.hpp>
 
 #include "app/device_rack.h"
+#include "app/run_sound.h"
+#include "app/sim_end_rules.h"
 #include "core/result.h"
 #include "gpu/mesher_kind.h"
 #include "eval/task.h"
 #include "sim/guide_spring.h"
 
 namespace dentsim::app {
+
+// How the frames are made: in a window or offscreen, their size, the device and the detail drawn.
+struct SimFrameOptions {
+  bool headless = false;                // offscreen frames, no window (also when no display answers)
+  int width = 1280, height = 800;       // window or frame size [px]
+  bool vsync = true;                    // windowed: wait for the display's refresh
+  bool ui = true;                       // the parameter window and the overlay
+  std::string device;                   // Vulkan device index or name part; empty: the best
+  // Screen-sized detail (docs/MESHING.md): each region drawn from the coarsest copy of the tooth
+  // within this many pixels of error; 0 draws everything at full detail (the path before it).
+  float detail_pixels = 1.0f;
+  gpu::MesherKind mesher = gpu::MesherKind::Auto;  // the tooth's mesher: the kernel, CPU threads, or what suits the device
+  // The first frame comes from the coarse copies and full detail fills in around the view over the
+  // next frames; false meshes everything before the first frame. Unset: on in a window, off headless
+  // (so that a headless run's pictures never depend on how fast the machine meshes).
+  std::optional<bool> progressive;
+};
+
+// The pictures written into `out` while the run goes (app/screenshots.h).
+struct SimShotOptions {
+  std::vector<double> shots_s;          // loop times of screenshots (shot-N.png and shot-N.json) [s]
+  double frame_every_s = 0.0;           // also write frame-N.png every so much loop time (0: none) [s]
+};
+
+// The professional's ghost (docs/SIMULATOR.md): a session's drill and mirror drawn translucent
+// beside the student's, never in the haptic loop.
+struct SimGhostOptions {
+  std::string session;                  // the professional's session (.dses); empty: the task's recorded ideal, if the panel shows it
+  std::string follow = "time";          // "time": the pose at the student's task time; "nearest": nearest the student's bur
+};
 
 struct SimulatorOptions {
   std::string tooth;                    // a tooth file (.dvol); empty: the task's tooth
@@ -37,30 +69,22 @@ struct SimulatorOptions {
   std::optional<std::string> mirror_tool;    // the mirror tool; none: the task's; empty: no mirror
   std::string pen_script;               // a pen path (CSV or JSON) both pens play; empty: mouse and keys
   DeviceRackOptions devices;            // the pens, the pedal and their options (app/device_rack.h)
-  // Sound (docs/SOUND.md): played live in a window; `audio_out` renders it offline to a WAV file
-  // (headless too) through OpenAL's loopback device instead.
-  bool sound = true;                    // false: no sound at all
-  std::string audio_out;                // FILE.wav; empty: live in a window, none headless
-  std::string turbine_wav, cutting_wav; // recordings replacing the synthesized voices; empty: synthesized
-  double recorded_rpm = 40000.0;        // the turbine recording's speed [1/min]
+  // Sound (docs/SOUND.md): played live in a window; `sound.audio_out` renders it offline to a WAV
+  // file (headless too) through OpenAL's loopback device instead.
+  RunSoundOptions sound;
   double wander_mm = 0.0;               // the script's drill wanders sideways this far (sim/novice_paths.h wanderingPath) [mm]
   std::string guide;                    // a professional's session whose path a spring pulls the drill toward; empty: none
   GuideSettings guide_settings;         // that spring (sim/guide_spring.h)
   bool demo_script = false;             // the task's scripted preparation (caries removal or class I), the mirror held distally
   std::string attempt = "expert";       // with demo_script: the careful one, or one with a fault (sim/novice_paths.h)
-  bool headless = false;                // offscreen frames, no window (also when no display answers)
-  int width = 1280, height = 800;       // window or frame size [px]
+  SimFrameOptions frames;               // window or offscreen, size, device, detail
   std::string out;                      // folder for the session, teeth, screenshots and frames; empty: none
-  std::vector<double> shots_s;          // loop times of screenshots (shot-N.png and shot-N.json) [s]
-  double frame_every_s = 0.0;           // also write frame-N.png every so much loop time (0: none) [s]
-  double exit_after_s = 0.0;            // quit at this loop time; 0: when the window closes, or
-                                        // headless, when the script ends (a virtual pen needs it) [s]
+  SimShotOptions shots;                 // screenshots and frame pictures in `out`
+  SimEndOptions end;                    // when the run quits by itself (app/sim_end_rules.h)
   bool lockstep = false;                // the frame loop steps the haptic loop (always when headless)
   int idle_latency_us = 0;              // while the loop's thread runs, idle CPUs wake within this [us]; < 0: not asked
   double fps = 30.0;                    // loop time per frame in lockstep [frames/s]
-  bool ui = true;                       // the parameter window and the overlay
   std::string view;                     // the first camera view (occlusal, buccal, lingual, mesial, distal); empty: the task's, else buccal
-  bool vsync = true;                    // windowed: wait for the display's refresh
   bool score_at_end = false;            // score the cut when the script ends, write score files, show it
   // Called with every cut the run scores (at the script's end or by the panel's Score button): the
   // task, the score report, the session holding the whole cut (empty: none) and the final tooth
@@ -69,24 +93,7 @@ struct SimulatorOptions {
   std::function<void(const Task&, nlohmann::ordered_json& report, const std::string& session_file,
                      const std::string& final_file)>
       on_scored;
-  bool exit_at_end = false;             // quit one frame after the script ends (windowed too)
-  double linger_s = -1.0;               // windowed: quit this long after the script's end (and its score) [wall s]; < 0: stay
-  std::string device;                   // Vulkan device index or name part; empty: the best
-  // The professional's ghost (docs/SIMULATOR.md): a session's drill and mirror drawn translucent
-  // beside the student's, never in the haptic loop.
-  std::string ghost;                    // the professional's session (.dses); empty: the task's recorded ideal, if the panel shows it
-  std::string ghost_follow = "time";    // "time": the pose at the student's task time; "nearest": nearest the student's bur
-  // Screen-sized detail (docs/MESHING.md): each region drawn from the coarsest copy of the tooth
-  // within this many pixels of error; 0 draws everything at full detail (the path before it).
-  float detail_pixels = 1.0f;
-  gpu::MesherKind mesher = gpu::MesherKind::Auto;  // the tooth's mesher: the kernel, CPU threads, or what suits the device
-  // The first frame comes from the coarse copies and full detail fills in around the view over the
-  // next frames; false meshes everything before the first frame. Unset: on in a window, off headless
-  // (so that a headless run's pictures never depend on how fast the machine meshes).
-  std::optional<bool> progressive;
-  bool quit_at_full_detail = false;     // with progressive: quit once the full copy is whole (benchmarks)
-  int bench_frames = 0;                 // > 0: draw every frame (headless too), stop after this many
-  double bench_from_s = 0.0;            // ... from this loop time on (the script's steps before run undrawn) [s]
+  SimGhostOptions ghost;                // the professional's ghost
 };
 
 struct SimulatorOutcome {

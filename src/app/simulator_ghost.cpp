@@ -4,15 +4,15 @@
 namespace dentsim::app {
 
 std::string Simulator::ghostSource() const {
-  if (!o_.ghost.empty()) return o_.ghost;
+  if (!o_.ghost.session.empty()) return o_.ghost.session;
   // A teacher's "Record as ideal" keeps the session beside the task: the ideal to compare with.
-  if (task_ && task_->ideal && task_->ideal->kind == IdealKind::Session) return task_->ideal->path;
+  if (model_.task && model_.task->ideal && model_.task->ideal->kind == IdealKind::Session) return model_.task->ideal->path;
   return "";
 }
 
 // Both ways in (--ghost at set-up, the task's ideal when first shown) read and warn through here.
 Status Simulator::loadGhost(const std::string& source) {
-  auto g = GhostDriver::load(source, params_.point_shell, initial_);
+  auto g = GhostDriver::load(source, model_.params.point_shell, model_.initial);
   if (!g) return g.error();
   ghost_ = std::move(*g);
   for (const std::string& w : ghost_->warnings()) noteWarning(w);
@@ -20,14 +20,14 @@ Status Simulator::loadGhost(const std::string& source) {
 }
 
 Status Simulator::setUpGhost() {
-  const std::optional<GhostFollow> follow = parseGhostFollow(o_.ghost_follow);
-  if (!follow) return makeError("--ghost-follow", "\"" + o_.ghost_follow + "\" is not time or nearest");
+  const std::optional<GhostFollow> follow = parseGhostFollow(o_.ghost.follow);
+  if (!follow) return makeError("--ghost-follow", "\"" + o_.ghost.follow + "\" is not time or nearest");
   ui_.ghost_nearest = *follow == GhostFollow::Nearest;
-  if (o_.ghost.empty()) return Ok{};
+  if (o_.ghost.session.empty()) return Ok{};
   // Asked for by name, a session that does not read ends the run before anything opens.
-  if (Status st = loadGhost(o_.ghost); !st) return st;
+  if (Status st = loadGhost(o_.ghost.session); !st) return st;
   ui_.ghost_shown = true;
-  ui_.ghost_source = "ghost: " + o_.ghost;
+  ui_.ghost_source = "ghost: " + o_.ghost.session;
   return Ok{};
 }
 
@@ -56,7 +56,7 @@ void Simulator::followGhost(const HapticState& state) {
     ui_.ghost_source = "ghost: the task's ideal, " + source;
   }
   if (ui_.ghost_nearest)
-    ghost_->followNearest(state.tools[size_t(PenRole::Drill)].tool, drill_tool_->grip_local);
+    ghost_->followNearest(state.tools[size_t(PenRole::Drill)].tool, model_.drill_tool->grip_local);
   else
     ghost_->followTime(segments_.loopTime() - ghost_t0_);
 }

@@ -16,41 +16,38 @@ namespace dentsim::app {
 // ---- a new tooth or task ---------------------------------------------------------------------------------
 
 Status Simulator::restartOnNewTooth(const std::string& reason) {
-  if (Status st = painter_->surfaces().build(view_.voxels); !st) return st;
-  pending_dirty_.clear();
-  score_shown_ = false;
+  if (Status st = painter_->surfaces().build(state_.view.voxels); !st) return st;
+  state_.pending_dirty.clear();
+  state_.score_shown = false;
   ui_.score = {};
-  tooth_first_segment_ = segments_.count() + 1;
+  state_.tooth_first_segment = segments_.count() + 1;
   if (pens_) {
-    pens_->reset(PenRole::Drill, drillStartGrip(box_, 3.0));
-    if (mirror_tool_) pens_->reset(PenRole::Mirror, mirrorGrip(box_, render::fromGlm(camera_.eye())));
+    pens_->reset(PenRole::Drill, drillStartGrip(model_.box, 3.0));
+    if (model_.mirror_tool) pens_->reset(PenRole::Mirror, mirrorGrip(model_.box, render::fromGlm(camera_.eye())));
   }
-  note(reason + ": " + toothName() + ", level " + std::to_string(initial_.frame.level));
+  note(reason + ": " + model_.tooth.name() + ", level " + std::to_string(model_.initial.frame.level));
   return startSegment();
 }
 
 // The picker's tooth: a file that does not load leaves the tooth in use as it was, with the error
 // in the panel.
 Status Simulator::pickTooth() {
-  const std::string file_before = tooth_file_;
-  const int level_before = o_.level;
-  tooth_file_ = ui_.tooth;
-  if (tooth_file_.empty()) o_.level = ui_.level;
+  const ToothChoice before = model_.tooth;
+  model_.tooth = before.picked(ui_.tooth, ui_.level);
   const bool was_running = segments_.running();
   if (was_running)
     if (Status st = endSegment("new tooth"); !st) return st;
   if (Status st = loadTooth(); !st) {
     ui_.tooth_error = st.message();
     note(st.message());
-    tooth_file_ = file_before;
-    o_.level = level_before;
-    ui_.tooth = tooth_file_;
-    ui_.level = initial_.frame.level;
+    model_.tooth = before;
+    ui_.tooth = model_.tooth.file;
+    ui_.level = model_.initial.frame.level;
     // The tooth in use goes on where it was, in a new segment if one was running.
     return was_running ? startSegment() : Status(Ok{});
   }
   ui_.tooth_error.clear();
-  ui_.level = initial_.frame.level;
+  ui_.level = model_.initial.frame.level;
   return restartOnNewTooth("new tooth");
 }
 
@@ -60,36 +57,33 @@ Status Simulator::pickTask() {
   if (!task) {
     ui_.task_error = task.message();
     note(task.message());
-    ui_.task = task_source_;
+    ui_.task = model_.task_source;
     return Ok{};
   }
   const bool was_running = segments_.running();
   if (was_running)
     if (Status st = endSegment("new task"); !st) return st;
-  const std::string file_before = tooth_file_;
-  const int level_before = o_.level;
-  tooth_file_ = task->tooth == kBuiltinMolarTooth ? "" : task->tooth;
-  o_.level = task->level;
+  const ToothChoice before = model_.tooth;
+  model_.tooth = ToothChoice::ofTask(task->tooth, task->level);
   if (Status st = loadTooth(); !st) {
     ui_.task_error = st.message();
     note(st.message());
-    tooth_file_ = file_before;
-    o_.level = level_before;
-    ui_.task = task_source_;
+    model_.tooth = before;
+    ui_.task = model_.task_source;
     return was_running ? startSegment() : Status(Ok{});
   }
   ui_.task_error.clear();
-  task_ = std::move(*task);
-  task_source_ = ui_.task;
+  model_.task = std::move(*task);
+  model_.task_source = ui_.task;
   // The task's tools and view; what the command line fixed (--bur, --mirror-tool, --view) stays.
-  drill_name_ = o_.bur.empty() ? task_->drill_tool : o_.bur;
-  ui_.bur = drill_name_;
+  model_.drill_name = o_.bur.empty() ? model_.task->drill_tool : o_.bur;
+  ui_.bur = model_.drill_name;
   if (Status st = loadDrill(); !st) return st;
-  mirror_name_ = o_.mirror_tool ? *o_.mirror_tool : task_->mirror_tool;
+  model_.mirror_name = o_.mirror_tool ? *o_.mirror_tool : model_.task->mirror_tool;
   if (Status st = loadMirror(); !st) return st;
   if (Status st = placeCamera(); !st) return st;
   showTask();
-  return restartOnNewTooth("task " + task_->name);
+  return restartOnNewTooth("task " + model_.task->name);
 }
 
 // Teacher mode: the segment ends, its session is finished and its final tooth saved beside it, and
@@ -107,13 +101,13 @@ Status Simulator::recordIdeal() {
   const std::string session = segments_.sessionPath();
   const std::string final_path =
       outPath(std::filesystem::path(session).stem().string() + "-final.dvol");  // session-3-final.dvol
-  ToothVolume final_tooth = cut_;  // saving compacts: a copy, so the tooth in use keeps its spare bricks
+  ToothVolume final_tooth = state_.cut;  // saving compacts: a copy, so the tooth in use keeps its spare bricks
   if (Status st = saveTooth(final_path, final_tooth); !st) return notRecorded(st.message());
   out_.written.push_back(final_path);
-  auto record = setTaskIdeal(task_source_, session, final_path);
+  auto record = setTaskIdeal(model_.task_source, session, final_path);
   if (!record) return notRecorded(record.message());
   // The task file now names its new ideal: read it again, so that Score uses it.
-  if (auto task = builtinTask(task_source_); task) task_ = std::move(*task);
+  if (auto task = builtinTask(model_.task_source); task) model_.task = std::move(*task);
   ui_.course = ui::listCourse(o_.course);  // the folder's files may have changed with it
   ui_.ideal_status = "ideal recorded in " + record->task_file + ": " + record->session_file + ", " + record->final_file;
   note(ui_.ideal_status);

@@ -1,4 +1,10 @@
-// The simulator's state, shared by its set-up (simulator_setup.cpp) and its frame loop (simulator.cpp); private to those two files.
+// The simulator's state, shared by its set-up (simulator_setup.cpp), its frame loop (simulator.cpp) and the parts of the frame in simulator_*.cpp; private to those files.
+//
+// As MuJoCo keeps mjModel (read-mostly) apart from mjData (changed each step), the Simulator keeps
+// three plain structs: the run model (the tooth, task and tools, changed only by a pick or a
+// reset), the run state (the cut, the segments' tooth bookkeeping, the panel's layout, what each
+// frame changes) and the run statistics (measured, never read back by the run's logic). The parts
+// that do one job each (device rack, segments, painter, sound, end rules) sit beside them.
 #pragma once
 
 #include <chrono>
@@ -14,6 +20,9 @@
 #include "app/run_sound.h"
 #include "app/screenshots.h"
 #include "app/segments.h"
+#include "app/sim_end_rules.h"
+#include "app/sim_panel_driver.h"
+#include "app/sim_tooth_choice.h"
 #include "app/simulator.h"
 #include "app/terminal_progress.h"
 #include "app/window_input.h"
@@ -28,114 +37,172 @@
 
 namespace dentsim::app {
 
-class Simulator {
+using SimClock = std::chrono::steady_clock;
+
+// What the run is about: set up once, changed only by the panel's picks (tooth, task, bur) and
+// level; every segment starts from it.
+struct SimRunModel {
+  ToothVolume initial;               // the uncut tooth, as loaded
+  TissueBox box;                     // the uncut tooth's tissue bounds [mm, simulation frame]
+  ToothChoice tooth;                 // which tooth that is, and from where
+  std::optional<Task> task;          // the task scored
+  std::string task_source;           // what the task was started from: a built-in name or a task file
+  SimParams params;                  // the preset's simulation half
+  LookParams looks;                  // the preset's visual half (one preset with params)
+  std::optional<ToolModel> drill_tool, mirror_tool;  // loaded tools (point shells at params' spacing); no mirror_tool: none
+  std::string drill_name, mirror_name;               // their catalogue names; empty mirror_name: none
+  std::optional<PenPath> script;     // the pen path both pens play; none: mouse, keys or hardware pens
+  double script_end_s = 0.0;         // the script's last sample [s of loop time]
+  std::optional<GuidePath> guide;    // --guide's path, read once; every segment's spring starts from it
+};
+
+// What the frames change: the tooth as cut, the bricks waiting for a re-mesh, the panel's layout
+// and score, and whether the files on disk still describe the tooth.
+struct SimRunState {
+  ToothVolume cut;                   // the haptic loop's copy of the tooth (the loop cuts it)
+  ToothVolume view;                  // the frame loop's copy, fed by the loop's edits, drawn
+  int tooth_first_segment = 1;       // the first segment on this tooth (a score uses its session when it is the only one)
+  std::vector<BrickCoord> pending_dirty;  // edited bricks not yet re-meshed
+  bool score_shown = false;          // the score picture is on screen
+  ui::PanelActions last_actions;     // the panel's last drawn frame (where the score picture goes)
+  bool panel_relayout = true;        // the panel's next frame is laid out once unseen first (new tabs)
+  PixelRect panel_rect;              // the parameter window [px]
+  bool final_saved = false;          // final.dvol and the score's files hold the tooth as it is now
+};
+
+// What the run measured, for its outcome; nothing the run decides reads it.
+struct SimRunStats {
+  SimClock::time_point run_t0;       // the run's start
+  SimClock::time_point last_frame;   // the last drawn frame's end
+  SimClock::time_point rate_t0;      // the haptic rate shown is measured from here
+  uint64_t rate_steps = 0;           // loop steps done at rate_t0
+  SimClock::time_point haptic_t0;    // the first segment's start
+  std::vector<double> frame_ms;      // each drawn frame's time (windowed: frame to frame) [ms]
+  double remesh_sum_ms = 0.0;        // incremental re-meshes, summed [ms]
+  uint64_t remesh_count = 0;         // frames that re-meshed edits
+  double triangles_drawn_sum = 0.0;  // tooth triangles drawn, summed over drawn frames
+  uint64_t final_triangles = 0;      // the full copy's surface after the last re-mesh
+
+  // The outcome's timing and throughput figures, `skip_frames` warm-up frames left out of the frame times.
+  void fill(SimulatorOutcome& out, int skip_frames) const;
+};
+
+// What one frame does, decided once its loop time is known.
+struct FramePlan {
+  double t = 0.0;                    // the frame's loop time [s]
+  ShotSchedule::Due due;             // the pictures it writes
+  bool draw = false;                 // headless, a frame nobody sees is not drawn
+  SimClock::time_point draw_t0;      // where a headless frame's own time starts (after the haptic steps)
+  bool picture() const { return !due.shot_stem.empty() || !due.frame_stem.empty(); }
+};
+
+class Simulator : private PanelTarget {
  public:
-  using Clock = std::chrono::steady_clock;
+  using Clock = SimClock;
   explicit Simulator(const SimulatorOptions& o)
       : o_(o), rack_(o.devices, [this](const std::string& text) { note(text); }),
-        input_(camera_, box_, {[this](double speed) { ui_.turbine_speed = speed; }, [this] { quit_ = true; }}),
-        shots_(o.shots_s, o.frame_every_s) {}
+        input_(camera_, model_.box, {[this](double speed) { ui_.turbine_speed = speed; }, [this] { end_.stopQuietly(); }}),
+        shots_(o.shots.shots_s, o.shots.frame_every_s), end_(o.end, false, std::nullopt) {}
   Result<SimulatorOutcome> run();
 
  private:
+  // ---- set-up (simulator_setup.cpp)
   Status setUp();
+  Status checkMode();
+  Status loadPresetAndTask();
   Status loadTooth();
   Status loadDrill();
   Status loadMirror();
   // The task's first view (or --view, or buccal raised 30 degrees), widened to take in the mirror where
   // it starts; a fixed task view locks the mouse and keys out.
   Status placeCamera();
+  Status setUpScript(const Pose& mirror_start);
+  Status setUpPens();
+  Status setUpPainter();
+  void setUpPanel();
+  Status recordingFolder();  // teacher mode without --out: a temporary folder for the sessions
+  void showTask();           // the task's title, instructions and kind in the panel
+
+  // ---- picks (simulator_picks.cpp)
   // After a new tooth or task: the surfaces rebuilt, the score cleared, the pens back at their
   // starts, and a new segment on the new tooth.
   Status restartOnNewTooth(const std::string& reason);
-  Status pickTooth();   // the panel's tooth picker (ui_.tooth, ui_.level)
-  Status pickTask();    // the panel's task picker (ui_.task)
-  Status recordIdeal(); // teacher mode's "Record as ideal"
-  void showTask();      // the task's title, instructions and kind in the panel
-  Status recordingFolder();  // teacher mode without --out: a temporary folder for the sessions
-  Status setUpScript(const Pose& mirror_start);
-  Status startSegment();
-  Status endSegment(const std::string& reason);
+  Status pickTooth() override;    // the panel's tooth picker (ui_.tooth, ui_.level)
+  Status pickTask() override;     // the panel's task picker (ui_.task)
+  Status recordIdeal() override;  // teacher mode's "Record as ideal"
+
+  // ---- segments (simulator_segments.cpp)
+  Status startSegment() override;
+  Status endSegment(const std::string& reason) override;
+  bool segmentRunning() const override { return segments_.running(); }
+
+  // ---- one frame's stages (simulator.cpp)
   Status frame();
-  Status handleActions(ui::PanelActions& actions);
-  Status scoreNow();
+  void readInput();                       // the window's events, a closed window, Ctrl-C
+  FramePlan stepHaptics();                // lockstep: the loop up to this frame's time; what it draws
+  void drainEdits();                      // the loop's voxel edits into the frame loop's copy
+  Status updateSurfaces(const FramePlan& plan);  // edited bricks re-meshed, full detail filled in
+  void showReadouts(const HapticState& state);   // ghost, force, pedal, devices, sound, haptic rate
+  ui::PanelActions drawPanel(const FramePlan& plan);
+  void timeFrame(Clock::time_point t0, const FramePlan& plan);
+  Status applyEndRules(double t);
+  Status endScript();                     // the script played out: recorded, ended, scored, last shot
+
+  // ---- the scene (simulator_scene.cpp)
   render::FrameState frameState(const HapticState& state, VkExtent2D extent) const;
   Status drawFrame(const ShotSchedule::Due& due);
+  // Where the tooth is on screen, for the score picture to stay off it; empty when it is behind the eye.
+  PixelRect toothRect(VkExtent2D extent) const;
   // Pixels the scene moves left so that its centre is the middle of what the panel leaves free.
-  int sceneShiftPx() const { return painter_->panel() ? panel_rect_.width / 2 : 0; }
+  int sceneShiftPx() const { return painter_->panel() ? state_.panel_rect.width / 2 : 0; }
+
+  // ---- the panel's actions and the score (simulator_panel.cpp); drivePanel orders the calls
+  Status handleActions(ui::PanelActions& actions);
+  Status applyParams() override;
+  void applyNormalMode() override;
+  void applyPedal() override;
+  Status teacherFolder() override;
+  bool burDiffers() const override { return ui_.bur != model_.drill_name; }
+  Status changeBur() override;
+  bool builtinTooth() const override { return model_.tooth.builtin(); }
+  void keepFileLevel() override;
+  Status rebuildTooth(bool new_level) override;
+  Status scoreNow() override;
+
   std::string outPath(const std::string& name) const { return (std::filesystem::path(o_.out) / name).string(); }
   void note(const std::string& text);
   // A warning: on stderr through warn(), as every command's, and on the panel's status line.
   void noteWarning(const std::string& text);
-  // The tooth is the built-in molar (at o_.level) unless --tooth, the task or the picker named a volume file.
-  bool builtinTooth() const { return tooth_file_.empty(); }
-  std::string toothName() const { return builtinTooth() ? "built-in molar" : tooth_file_; }
-  // Where the tooth is on screen, for the score picture to stay off it; empty when it is behind the eye.
-  PixelRect toothRect(VkExtent2D extent) const;
+  Status finishRun(Status result);  // the loop stopped: segment ended, devices let go, sound written
+  void fillOutcome();
 
   SimulatorOptions o_;
   SimulatorOutcome out_;
   bool headless_ = false;
   bool lockstep_ = false;
 
-  // Tooth: the haptic loop's copy (cut), the frame loop's copy (view, fed by the edits), the start.
-  ToothVolume initial_, cut_, view_;
-  TissueBox box_;
-  std::string tooth_file_;          // the tooth's volume file; empty: the built-in molar at o_.level
-  int tooth_first_segment_ = 1;     // the first segment on this tooth (a score uses its session when it is the only one)
-  std::optional<Task> task_;
-  std::string task_source_;         // what the task was started from: a built-in name or a task file
-  SimParams params_;
-  LookParams looks_;  // the preset's visual half (one preset with params_)
-  std::optional<ToolModel> drill_tool_, mirror_tool_;
-  std::string drill_name_, mirror_name_;
+  SimRunModel model_;
+  SimRunState state_;
+  SimRunStats stats_;
 
+  // The parts, one job each.
   DeviceRack rack_;
-  std::optional<PenPath> script_;
-  std::optional<GuidePath> guide_;      // --guide's path, read once; every segment's spring starts from it
-  double script_end_s_ = 0.0;
   std::unique_ptr<ui::PenInput> pens_;  // the mouse and keys move the virtual pens
-
   Segments segments_;
-  std::vector<BrickCoord> pending_dirty_;  // edited bricks not yet re-meshed
-
   RunSound sound_;
-
   render::OrbitCamera camera_;
   WindowInput input_;                     // the window's callbacks point here: it outlives the window
   std::unique_ptr<FramePainter> painter_;
   ShotSchedule shots_;
-
-  // Panel.
-  ui::UiState ui_;
+  ui::UiState ui_;                        // what the panel shows and edits
   std::unique_ptr<ui::PresetStore> presets_;
-  ui::PanelActions last_actions_;
-  bool score_shown_ = false;
-  bool panel_relayout_ = true;   // the panel's next frame is laid out once unseen first (new tabs)
-  PixelRect panel_rect_;  // the parameter window
-
-  bool quit_ = false;
-  bool quit_after_final_ = false;
-  bool final_saved_ = false;             // final.dvol and the score's files hold the tooth as it is now
-  std::optional<Clock::time_point> ended_at_;  // when the script ended (linger_s counts from here)
-  std::string quit_reason_;              // why the run stopped early, for "not scored"
-
-  // Timing.
-  Clock::time_point run_t0_, last_frame_;
-  Clock::time_point rate_t0_;    // the haptic rate shown is measured from here
-  uint64_t rate_steps_ = 0;
-  Clock::time_point haptic_t0_;  // the first segment's start
-  std::vector<double> frame_ms_;
-  double remesh_sum_ms_ = 0.0;
-  uint64_t remesh_count_ = 0;
-  double triangles_drawn_sum_ = 0.0;  // tooth triangles drawn, summed over drawn frames
-  uint64_t final_triangles_ = 0;      // the full copy's surface after the last re-mesh
-  TerminalProgress progress_;         // full detail filling in after the first frame
+  EndRules end_;                          // when the run quits by itself
+  TerminalProgress progress_;             // full detail filling in after the first frame
   // Wall time each frame gives the full copy's meshing while the first frames come in parts [ms]:
   // enough to finish a level-9 molar in a few seconds, little enough to keep the view moving.
   static constexpr double kDetailSliceMs = 40.0;
 
-  // The professional's ghost (simulator_ghost.cpp): drawn only, never in the haptic loop.
+  // ---- the professional's ghost (simulator_ghost.cpp): drawn only, never in the haptic loop
   Status setUpGhost();                       // --ghost read (an error ends the run) and the panel's ghost state
   void restartGhost();                       // a segment starts: the ghost's task time from here
   void followGhost(const HapticState& state);  // this frame's ghost pose, loading it when first shown
