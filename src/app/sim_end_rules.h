@@ -69,13 +69,14 @@ class EndRules {
   // with exit_at_end the run quits once its last frame is shown; the linger counts from here.
   void scriptEnded(double wall_s) {
     if ((headless_ && o_.exit_after_s <= 0) || o_.exit_at_end) quit_after_last_frame_ = true;
+    script_ended_ = true;
     ended_at_s_ = wall_s;
   }
 
   // After the script's end: the last frame shown (no shot pending), or the linger up in a window.
   void afterScript(bool last_shot_pending, bool segment_running, double wall_s) {
     if (quit_after_last_frame_ && !last_shot_pending && !segment_running) quit_ = true;
-    if (ended_at_s_ && o_.linger_s >= 0 && !segment_running && wall_s - *ended_at_s_ >= o_.linger_s) quit_ = true;
+    if (script_ended_ && o_.linger_s >= 0 && !segment_running && wall_s - ended_at_s_ >= o_.linger_s) quit_ = true;
   }
 
  private:
@@ -85,7 +86,10 @@ class EndRules {
   bool quit_ = false;
   std::string reason_;
   bool quit_after_last_frame_ = false;
-  std::optional<double> ended_at_s_;    // when the script's end was carried out [wall s]
+  // When the script's end was carried out [wall s]. A flag beside a plain double rather than an
+  // optional: GCC's -O1 sanitizer build takes the optional's read for an uninitialized one.
+  bool script_ended_ = false;
+  double ended_at_s_ = 0.0;
 };
 
 }  // namespace dentsim::app
