@@ -12,6 +12,7 @@
 #include "app/commands.h"
 #include "app/replay_viewer.h"
 #include "eval/beside_file.h"
+#include "eval/task_kinds.h"
 #include "eval/task_tooth.h"
 #include "eval/cut_score.h"
 #include "audio/sound_engine.h"
@@ -77,10 +78,8 @@ Result<std::unique_ptr<audio::SoundEngine>> replaySound(const std::string& audio
 // elsewhere, and a refused file is never read, so nothing of it is echoed).
 Result<Task> replayTask(const ReplayCliOptions& o, const SessionRecording& session) {
   if (!o.task.empty()) return builtinTask(o.task);
-  const std::vector<std::string> names = builtinTaskNames();
   const std::string& name = session.info.task;
-  if (name == "caries" || name == "cavity" || std::find(names.begin(), names.end(), name) != names.end())
-    return builtinTask(name);
+  if (isBuiltinTaskName(name)) return builtinTask(name);
   auto beside = resolveBeside(o.session, name, "task");
   if (!beside) return beside.error();
   std::error_code ec;
@@ -178,7 +177,7 @@ double forceThreshold(const ReplayCliOptions& o, const SessionRecording& session
   if (!o.task.empty() || !session.info.task.empty())
     if (auto task = replayTask(o, session)) return task->force_error_n;
   // A task this build does not know costs the score, not the timeline's marks.
-  auto fallback = builtinTask("caries");
+  auto fallback = builtinTask(taskKindRow(TaskKind::Caries).builtin_task);
   return fallback ? fallback->force_error_n : Task{}.force_error_n;
 }
 
@@ -289,7 +288,7 @@ void addReplayCommand(CLI::App& root, Action& action) {
   cmd->add_option("-o,--output", o->output, "Write the final volume (.dvol)");
   cmd->add_option("--report", o->report, "Write the score report (.json) when the session names a task");
   cmd->add_option("--png", o->png, "Write the score picture (.png) when the session names a task");
-  cmd->add_option("--task", o->task, "Score against this task (caries, cavity or a task file) instead of the session's");
+  cmd->add_option("--task", o->task, "Score against this task (" + kindTaskNames() + " or a task file) instead of the session's");
   cmd->add_option("--audio-out", o->audio_out, "Write the session's sound to this WAV file (rendered offline, without a window)");
   cmd->add_flag("--json", o->json, "Print one JSON object");
   cmd->add_option("--speed", o->speed, "The window's playback speed: 0.25, 0.5, 1, 2, 4 or 8")->capture_default_str();

@@ -15,6 +15,7 @@
 #include "eval/scores.h"
 #include "eval/session_stats.h"
 #include "eval/task_ideal.h"
+#include "eval/task_kinds.h"
 #include "eval/task_tooth.h"
 #include "io/atomic_file.h"
 #include "model/builtin_assets.h"
@@ -61,15 +62,36 @@ std::vector<std::string> builtinTaskNames() {
   return names;
 }
 
+namespace {
+
+// The built-in task a kind's name stands for, or nullptr.
+const char* kindTask(const std::string& name) {
+  const TaskKindRow* row = findTaskKind(name);
+  return row ? row->builtin_task : nullptr;
+}
+
+}  // namespace
+
+bool isBuiltinTaskName(const std::string& name) {
+  const std::vector<std::string> names = builtinTaskNames();
+  return kindTask(name) || std::find(names.begin(), names.end(), name) != names.end();
+}
+
+std::string kindTaskNames() {
+  std::string list;
+  for (const TaskKindRow& row : kTaskKindTable)
+    if (row.builtin_task) list += (list.empty() ? "" : ", ") + std::string(row.name);
+  return list;
+}
+
 Result<Task> builtinTask(const std::string& name) {
   std::string file;
   const std::vector<std::string> names = builtinTaskNames();
   if (std::find(names.begin(), names.end(), name) != names.end()) file = std::string(kTaskFolder) + name + std::string(kTaskSuffix);
-  if (name == "caries") file = "tasks/caries_removal.json";
-  if (name == "cavity") file = "tasks/class1_cavity.json";
+  if (const char* task = kindTask(name)) file = std::string(kTaskFolder) + task + std::string(kTaskSuffix);
   if (file.empty()) {
     if (!std::filesystem::exists(name)) {
-      std::string list = "caries, cavity";
+      std::string list = kindTaskNames();
       for (const std::string& n : names) list += ", " + n;
       return makeError(name, "no such task: the built-in ones are " + list + ", or give a task file");
     }

@@ -23,11 +23,15 @@
 
 namespace dentsim {
 
-// A task: a built-in one by its name ("caries_removal", "class2_cavity", ...; "caries" and "cavity"
-// are the first two's short names), or a task file.
+// A task: a built-in one by its name ("caries_removal", "class2_cavity", ...; a kind's name, "caries"
+// or "cavity", for the built-in task its row in eval/task_kinds.h names), or a task file.
 Result<Task> builtinTask(const std::string& name_or_file);
 // The names of the built-in tasks (assets/tasks/*.json, embedded), sorted.
 std::vector<std::string> builtinTaskNames();
+// Whether builtinTask takes `name` as a built-in task's: one of builtinTaskNames() or a kind's short name.
+bool isBuiltinTaskName(const std::string& name);
+// The kinds' names that stand for a built-in task, for messages and help: "caries, cavity".
+std::string kindTaskNames();
 
 // The professional's final tooth that task.ideal names (which must be set): its built-in path
 // (sim/course_paths.h) drilled on `initial` with the task's bur, its volume file, or its session replayed on `initial`. What may make it wrong for

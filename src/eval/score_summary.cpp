@@ -71,6 +71,7 @@ std::vector<ScoreReportPart> partsOf(const ojson& list, bool deduction) {
     p.has_points = points && (points->is_null() || numberAt(j, "points"));
     p.points = numberAt(j, "points");
     p.max = numberAt(j, "max");
+    p.table_points = numberAt(j, "table_points");
     p.earned_share = numberAt(j, "earned_share");
     p.cap = numberAt(j, "cap");
     p.applied = boolAt(j, "applied");
@@ -83,6 +84,7 @@ ojson partJson(const ScoreReportPart& p) {
   ojson j = ojson::object();
   if (p.has_points) j["points"] = p.points ? ojson(*p.points) : ojson(nullptr);
   if (p.max) j["max"] = *p.max;
+  if (p.table_points) j["table_points"] = *p.table_points;
   if (p.earned_share) j["earned_share"] = *p.earned_share;
   if (p.cap) j["cap"] = *p.cap;
   if (p.applied) j["applied"] = *p.applied;
@@ -127,9 +129,11 @@ ojson ScoreReportSummary::toJson() const {
   j["task"] = std::move(task);
   j["total"] = total;
   if (total_max) j["total_max"] = *total_max;
+  if (paper_total) j["paper_total"] = *paper_total;
   ojson components = ojson::object(), deductions = ojson::object();
   for (const ScoreReportPart& p : parts) (p.deduction ? deductions : components)[p.name] = partJson(p);
   if (!components.empty()) j["components"] = std::move(components);
+  if (completion_share) j["completion"] = {{"share", *completion_share}};
   if (!deductions.empty()) j["deductions"] = std::move(deductions);
   if (caries_remaining_mm3) j["caries_remaining_mm3"] = *caries_remaining_mm3;
   j["pulp_exposed"] = pulp_exposed;
@@ -189,6 +193,7 @@ Result<ScoreReportSummary> ScoreReportSummary::fromJson(const ojson& report) {
   if (!total || *total < 0 || *total > 100) return Error{"total: missing or not a number in [0, 100]"};
   s.total = *total;
   s.total_max = numberAt(report, "total_max");
+  s.paper_total = numberAt(report, "paper_total");
 
   if (const ojson* pulp = member(report, "pulp_exposed"); pulp && !pulp->is_null()) {
     if (!pulp->is_boolean()) return Error{"pulp_exposed: not true or false"};
@@ -216,6 +221,7 @@ Result<ScoreReportSummary> ScoreReportSummary::fromJson(const ojson& report) {
   };
   s.parts = partsOf(at("components"), false);
   for (ScoreReportPart& p : partsOf(at("deductions"), true)) s.parts.push_back(std::move(p));
+  s.completion_share = numberAt(at("completion"), "share");
   const ojson& volumes = at("volumes");
   for (size_t t = 0; t < kScoredTissues.size(); ++t)
     if (const ojson* tissue = member(volumes, materialName(kScoredTissues[t]).c_str())) s.removed_mm3[t] = numberAt(*tissue, "removed_mm3");

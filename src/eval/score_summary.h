@@ -34,6 +34,9 @@ struct ScoreReportPart {
   bool has_points = false;             // the report gives "points": a number, or null for a part not scored
   std::optional<double> points;        // earned, or taken off [points]; none: not scored, or no "points"
   std::optional<double> max;           // a component's most [points]
+  // A part earned in proportion to the work done: its value by the task's table before the share
+  // scaled it [points], the measure that names what was done wrong in what was cut.
+  std::optional<double> table_points;
   std::optional<double> earned_share;  // earned in proportion to the work done: the share that counted, [0, 1]
   std::optional<double> cap;           // a cap: the total is held to this [points of total_max]
   std::optional<bool> applied;         // a cap: whether it held the total
@@ -76,7 +79,9 @@ struct ScoreReportSummary {
   std::string task_kind;                    // "task"."kind": "caries", "cavity", "access"; empty when none
   double total = 0.0;                       // the headline score [points of 100], [0, 100]; required
   std::optional<double> total_max;          // what the parts scored can reach: 100, or less without a session
+  std::optional<double> paper_total;        // "paper_total": the parts summed by the paper's formulas, before shares, caps and clamps [points]
   std::vector<ScoreReportPart> parts;       // components, then deductions, in the report's order
+  std::optional<double> completion_share;   // "completion"."share": the share of the work done that earned parts scale by, [0, 1]
   // Removed anywhere, by kScoredTissues' order (enamel, dentin, pulp, caries): "volumes"."<tissue>"."removed_mm3" [mm^3].
   std::array<std::optional<double>, kTissueCount> removed_mm3{};
   std::optional<double> overcut_mm3;        // "volumes"."all"."overcut_mm3": cut beyond the ideal cavity [mm^3]; an ideal's report only

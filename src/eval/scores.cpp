@@ -13,6 +13,8 @@
 #include <cstdio>
 #include <numbers>
 
+#include "eval/task_kinds.h"
+
 namespace dentsim {
 
 double clampScore(double v, double lo, double hi) { return std::min(hi, std::max(lo, v)); }
@@ -134,7 +136,8 @@ Result<CavityScore> scoreCavityPreparation(const ToothDiff& diff, const SessionS
                        0.0, s.total_max);
   s.pulp_exposed = diff.pulp_exposed;
   s.exposed_pulp_voxels = diff.exposed_pulp_voxels;
-  s.access = task.kind == TaskKind::Access;
+  // Which cap applies is the kind's pulp rule (eval/task_kinds.h), not its name.
+  s.access = taskKindRow(task.kind).pulp == PulpRule::MustOpen;
   if (s.access) {
     // The access exists to reach the canals: without the chamber open it has failed, however close
     // its outline came; opened, the pulp is where the exercise ends, not a fault.

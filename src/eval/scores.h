@@ -67,7 +67,7 @@ struct CavityScore {
   std::optional<double> earned_time;    // completion x time; none without a session
   std::optional<double> force_deduction;  // force_coefficient x 100 x force_over / contact; none without a session
   bool pulp_cap_applied = false;
-  bool access = false;                  // the task is an access cavity (TaskKind::Access)
+  bool access = false;                  // the task's kind must open the pulp chamber (PulpRule::MustOpen: an access cavity)
   bool unopened_cap_applied = false;    // access: the pulp chamber was not opened and the cap lowered the total
   double total = 0.0;                   // clamp(undercut + the earned parts - force_deduction, 0, total_max), capped
   double total_max = 100.0;             // 100, or 50 without a session

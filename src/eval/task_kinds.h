@@ -1,7 +1,7 @@
 // The task-kind table: every kind of exercise dentsim scores, one row each; the task parser, `task new`, `task check` and the class report take their kinds from it.
 //
 // Contents
-//   1. The row: name, words, `task new`'s defaults, the built-in ideal, the tissue it needs, the pulp rule
+//   1. The row: name, words, `task new`'s defaults, the built-in ideal and task, the tissue it needs, the pulp rule
 //   2. The table (add a kind here, then its score in eval/cut_score.cpp)
 //   3. A cavity's Black classes that have a built-in path
 //   4. Look-ups and lists for messages, checked at compile time
@@ -46,6 +46,9 @@ struct TaskKindRow {
   // another (section 3).
   bool ideal_required;
   const char* builtin_ideal;    // a built-in path (sim/course_paths.h), or nullptr
+  // The built-in task (assets/tasks/<it>.json) that the kind's name also names wherever a task is
+  // asked for (`score --task caries`); nullptr: the name is no task's.
+  const char* builtin_task;
   const char* coefficients;     // the task-file object holding the kind's score coefficients
   // The tissue the tooth must hold for the exercise to mean anything (Material::Empty: none), what
   // the kind lacks without it, and how a tooth is given it.
@@ -63,17 +66,17 @@ inline constexpr TaskKindRow kTaskKindTable[] = {
     {TaskKind::Caries, "caries", "a", "caries task", 1, "Remove the caries",
      "Open the lesion from the occlusal surface and remove all the carious tissue, keeping the healthy enamel and "
      "dentin around it and the pulp closed.",
-     "round_bur_010", 300, 900, false, nullptr, "caries", Material::Caries, "has nothing to remove",
+     "round_bur_010", 300, 900, false, nullptr, "caries_removal", "caries", Material::Caries, "has nothing to remove",
      "voxelize it with --caries or a caries label", PulpRule::ExposureCaps},
     {TaskKind::Cavity, "cavity", "a", "cavity", 1, "Prepare the cavity",
      "Prepare the cavity as the professional did: the same outline, depth and walls parallel to the insertion axis, "
      "without touching the pulp.",
-     "fissure_bur_010", 600, 0, true, "class1_cavity", "cavity", Material::Empty, "", "", PulpRule::ExposureCaps},
+     "fissure_bur_010", 600, 0, true, "class1_cavity", "class1_cavity", "cavity", Material::Empty, "", "", PulpRule::ExposureCaps},
     // An access is scored as a cavity, with its own rule for the pulp in place of the exposure cap.
     {TaskKind::Access, "access", "an", "access cavity", 2, "Open the pulp chamber",
      "Prepare the endodontic access: go through the occlusal surface into the pulp chamber and remove its roof, "
      "keeping the walls of the crown.",
-     "round_bur_014", 600, 0, true, "access_cavity", "cavity", Material::Pulp, "has no chamber to open",
+     "round_bur_014", 600, 0, true, "access_cavity", nullptr, "cavity", Material::Pulp, "has no chamber to open",
      "voxelize it with --pulp or --fill-enclosed pulp", PulpRule::MustOpen},
 };
 

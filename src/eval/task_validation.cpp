@@ -109,42 +109,38 @@ namespace {
 
 // The parts of a report: each scored component's points, each deduction as negative points, and
 // a pulp cap as what it took off.
-std::vector<std::pair<std::string, double>> reportParts(const ojson& report) {
+std::vector<std::pair<std::string, double>> reportParts(const ScoreReportSummary& report) {
   std::vector<std::pair<std::string, double>> parts;
   double sum = 0.0;
-  for (const auto& [name, part] : report["components"].items())
-    if (part["points"].is_number()) {
-      parts.push_back({name, part["points"].get<double>()});
-      sum += parts.back().second;
-    }
-  for (const auto& [name, part] : report["deductions"].items())
-    if (part.contains("points") && part["points"].is_number()) {
-      const double points = part["points"].get<double>();
-      parts.push_back({name, points == 0.0 ? 0.0 : -points});  // no "-0.0" in the tables
-      sum += parts.back().second;
-    }
-  for (const char* key : {"pulp_exposure", "pulp_unopened"}) {
-    const auto& d = report["deductions"];
-    if (d.contains(key) && d[key]["applied"].get<bool>())
-      parts.push_back({"pulp cap", report["total"].get<double>() - std::clamp(sum, 0.0, report["total_max"].get<double>())});
+  for (const ScoreReportPart& part : report.parts) {
+    if (!part.points) continue;
+    const double points = part.deduction && *part.points != 0.0 ? -*part.points : *part.points;  // no "-0.0" in the tables
+    parts.push_back({part.name, points});
+    sum += points;
   }
+  for (const char* key : {"pulp_exposure", "pulp_unopened"})
+    for (const ScoreReportPart& cap : report.parts)
+      if (cap.deduction && cap.name == key && cap.applied.value_or(false))
+        parts.push_back({"pulp cap", report.total - std::clamp(sum, 0.0, report.total_max.value_or(100.0))});
   return parts;
 }
 
+// Everything an attempt shows is read from the report's summary, as the learning record and the
+// class report read it, so that the benchmark's figures cannot drift from the report's keys.
 ValidatedAttempt attemptOf(Attempt a, const SessionScore& scored, const ToothVolume& final_tooth) {
   ValidatedAttempt v;
   v.attempt = a;
-  v.report = scored.report;
+  v.summary = scored.reported;
   v.total = scored.total;
   v.total_max = scored.total_max;
-  v.paper_total = scored.report["paper_total"].get<double>();
-  v.parts = reportParts(scored.report);
-  const auto& s = scored.report["session"];
-  v.elapsed_s = s["elapsed_s"].get<double>();
-  v.mean_force_n = s["mean_force_n"].get<double>();
-  v.max_force_n = s["max_force_n"].get<double>();
-  if (scored.report.contains("surface_agreement") && scored.report["surface_agreement"]["within_percent"].is_number())
-    v.agreement_percent = scored.report["surface_agreement"]["within_percent"].get<double>();
+  v.paper_total = v.summary.paper_total.value_or(0.0);
+  v.parts = reportParts(v.summary);
+  // Every attempt is scored with its recorded session, so its report has the session's statistics.
+  const ScoreReportSession session = v.summary.session.value_or(ScoreReportSession{});
+  v.elapsed_s = session.elapsed_s.value_or(0.0);
+  v.mean_force_n = session.mean_force_n.value_or(0.0);
+  v.max_force_n = session.max_force_n.value_or(0.0);
+  if (v.summary.agreement) v.agreement_percent = v.summary.agreement->within_percent;
   v.pulp_exposed = scored.pulp_exposed;
   v.final_hash = volumeHashHex(final_tooth.voxels, final_tooth.frame);
   return v;
@@ -171,9 +167,8 @@ FaultCheck compare(const ValidatedAttempt& expert, const ValidatedAttempt& fault
   // to show, while the table's part names what was done wrong in what was cut.
   std::map<std::string, double> loss;
   const auto measure = [](const ValidatedAttempt& a, const std::string& n) {
-    const ojson& parts = a.report["components"];
-    if (parts.contains(n) && parts[n].contains("table_points") && parts[n]["table_points"].is_number())
-      return parts[n]["table_points"].get<double>();
+    for (const ScoreReportPart& part : a.summary.parts)
+      if (!part.deduction && part.name == n && part.table_points) return *part.table_points;
     return partOf(a, n);
   };
   for (const std::string& n : names) loss[n] = std::max(0.0, measure(expert, n) - measure(fault, n));
@@ -344,7 +339,7 @@ ojson validationJson(const TaskValidation& v) {
     ojson parts = ojson::object();
     for (const auto& [name, points] : a.parts) parts[name] = points;
     s["parts"] = std::move(parts);
-    s["completion"] = a.report.contains("completion") ? a.report["completion"]["share"] : ojson(nullptr);
+    s["completion"] = a.summary.completion_share ? ojson(*a.summary.completion_share) : ojson(nullptr);
     s["elapsed_s"] = a.elapsed_s;
     s["mean_force_n"] = a.mean_force_n;
     s["max_force_n"] = a.max_force_n;
@@ -414,8 +409,8 @@ std::string validationMarkdown(const TaskValidation& v) {
       auto it = std::find_if(a.parts.begin(), a.parts.end(), [&](const auto& p) { return p.first == n; });
       o << " " << (it == a.parts.end() ? std::string("–") : fixed(it->second)) << " |";
     }
-    const bool has_done = a.report.contains("completion") && a.report["completion"]["share"].is_number();
-    o << " " << (has_done ? fixed(100.0 * a.report["completion"]["share"].get<double>(), 0) + "%" : std::string("–")) << " | "
+    const std::optional<double> done = a.summary.completion_share;
+    o << " " << (done ? fixed(100.0 * *done, 0) + "%" : std::string("–")) << " | "
       << fixed(a.elapsed_s) << " | " << (a.agreement_percent ? fixed(*a.agreement_percent) + "%" : std::string("–")) << " |";
     auto c = std::find_if(v.faults.begin(), v.faults.end(), [&](const FaultCheck& k) { return k.attempt == a.attempt; });
     if (c == v.faults.end())

@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/result.h"
+#include "eval/score_summary.h"
 #include "eval/task.h"
 #include "sim/novice_paths.h"
 #include "sim/session_attempts.h"
@@ -55,7 +56,7 @@ struct ValidatedAttempt {
   std::optional<double> agreement_percent;            // surface within the band (cavity and access)
   bool pulp_exposed = false;
   std::string final_hash;                             // volumeHash of the cut tooth
-  nlohmann::ordered_json report;                      // the "dentsim-score" report
+  ScoreReportSummary summary;                         // the "dentsim-score" report's keys, as every reader reads them
 };
 
 // How one fault compares with the expert.

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include "eval/task_kinds.h"
 #include "eval_fixtures.h"
 #include "test_support.h"
 #include "volume/tooth_file.h"
@@ -81,6 +82,21 @@ TEST(CutScore, WarningsReachTheReportAndTheCaller) {
   EXPECT_EQ(s->report["warnings"].size(), 1u);
   EXPECT_EQ(s->total, 0.0);
   EXPECT_EQ(s->total_max, 50.0);
+}
+
+// A kind's name stands for the built-in task its row names (eval/task_kinds.h), so "caries" and
+// "caries_removal" load the same task; access has no such task and its name is no task's.
+TEST(CutScore, AKindsNameLoadsTheBuiltInTaskItsRowNames) {
+  for (const TaskKindRow& row : kTaskKindTable) {
+    EXPECT_EQ(isBuiltinTaskName(row.name), row.builtin_task != nullptr) << row.name;
+    if (!row.builtin_task) continue;
+    auto short_name = builtinTask(row.name), full_name = builtinTask(row.builtin_task);
+    ASSERT_TRUE(short_name.ok()) << short_name.message();
+    ASSERT_TRUE(full_name.ok()) << full_name.message();
+    EXPECT_EQ(short_name->name, full_name->name);
+    EXPECT_EQ(short_name->kind, row.kind);
+  }
+  EXPECT_EQ(kindTaskNames(), "caries, cavity");
 }
 
 }  // namespace

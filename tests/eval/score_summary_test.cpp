@@ -22,6 +22,8 @@ ScoreReportSummary fullSummary() {
   s.task_kind = "cavity";
   s.total = 47.0;
   s.total_max = 75.0;
+  s.paper_total = 62.5;
+  s.completion_share = 0.8;
   ScoreReportPart undercut;
   undercut.name = "undercut";
   undercut.has_points = true;
@@ -31,6 +33,7 @@ ScoreReportSummary fullSummary() {
   time.name = "time";
   time.has_points = true;
   time.max = 25.0;
+  time.table_points = 20.0;
   time.earned_share = 0.8;
   ScoreReportPart force;
   force.name = "force";
@@ -70,6 +73,26 @@ TEST(ScoreReportSummary, RoundTripsThroughItsJson) {
   auto bare_back = ScoreReportSummary::fromJson(bare.toJson());
   ASSERT_TRUE(bare_back.ok()) << bare_back.message();
   EXPECT_EQ(*bare_back, bare);
+}
+
+// The keys task validation reads sit where scores.cpp writes them, so a whole report and its cut-down
+// one read alike.
+TEST(ScoreReportSummary, WritesValidationsKeysAtTheReportsPaths) {
+  const ojson j = fullSummary().toJson();
+  EXPECT_EQ(j["paper_total"], 62.5);
+  EXPECT_EQ(j["completion"]["share"], 0.8);
+  EXPECT_EQ(j["components"]["time"]["table_points"], 20.0);
+  EXPECT_FALSE(j["components"]["undercut"].contains("table_points"));
+  // A report without them (a part not earned in proportion, an older report) reads as none.
+  ojson older = j;
+  older.erase("paper_total");
+  older.erase("completion");
+  older["components"]["time"]["table_points"] = nullptr;
+  auto s = ScoreReportSummary::fromJson(older);
+  ASSERT_TRUE(s.ok()) << s.message();
+  EXPECT_FALSE(s->paper_total);
+  EXPECT_FALSE(s->completion_share);
+  EXPECT_FALSE(s->parts[1].table_points);
 }
 
 TEST(ScoreReportSummary, AMissingOrBadKeyIsNamed) {
@@ -121,6 +144,10 @@ TEST(ScoreReportSummary, ReadsTheGoldenDemoReport) {
   ASSERT_EQ(s->parts.size(), 5u);
   EXPECT_EQ(s->parts[0].name, "removal");
   EXPECT_EQ(s->parts[1].earned_share, report["components"]["time"]["earned_share"].get<double>());
+  EXPECT_EQ(s->parts[1].table_points, report["components"]["time"]["table_points"].get<double>());
+  EXPECT_FALSE(s->parts[0].table_points);  // the removal is the work done itself
+  EXPECT_EQ(s->paper_total, report["paper_total"].get<double>());
+  EXPECT_EQ(s->completion_share, report["completion"]["share"].get<double>());
   EXPECT_TRUE(s->parts[3].deduction);
   EXPECT_EQ(s->parts[4].applied, std::optional<bool>(false));
   for (size_t t = 0; t < kScoredTissues.size(); ++t) EXPECT_TRUE(s->removed_mm3[t]) << t;
