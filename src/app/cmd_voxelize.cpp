@@ -235,6 +235,9 @@ void addVoxelizeCommand(CLI::App& root, Action& action) {
   cmd->add_option("--min-island-mm3", opts->min_island_mm3, "Scan: relabel pieces of one tissue smaller than this [mm^3]")
       ->check(finiteIn(0.0, 1000.0, "mm^3"))
       ->capture_default_str();
+  cmd->add_flag("--any-size", opts->any_size,
+                "Scan: keep a tooth outside the range of human teeth (50..3000 mm^3 of hard tissue, 35 mm long), "
+                "for animal teeth and enlarged models; without it such a tooth is refused");
   cmd->add_option("--voxel-size", opts->voxel_size,
                   "STL: voxel edge of the output grid [mm]; labels: true voxel size of the label volume, when its "
                   "header is wrong")

@@ -95,7 +95,7 @@ Status checkVoxelizeOptions(const VoxelizeFlags& o, const std::function<bool(con
   }
   const bool scan = !o.dicom.empty() || !o.ct.empty();
   for (const char* scan_only : {"--roi", "--seed", "--enamel-above", "--dentin-above", "--caries-below", "--scanner",
-                                "--find-caries", "--min-island-mm3"})
+                                "--find-caries", "--min-island-mm3", "--any-size"})
     if (Status st = refuseOption(given(scan_only) && !scan, scan_only,
                                  "segments a scan's grey values; give --dicom DIR or --ct FILE");
         !st)
@@ -203,6 +203,7 @@ Result<ScanToothOptions> scanToothOptions(const VoxelizeFlags& o) {
   seg.caries = o.find_caries;
   seg.preset = o.scanner;
   seg.min_island_mm3 = o.min_island_mm3;
+  so.human_size_only = !o.any_size;
   so.level = o.level > 0 ? o.level : 9;
   Result<Material> fill = fillTissue(o.fill_enclosed, Material::Pulp);
   if (!fill) return fill.error();

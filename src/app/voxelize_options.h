@@ -46,6 +46,7 @@ struct VoxelizeFlags {
   std::string scanner;        // a named preset of thresholds
   bool find_caries = false;   // label demineralised tissue open to the surface as caries
   double min_island_mm3 = ToothSegmentOptions{}.min_island_mm3;
+  bool any_size = false;      // keep a segmented tooth outside the range of human teeth (animal teeth, models)
   std::string output;        // .dvol path
   // The tooth's frame, in the input's coordinates; empty: found (crown) or not known (mesial, buccal)
   std::vector<double> crown_axis, mesial_axis, buccal_axis;

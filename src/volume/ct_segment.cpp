@@ -319,6 +319,8 @@ Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOption
     out_local.hi[a] = std::min<int64_t>(roi.d[a] - 1, tooth_box.hi[a] + options.margin_voxels);
     rep.out_lo[a] = roi.box.lo[a] + out_local.lo[a];
     rep.out_hi[a] = roi.box.lo[a] + out_local.hi[a];
+    rep.tooth_lo[a] = roi.box.lo[a] + tooth_box.lo[a];
+    rep.tooth_hi[a] = roi.box.lo[a] + tooth_box.hi[a];
   }
   const std::array<int32_t, 3> od = out_local.dims();
   const uint64_t n_out = out_local.count();

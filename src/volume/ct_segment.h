@@ -85,6 +85,7 @@ struct ToothSegmentReport {
   std::string thresholds_from;
   std::array<int64_t, 3> roi_lo{}, roi_hi{};  // the ROI as an inclusive voxel box of the image
   std::array<int64_t, 3> out_lo{}, out_hi{};  // the output's inclusive voxel box of the image
+  std::array<int64_t, 3> tooth_lo{}, tooth_hi{};  // the tooth's hard voxels' inclusive box of the image (no margin)
   // Voxels of each tissue in the output, by tissue table row: 0 for a tissue no grey class gives
   // (pulp; tooth_cell::isGreyClass in tissue_boundary_rules.h).
   std::array<uint64_t, kTissueCount> tissue_voxels{};

@@ -17,6 +17,7 @@
 #include "io/grey_volume_file.h"
 #include "io/mesh_units.h"
 #include "io/stl_file.h"
+#include "volume/tooth_sanity.h"
 
 namespace dentsim {
 namespace {
@@ -198,6 +199,28 @@ std::vector<std::string> segmentationLines(const std::string& source, const Grey
   return lines;
 }
 
+// A dentin threshold in soft tissue, and (when asked) a tooth of no human tooth's size, are errors
+// that say what was found and what to try: both came from a head CT segmented as if it were a tooth.
+Status checkSegmentedTooth(const ScanToothOptions& options, const GreyImage& scan, const ToothSegmentOptions& seg,
+                           const ToothSegmentReport& r) {
+  const std::string threshold = "dentin from " + greyValue(r.dentin_above, r.unit) + " (" + r.thresholds_from + ")";
+  if (std::string low = dentinThresholdProblem(r.dentin_above, r.unit); !low.empty())
+    return makeError(seg.where, low + ": it takes soft tissue into the tooth; give --dentin-above (dentin is about "
+                                      "1500..2000 HU) or --scanner ct-hu, and --roi around the tooth");
+  if (!options.human_size_only) return Ok{};
+  const ToothSize size = segmentedToothSize(r, scan.pitch_mm);
+  const std::string wrong = humanToothSizeProblem(size);
+  if (wrong.empty()) return Ok{};
+  // Too large is bone and neighbours taken in; too small is a tooth cut short by its box or threshold.
+  const bool automatic = r.thresholds_from.rfind("automatic", 0) == 0;
+  const std::string tries = size.hard_mm3 < human_tooth::kMinHardMm3
+                                ? "give a --roi that holds the whole tooth, or a lower --dentin-above"
+                                : std::string("give --roi around one tooth, a --seed in it, or a higher --dentin-above") +
+                                      (automatic ? " (or --scanner ct-hu)" : "");
+  return makeError(seg.where, "the segmented tooth is no human tooth: " + wrong + ", with " + threshold + "; " + tries +
+                                  "; --any-size keeps a specimen that truly is this size");
+}
+
 }  // namespace
 
 Result<ToothVolume> buildToothFromGreyImage(GreyImage image, const std::string& described, const ScanToothOptions& options,
@@ -215,6 +238,11 @@ Result<ToothVolume> buildToothFromGreyImage(GreyImage image, const std::string& 
   Result<LabelImage> labels = segmentTooth(image, seg, progressOf(hooks), &rep.segment);
   if (!labels) return labels.error();
   const ToothSegmentReport& r = rep.segment;
+  if (Status sane = checkSegmentedTooth(options, image, seg, r); !sane) return sane.error();
+  if (std::string coarse = coarseVoxelProblem(image.pitch_mm); !coarse.empty())
+    warnVia(hooks, shownPath(source) + ": " + coarse +
+                       ": the enamel is then mostly partial volume; its layers need a CBCT or micro-CT (0.3 mm voxels "
+                       "or finer)");
   if (r.seeded && 2 * r.tooth_voxels < r.hard_component_voxels) {
     char buf[400];
     std::snprintf(buf, sizeof buf,

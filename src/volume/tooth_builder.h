@@ -103,6 +103,10 @@ struct ScanToothOptions {
   int level = 9;                     // the tooth is fitted into a 2^level grid
   Material fill = Material::Pulp;    // the space the dentin encloses
   double seal_mm = 0.2;              // closing radius for that fill [mm]
+  // Refuse a tooth outside the range of human teeth (volume/tooth_sanity.h). Off by default, since
+  // tests of the pipeline's mechanics segment phantoms a few mm wide; `voxelize` turns it on unless
+  // --any-size.
+  bool human_size_only = false;
 };
 
 struct ScanToothReport {
@@ -114,9 +118,11 @@ struct ScanToothReport {
 };
 
 // Reads the scan, applies voxel_mm, segments the tooth (warning when a seed keeps less than half of
-// the hard tissue joined to it), imports the labels with the pulp filled, stands the tooth up and
-// records `lines` in source_note. The grey values are freed before the import. Errors: the reader's,
-// segmentTooth's, importLabels' and standToothUp's.
+// the hard tissue joined to it, and when the voxels are too coarse for enamel), imports the labels
+// with the pulp filled, stands the tooth up and records `lines` in source_note. The grey values are
+// freed before the import. Errors: the reader's, segmentTooth's, a dentin threshold below soft tissue
+// in HU, with human_size_only a tooth no human tooth's size (each naming what to try), importLabels'
+// and standToothUp's. A refused tooth leaves no warning behind it: its error is the one line.
 Result<ToothVolume> buildToothFromScan(const ScanToothOptions& options, const ToothAxesHint& hint,
                                        const ToothBuildHooks& hooks, ScanToothReport* report = nullptr);
 

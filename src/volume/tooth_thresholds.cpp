@@ -50,6 +50,20 @@ Status checkOrder(const ToothThresholds& t, GreyUnit unit, const std::string& wh
   return Ok{};
 }
 
+// Where the histogram is empty on both sides of a cut, every cut in that gap splits the voxels alike
+// and Otsu's variance ties; its search keeps the first, just above the air's noise (-721 HU on a
+// phantom with no blur), which reads as a threshold in soft tissue. The middle of the gap is the same
+// split, told the way a reader expects.
+double centredInEmptyGap(const GreyHistogram& h, double cut) {
+  const double at = (cut - h.lo) / h.width;
+  if (!(at >= 1.0) || !(at < double(h.count.size()))) return cut;
+  size_t lo = size_t(std::lround(at)), hi = lo;  // the empty bins are [lo, hi)
+  while (lo > 0 && h.count[lo - 1] == 0) --lo;
+  while (hi < h.count.size() && h.count[hi] == 0) ++hi;
+  if (lo == 0 || hi == h.count.size() || hi - lo < 2) return cut;
+  return h.edge((lo + hi) / 2);
+}
+
 }  // namespace
 
 // Presets first, then given values one by one, then Otsu on the ROI for whatever is still unset.
@@ -85,7 +99,7 @@ Result<ToothThresholds> chooseThresholds(const ToothSegmentOptions& o, GreyUnit 
     if (h.total == 0) return makeError(o.where, "the ROI holds no finite grey value");
     const std::vector<double> cuts = otsuThresholds(h, classes);
     const std::string how = "automatic (" + std::to_string(classes) + "-class Otsu on the ROI's histogram)";
-    if (!hard) { hard = cuts.front(); t.from_hard = how; }
+    if (!hard) { hard = centredInEmptyGap(h, cuts.front()); t.from_hard = how; }
     if (o.caries && !caries_below) {
       caries_below = 0.5 * (cuts.front() + cuts.back());  // a placeholder until the tooth is known
       t.from_caries = "automatic (3 sigma below the tooth's dentin peak)";
