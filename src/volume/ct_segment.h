@@ -112,10 +112,10 @@ struct ToothSegmentReport {
 // threshold; a seed outside the image or the ROI, or not in hard tissue; a cancel through
 // `interrupter`. `report`, when given, is reset first and filled as the steps run.
 //
-// Memory: three bits a voxel of the ROI (hard mask, tooth, pieces seen); with a seed, about 10 bytes
-// a voxel of the seeded piece's bounding box while it is cut (a float distance, then a 16-bit
-// depth, the flood order and a region id); one byte a voxel of the output box for the classes,
-// and the output's 2. No copy of the grey values is made.
+// Memory: three bits a voxel of the ROI (hard mask, tooth, pieces seen); with a seed, about 12 bytes
+// a voxel of the seeded piece's bounding box while it is cut (the pulp-filled grid, a float
+// distance, then a 16-bit depth, the flood order and a region id); one byte a voxel of the output
+// box for the classes, and the output's 2. No copy of the grey values is made.
 Result<LabelImage> segmentTooth(const GreyImage& image, const ToothSegmentOptions& options,
                                 Interrupter& interrupter = nullInterrupter(), ToothSegmentReport* report = nullptr);
 

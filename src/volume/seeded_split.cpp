@@ -1,4 +1,4 @@
-// The seeded split of a mask at narrow joins: depth, a counting sort by depth, and a union-find flood.
+// The seeded split of a mask at narrow joins: the pulp filled, depth, a counting sort by depth, and a union-find flood.
 #include "volume/seeded_split.h"
 
 #include "volume/distance_transform.h"
@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <deque>
 #include <limits>
 
 namespace dentsim {
@@ -25,33 +26,86 @@ struct Regions {
   }
 };
 
+// The piece with the holes it encloses filled (the header's rule), 0/1. The wall is dilated by
+// `seal` voxels and the outside flooded from the grid's border through what the dilation leaves
+// empty; what that flood misses is a cavity. Then the outside is dilated back (the closing's
+// second half), and the holes of the closing are filled where they join a cavity: a pulp chamber
+// and its canals, not the thin wedge beside a contact. With seal 0 every cavity is a hole as it is.
+std::vector<uint8_t> filledPiece(const std::vector<uint8_t>& piece, const std::array<int32_t, 3>& d, int seal) {
+  constexpr uint8_t kWall = 1, kScratch = 2, kOutside = 4, kCavity = 8;
+  std::vector<uint8_t> cells(piece.size());
+  for (size_t i = 0; i < piece.size(); ++i) cells[i] = piece[i] ? kWall : 0;
+  if (seal > 0) dilateBit(cells, d, seal, kWall, kScratch);
+  std::deque<uint64_t> queue;
+  floodFromBorder(
+      d, queue,
+      [&](uint64_t l) {
+        if (cells[l] != 0) return false;
+        cells[l] = kOutside;
+        return true;
+      },
+      [](double) { return true; });
+  std::vector<uint8_t> filled(piece);
+  if (seal == 0) {
+    for (size_t i = 0; i < cells.size(); ++i)
+      if (cells[i] == 0) filled[i] = 1;
+    return filled;
+  }
+  for (uint8_t& c : cells)
+    if (c == 0) c = kCavity;
+  dilateBit(cells, d, seal, kOutside, kScratch);
+  const auto hole = [&](uint64_t l) { return !piece[l] && !(cells[l] & kOutside) && !filled[l]; };
+  for (uint64_t l = 0; l < cells.size(); ++l) {
+    if (!(cells[l] & kCavity) || !hole(l)) continue;
+    filled[l] = 1;
+    queue.push_back(l);
+    while (!queue.empty()) {
+      const uint64_t m = queue.front();
+      queue.pop_front();
+      forEachFaceNeighbour(m, d, [&](uint64_t n) {
+        if (!hole(n)) return;
+        filled[n] = 1;
+        queue.push_back(n);
+      });
+    }
+  }
+  return filled;
+}
+
 }  // namespace
 
 bool keepSeededPart(std::vector<uint8_t>& piece, const std::array<int32_t, 3>& d, const std::array<double, 3>& pitch,
-                    uint64_t seed, double h_mm, Interrupter& interrupter) {
+                    uint64_t seed, double h_mm, double seal_mm, Interrupter& interrupter) {
   assert(piece.size() <= std::numeric_limits<uint32_t>::max() && seed < piece.size() && piece[seed]);
-  assert(h_mm >= 0);
+  assert(h_mm >= 0 && seal_mm >= 0);
+  const double smallest = std::min({pitch[0], pitch[1], pitch[2]});  // [mm]
+  // The cube's half-side: dilateBit counts voxels; 254 bounds it as the label import's seal does.
+  const int seal = int(std::min(254L, std::lround(seal_mm / smallest)));
+  // The depth and the flood run over the filled piece (the header's rule); `piece` keeps its own
+  // voxels, so the fill never reaches the result.
+  const std::vector<uint8_t> solid = filledPiece(piece, d, seal);
+  if (!interrupter.progress(0.1)) return false;
   // Depth in 16-bit steps: 1/16 of a voxel resolves a neck's radius well below h, and 65535 steps
   // reach 4096 voxels deep, beyond any tooth.
-  const double step = std::min({pitch[0], pitch[1], pitch[2]}) / 16.0;  // [mm]
+  const double step = smallest / 16.0;  // [mm]
   std::vector<uint16_t> depth(piece.size(), 0);
   {
-    const std::vector<float> d2 = squaredDistanceToOutside(piece, d, pitch);
+    const std::vector<float> d2 = squaredDistanceToOutside(solid, d, pitch);
     for (size_t i = 0; i < piece.size(); ++i)
-      if (piece[i]) depth[i] = uint16_t(std::min(65535.0, std::floor(std::sqrt(double(d2[i])) / step)));
+      if (solid[i]) depth[i] = uint16_t(std::min(65535.0, std::floor(std::sqrt(double(d2[i])) / step)));
   }
   if (!interrupter.progress(0.3)) return false;
 
   // Counting sort of the piece's voxels by depth, deepest first (scan order within a step).
   std::vector<uint64_t> start(65537, 0);
   for (size_t i = 0; i < piece.size(); ++i)
-    if (piece[i]) ++start[65535 - size_t(depth[i]) + 1];
+    if (solid[i]) ++start[65535 - size_t(depth[i]) + 1];
   for (size_t b = 1; b < start.size(); ++b) start[b] += start[b - 1];
   std::vector<uint32_t> order(start.back());
   {
     std::vector<uint64_t> next(start.begin(), start.end() - 1);
     for (size_t i = 0; i < piece.size(); ++i)
-      if (piece[i]) order[next[65535 - size_t(depth[i])]++] = uint32_t(i);
+      if (solid[i]) order[next[65535 - size_t(depth[i])]++] = uint32_t(i);
   }
 
   const uint32_t h_steps = uint32_t(std::max(0.0, std::ceil(h_mm / step - 1e-9)));

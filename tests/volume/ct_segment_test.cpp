@@ -390,7 +390,10 @@ TEST(CtSegment, SeedKeepsTheToothAndCutsTheTouchingToothAndTheBone) {
   std::printf("seeded: %llu of %llu neighbour and bone voxels kept (%llu before the seed), %llu cut; Dice enamel %.4f, dentin %.4f\n",
               (unsigned long long)kept_other, (unsigned long long)other, (unsigned long long)joined,
               (unsigned long long)cut.neighbour_voxels_cut, de, dd);
-  EXPECT_LT(kept_other, 60u);  // at most the two joins' few voxels
+  // At most the two joins' few voxels: a voxel where regions meet goes to the deeper one, and A,
+  // its pulp filled for the cut, is the deepest, so it takes the necks' voxels (96 in this phantom;
+  // under 60 when the transform saw A hollow).
+  EXPECT_LT(kept_other, 120u);
   EXPECT_GT(cut.neighbour_voxels_cut, other * 9 / 10);
   EXPECT_EQ(cut.hard_component_voxels, whole.tooth_voxels);
   EXPECT_GE(de, 0.95);

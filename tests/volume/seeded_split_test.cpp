@@ -42,11 +42,11 @@ TEST(SeededSplit, ALowerPeakExactlyHAboveTheJoinStaysApart) {
   // h = 0.25 mm: B's peak is not less than h above the join, so B is cut from the seed's cube A.
   Dumbbell b;
   std::vector<uint8_t> g = b.grid;
-  ASSERT_TRUE(keepSeededPart(g, b.d, b.pitch, Dumbbell::at(4, 4, 4), 0.25));
+  ASSERT_TRUE(keepSeededPart(g, b.d, b.pitch, Dumbbell::at(4, 4, 4), 0.25, 0.0));
   EXPECT_EQ(Dumbbell::kept(g), (std::array<int, 2>{343, 0}));
   // Seeded in B instead, B is kept and A cut.
   g = b.grid;
-  ASSERT_TRUE(keepSeededPart(g, b.d, b.pitch, Dumbbell::at(13, 4, 4), 0.25));
+  ASSERT_TRUE(keepSeededPart(g, b.d, b.pitch, Dumbbell::at(13, 4, 4), 0.25, 0.0));
   EXPECT_EQ(Dumbbell::kept(g), (std::array<int, 2>{0, 125}));
 }
 
@@ -54,9 +54,29 @@ TEST(SeededSplit, ALowerPeakLessThanHAboveTheJoinMerges) {
   // h one depth step (0.125 / 16 mm) more than B's 0.25 mm: B joins A, and all 471 voxels stay.
   Dumbbell b;
   std::vector<uint8_t> g = b.grid;
-  ASSERT_TRUE(keepSeededPart(g, b.d, b.pitch, Dumbbell::at(13, 4, 4), 0.25 + 0.125 / 16));
+  ASSERT_TRUE(keepSeededPart(g, b.d, b.pitch, Dumbbell::at(13, 4, 4), 0.25 + 0.125 / 16, 0.0));
   EXPECT_EQ(Dumbbell::kept(g), (std::array<int, 2>{343, 125}));
   EXPECT_EQ(g, b.grid);
+}
+
+TEST(SeededSplit, TheFilledPulpShapesTheCutButNeverEntersTheResult) {
+  // A hollow cube in a 13^3 grid of 0.125 mm voxels: walls x, y, z 1..11, one voxel thick, round a
+  // 9^3 cavity, with a one-voxel opening (a foramen) in the -z wall. Every wall voxel is one voxel
+  // deep, so without the fill the walls are all one flat part; with it (sealed by one voxel) the
+  // cube is solid for the transform. Either way the seed keeps every wall voxel, and the cavity,
+  // filled only for the transform, stays 0.
+  const std::array<int32_t, 3> d{13, 13, 13};
+  std::vector<uint8_t> grid(13 * 13 * 13, 0);
+  const auto at = [](int x, int y, int z) { return size_t(x + 13 * (y + 13 * z)); };
+  for (int z = 1; z <= 11; ++z)
+    for (int y = 1; y <= 11; ++y)
+      for (int x = 1; x <= 11; ++x) grid[at(x, y, z)] = x == 1 || x == 11 || y == 1 || y == 11 || z == 1 || z == 11;
+  grid[at(6, 6, 1)] = 0;
+  for (const double seal : {0.0, 0.125}) {
+    std::vector<uint8_t> g = grid;
+    ASSERT_TRUE(keepSeededPart(g, d, {0.125, 0.125, 0.125}, at(1, 1, 1), 0.25, seal));
+    EXPECT_EQ(g, grid) << "seal " << seal;
+  }
 }
 
 TEST(SeededSplit, ACancelStopsTheSplit) {
@@ -65,7 +85,7 @@ TEST(SeededSplit, ACancelStopsTheSplit) {
   } refuse;
   Dumbbell b;
   std::vector<uint8_t> g = b.grid;
-  EXPECT_FALSE(keepSeededPart(g, b.d, b.pitch, Dumbbell::at(4, 4, 4), 0.25, refuse));
+  EXPECT_FALSE(keepSeededPart(g, b.d, b.pitch, Dumbbell::at(4, 4, 4), 0.25, 0.0, refuse));
 }
 
 }  // namespace
