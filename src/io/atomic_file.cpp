@@ -186,6 +186,13 @@ Status commitTemporary(const std::string& temp_path, const std::string& path) {
     discardTemporary(temp_path);
     return makeError(path, "fsync failed: " + errnoText());
   }
+  // A rename replaces whatever has the name: as root, `-o /dev/null` would put a regular file in the
+  // device's place for every program on the machine. Only a regular file (or none) is replaced.
+  if (struct stat st; ::stat(path.c_str(), &st) == 0 && !S_ISREG(st.st_mode)) {
+    discardTemporary(temp_path);
+    return makeError(path, std::string("not a regular file (") + fileTypeName(st.st_mode) +
+                               "); dentsim writes its output only to a regular file");
+  }
   if (std::rename(temp_path.c_str(), path.c_str()) != 0) {
     const std::string why = errnoText();
     discardTemporary(temp_path);

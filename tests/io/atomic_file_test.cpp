@@ -1,6 +1,7 @@
-// Tests of src/io/atomic_file.cpp's clean-up: temporaries left by a killed writer are removed by the next write, a live writer's are kept.
+// Tests of src/io/atomic_file.cpp: temporaries left by a killed writer are removed by the next write, a live writer's are kept, and only a regular file is replaced.
 #include "io/atomic_file.h"
 
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -65,6 +66,22 @@ TEST(AtomicFile, AFailedWriteLeavesNoTemporary) {
   std::filesystem::create_directories(dir.file("busy.dvol/keep"));
   EXPECT_FALSE(writeFileAtomic(dir.file("busy.dvol"), std::vector<uint8_t>{9}).ok());
   EXPECT_EQ(filesIn(dir), (std::set<std::string>{"busy.dvol"}));
+}
+
+// A device or FIFO at the output's name stays what it is: a rename would put a regular file in its
+// place (as root, `-o /dev/null` replaced the machine's /dev/null). A FIFO stands in for the device.
+TEST(AtomicFile, ANameThatIsNoRegularFileIsRefusedAndKept) {
+  test::TempDir dir;
+  const std::string fifo = dir.file("pipe.json");
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const Status s = writeFileAtomic(fifo, std::vector<uint8_t>{1, 2, 3});
+  ASSERT_FALSE(s.ok());
+  EXPECT_NE(s.error().message.find("not a regular file (a FIFO)"), std::string::npos) << s.error().message;
+  EXPECT_NE(s.error().message.find(fifo), std::string::npos) << s.error().message;
+  struct stat st {};
+  ASSERT_EQ(::stat(fifo.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode));
+  EXPECT_EQ(filesIn(dir), (std::set<std::string>{"pipe.json"}));
 }
 
 }  // namespace
