@@ -68,8 +68,10 @@ Result<std::vector<std::string>> pathArguments(const std::string& path, const Pl
                                                const std::string& scan_dir) {
   const std::string stl = s.data_dir + "/teeth/chai3d_molar_tooth.stl";
   const std::string labels = s.data_dir + "/ct/tooth_2.nii.gz";
-  if (path == "stl-cpu") return std::vector<std::string>{"--cpu", "--tooth", stl, "--scale", "0.04"};
-  if (path == "stl-gpu") return std::vector<std::string>{"--tooth", stl, "--scale", "0.04"};
+  // One tissue: the voxelizer's plan is what is measured, not the layer synthesis after it.
+  if (path == "stl-cpu")
+    return std::vector<std::string>{"--cpu", "--tooth", stl, "--tooth-material", "dentin", "--scale", "0.04"};
+  if (path == "stl-gpu") return std::vector<std::string>{"--tooth", stl, "--tooth-material", "dentin", "--scale", "0.04"};
   if (path == "labels")
     return std::vector<std::string>{"--labels", labels, "--label-map", "1=caries,2=enamel,3=dentin", "--voxel-size", "0.034"};
   if (path == "scan") return std::vector<std::string>{"--dicom", scan_dir};

@@ -15,7 +15,7 @@ namespace dentsim::test {
 // What the noisy bricks of randomVolume hold. The GPU tests keep to the four tissues; the block
 // mesher's tests also want the spare codes 0 and 5..7, which no importer writes but a byte can hold.
 enum class NoiseMaterials {
-  Tissues,   // 1..4
+  Tissues,   // 1..4: a tooth's own tissues (enamel, dentin, pulp, caries), no neighbour
   AnyCode,   // 0..7
 };
 

@@ -1,4 +1,4 @@
-// `dentsim info FILE.dvol [--json]`: grid, bytes, brick and octree node counts, tissue volumes, and what a scan's segmentation chose.
+// `dentsim info FILE.dvol [--json]`: grid, bytes, brick and octree node counts, tissue volumes, whether the layers are measured or synthesized, and what made them.
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -9,6 +9,7 @@
 #include "volume/octree_stats.h"
 #include "volume/tooth_file.h"
 #include "volume/tooth_frame.h"
+#include "volume/tooth_layer_synth.h"
 
 namespace dentsim::app {
 namespace {
@@ -45,6 +46,9 @@ nlohmann::json describe(const std::string& path, const ToothVolume& t) {
     tissues[materialName(Material(m))] = {{"voxels", totals.voxels[m]},
                                           {"volume_mm3", totals.volumeMm3(Material(m), f.voxel_mm)}};
   j["tissues"] = tissues;
+  const bool synthesized = t.layers == LayerSource::Synthesized;
+  j["layers"] = {{"source", synthesized ? "synthesized" : "measured"}};
+  if (synthesized) j["layers"]["tooth_type"] = toothTypeName(ToothType(t.synthesized_type));
   const ToothAxes& a = f.tooth;
   const auto source = [](AxisSource from) { return from == AxisSource::Found ? "found" : from == AxisSource::Given ? "given" : "assumed"; };
   const Vec3 centre = toothOcclusalCentreMm(t);
@@ -124,6 +128,10 @@ void printText(const nlohmann::json& j) {
   if (j["bounds"].contains("tooth"))
     std::printf("  %-8s  %27s   %s to %s\n", "tooth", "", triple(j["bounds"]["tooth"]["lo_mm"], 2).c_str(),
                 triple(j["bounds"]["tooth"]["hi_mm"], 2).c_str());
+  // Synthesized layers are a model's guess at where enamel ends and pulp begins: say so before the numbers are read as measured.
+  if (j["layers"]["source"] == "synthesized")
+    std::printf("layers      synthesized from one surface (%s type), not measured\n",
+                j["layers"]["tooth_type"].get<std::string>().c_str());
   const auto& a = j["tooth_frame"];
   std::printf("tooth frame (simulation frame, mm)\n");
   std::printf("  crown     %s  %s\n", triple(a["crown"]).c_str(), a["crown_from"].get<std::string>().c_str());

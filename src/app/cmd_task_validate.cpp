@@ -32,7 +32,7 @@ struct TaskValidateOptions {
 int runTaskValidate(const TaskValidateOptions& o) {
   auto task = builtinTask(o.task);
   if (!task) return fail(task.message());
-  if (o.level != 0 && task->tooth != kBuiltinMolarTooth)
+  if (o.level != 0 && !isBuiltinTooth(task->tooth))
     return fail("--level applies to a task on the built-in molar; " + task->tooth + " keeps its own grid");
   if (o.level != 0 && task->ideal && task->ideal->kind != IdealKind::BuiltinPath)
     return fail("--level: the task's ideal was recorded on the molar at its own level; validate it at that level");

@@ -45,16 +45,19 @@ Status planJob(const dentsim::VoxelizeCost& cost, const VoxelizeFlags& o) {
   return checkAffordable(cost, memoryBudgetBytes(), o.force, "voxelize");
 }
 
-const char* axisSourceText(AxisSource s) {
-  return s == AxisSource::Found ? "found from the enamel" : s == AxisSource::Given ? "given" : "not known";
+// A synthesized tooth's axes come from its shape, a measured tooth's crown from its enamel.
+const char* axisSourceText(AxisSource s, bool from_shape) {
+  if (s == AxisSource::Found) return from_shape ? "found from the tooth's shape" : "found from the enamel";
+  return s == AxisSource::Given ? "given" : "not known";
 }
 
 // One line on the tooth's frame: how the crown axis was known and whether the grid was turned.
 void printFrame(const ToothVolume& tooth) {
   const ToothAxes& t = tooth.frame.tooth;
-  std::printf("  crown axis %s, now (%.3f, %.3f, %.3f)%s; mesial %s\n", axisSourceText(t.crown_source), t.crown[0],
-              t.crown[1], t.crown[2], t.turned() ? " after quarter turns that stand the crown up" : "",
-              axisSourceText(t.mesial_source));
+  const bool shape = tooth.layers == LayerSource::Synthesized;
+  std::printf("  crown axis %s, now (%.3f, %.3f, %.3f)%s; mesial %s\n", axisSourceText(t.crown_source, shape),
+              t.crown[0], t.crown[1], t.crown[2], t.turned() ? " after quarter turns that stand the crown up" : "",
+              axisSourceText(t.mesial_source, shape));
   if (t.crown_source == AxisSource::Assumed)
     warn("the enamel does not show which way the crown faces (none, or centred on the tooth): +z is taken as the crown axis (give --crown-axis)");
 }
@@ -139,8 +142,18 @@ int runVoxelizeMeshes(const VoxelizeFlags& o) {
   const std::string engine = report.engine_ran ? "GPU (" + gpu_context->device().name + ")" : "CPU reference";
   printVoxelizeTime(engine, o.subsamples, report.voxelize_ms, timing);
   for (const MeshToothReport::Layer& l : report.layers)
-    std::printf("  layer %-7s %s: %zu triangles, mesh volume %.4f mm^3\n", materialName(l.material).c_str(),
-                shownPath(l.path).c_str(), l.triangles, l.volume_mm3);
+    std::printf("  layer %-7s %s: %zu triangles, mesh volume %.4f mm^3\n",
+                report.synthesized ? "tooth" : materialName(l.material).c_str(), shownPath(l.path).c_str(), l.triangles,
+                l.volume_mm3);
+  for (const MeshToothReport::Layer& l : report.neighbours)
+    std::printf("  neighbour %s: %zu triangles, mesh volume %.4f mm^3\n", shownPath(l.path).c_str(), l.triangles,
+                l.volume_mm3);
+  if (!report.neighbours.empty())
+    std::printf("  neighbour voxels %llu, where the tooth has none\n",
+                static_cast<unsigned long long>(report.neighbour_voxels));
+  // The synthesizer's lines (the first says the layers are synthesized, not measured); kept in the file.
+  if (report.synthesized)
+    for (const std::string& line : report.synthesized->lines) std::printf("  %s\n", escapeControl(line, line.size()).c_str());
   return 0;
 }
 
@@ -194,14 +207,25 @@ int runVoxelize(const VoxelizeFlags& o) {
 
 void addVoxelizeCommand(CLI::App& root, Action& action) {
   auto opts = std::make_shared<VoxelizeFlags>();
-  CLI::App* cmd = root.add_subcommand("voxelize", "Build a .dvol tooth from STL tissue layers, a segmented CT label volume, or a scan (DICOM, NIfTI, NRRD)");
+  CLI::App* cmd = root.add_subcommand("voxelize", "Build a .dvol tooth from STL tissue layers, one whole-tooth surface, a segmented CT label volume, or a scan (DICOM, NIfTI, NRRD)");
   for (size_t t = 0; t < kTissueCount; ++t) {
+    if (!hasLayerFlag(kTissueTable[t])) continue;  // the neighbour: --neighbour, whole teeth, repeatable
     std::string help = kTissueTable[t].name;
     help[0] = char(std::toupper(static_cast<unsigned char>(help[0])));
     cmd->add_option("--" + std::string(kTissueTable[t].name), opts->layer[t], help + " surface (STL)");
   }
-  cmd->add_option("--tooth", opts->tooth, "A one-layer tooth (STL), filled with --tooth-material");
-  cmd->add_option("--tooth-material", opts->tooth_material, "Tissue of --tooth")->capture_default_str();
+  cmd->add_option("--tooth", opts->tooth,
+                  "A whole tooth as one closed surface (STL, PLY or OBJ): enamel, dentin and pulp are synthesized from "
+                  "its shape by published proportions, and its crown axis found there (docs/VOXELIZE.md)");
+  cmd->add_option("--tooth-material", opts->tooth_material,
+                  "Keep --tooth one tissue, this one (e.g. dentin): no layers are synthesized");
+  cmd->add_option("--tooth-type", opts->tooth_type,
+                  "The synthesized layers' proportions: " + toothTypeNames() + " (default: guessed from the size and roots)");
+  cmd->add_option("--neighbour", opts->neighbours,
+                  "An adjacent tooth's closed surface (STL, PLY or OBJ), whole, as neighbour tissue in the same grid; "
+                  "repeat for each (with --tooth or the tissue layers)")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_option("--units", opts->units, "Unit of the STL coordinates: mm, cm, m or um")->capture_default_str();
   cmd->add_option("--scale", opts->scale, "Extra scale factor for the STL coordinates")
       ->check(finiteIn(1e-6, 1e6, ""))

@@ -4,6 +4,7 @@
 #include <numbers>
 
 #include "app/tool_placement.h"
+#include "sim/scripted_paths.h"
 #include "sim/tool_library.h"
 
 namespace dentsim::app {
@@ -19,6 +20,8 @@ Result<FirstView> chooseFirstView(const std::string& view_option, const std::opt
   v.fixed = task_owns_view && task_view->fixed;
   return v;
 }
+
+TissueBox firstViewBox(const BrickVolume& volume, const VolumeFrame& frame) { return toothBox(volume, frame); }
 
 void placeFirstView(render::OrbitCamera& camera, const TissueBox& box, const FirstView& view) {
   const Vec3 c = box.centre();

@@ -25,6 +25,11 @@ struct FirstView {
 // lock hold only for the task's own view. Errors: an unknown view name.
 Result<FirstView> chooseFirstView(const std::string& view_option, const std::optional<TaskView>& task_view, bool mirror);
 
+// The box the first view frames, and the drill and mirror start beside: the treated tooth's
+// (toothBox, sim/scripted_paths.h), so that a tooth between neighbours is centred and fills the
+// view, its neighbours in sight at the sides. Without neighbours it is tissueBox.
+TissueBox firstViewBox(const BrickVolume& volume, const VolumeFrame& frame);
+
 // Places `camera` on `view` of the tooth whose tissue fills `box`. With a mirror the target moves
 // halfway to the mirror's face (mirrorGrip's, seen from the preset's eye) and the distance grows by
 // the half-gap, then comes in to 0.8 of that, so tooth and mirror both fill the frame.

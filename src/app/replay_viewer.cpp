@@ -38,7 +38,7 @@ class ReplayViewer {
       : session_(session),
         tooth_(tooth),
         o_(options),
-        box_(tissueBox(tooth.voxels, tooth.frame)),
+        box_(firstViewBox(tooth.voxels, tooth.frame)),
         input_(camera_, box_, WindowInput::Hooks{[](double) {}, [this] { quit_ = true; }}) {}
 
   Result<int> run(bool outputs_pending);

@@ -18,6 +18,9 @@ struct ToothChoice {
 
   // A task's tooth at the task's level (what the panel's task picker starts).
   static ToothChoice ofTask(const std::string& task_tooth, int task_level) {
+    // Another built-in tooth goes by its session source ("builtin:molar_neighbours:9"), which
+    // loadToothFileOrAsset builds and a session records as it is.
+    if (isBuiltinTooth(task_tooth) && task_tooth != kBuiltinMolarTooth) return {builtinToothSource(task_tooth, task_level), task_level};
     return {task_tooth == kBuiltinMolarTooth ? std::string() : task_tooth, task_level};
   }
 

@@ -42,7 +42,7 @@ void Simulator::noteWarning(const std::string& text) {
 Status Simulator::loadTooth() {
   auto t = model_.tooth.builtin() ? builtinMolarTooth(model_.tooth.level) : loadToothFileOrAsset(model_.tooth.file);
   if (!t) return t.error();
-  const TissueBox box = tissueBox(t->voxels, t->frame);
+  const TissueBox box = firstViewBox(t->voxels, t->frame);
   if (box.empty()) return makeError(model_.tooth.name(), "the tooth holds no tissue");
   model_.initial = std::move(*t);
   model_.box = box;

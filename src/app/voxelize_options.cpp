@@ -63,7 +63,19 @@ Result<Material> fillTissue(const std::string& name, Material fallback) {
   return m;
 }
 
+// "enamel, dentin, pulp or caries": the tissues a layer (and --tooth-material) can hold.
+std::string layerTissueList() {
+  std::vector<std::string> names;
+  for (const TissueRow& row : kTissueTable)
+    if (hasLayerFlag(row)) names.push_back(row.name);
+  std::string out;
+  for (size_t i = 0; i < names.size(); ++i) out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+  return out;
+}
+
 }  // namespace
+
+bool hasLayerFlag(const TissueRow& row) { return materialPriority(row.material) > 0; }
 
 bool hasMeshes(const VoxelizeFlags& o) {
   for (const std::string& path : o.layer)
@@ -73,7 +85,8 @@ bool hasMeshes(const VoxelizeFlags& o) {
 
 std::string layerFlagList() {
   std::string out;
-  for (const TissueRow& row : kTissueTable) out += (out.empty() ? "--" : "/--") + std::string(row.name);
+  for (const TissueRow& row : kTissueTable)
+    if (hasLayerFlag(row)) out += (out.empty() ? "--" : "/--") + std::string(row.name);
   return out;
 }
 
@@ -117,6 +130,23 @@ Status checkVoxelizeOptions(const VoxelizeFlags& o, const std::function<bool(con
                                "is the tissue of --tooth; no --tooth is given");
       !st)
     return st;
+  if (Status st = refuseOption(given("--tooth-type") && o.tooth.empty(), "--tooth-type",
+                               "sets the proportions of layers synthesized from --tooth; no --tooth is given");
+      !st)
+    return st;
+  if (Status st = refuseOption(given("--tooth-type") && given("--tooth-material"), "--tooth-type",
+                               "sets the proportions of synthesized layers; --tooth-material keeps one tissue");
+      !st)
+    return st;
+  if (Status st = refuseOption(given("--neighbour") && !meshes && !o.labels.empty(), "--neighbour",
+                               "adds adjacent teeth to STL layers; with --labels, map their label to neighbour in "
+                               "--label-map");
+      !st)
+    return st;
+  if (Status st = refuseOption(given("--neighbour") && !meshes && (!o.dicom.empty() || !o.ct.empty()), "--neighbour",
+                               "adds adjacent teeth to STL layers; a scan's tooth is cut from its neighbours");
+      !st)
+    return st;
   return refuseOption(given("--seal-mm") && o.fill_enclosed.empty() && !scan, "--seal-mm",
                       "seals openings for --fill-enclosed; no --fill-enclosed is given");
 }
@@ -125,8 +155,14 @@ Status checkVoxelizeSources(const VoxelizeFlags& o) {
   const bool meshes = hasMeshes(o);
   const int sources = int(meshes) + int(!o.labels.empty()) + int(!o.dicom.empty()) + int(!o.ct.empty());
   if (sources > 1) return Error{"give one source: STL layers, --labels, --dicom or --ct"};
+  if (!o.neighbours.empty() && !meshes && sources == 0)
+    return Error{"--neighbour adds adjacent teeth to a tooth: give --tooth or " + layerFlagList() + " too"};
+  if (!o.neighbours.empty() && !meshes)
+    return Error{"--neighbour adds adjacent teeth to STL layers, not to --labels, --dicom or --ct (labels: map the "
+                 "neighbours' label to neighbour in --label-map)"};
   std::vector<std::string> inputs(o.layer.begin(), o.layer.end());
   inputs.insert(inputs.end(), {o.tooth, o.labels, o.frame_of, o.dicom, o.ct});
+  inputs.insert(inputs.end(), o.neighbours.begin(), o.neighbours.end());
   if (Status st = checkOutputsAreNotInputs(inputs, {o.output, o.plan_json}); !st) return st;
   if (meshes && (o.min_piece != 0 || !o.label_map.empty() || !o.fill_enclosed.empty()))
     return Error{"--min-piece, --label-map and --fill-enclosed apply to --labels, not to STL layers"};
@@ -167,13 +203,27 @@ Result<MeshToothOptions> meshToothOptions(const VoxelizeFlags& o) {
   if (!(o.scale > 0.0) || !std::isfinite(o.scale)) return Error{"--scale must be a positive number"};
   mo.mm_per_unit = millimetresPer(unit) * o.scale;
   if (!o.tooth.empty()) {
-    Material m{};
-    if (!parseMaterial(o.tooth_material, &m) || m == Material::Empty)
-      return Error{"--tooth-material: unknown tissue '" + escapeControl(o.tooth_material) + "'"};
+    Material m = Material::Dentin;  // synthesis reads the tooth's voxels, whatever their tissue
+    if (!o.tooth_material.empty() &&
+        (!parseMaterial(o.tooth_material, &m) || m == Material::Empty || materialPriority(m) == 0))
+      return Error{"--tooth-material: unknown tissue '" + escapeControl(o.tooth_material) + "' (expected " +
+                   layerTissueList() + "; adjacent teeth: --neighbour)"};
     mo.layers.push_back({o.tooth, m});
+    if (o.tooth_material.empty()) {
+      LayerSynthOptions synth;
+      if (!o.tooth_type.empty()) {
+        std::optional<ToothType> type = parseToothType(o.tooth_type);
+        if (!type)
+          return Error{"--tooth-type: unknown type '" + escapeControl(o.tooth_type) + "' (expected " + toothTypeNames() +
+                       ")"};
+        synth.type = *type;
+      }
+      mo.synthesize = synth;
+    }
   }
   for (size_t t : layersByPriority())
     if (!o.layer[t].empty()) mo.layers.push_back({o.layer[t], kTissueTable[t].material});
+  mo.neighbours = o.neighbours;
   mo.voxel_mm = o.voxel_size;
   mo.level = o.level > 0 ? o.level : 9;
   mo.voxelize.subsamples = o.subsamples;

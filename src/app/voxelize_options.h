@@ -17,10 +17,13 @@ namespace dentsim::app {
 constexpr double kMinVoxelMm = 1e-3, kMaxVoxelMm = 10.0;
 
 struct VoxelizeFlags {
-  // STL layers, one file per tissue of the table (--enamel, --dentin, ...), or a one-layer tooth
+  // STL layers, one file per tissue of the table that the voxelizer layers (--enamel, --dentin, ...),
+  // or a whole tooth's one surface
   std::array<std::string, kTissueCount> layer;  // by tissue table row; empty: none
   std::string tooth;
-  std::string tooth_material = "dentin";  // tissue of a --tooth mesh
+  std::string tooth_material;             // one tissue for all of --tooth; empty: layers synthesized
+  std::string tooth_type;                 // the synthesized layers' proportions; empty: guessed
+  std::vector<std::string> neighbours;    // adjacent teeth's surfaces (--neighbour, repeatable)
   std::string units = "mm";               // unit of the STL coordinates
   double scale = 1.0;                     // extra factor after the unit
   int subsamples = 2;                     // rays per voxel side
@@ -57,6 +60,9 @@ struct VoxelizeFlags {
 
 // True when STL layers (a tissue's flag or --tooth) are the source.
 bool hasMeshes(const VoxelizeFlags& o);
+// Whether a tissue of the table has its own layer flag: those the voxelizer layers (not the
+// neighbour, which --neighbour adds whole).
+bool hasLayerFlag(const TissueRow& row);
 // "--enamel/--dentin/--pulp/--caries", for messages.
 std::string layerFlagList();
 

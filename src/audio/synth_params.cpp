@@ -16,6 +16,8 @@ SynthParams defaultSynthParams() {
   // Pulp and caries: soft tissue, little more than a low, quiet swish.
   p.timbre[size_t(tissueIndex(Material::Pulp))] = {1200.0, 1000.0, 0.3, 0.1};
   p.timbre[size_t(tissueIndex(Material::Caries))] = {1500.0, 1200.0, 0.35, 0.15};
+  // A neighbour's surface is enamel: the student hears the same chatter as on the tooth's own.
+  p.timbre[size_t(tissueIndex(Material::Neighbour))] = p.timbre[size_t(tissueIndex(Material::Enamel))];
   return p;
 }
 

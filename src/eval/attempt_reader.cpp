@@ -258,6 +258,7 @@ Result<ClassAttempt> parseScoreReport(const std::string& text, const std::string
   a.task_kind = report->task_kind;
   a.score = report->total;
   a.pulp_exposed = report->pulp_exposed;
+  a.adjacent_damaged = report->adjacent_damaged;
   a.guided = report->guided.has_value();
   // The student: the caller's, the report's own, the folders'.
   if (!options.student.empty()) a.student = options.student;
@@ -389,6 +390,9 @@ Result<std::optional<ClassAttempt>> parseStatement(const json& st, const std::st
     if (endsWith(key, "/pulp-exposed")) {
       if (!value.is_boolean()) return Error{"result.extensions " + key + ": not true or false"};
       a.pulp_exposed = value.get<bool>();
+    } else if (endsWith(key, "/adjacent-damaged")) {
+      if (!value.is_boolean()) return Error{"result.extensions " + key + ": not true or false"};
+      a.adjacent_damaged = value.get<bool>();
     } else if (endsWith(key, "/guided")) {
       if (!value.is_boolean()) return Error{"result.extensions " + key + ": not true or false"};
       a.guided = value.get<bool>();

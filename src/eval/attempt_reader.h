@@ -27,7 +27,7 @@ namespace dentsim {
 
 // One part of the score: a component of the paper's table, or a deduction from the total.
 struct AttemptPart {
-  std::string name;                    // the report's key: "undercut", "time", "force", "healthy", "pulp_exposure"
+  std::string name;                    // the report's key: "undercut", "time", "force", "healthy", "adjacent", "pulp_exposure"
   bool deduction = false;              // taken off the total (the report's `deductions`), not earned
   std::optional<double> points;        // a component's points earned, a deduction's points taken off [points]; none: not scored, or a cap
   std::optional<double> max;           // a component's most [points]; none for a deduction
@@ -54,6 +54,7 @@ struct ClassAttempt {
   std::optional<bool> success;         // a statement's result.success, when said
   std::string verb;                    // the statement's verb ("passed", "failed", "completed"); "scored" for a report
   bool pulp_exposed = false;           // the cut reached the pulp
+  bool adjacent_damaged = false;       // the cut damaged an adjacent tooth (above the noise floor; docs/SCORING.md)
   bool guided = false;                 // a guide's spring pulled the drill (a report's "guided", a statement's guided extension)
   std::string picture;                 // the score picture's file; empty when there is none
   std::string source;                  // where it was read: "path" or "path:line"

@@ -41,6 +41,8 @@ std::vector<std::string> reasonsFor(const ClassAttempt& a, const std::optional<d
   // An unknown kind (a statement of a task from elsewhere) is held to the usual rule.
   const TaskKindRow* kind = findTaskKind(a.task_kind);
   if (a.pulp_exposed && (!kind || kind->pulp == PulpRule::ExposureCaps)) reasons.push_back("pulp exposed");
+  // Every kind: an adjacent tooth is never part of the exercise.
+  if (a.adjacent_damaged) reasons.push_back("adjacent tooth damaged");
   if (pass_mark && a.score < *pass_mark) {
     char text[64];
     std::snprintf(text, sizeof text, "below the pass mark of %g", *pass_mark);
@@ -81,6 +83,8 @@ void mergeStatement(ClassAttempt& report, const ClassAttempt& statement) {
   if (!report.agreement) report.agreement = statement.agreement;
   if (report.task_kind.empty()) report.task_kind = statement.task_kind;
   if (report.picture.empty()) report.picture = statement.picture;
+  // A report of a tooth without neighbours says nothing; a statement of the same attempt cannot say more.
+  report.adjacent_damaged = report.adjacent_damaged || statement.adjacent_damaged;
   report.source += ", " + statement.source;
 }
 

@@ -41,8 +41,9 @@ struct StudentSummary {
   int tasks = 0;                           // distinct tasks tried
 };
 
-// An attempt a teacher should look at, and why: "pulp exposed", "below the pass mark of 50",
-// "failed" (verb failed or success false). An access cavity must open the pulp, so there it is no fault.
+// An attempt a teacher should look at, and why: "pulp exposed", "adjacent tooth damaged", "below the
+// pass mark of 50", "failed" (verb failed or success false). An access cavity must open the pulp, so
+// there it is no fault; an adjacent tooth is a fault in every kind.
 struct FlaggedAttempt {
   size_t attempt = 0;                      // index into ClassReport::attempts
   std::vector<std::string> reasons;        // one or more, in that order

@@ -415,13 +415,14 @@ void tasksSection(std::string& html, const ClassReport& r) {
 void flaggedSection(std::string& html, const ClassReport& r) {
   html += "<h2>Attempts to look at</h2>";
   if (r.flags.empty()) {
-    html += "<p>No attempt exposed the pulp, failed or fell below a pass mark.</p>";
+    html += "<p>No attempt exposed the pulp, damaged an adjacent tooth, failed or fell below a pass mark.</p>";
     return;
   }
   std::string opened;  // the kinds whose students are to open the pulp
   for (const TaskKindRow& kind : kTaskKindTable)
     if (kind.pulp == PulpRule::MustOpen) opened += (opened.empty() ? "" : " or ") + kindWithArticle(kind);
-  html += "<p>Attempts that exposed the pulp (not a fault in " + opened + "), failed, or fell below the pass mark.</p>";
+  html += "<p>Attempts that exposed the pulp (not a fault in " + opened +
+          "), damaged an adjacent tooth, failed, or fell below the pass mark.</p>";
   html += "<table class=\"flagged\"><tr><th>student</th><th>task</th><th>date (UTC)</th><th>score</th><th>why</th>"
           "<th>points lost</th><th>from</th></tr>";
   for (const FlaggedAttempt& f : r.flags) {

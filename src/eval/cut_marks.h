@@ -15,6 +15,8 @@ class CutMarks {
  public:
   void add(uint32_t x, uint32_t y, uint32_t z, uint32_t units);
   uint32_t at(uint32_t x, uint32_t y, uint32_t z) const;
+  // Adds every mark of `other`, keeping the larger amount where both mark a voxel.
+  void merge(const CutMarks& other);
   bool brickHasMarks(BrickCoord b) const { return bricks_.count(key(b)) != 0; }
   bool empty() const { return bricks_.empty(); }
   uint64_t voxelCount() const { return voxels_; }

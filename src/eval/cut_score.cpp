@@ -99,7 +99,7 @@ Result<Task> builtinTask(const std::string& name) {
     if (!task) return task;
     // The tooth and an ideal's files lie beside the task file (in its folder or below): a task from
     // another school cannot make dentsim open a file elsewhere.
-    if (task->tooth != kBuiltinMolarTooth && task->tooth.rfind(kAssetToothPrefix, 0) != 0) {
+    if (!isBuiltinTooth(task->tooth) && task->tooth.rfind(kAssetToothPrefix, 0) != 0) {
       auto tooth = resolveBeside(name, task->tooth, "tooth");
       if (!tooth) return tooth.error();
       task->tooth = *tooth;
@@ -120,7 +120,7 @@ Result<Task> builtinTask(const std::string& name) {
   if (bytes.empty()) return makeError(file, "not among the embedded assets");
   auto task = parseTask(std::string(bytes.begin(), bytes.end()), "assets/" + file);
   // An embedded task's own tooth file is embedded beside it.
-  if (task && task->tooth != kBuiltinMolarTooth && task->tooth.rfind(kAssetToothPrefix, 0) != 0 &&
+  if (task && !isBuiltinTooth(task->tooth) && task->tooth.rfind(kAssetToothPrefix, 0) != 0 &&
       std::filesystem::path(task->tooth).is_relative())
     task->tooth = std::string(kAssetToothPrefix) + "tasks/" + task->tooth;
   return task;
@@ -282,12 +282,18 @@ Status writeScoreReport(const std::string& path, const nlohmann::ordered_json& r
   return writeFileAtomic(path, text);
 }
 
+CutMarks scorePictureRed(TaskKind kind, const ToothDiff& diff) {
+  CutMarks red = kind != TaskKind::Caries ? diff.beyond_target : diff.healthy_outside_zone;
+  red.merge(diff.adjacent_removed);
+  return red;
+}
+
 RgbImage scorePicture(const Task& task, const ToothVolume& initial, const ToothVolume& final_, const SessionScore& score,
                       const ToothVolume* given_ideal) {
   ScoreImageOptions options;
   options.oblique = true;
   const ToothVolume* ideal = given_ideal ? given_ideal : (score.ideal ? &*score.ideal : nullptr);
-  const CutMarks& red = task.kind != TaskKind::Caries ? score.diff.beyond_target : score.diff.healthy_outside_zone;
+  const CutMarks red = scorePictureRed(task.kind, score.diff);
   return renderScoreImage(initial, final_, ideal, &red, options).image;
 }
 

@@ -84,8 +84,11 @@ Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, cons
                               const ToothVolume* ideal, const SessionRecording* session, const ScoreFiles& files);
 // Writes the report as JSON (2-space indent), atomically.
 Status writeScoreReport(const std::string& path, const nlohmann::ordered_json& report);
-// The score picture: an occlusal and an oblique view; red is the over-cut of a cavity, or the
-// healthy tissue cut outside the allowed zone of a caries removal; blue the under-cut of an ideal.
+// The voxels the score picture paints red: the over-cut of a cavity or access, or the healthy tissue
+// cut outside the allowed zone of a caries removal; and in every kind, what was cut of an adjacent tooth.
+CutMarks scorePictureRed(TaskKind kind, const ToothDiff& diff);
+// The score picture: an occlusal and an oblique view; red is scorePictureRed, blue the under-cut of
+// an ideal.
 RgbImage scorePicture(const Task& task, const ToothVolume& initial, const ToothVolume& final_, const SessionScore& score,
                       const ToothVolume* given_ideal);
 // Writes the score picture.

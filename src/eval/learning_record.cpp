@@ -140,7 +140,10 @@ ojson surfaceAgreementOf(const ScoreReportSummary& score) {
 // The extensions a teacher's report reads: what was cut, how hard, on which session, and why it scored so.
 ojson resultExtensions(const Task& task, const ScoreReportSummary& score, const AttemptFacts& facts) {
   ojson removed = ojson::object();
-  for (size_t t = 0; t < kScoredTissues.size(); ++t) removed[materialName(kScoredTissues[t])] = orNull(score.removed_mm3[t]);
+  for (size_t t = 0; t < kScoredTissues.size(); ++t)
+    // A neighbour's entry only where the report has one: a tooth without neighbours keeps its statement.
+    if (isToothTissue(kScoredTissues[t]) || score.removed_mm3[t])
+      removed[materialName(kScoredTissues[t])] = orNull(score.removed_mm3[t]);
   ojson force = nullptr;
   if (score.session && score.session->contact_samples) {
     const ScoreReportSession& s = *score.session;
@@ -160,6 +163,7 @@ ojson resultExtensions(const Task& task, const ScoreReportSummary& score, const 
   ext[extensionIri("guided")] = score.guided.has_value();
   ext[extensionIri("session-hash")] = orNull(facts.session_hash);
   ext[extensionIri("pulp-exposed")] = score.pulp_exposed;
+  if (score.adjacent_removed_mm3) ext[extensionIri("adjacent-damaged")] = score.adjacent_damaged;
   ext[extensionIri("task-kind")] = taskKindName(task.kind);
   ext[extensionIri("total-max")] = orNull(score.total_max);
   ext[extensionIri("parts")] = partsOf(score);

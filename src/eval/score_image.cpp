@@ -46,8 +46,9 @@ Rgb tissueColour(uint32_t material) {
   return {row->score_rgb[0], row->score_rgb[1], row->score_rgb[2]};
 }
 
+// A neighbour is never under-cut: what the ideal took of an adjacent tooth is not the student's to take.
 uint32_t undercutOf(Voxel initial, Voxel final_, Voxel ideal) {
-  const uint32_t fi = layout::voxelMaterial(initial) == DS_MAT_EMPTY ? 0u : voxelFill(initial);
+  const uint32_t fi = isToothTissue(voxelMaterial(initial)) ? voxelFill(initial) : 0u;
   const uint32_t r = std::min(voxelFill(final_), fi), k = std::min(voxelFill(ideal), fi);
   return r > k ? r - k : 0u;
 }

@@ -4,8 +4,9 @@
 // is at least half (16 of 31); that voxel is shaded Lambert (normal from the central-difference
 // gradient of fill) in its tissue's colour, tinted blue by its under-cut (remaining material that
 // the ideal removes). The red voxels the caller marks (the over-cut of a cavity, the healthy tissue
-// cut outside the allowed zone of a caries removal; ToothDiff holds both) add red fog where the ray
-// passes them before the surface, so they show red over whatever lies behind. Without an ideal
+// cut outside the allowed zone of a caries removal, and in either what was cut of an adjacent tooth;
+// ToothDiff holds all three) add red fog where the ray passes them before the surface, so they show
+// red over whatever lies behind. Without an ideal
 // there is no blue; remaining caries shows in its brown. A caller may instead paint chosen surface
 // voxels green, red or blue (the deviation picture). Rays skip bricks that hold neither surface nor red.
 #pragma once

@@ -132,6 +132,11 @@ ojson ScoreReportSummary::toJson() const {
   if (paper_total) j["paper_total"] = *paper_total;
   ojson components = ojson::object(), deductions = ojson::object();
   for (const ScoreReportPart& p : parts) (p.deduction ? deductions : components)[p.name] = partJson(p);
+  if (adjacent_removed_mm3) {
+    ojson& adjacent = deductions["adjacent"];
+    adjacent["removed_mm3"] = *adjacent_removed_mm3;
+    adjacent["damaged"] = adjacent_damaged;
+  }
   if (!components.empty()) j["components"] = std::move(components);
   if (completion_share) j["completion"] = {{"share", *completion_share}};
   if (!deductions.empty()) j["deductions"] = std::move(deductions);
@@ -222,6 +227,10 @@ Result<ScoreReportSummary> ScoreReportSummary::fromJson(const ojson& report) {
   s.parts = partsOf(at("components"), false);
   for (ScoreReportPart& p : partsOf(at("deductions"), true)) s.parts.push_back(std::move(p));
   s.completion_share = numberAt(at("completion"), "share");
+  if (const ojson* adjacent = member(at("deductions"), "adjacent")) {
+    s.adjacent_removed_mm3 = numberAt(*adjacent, "removed_mm3");
+    s.adjacent_damaged = boolAt(*adjacent, "damaged").value_or(false);
+  }
   const ojson& volumes = at("volumes");
   for (size_t t = 0; t < kScoredTissues.size(); ++t)
     if (const ojson* tissue = member(volumes, materialName(kScoredTissues[t]).c_str())) s.removed_mm3[t] = numberAt(*tissue, "removed_mm3");

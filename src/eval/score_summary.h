@@ -7,8 +7,9 @@
 // (toJson), so that anything reading a report reads the cut-down one the same way.
 //
 // Required: "format" ("dentsim-score"), "task"."name" and "total" in [0, 100]. Every other key may be
-// missing (an older report, a part not scored) and is then none here; the few whose wrong type
-// would make a reader wrong (pulp_exposed, guided, student, timestamp, statement_id) are errors when
+// missing (an older report, a part not scored, the adjacent part of a tooth without neighbours) and
+// is then none here; the few whose wrong type would make a reader wrong (pulp_exposed, guided,
+// student, timestamp, statement_id) are errors when
 // present and of the wrong type. Numbers that are not numbers elsewhere are left out, as a later
 // version's change of a part must not make a class's reports unreadable.
 #pragma once
@@ -82,12 +83,17 @@ struct ScoreReportSummary {
   std::optional<double> paper_total;        // "paper_total": the parts summed by the paper's formulas, before shares, caps and clamps [points]
   std::vector<ScoreReportPart> parts;       // components, then deductions, in the report's order
   std::optional<double> completion_share;   // "completion"."share": the share of the work done that earned parts scale by, [0, 1]
-  // Removed anywhere, by kScoredTissues' order (enamel, dentin, pulp, caries): "volumes"."<tissue>"."removed_mm3" [mm^3].
+  // Removed anywhere, by kScoredTissues' order (enamel, dentin, pulp, caries, neighbour): "volumes"."<tissue>"."removed_mm3"
+  // [mm^3]; a neighbour's only on a tooth that has one.
   std::array<std::optional<double>, kTissueCount> removed_mm3{};
   std::optional<double> overcut_mm3;        // "volumes"."all"."overcut_mm3": cut beyond the ideal cavity [mm^3]; an ideal's report only
   std::optional<double> undercut_mm3;       // "volumes"."all"."undercut_mm3": the ideal cavity left standing [mm^3]; an ideal's report only
   std::optional<double> healthy_outside_zone_mm3;  // "zones"."healthy_outside_zone_mm3": healthy tissue cut outside the allowed zone [mm^3]
   std::optional<double> caries_remaining_mm3;      // a caries removal's caries left [mm^3]
+  // "deductions"."adjacent": the adjacent teeth's volume the cut removed [mm^3]; none when the tooth
+  // had no neighbour (the report then has no such part) or the report is older than neighbours.
+  std::optional<double> adjacent_removed_mm3;
+  bool adjacent_damaged = false;            // "deductions"."adjacent"."damaged": removed above the noise floor
   bool pulp_exposed = false;                // the cut reached the pulp (an access cavity's: opened the chamber)
   std::optional<ScoreReportSession> session;      // none: scored without a session
   std::optional<ScoreReportAgreement> agreement;  // cavity and access with an ideal: how the surfaces agree

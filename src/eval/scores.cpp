@@ -37,6 +37,22 @@ constexpr double kSessionPoints = 50.0;
 
 }  // namespace
 
+// Every kind's deduction for an adjacent tooth cut (docs/SCORING.md section 3, "Adjacent teeth").
+AdjacentScore scoreAdjacent(const ToothDiff& diff, const Task& task) {
+  const TissueAmounts& n = diff.adjacent();
+  const AdjacentTask& t = task.adjacent;
+  AdjacentScore a;
+  a.has_neighbour = n.initial > 0;
+  a.initial_mm3 = diff.mm3(n.initial);
+  a.removed_mm3 = diff.mm3(n.removed);
+  a.noise_floor_mm3 = t.noise_voxels * diff.mm3(DS_FILL_FULL);
+  // Compared in fill units, so that a test can count the floor in voxels exactly.
+  a.damaged = double(n.removed) > t.noise_voxels * DS_FILL_FULL;
+  // Any damage is a serious error, so it costs min_points however small; more costs more.
+  if (a.damaged) a.deduction = t.min_points + t.coefficient * a.removed_mm3;
+  return a;
+}
+
 // ---- 1. caries removal ---------------------------------------------------------------------------
 
 CariesScore scoreCariesRemoval(const ToothDiff& diff, const SessionStats* stats, const Task& task) {
@@ -79,7 +95,9 @@ CariesScore scoreCariesRemoval(const ToothDiff& diff, const SessionStats* stats,
   } else if (outside > 0) {
     s.healthy_deduction = s.total_max;
   }
-  s.total = clampScore(s.removal + s.earned_time + s.earned_force - s.healthy_deduction, 0.0, s.total_max);
+  s.adjacent = scoreAdjacent(diff, task);
+  s.total = clampScore(s.removal + s.earned_time + s.earned_force - s.healthy_deduction - s.adjacent.deduction, 0.0,
+                       s.total_max);
   s.pulp_exposed = diff.pulp_exposed;
   s.exposed_pulp_voxels = diff.exposed_pulp_voxels;
   if (s.pulp_exposed && s.total > pulpCap(task, s.total_max)) {
@@ -131,8 +149,9 @@ Result<CavityScore> scoreCavityPreparation(const ToothDiff& diff, const SessionS
   if (s.time) s.earned_time = s.completion * *s.time;
   s.paper_total = s.undercut + paper_overcut + s.parallel.value_or(0.0) + s.time.value_or(0.0);
   s.total_max = 50.0 + (stats ? kSessionPoints : 0.0);
+  s.adjacent = scoreAdjacent(diff, task);
   s.total = clampScore(s.undercut + s.earned_overcut + s.earned_parallel.value_or(0.0) + s.earned_time.value_or(0.0) -
-                           s.force_deduction.value_or(0.0),
+                           s.force_deduction.value_or(0.0) - s.adjacent.deduction,
                        0.0, s.total_max);
   s.pulp_exposed = diff.pulp_exposed;
   s.exposed_pulp_voxels = diff.exposed_pulp_voxels;
@@ -293,7 +312,10 @@ ojson volumesJson(const ToothDiff& diff) {
   ojson j = ojson::object();
   j["voxel_mm"] = diff.voxel_mm;
   j["fill_unit_mm3"] = diff.mm3(1);
-  for (size_t t = 0; t < kScoredTissues.size(); ++t) j[materialName(kScoredTissues[t])] = amountsJson(diff, diff.tissues[t]);
+  // A tooth without a neighbour keeps the report it always had: no "neighbour" entry.
+  for (size_t t = 0; t < kScoredTissues.size(); ++t)
+    if (isToothTissue(kScoredTissues[t]) || diff.tissues[t].initial > 0)
+      j[materialName(kScoredTissues[t])] = amountsJson(diff, diff.tissues[t]);
   j["healthy"] = amountsJson(diff, diff.healthy());
   j["all"] = amountsJson(diff, diff.total());
   j["pulp_exposed"] = diff.pulp_exposed;
@@ -336,6 +358,19 @@ ojson sessionJson(const SessionStats* s, const ScoreInputs& inputs) {
   return j;
 }
 
+// The adjacent-tooth deduction; the report holds it only when the initial tooth has a neighbour.
+ojson adjacentJson(const Task& task, const AdjacentScore& a) {
+  return {{"points", a.deduction},
+          {"formula", "removed_mm3 > noise_floor_mm3 ? min_points + coefficient * removed_mm3 : 0"},
+          {"removed_mm3", a.removed_mm3},
+          {"initial_mm3", a.initial_mm3},
+          {"noise_floor_mm3", a.noise_floor_mm3},
+          {"noise_voxels", task.adjacent.noise_voxels},
+          {"damaged", a.damaged},
+          {"min_points", task.adjacent.min_points},
+          {"coefficient", task.adjacent.coefficient}};
+}
+
 ojson pulpCapJson(const Task& task, bool exposed, bool applied, double total_max) {
   return {{"pulp_exposed", exposed}, {"cap", pulpCap(task, total_max)}, {"cap_of_100", task.pulp_exposure_cap}, {"applied", applied}};
 }
@@ -363,6 +398,7 @@ std::vector<ScoreLine> scoreLines(const CariesScore& s) {
   lines.push_back(scorePart("time", s.time ? std::optional<double>(s.earned_time) : std::nullopt, 25.0));
   lines.push_back(scorePart("force", s.force ? std::optional<double>(s.earned_force) : std::nullopt, 25.0));
   lines.push_back(scoreDeduction("healthy", s.healthy_deduction));
+  if (s.adjacent.has_neighbour) lines.push_back(scoreDeduction("adjacent", s.adjacent.deduction));
   return lines;
 }
 
@@ -373,6 +409,7 @@ std::vector<ScoreLine> scoreLines(const CavityScore& s) {
   lines.push_back(scorePart("parallel", s.earned_parallel, 25.0));
   lines.push_back(scorePart("time", s.earned_time, 25.0));
   lines.push_back(scoreDeduction("force", s.force_deduction));
+  if (s.adjacent.has_neighbour) lines.push_back(scoreDeduction("adjacent", s.adjacent.deduction));
   return lines;
 }
 
@@ -414,6 +451,7 @@ ojson scoreReportJson(const Task& task, const ScoreInputs& inputs, const ToothDi
                   {"percent_of_caries", s.healthy_outside_percent},
                   {"caries_initial_mm3", s.caries_initial_mm3},
                   {"coefficient", task.caries.healthy_coefficient}};
+  if (s.adjacent.has_neighbour) d["adjacent"] = adjacentJson(task, s.adjacent);
   d["pulp_exposure"] = pulpCapJson(task, s.pulp_exposed, s.pulp_cap_applied, s.total_max);
   j["deductions"] = std::move(d);
   ojson healthy = ojson::object();
@@ -477,6 +515,7 @@ ojson scoreReportJson(const Task& task, const ScoreInputs& inputs, const ToothDi
                 {"force_error_n", task.force_error_n},
                 {"coefficient", t.force_coefficient}};
   if (!s.force_deduction) d["force"]["not_scored"] = inputs.no_session_reason;
+  if (s.adjacent.has_neighbour) d["adjacent"] = adjacentJson(task, s.adjacent);
   if (s.access)
     d["pulp_unopened"] = {{"pulp_opened", s.pulp_exposed},
                           {"cap", unopenedCap(task, s.total_max)},
@@ -507,6 +546,18 @@ std::string partText(const char* name, const std::optional<double>& points, int 
   return points ? std::string(", ") + name + " " + fixed(*points) + " / " + std::to_string(max) : "";
 }
 
+// ", adjacent tooth damaged -26.50" when the cut damaged a neighbour; nothing otherwise.
+std::string adjacentText(const AdjacentScore& a) {
+  return a.damaged ? ", adjacent tooth damaged -" + fixed(a.deduction) : "";
+}
+
+// "; adjacent tooth 0.015 mm^3 removed" on a tooth with a neighbour; nothing without one.
+std::string adjacentVolumeText(const AdjacentScore& a) {
+  if (!a.has_neighbour) return "";
+  return "; adjacent tooth " + fixed(a.removed_mm3, 3) + " mm^3 removed" +
+         (a.damaged ? "" : a.removed_mm3 > 0 ? " (within the noise floor)" : "");
+}
+
 std::string notScoredText(const std::vector<const char*>& parts, const ScoreInputs& inputs) {
   if (parts.empty()) return "";
   std::string list;
@@ -525,7 +576,7 @@ std::string scoreSummary(const CariesScore& s, const ScoreInputs& inputs) {
                      fixed(s.removal) + " / 50" + partText("time", earned(s.time, s.earned_time), 25) +
                      partText("force", earned(s.force, s.earned_force), 25) +
                      (s.healthy_deduction > 0 ? ", healthy tissue -" + fixed(s.healthy_deduction) : ", no healthy tissue outside the zone") +
-                     (s.pulp_cap_applied ? ", capped: pulp exposed" : "") +
+                     adjacentText(s.adjacent) + (s.pulp_cap_applied ? ", capped: pulp exposed" : "") +
                      notScoredText(missing, inputs) + "; time and force earned at the share removed; Table 4 alone " +
                      fixed(s.paper_total) + "): ";
   // Summed in table order, the order the report has always added them in, so the total keeps its bits.
@@ -538,7 +589,8 @@ std::string scoreSummary(const CariesScore& s, const ScoreInputs& inputs) {
   }
   line += fixed(100.0 * s.removed_fraction, 1) + "% of " + fixed(s.caries_initial_mm3, 3) + " mm^3 caries removed; healthy " +
           fixed(healthy_mm3, 3) + " mm^3 removed (" + by_tissue + "), " + fixed(s.healthy_outside_mm3, 3) +
-          " mm^3 of it outside the allowed zone; pulp " + (s.pulp_exposed ? "exposed" : "not exposed");
+          " mm^3 of it outside the allowed zone; pulp " + (s.pulp_exposed ? "exposed" : "not exposed") +
+          adjacentVolumeText(s.adjacent);
   return line;
 }
 
@@ -551,7 +603,7 @@ std::string scoreSummary(const CavityScore& s, const ScoreInputs& inputs) {
                      fixed(s.undercut) + " / 25, over-cut " + fixed(s.earned_overcut) + " / 25" +
                      partText("parallel", s.earned_parallel, 25) + partText("time", s.earned_time, 25) +
                      (!s.force_deduction ? "" : *s.force_deduction > 0 ? ", force errors -" + fixed(*s.force_deduction) : ", no force errors") +
-                     (s.pulp_cap_applied ? ", capped: pulp exposed" : "") +
+                     adjacentText(s.adjacent) + (s.pulp_cap_applied ? ", capped: pulp exposed" : "") +
                      (s.unopened_cap_applied ? ", capped: pulp chamber not opened" : "") + (s.ideal_missed ? ", the ideal missed" : "") +
                      notScoredText(missing, inputs) + "; " + fixed(100.0 * s.completion, 1) +
                      "% of the ideal cut, so over-cut, parallel and time earned at that share; Table 5 alone " +
@@ -559,7 +611,8 @@ std::string scoreSummary(const CavityScore& s, const ScoreInputs& inputs) {
   line += "ideal " + fixed(s.ideal_mm3, 3) + " mm^3, under-cut " + fixed(s.undercut_mm3, 3) + " mm^3, over-cut " +
           fixed(s.overcut_mm3, 3) + " mm^3 (" + fixed(s.overcut_near_mm3, 3) + " near, " + fixed(s.overcut_gross_mm3, 3) +
           " gross); " + (s.access ? (s.pulp_exposed ? "pulp chamber opened" : "pulp chamber not opened")
-                                  : (s.pulp_exposed ? "pulp exposed" : "pulp not exposed"));
+                                  : (s.pulp_exposed ? "pulp exposed" : "pulp not exposed")) +
+          adjacentVolumeText(s.adjacent);
   return line;
 }
 

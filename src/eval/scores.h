@@ -21,6 +21,19 @@
 
 namespace dentsim {
 
+// Damage to an adjacent tooth, the same deduction in every kind (docs/SCORING.md, "Adjacent teeth"):
+// the neighbour voxels the cut removed, anywhere. Removal at or under the noise floor (the task's
+// adjacent.noise_voxels of fill) is the bur grazing a contact and costs nothing; above it the
+// deduction is min_points + coefficient x removed_mm3 [points].
+struct AdjacentScore {
+  bool has_neighbour = false;       // the initial tooth holds neighbour voxels; without, the report leaves the part out
+  double initial_mm3 = 0.0;         // the neighbours' volume at the start [mm^3]
+  double removed_mm3 = 0.0;         // neighbour removed, anywhere [mm^3]
+  double noise_floor_mm3 = 0.0;     // noise_voxels voxels' volume [mm^3]
+  bool damaged = false;             // removed above the noise floor
+  double deduction = 0.0;           // damaged: min_points + coefficient x removed_mm3; else 0 [points]
+};
+
 // Caries removal: the paper's removal 0..50, time 0..25 and force 0..25, less the healthy tissue
 // cut outside the allowed zone, capped when the pulp is exposed [points].
 struct CariesScore {
@@ -33,8 +46,9 @@ struct CariesScore {
   double earned_time = 0.0;             // removed_fraction x time [points]
   double earned_force = 0.0;            // removed_fraction x force [points]
   double healthy_deduction = 0.0;       // healthy_coefficient x 100 x healthy outside / caries initial [points]
+  AdjacentScore adjacent;               // an adjacent tooth cut: its own deduction
   bool pulp_cap_applied = false;        // the pulp is exposed and the cap lowered the total
-  double total = 0.0;                   // the headline: clamp(removal + earned time and force - healthy_deduction, 0, total_max), capped
+  double total = 0.0;                   // the headline: clamp(removal + earned time and force - healthy_deduction - adjacent, 0, total_max), capped
   double total_max = 100.0;             // what the parts scored can reach: 100, or 50 without a session
   double removed_fraction = 0.0;        // removed caries / initial caries (with an ideal: of the caries the ideal removed); 0 when none
   bool against_ideal = false;           // the removal is measured against the caries a professional's ideal removed
@@ -66,10 +80,11 @@ struct CavityScore {
   std::optional<double> earned_parallel;// completion x parallel; none without a session
   std::optional<double> earned_time;    // completion x time; none without a session
   std::optional<double> force_deduction;  // force_coefficient x 100 x force_over / contact; none without a session
+  AdjacentScore adjacent;               // an adjacent tooth cut: its own deduction
   bool pulp_cap_applied = false;
   bool access = false;                  // the task's kind must open the pulp chamber (PulpRule::MustOpen: an access cavity)
   bool unopened_cap_applied = false;    // access: the pulp chamber was not opened and the cap lowered the total
-  double total = 0.0;                   // clamp(undercut + the earned parts - force_deduction, 0, total_max), capped
+  double total = 0.0;                   // clamp(undercut + the earned parts - force_deduction - adjacent, 0, total_max), capped
   double total_max = 100.0;             // 100, or 50 without a session
   bool nothing_removed = false;         // the attempt removed no tissue
   bool ideal_missed = false;            // it removed nothing of the ideal cavity: completion 0, every part earned is 0
@@ -88,6 +103,9 @@ struct CavityScore {
 
 // Clamps v to [lo, hi].
 double clampScore(double v, double lo, double hi);
+
+// The adjacent-tooth deduction of a diff under the task's adjacent terms; both scores below hold it.
+AdjacentScore scoreAdjacent(const ToothDiff& diff, const Task& task);
 
 // `stats` null: there is no session, and the parts that need one are not scored.
 CariesScore scoreCariesRemoval(const ToothDiff& diff, const SessionStats* stats, const Task& task);
@@ -122,7 +140,7 @@ nlohmann::ordered_json scoreReportJson(const Task& task, const ScoreInputs& inpu
 
 // A score's parts and deductions in the report's order, for a screen to show without reading JSON.
 struct ScoreLine {
-  std::string name;               // the report's key: "removal", "time", ...; "healthy", "force"
+  std::string name;               // the report's key: "removal", "time", ...; "healthy", "force", "adjacent"
   std::optional<double> points;   // none: not scored (no session)
   double max = 0.0;               // what a part can reach; 0 for a deduction
   bool deduction = false;         // points are taken off the total

@@ -198,6 +198,15 @@ void readAccess(const json& j, TaskReader& r, Task* t) {
   r.number(j, path, "unopened_cap", false, 0, true, 100, "in [0, 100]", &t->access.unopened_cap);
 }
 
+void readAdjacent(const json& j, TaskReader& r, Task* t) {
+  const std::string path = "adjacent";
+  if (!r.object(j, path, {"coefficient", "min_points", "noise_voxels"})) return;
+  AdjacentTask* a = &t->adjacent;
+  if (!r.number(j, path, "coefficient", false, 0, true, kHuge, kNonNegative, &a->coefficient)) return;
+  if (!r.number(j, path, "min_points", false, 0, true, 100, "in [0, 100]", &a->min_points)) return;
+  r.number(j, path, "noise_voxels", false, 0, true, kHuge, kNonNegative, &a->noise_voxels);
+}
+
 void readCaries(const json& j, TaskReader& r, Task* t) {
   const std::string path = "caries";
   if (!r.object(j, path, {"healthy_coefficient"})) return;
@@ -241,7 +250,7 @@ void readTask(const json& root, TaskReader& r, Task* t) {
                                    "tools",     "target_s",  "failure_s",     "force_error_n", "cavity"};
   if (version >= 2)
     keys.insert(keys.end(), {"insertion_axis", "leeway_mm", "ideal", "pulp_exposure_cap", "caries", "instructions", "view", "access",
-                             "pass_mark", "from_ideal", "cavity_class"});
+                             "pass_mark", "from_ideal", "cavity_class", "adjacent"});
   if (!r.object(root, "", keys)) return;
   if (!r.string(root, "", "name", true, true, &t->name)) return;
   std::vector<std::string> kinds;
@@ -275,6 +284,10 @@ void readTask(const json& root, TaskReader& r, Task* t) {
     if (!r.number(root, "", "pulp_exposure_cap", false, 0, true, 100, "in [0, 100]", &t->pulp_exposure_cap)) return;
     if (!readZone(root, "", r, t)) return;
     if (!readFromIdeal(root, r, &t->from_ideal)) return;
+    if (const json* adjacent = r.member(root, "", "adjacent", false)) {
+      readAdjacent(*adjacent, r, t);
+      if (r.failed()) return;
+    }
     double pass_mark = 0.0;
     if (root.contains("pass_mark")) {
       if (!r.number(root, "", "pass_mark", true, 0, true, 100, "in [0, 100]", &pass_mark)) return;

@@ -85,6 +85,15 @@ struct AccessTask {
   double unopened_cap = 40.0;         // a pulp chamber left closed caps the total at this [points of 100], [0, 100]
 };
 
+// Damage to an adjacent tooth, a deduction in every kind; the defaults are docs/SCORING.md's
+// ("Adjacent teeth"). Removal at or under the noise floor is the bur grazing a contact, not damage,
+// and costs nothing; above it, min_points + coefficient x the volume removed.
+struct AdjacentTask {
+  double coefficient = 100.0;         // points per mm^3 of neighbour removed, >= 0 (1 point per 0.01 mm^3)
+  double min_points = 25.0;           // what any damage above the noise floor costs at least [points], [0, 100]
+  double noise_voxels = 3.0;          // the noise floor: removal up to this many voxels' fill is not damage [voxels], >= 0
+};
+
 // The keys of a task that `dentsim task new` filled in by default, so that `task set-ideal` sets
 // them from the professional's session (docs/SCORING.md, section 10): the task file's "from_ideal".
 struct FromIdeal {
@@ -122,6 +131,7 @@ struct Task {
   CariesTask caries;                  // kind Caries only (defaults otherwise)
   CavityTask cavity;                  // kinds Cavity and Access (defaults otherwise)
   AccessTask access;                  // kind Access only (defaults otherwise)
+  AdjacentTask adjacent;              // every kind; scored only on a tooth with a neighbour
 };
 
 // "caries", "cavity" or "access".

@@ -2,6 +2,7 @@
 #include "eval/task_checks.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <utility>
 
 #include "core/volume_frame.h"
@@ -31,6 +32,18 @@ void checkTools(const Task& task, TaskProblems& out) {
     out.errors.push_back("tools.mirror: \"" + task.mirror_tool + "\" is not a mirror in the tool catalog");
 }
 
+// "0.067 mm^3" of neighbour the professional's tooth lacks against the task's; "" when none: an
+// expert is to leave the teeth beside the preparation whole.
+std::string adjacentCutText(const ToothVolume& tooth, const ToothVolume& ideal) {
+  const size_t n = size_t(Material::Neighbour);
+  const uint64_t before = tooth.voxels.materialTotals().fill_sum[n], after = ideal.voxels.materialTotals().fill_sum[n];
+  if (after >= before) return "";
+  const double v = tooth.frame.voxel_mm;
+  char text[64];
+  std::snprintf(text, sizeof text, "%.3f mm^3", double(before - after) / DS_FILL_FULL * v * v * v);
+  return text;
+}
+
 // The tooth's tissues and axes, and the ideal made on it.
 void checkOnTooth(const Task& task, const ToothVolume& tooth, TaskProblems& out) {
   const TaskKindRow& kind = taskKindRow(task.kind);
@@ -47,6 +60,10 @@ void checkOnTooth(const Task& task, const ToothVolume& tooth, TaskProblems& out)
   if (!ideal) out.errors.push_back("ideal: " + ideal.message());
   else if (volumeHashHex(ideal->voxels, ideal->frame) == volumeHashHex(tooth.voxels, tooth.frame))
     out.errors.push_back("ideal: the professional's tooth is the task's tooth uncut");
+  else if (std::string cut = adjacentCutText(tooth, *ideal); !cut.empty())
+    out.warnings.push_back("ideal: the professional cut " + cut +
+                           " of an adjacent tooth; its ideal cavity leaves that out, but the professional's own attempt loses "
+                           "the adjacent-tooth deduction");
   for (std::string& w : ideal_warnings) out.warnings.push_back(std::move(w));
 }
 

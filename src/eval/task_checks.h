@@ -27,7 +27,8 @@ bool lacksRequiredTissue(const TaskKindRow& kind, const MaterialTotals& totals);
 
 // Checks a task as builtinTask (eval/cut_score.h) reads it, its files resolved: the drill is a bur
 // and the mirror a mirror of the tool catalog; the tooth loads and holds the kind's tissue; the
-// insertion axis suits the kind and class on it (eval/task_axis.h); the ideal is made, and cuts.
+// insertion axis suits the kind and class on it (eval/task_axis.h); the ideal is made, and cuts
+// (a warning when it cut an adjacent tooth: the professional is to leave neighbours whole).
 // Loads the tooth and makes the ideal: a built-in path is drilled, a session replayed.
 TaskProblems checkTask(const Task& task);
 

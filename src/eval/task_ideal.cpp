@@ -140,9 +140,9 @@ Result<IdealRecord> setTaskIdeal(const std::string& task_path, const std::string
   if (!session->end) return makeError(session_path, "the session has no end record (it was cut short): record it again");
 
   // The session must start on the task's own tooth, or the ideal would be scored against another.
-  const int level = task->tooth == kBuiltinMolarTooth ? builtinToothLevel(session->info.tooth_source) : 0;
-  if (task->tooth == kBuiltinMolarTooth && level == 0)
-    return makeError(session_path, "recorded on \"" + session->info.tooth_source + "\", not on the task's tooth, the built-in molar");
+  const int level = isBuiltinTooth(task->tooth) ? builtinToothLevel(session->info.tooth_source, task->tooth) : 0;
+  if (isBuiltinTooth(task->tooth) && level == 0)
+    return makeError(session_path, "recorded on \"" + session->info.tooth_source + "\", not on the task's tooth, " + task->tooth);
   auto initial = taskTooth(*task, level);
   if (!initial) return initial.error();
   const std::string initial_hash = volumeHashHex(initial->voxels, initial->frame);

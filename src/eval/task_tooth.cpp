@@ -1,4 +1,4 @@
-// The built-in molar's names, a task's tooth and a session's starting tooth.
+// The built-in teeth's names, a task's tooth and a session's starting tooth.
 #include "eval/task_tooth.h"
 
 #include <filesystem>
@@ -12,10 +12,29 @@
 
 namespace dentsim {
 
-std::string builtinToothSource(int level) { return std::string(kBuiltinMolarTooth) + ":" + std::to_string(level); }
+namespace {
 
-int builtinToothLevel(const std::string& tooth_source) {
-  const std::string prefix = std::string(kBuiltinMolarTooth) + ":";
+// The built-in teeth by name (isBuiltinTooth's), each with what builds it.
+struct BuiltinToothRow {
+  const char* name;
+  Result<ToothVolume> (*build)(int level);
+};
+constexpr BuiltinToothRow kBuiltinTeeth[] = {
+    {kBuiltinMolarTooth, builtinMolarTooth},
+    {kBuiltinMolarNeighboursTooth, builtinMolarNeighboursTooth},
+};
+
+}  // namespace
+
+Result<ToothVolume> builtinTooth(const std::string& tooth, int level) {
+  for (const BuiltinToothRow& row : kBuiltinTeeth)
+    if (tooth == row.name) return row.build(level);
+  return makeError(tooth, "not a built-in tooth (there are " + std::string(kBuiltinMolarTooth) + " and " +
+                              kBuiltinMolarNeighboursTooth + ")");
+}
+
+int builtinToothLevel(const std::string& tooth_source, const std::string& tooth) {
+  const std::string prefix = tooth + ":";
   if (tooth_source.rfind(prefix, 0) != 0) return 0;
   const std::string level = tooth_source.substr(prefix.size());
   if (level.empty() || level.size() > 2 || level.find_first_not_of("0123456789") != std::string::npos) return 0;
@@ -23,6 +42,8 @@ int builtinToothLevel(const std::string& tooth_source) {
 }
 
 Result<ToothVolume> loadToothFileOrAsset(const std::string& name) {
+  for (const BuiltinToothRow& row : kBuiltinTeeth)
+    if (const int level = builtinToothLevel(name, row.name); level > 0) return row.build(level);
   if (name.rfind(kAssetToothPrefix, 0) == 0) {
     const std::string asset = name.substr(std::string(kAssetToothPrefix).size());
     const std::span<const uint8_t> bytes = builtinAssetBytes(asset);
@@ -33,7 +54,7 @@ Result<ToothVolume> loadToothFileOrAsset(const std::string& name) {
 }
 
 Result<ToothVolume> taskTooth(const Task& task, int level) {
-  if (task.tooth == kBuiltinMolarTooth) return builtinMolarTooth(level > 0 ? level : task.level);
+  if (isBuiltinTooth(task.tooth)) return builtinTooth(task.tooth, level > 0 ? level : task.level);
   return loadToothFileOrAsset(task.tooth);
 }
 
@@ -49,7 +70,8 @@ Result<ToothVolume> resolveSessionTooth(const SessionRecording& session, const s
     std::error_code ec;
     if (fs::exists(*beside, ec)) return loadTooth(*beside);
   }
-  if (const int level = builtinToothLevel(info.tooth_source); level > 0) return builtinMolarTooth(level);
+  for (const BuiltinToothRow& row : kBuiltinTeeth)
+    if (const int level = builtinToothLevel(info.tooth_source, row.name); level > 0) return row.build(level);
   return makeError(session_path, "cannot find the session's tooth (file \"" + info.tooth_file + "\", source \"" +
                                      info.tooth_source + "\"): give it with --tooth");
 }

@@ -1,4 +1,4 @@
-// The tooth a task or a recorded session starts from: the built-in molar at a level, or a volume file.
+// The tooth a task or a recorded session starts from: a built-in tooth (the molar, alone or between its neighbours) at a level, or a volume file.
 #pragma once
 
 #include <string>
@@ -10,20 +10,35 @@
 
 namespace dentsim {
 
-// A task's "tooth" that names the built-in molar (any other value is a volume file).
+// A task's "tooth" that names the built-in molar (any other value but the next is a volume file).
 inline constexpr const char* kBuiltinMolarTooth = "builtin:molar";
+// A task's "tooth" that names the built-in molar between its neighbours, the second premolar and
+// the second molar (sim/builtin_tooth.h builtinMolarNeighboursTooth): a class II beside a contact.
+inline constexpr const char* kBuiltinMolarNeighboursTooth = "builtin:molar_neighbours";
+// Whether a task's "tooth" names a built-in tooth, which is built at a level rather than read.
+// Inline, as the two names: the app's tooth choice (a header) asks it without linking eval.
+inline bool isBuiltinTooth(const std::string& tooth) {
+  return tooth == kBuiltinMolarTooth || tooth == kBuiltinMolarNeighboursTooth;
+}
+// The built-in tooth `tooth` (kBuiltinMolarTooth or kBuiltinMolarNeighboursTooth) at `level`.
+// Errors: another name, a level out of range, missing assets.
+Result<ToothVolume> builtinTooth(const std::string& tooth, int level);
 // A task's tooth among the embedded assets ("asset:tasks/tooth_2_caries.dvol"): what an embedded
 // task's relative tooth file becomes, so the shipped course needs no files beside the program.
 inline constexpr const char* kAssetToothPrefix = "asset:";
 
-// How a session names the built-in molar at a level, so that replay can rebuild it: "builtin:molar:LEVEL".
-std::string builtinToothSource(int level);
-// The level in a session's tooth source that names the built-in molar ("builtin:molar:7" -> 7), or 0.
-int builtinToothLevel(const std::string& tooth_source);
+// How a session names a built-in tooth at a level, so that replay can rebuild it: "builtin:molar:LEVEL",
+// "builtin:molar_neighbours:LEVEL".
+inline std::string builtinToothSource(const std::string& tooth, int level) { return tooth + ":" + std::to_string(level); }
+inline std::string builtinToothSource(int level) { return builtinToothSource(kBuiltinMolarTooth, level); }
+// The level in a session's tooth source that names the built-in tooth `tooth` ("builtin:molar:7" ->
+// 7; "builtin:molar_neighbours:7" -> 7 only for that tooth), or 0.
+int builtinToothLevel(const std::string& tooth_source, const std::string& tooth = kBuiltinMolarTooth);
 
-// A volume file, or an embedded course tooth ("asset:tasks/ct_tooth_3.dvol").
+// A volume file, an embedded course tooth ("asset:tasks/ct_tooth_3.dvol"), or a built-in tooth by
+// its session source ("builtin:molar_neighbours:9").
 Result<ToothVolume> loadToothFileOrAsset(const std::string& name);
-// The task's tooth: the built-in molar at `level` (0: the task's level), an embedded course tooth,
+// The task's tooth: a built-in tooth at `level` (0: the task's level), an embedded course tooth,
 // or the task's volume file (whose grid is its own: `level` does not apply to either).
 Result<ToothVolume> taskTooth(const Task& task, int level);
 

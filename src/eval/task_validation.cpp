@@ -175,7 +175,11 @@ FaultCheck compare(const ValidatedAttempt& expert, const ValidatedAttempt& fault
   double most = 0.0;
   for (const auto& [n, l] : loss) {
     c.lost += l;
-    const bool is_own = std::find(own.begin(), own.end(), n) != own.end();
+    // A cut beyond where it belongs (over-cut, healthy tissue) that reaches an adjacent tooth is the
+    // same fault: the adjacent-tooth deduction, present only on a tooth with neighbours, is its part too.
+    const bool beyond = std::find(own.begin(), own.end(), "overcut") != own.end() ||
+                        std::find(own.begin(), own.end(), "healthy") != own.end();
+    const bool is_own = std::find(own.begin(), own.end(), n) != own.end() || (n == "adjacent" && beyond);
     if (is_own) c.lost_in_fault += l;
     else c.most_lost_elsewhere = std::max(c.most_lost_elsewhere, l);
     if (l > most) {
@@ -229,6 +233,10 @@ void check(TaskValidation& v, const ValidationSettings& s) {
 }
 
 }  // namespace
+
+FaultCheck compareWithExpert(const ValidatedAttempt& expert, const ValidatedAttempt& fault, TaskKind kind, double pass_mark) {
+  return compare(expert, fault, kind, pass_mark);
+}
 
 Result<TaskValidation> validateTask(const Task& task, const ToothVolume& tooth, const ValidationSettings& settings,
                                     const std::function<void(const std::string&)>& progress) {

@@ -88,6 +88,10 @@ struct TaskValidation {
 
 // The parts an attempt's fault should cost ("overcut", "force", ...): the part names of the report.
 std::vector<std::string> faultParts(TaskKind kind, Attempt attempt);
+// How a fault's attempt compares with the expert's, part by part: its own parts are faultParts', and
+// on a tooth with neighbours the adjacent-tooth deduction too when the fault cuts beyond where it
+// belongs (its own parts hold "overcut" or "healthy").
+FaultCheck compareWithExpert(const ValidatedAttempt& expert, const ValidatedAttempt& fault, TaskKind kind, double pass_mark);
 
 // The professional's session of `task` on `tooth` (its starting tooth): the ideal's session, or the
 // built-in professional recorded into `work_dir`. `from` is told where it came from.

@@ -39,16 +39,19 @@ const TissueAmounts& ToothDiff::tissue(Material m) const {
 
 TissueAmounts ToothDiff::total() const {
   TissueAmounts sum;
-  for (const TissueAmounts& t : tissues) sum += t;
+  for (size_t t = 0; t < kScoredTissues.size(); ++t)
+    if (isToothTissue(kScoredTissues[t])) sum += tissues[t];
   return sum;
 }
 
 TissueAmounts ToothDiff::healthy() const {
   TissueAmounts sum;
   for (size_t t = 0; t < kScoredTissues.size(); ++t)
-    if (kScoredTissues[t] != Material::Caries) sum += tissues[t];
+    if (isHealthyTissue(kScoredTissues[t])) sum += tissues[t];
   return sum;
 }
+
+const TissueAmounts& ToothDiff::adjacent() const { return tissue(Material::Neighbour); }
 
 double ToothDiff::mm3(uint64_t units) const { return double(units) * (voxel_mm * voxel_mm * voxel_mm) / DS_FILL_FULL; }
 
@@ -89,9 +92,10 @@ namespace {
 
 // ---- 2. the ideal cavity's masks ---------------------------------------------------------------------
 
-// The ideal's share of a voxel's initial fill: c = i - min(k, i), for tissue only.
+// The ideal's share of a voxel's initial fill: c = i - min(k, i), for the tooth's tissue only. A
+// neighbour the professional cut is the professional's slip, not a cavity the student must copy.
 uint32_t idealCavityOf(Voxel initial, Voxel ideal) {
-  if (scoredTissueIndex(layout::voxelMaterial(initial)) < 0) return 0;
+  if (!isToothTissue(voxelMaterial(initial))) return 0;
   const uint32_t fi = voxelFill(initial);
   return fi - std::min(voxelFill(ideal), fi);
 }
@@ -112,10 +116,10 @@ void markIdealCavity(const BrickVolume& initial, const BrickVolume& ideal, Targe
 // ---- 3. the brick pass ---------------------------------------------------------------------------
 
 struct Pass {
-  std::array<TissueAmounts, 4> tissues{};
+  std::array<TissueAmounts, kTissueCount> tissues{};
   std::vector<uint64_t> exposed_pulp;      // linear voxel indices, with repeats
   uint64_t target_in_crown_half = 0;
-  CutMarks beyond_target, healthy_outside_zone;
+  CutMarks beyond_target, healthy_outside_zone, adjacent_removed;
 };
 
 class BrickPass {
@@ -146,7 +150,10 @@ class BrickPass {
       const uint32_t fi = voxelFill(v);
       const uint32_t r = std::min(voxelFill(vf.at(n)), fi);
       const uint32_t removed = fi - r;
-      const uint32_t share = k_ ? idealCavityOf(v, vk.at(n)) : (target && TargetMasks::test(*target, n) ? fi : 0u);
+      const bool neighbour = layout::voxelMaterial(v) == DS_MAT_NEIGHBOUR;
+      // A neighbour is never target: all of it cut is adjacent-tooth damage (markCariesAccess
+      // already leaves it out; the test keeps a hand-made mask honest).
+      const uint32_t share = neighbour ? 0u : k_ ? idealCavityOf(v, vk.at(n)) : (target && TargetMasks::test(*target, n) ? fi : 0u);
       const uint32_t in_target = std::min(removed, share), beyond = removed - in_target, kept = fi - share;
       TissueAmounts& a = out_->tissues[size_t(t)];
       a.initial += fi;
@@ -161,8 +168,9 @@ class BrickPass {
         const bool near = share > 0 || (band && leeway_.near(c)[n] != 0);
         (near ? a.leeway : a.container) += kept;
         (near ? a.leeway_removed : a.container_removed) += beyond;
-        out_->beyond_target.add(x, y, z, beyond);
-        if (!near && layout::voxelMaterial(v) != DS_MAT_CARIES) out_->healthy_outside_zone.add(x, y, z, beyond);
+        if (neighbour) out_->adjacent_removed.add(x, y, z, beyond);
+        else out_->beyond_target.add(x, y, z, beyond);
+        if (!near && isHealthyTissue(voxelMaterial(v))) out_->healthy_outside_zone.add(x, y, z, beyond);
       }
       if (share > 0 && dot(Vec3{x + 0.5, y + 0.5, z + 0.5}, crown_.axis) >= crown_.middle())
         out_->target_in_crown_half += share;
@@ -262,6 +270,7 @@ Result<ToothDiff> compareTeeth(const ToothVolume& initial, const ToothVolume& fi
   diff.target_in_crown_half = pass.target_in_crown_half;
   diff.beyond_target = std::move(pass.beyond_target);
   diff.healthy_outside_zone = std::move(pass.healthy_outside_zone);
+  diff.adjacent_removed = std::move(pass.adjacent_removed);
 
   std::sort(pass.exposed_pulp.begin(), pass.exposed_pulp.end());
   diff.exposed_pulp_voxels =

@@ -11,6 +11,10 @@
 // voxel (a target voxel is at distance 0), else in the container. Each amount is filed under the
 // voxel's initial material. docs/SCORING.md derives the binary reductions and explains the zones
 // and pulp exposure.
+//
+// A neighbour (an adjacent tooth, Material::Neighbour) is filed under its own row but is not the
+// tooth: it is never target, total() and healthy() leave it out, and what was cut of it is
+// adjacent(), scored as its own deduction (docs/SCORING.md, "Adjacent teeth").
 #pragma once
 
 #include <array>
@@ -66,12 +70,14 @@ struct ToothDiff {
   uint64_t exposed_pulp_voxels = 0;         // pulp voxels that did either
   CrownEstimate crown;                      // the initial tooth's crown direction
   uint64_t target_in_crown_half = 0;        // target units whose voxel centre lies in the crown half
-  CutMarks beyond_target;                   // per voxel: removed beyond the target (the over-cut with an ideal)
-  CutMarks healthy_outside_zone;            // per voxel: enamel, dentin or pulp removed in the container
+  CutMarks beyond_target;                   // per voxel: the tooth's tissue removed beyond the target (the over-cut with an ideal)
+  CutMarks healthy_outside_zone;            // per voxel: healthy tissue (isHealthyTissue) removed in the container
+  CutMarks adjacent_removed;                // per voxel: neighbour removed, anywhere
 
   const TissueAmounts& tissue(Material m) const;  // m one of kScoredTissues
-  TissueAmounts total() const;                    // over every tissue
-  TissueAmounts healthy() const;                  // over every tissue but caries
+  TissueAmounts total() const;                    // over the tooth's tissues (isToothTissue): not a neighbour
+  TissueAmounts healthy() const;                  // over the healthy tissues (isHealthyTissue): not caries, not a neighbour
+  const TissueAmounts& adjacent() const;          // the neighbour's row: adjacent teeth; initial 0 when there is none
   // Fill units to [mm^3]: voxel_mm^3 / 31 per unit.
   double mm3(uint64_t units) const;
 };

@@ -5,6 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <fstream>
 #include <memory>
 #include <sstream>
 
@@ -33,6 +34,9 @@ constexpr size_t kVersionAt = 8, kHeaderBytesAt = 12, kLevelAt = 16, kVoxelAt = 
 // Version 2 appends the tooth's frame, with its own checksum so that version 1's stays where it was.
 constexpr size_t kCrownAt = 224, kMesialAt = 248, kBuccalAt = 272, kCentreAt = 296, kSourcesAt = 320, kTurnAt = 324,
                  kToothHashAt = 344, kHeaderBytes = 352;
+// Version 4 uses two of the tooth block's spare bytes (zero in versions 2 and 3, and ignored there):
+// 1 when the layers are synthesized, and the tooth type whose proportions made them.
+constexpr size_t kLayersAt = 333, kLayerTypeAt = 334;
 
 template <class T>
 void put(std::vector<uint8_t>& out, size_t at, T v) {
@@ -196,12 +200,16 @@ std::vector<uint8_t> encodeVolumeFile(const VolumeFileData& d) {
   out[kSourcesAt + 2] = uint8_t(t.buccal_source);
   out[kSourcesAt + 3] = t.has_occlusal_centre ? 1 : 0;
   for (int i = 0; i < 9; ++i) out[kTurnAt + i] = uint8_t(t.turn[i]);
+  if (d.layers_synthesized) {
+    out[kLayersAt] = 1;
+    out[kLayerTypeAt] = d.layer_type;
+  }
   put<uint64_t>(out, kToothHashAt, XXH64(out.data() + kCrownAt, kToothHashAt - kCrownAt, 0));
-  if (!d.source_note.empty()) {
-    // Version 3: the note follows the payload (magic, length, text, XXH64 of the text). The header
-    // hash covers the version, so it is set before the hash is taken.
+  if (!d.source_note.empty() || d.layers_synthesized) {
+    // Version 3: the note follows the payload (magic, length, text, XXH64 of the text); version 4
+    // always has it. The header hash covers the version, so it is set before the hash is taken.
     const std::string note = d.source_note.substr(0, kMaxSourceNoteBytes);
-    put<uint32_t>(out, kVersionAt, 3);
+    put<uint32_t>(out, kVersionAt, d.layers_synthesized ? 4 : 3);
     put<uint64_t>(out, kHeaderHashAt, XXH64(out.data(), kHeaderHashAt, 0));
     const size_t note_at = out.size();
     out.resize(note_at + kNoteHeadBytes + note.size() + 8);
@@ -270,6 +278,13 @@ Result<VolumeFileData> parseVolumeFile(std::span<const uint8_t> in, const std::s
     auto tooth = readToothAxes(in);
     if (!tooth) return makeError(where, "tooth frame: " + tooth.message());
     f.tooth = *tooth;
+  }
+  if (version >= 4) {
+    if (in[kLayersAt] > 1) return makeError(where, "layer provenance is not 0 or 1");
+    if (in[kLayerTypeAt] > kMaxLayerTypeCode)
+      return makeError(where, "unknown synthesized tooth type " + std::to_string(in[kLayerTypeAt]));
+    d.layers_synthesized = in[kLayersAt] == 1;
+    d.layer_type = d.layers_synthesized ? in[kLayerTypeAt] : 0;
   }
   f.level = get<int32_t>(in, kLevelAt);
   if (f.level < minLevel || f.level > maxLevel)
@@ -340,6 +355,24 @@ Result<VolumeFileData> parseVolumeFile(std::span<const uint8_t> in, const std::s
   if (XXH64_digest(hash.get()) != get<uint64_t>(in, kPayloadHashAt))
     return makeError(where, "payload checksum mismatch: the file is corrupt");
   return d;
+}
+
+Result<bool> readLayersSynthesized(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) return makeError(path, "cannot open the file");
+  std::vector<uint8_t> head(kHeaderBytes, 0);
+  file.read(reinterpret_cast<char*>(head.data()), std::streamsize(head.size()));
+  const std::span<const uint8_t> in(head.data(), size_t(file.gcount()));
+  if (in.size() < kHeaderBytesV1 || std::memcmp(in.data(), kMagic, sizeof(kMagic)) != 0)
+    return makeError(path, "not a dentsim volume file");
+  if (get<uint64_t>(in, kHeaderHashAt) != XXH64(in.data(), kHeaderHashAt, 0))
+    return makeError(path, "header checksum mismatch: the file is corrupt");
+  const uint32_t version = get<uint32_t>(in, kVersionAt);
+  if (version < 1 || version > kVolumeFileVersion) return makeError(path, "unsupported volume file version");
+  if (version < 4) return false;
+  if (in.size() < kHeaderBytes || get<uint64_t>(in, kToothHashAt) != XXH64(in.data() + kCrownAt, kToothHashAt - kCrownAt, 0))
+    return makeError(path, "tooth frame checksum mismatch: the file is corrupt");
+  return in[kLayersAt] == 1;
 }
 
 Result<VolumeFileData> readVolumeFile(const std::string& path, uint64_t max_raw_bytes) {

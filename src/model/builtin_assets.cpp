@@ -13,6 +13,10 @@ std::string molarHeader(const MolarLayerRow& row) {
   return "dentsim lower first molar: " + std::string(row.description) + "; mm; CEJ at z=0, crown +z";
 }
 
+std::string neighbourHeader(const NeighbourRow& row) {
+  return "dentsim " + std::string(row.description) + "; mm; the molar's frame, CEJ at z=0, crown +z";
+}
+
 Result<TriangleMesh> parseEmbedded(const std::string& path) {
   const std::span<const uint8_t> bytes = builtinAssetBytes(path);
   if (bytes.empty())
@@ -46,6 +50,16 @@ Result<MolarLayers> loadBuiltinMolar() {
   return layers;
 }
 
+Result<NeighbourTeeth> loadBuiltinNeighbours() {
+  NeighbourTeeth teeth;
+  for (const NeighbourRow& row : kNeighbourTeeth) {
+    auto mesh = parseEmbedded(neighbourFile(row));
+    if (!mesh) return mesh.error();
+    teeth.*row.mesh = std::move(*mesh);
+  }
+  return teeth;
+}
+
 Result<TriangleMesh> loadBuiltinTool(std::string_view name) {
   for (const ToolSpec& t : toolCatalog())
     if (name == t.name) return parseEmbedded("tools/" + std::string(name) + ".stl");
@@ -59,6 +73,9 @@ GeneratedAssets generateAssets(const MolarOptions& options) {
   g.molar = generateMolar(options);
   for (const MolarLayerRow& row : kMolarLayers)
     g.files.push_back({molarLayerFile(row), encodeStlBinary(g.molar.*row.mesh, molarHeader(row))});
+  g.neighbours = generateNeighbours();
+  for (const NeighbourRow& row : kNeighbourTeeth)
+    g.files.push_back({neighbourFile(row), encodeStlBinary(g.neighbours.*row.mesh, neighbourHeader(row))});
   for (const ToolSpec& t : toolCatalog()) {
     g.tools.push_back(generateTool(t));
     const std::string header = std::string("dentsim tool ") + t.name + " (" + toolKindName(t.kind) +

@@ -1,7 +1,8 @@
-// The built-in molar and tools: the checked-in files under assets/, embedded into the library at build time.
+// The built-in molar, its neighbours and the tools: the checked-in files under assets/, embedded into the library at build time.
 //
 // Entry points:
 //   loadBuiltinMolar()       the four molar layers parsed from the embedded STL files
+//   loadBuiltinNeighbours()  the molar's two neighbours (model/neighbour_generator.h) likewise
 //   loadBuiltinTool(name)    one tool ("round_bur_010", see toolCatalog()) parsed likewise
 //   builtinAssetBytes(path)  raw embedded bytes by path under assets/ ("teeth/molar_enamel.stl",
 //                            "presets/default.json")
@@ -22,10 +23,12 @@
 #include "core/result.h"
 #include "core/triangle_mesh.h"
 #include "model/molar_generator.h"
+#include "model/neighbour_generator.h"
 
 namespace dentsim {
 
 Result<MolarLayers> loadBuiltinMolar();
+Result<NeighbourTeeth> loadBuiltinNeighbours();
 Result<TriangleMesh> loadBuiltinTool(std::string_view name);
 
 // Empty when no such file was embedded.
@@ -41,8 +44,9 @@ struct AssetFile {
 
 struct GeneratedAssets {
   MolarLayers molar;                // the layers as written
+  NeighbourTeeth neighbours;        // the molar's neighbours as written (their own default lattice)
   std::vector<TriangleMesh> tools;  // in toolCatalog() order
-  std::vector<AssetFile> files;     // teeth/molar_*.stl, tools/*.stl, tools/tools.json
+  std::vector<AssetFile> files;     // teeth/molar_*.stl, teeth/neighbour_*.stl, tools/*.stl, tools/tools.json
 };
 
 // Runs the generators and encodes every asset file (binary STL, fixed headers). Deterministic.
@@ -50,5 +54,7 @@ GeneratedAssets generateAssets(const MolarOptions& options = {});
 
 // The file of a molar layer under assets/: "teeth/molar_enamel.stl".
 inline std::string molarLayerFile(const MolarLayerRow& row) { return "teeth/molar_" + std::string(row.tissue) + ".stl"; }
+// The file of a neighbour under assets/: "teeth/neighbour_premolar.stl".
+inline std::string neighbourFile(const NeighbourRow& row) { return "teeth/neighbour_" + std::string(row.name) + ".stl"; }
 
 }  // namespace dentsim

@@ -1,4 +1,4 @@
-// The built-in molar as a voxel tooth, voxelized by the CPU reference: the same bytes on every machine, so sessions on it replay anywhere.
+// The built-in molar as a voxel tooth, alone or between its two neighbours, voxelized by the CPU reference: the same bytes on every machine, so sessions on it replay anywhere.
 #pragma once
 
 #include <vector>
@@ -17,5 +17,13 @@ std::vector<MeshLayer> builtinMolarLayers(const MolarLayers& molar);
 // The four embedded layers (assets/teeth/molar_*.stl) in a 2^level grid fitted to them, voxelized
 // on the CPU with the default options and compacted. Errors: a level out of range, missing assets.
 Result<ToothVolume> builtinMolarTooth(int level);
+
+// The molar between its neighbours (model/neighbour_generator.h: the second premolar mesially, the
+// second molar distally), in a 2^level grid fitted to all three teeth: the molar's four layers as
+// builtinMolarTooth voxelizes them, and each neighbour whole as Material::Neighbour in the voxels the
+// molar leaves empty (the molar keeps a voxel the two share at a contact). The tooth's frame is the
+// molar's: the convention's axes (setConventionalAxes) and the molar's own occlusal centre, so views
+// and paths centre on the tooth being treated. Errors: as builtinMolarTooth.
+Result<ToothVolume> builtinMolarNeighboursTooth(int level);
 
 }  // namespace dentsim

@@ -37,12 +37,23 @@ AxisFrame AxisFrame::along(const Vec3& origin, const Vec3& axis, const Vec3& u_h
 std::optional<TissueRay::Hit> TissueRay::first(const Vec3& from, const Vec3& dir, double max_mm) {
   const double step = field_.voxelMm();
   auto inside = [&](double d) { return field_.sample(field_.toVoxel(from + dir * d)).phi > 0; };
+  auto materialAt = [&](double d) { return field_.sample(field_.toVoxel(from + dir * d)).material; };
   const auto steps = int64_t(std::ceil(max_mm / step));
+  bool outside_before = true;  // the step before lay outside all tissue: there is a crossing to bisect
   for (int64_t i = 0; i <= steps; ++i) {
     double below = double(i) * step;  // "below" the surface: inside
-    if (!inside(below)) continue;
+    if (!inside(below)) {
+      outside_before = true;
+      continue;
+    }
+    // An adjacent tooth is in the way, not the tooth the paths are worked out on: the ray passes
+    // through it. Where it touches the tooth, the tooth begins at the first step past it.
+    if (materialAt(below + 0.25 * step) == Material::Neighbour) {
+      outside_before = false;
+      continue;
+    }
     double above = i == 0 ? 0.0 : below - step;
-    if (i > 0)
+    if (i > 0 && outside_before)
       for (int k = 0; k < 12; ++k) {  // to 1/4096 voxel
         const double mid = 0.5 * (above + below);
         (inside(mid) ? below : above) = mid;
@@ -51,7 +62,7 @@ std::optional<TissueRay::Hit> TissueRay::first(const Vec3& from, const Vec3& dir
     hit.distance_mm = 0.5 * (above + below);
     hit.point = from + dir * hit.distance_mm;
     // The tissue a quarter voxel in: the surface voxel's own, not the air's.
-    hit.material = field_.sample(field_.toVoxel(from + dir * (below + 0.25 * step))).material;
+    hit.material = materialAt(below + 0.25 * step);
     return hit;
   }
   return std::nullopt;

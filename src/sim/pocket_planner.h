@@ -52,7 +52,7 @@ struct AxisFrame {
 
 // ---- 2. rays into the tooth --------------------------------------------------------------------------------
 
-// Where a ray first meets tissue (the haptic field's surface, phi = 0, what the student feels).
+// Where a ray first meets the tooth (the haptic field's surface, phi = 0, what the student feels).
 class TissueRay {
  public:
   TissueRay(const BrickVolume& volume, const VolumeFrame& frame) : field_(volume, frame) {}
@@ -63,7 +63,8 @@ class TissueRay {
     Material material = Material::Empty;  // the tissue just inside it
   };
   // Marches from `from` along the unit `dir` one voxel at a time up to `max_mm`, then bisects the
-  // crossing; nullopt when the ray meets no tissue. `from` should lie outside the tissue.
+  // crossing; nullopt when the ray meets no tissue. `from` should lie outside the tissue. A
+  // neighbour (an adjacent tooth) is passed through: the hit is the treated tooth's surface.
   std::optional<Hit> first(const Vec3& from, const Vec3& dir, double max_mm);
 
  private:

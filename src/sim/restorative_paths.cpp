@@ -2,8 +2,11 @@
 #include "sim/restorative_paths.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
+
+#include "sim/scripted_paths.h"
 
 namespace dentsim {
 
@@ -39,6 +42,48 @@ std::vector<PocketColumn> gridColumns(double g, double half_u, double half_v, co
   return out;
 }
 
+// The treated tooth alone: `volume` with its neighbour voxels emptied, or none when it has none.
+// Landmarks are the tooth's own: a ray from mesial must find the molar's surface and CEJ, not stop
+// on the premolar in contact with it.
+std::optional<BrickVolume> withoutNeighbours(const BrickVolume& volume) {
+  std::optional<BrickVolume> alone;
+  volume.forEachBrick([&](const BrickView& b) {
+    if (b.uniform && voxelMaterial(b.value) != Material::Neighbour) return;
+    std::array<Voxel, DS_BRICK_VOXELS> voxels;
+    bool any = false;
+    for (uint32_t i = 0; i < DS_BRICK_VOXELS; ++i) {
+      const bool neighbour = voxelMaterial(b.at(i)) == Material::Neighbour;
+      voxels[i] = neighbour ? makeVoxel(Material::Empty) : b.at(i);
+      any = any || neighbour;
+    }
+    if (!any) return;
+    if (!alone) alone.emplace(volume);
+    alone->setBrick(b.coord, voxels.data());
+  });
+  return alone;
+}
+
+// The most distal face [mm] of the neighbour voxels (Material::Neighbour, any fill) whose centres
+// lie mesial of x_max, within half_y of y0 and between z_lo and z_hi; none when there are none.
+std::optional<double> mesialNeighbourFace(const BrickVolume& volume, const VolumeFrame& frame, double x_max, double y0,
+                                          double half_y, double z_lo, double z_hi) {
+  const double v = frame.voxel_mm;
+  std::optional<double> face;
+  volume.forEachBrick([&](const BrickView& b) {
+    if (b.uniform && (voxelMaterial(b.value) != Material::Neighbour || voxelFill(b.value) == 0)) return;
+    for (uint32_t i = 0; i < DS_BRICK_VOXELS; ++i) {
+      const Voxel vox = b.at(i);
+      if (voxelMaterial(vox) != Material::Neighbour || voxelFill(vox) == 0) continue;
+      const double x = frame.origin_mm[0] + (b.coord.x * DS_BRICK_DIM + (i & 7u) + 0.5) * v;
+      const double y = frame.origin_mm[1] + (b.coord.y * DS_BRICK_DIM + ((i >> 3) & 7u) + 0.5) * v;
+      const double z = frame.origin_mm[2] + (b.coord.z * DS_BRICK_DIM + (i >> 6) + 0.5) * v;
+      if (x >= x_max || std::abs(y - y0) > half_y || z < z_lo || z > z_hi) continue;
+      face = std::max(face.value_or(-HUGE_VAL), x + 0.5 * v);
+    }
+  });
+  return face;
+}
+
 }  // namespace
 
 // ---- 2. class II mesio-occlusal ------------------------------------------------------------------------------
@@ -48,17 +93,21 @@ Result<Class2Path> class2CavityPath(const BrickVolume& volume, const VolumeFrame
   const std::string where = "class II path";
   if (!(s.isthmus_width_mm > 0) || !(s.occlusal_depth_mm > 0) || s.distal_reach_mm < 0 || !(s.box_width_mm > 0) ||
       !(s.box_depth_mm > 0) || s.gingival_above_cej_mm < 0 || !(s.widen >= 1) || !(s.fossa_grid_mm > 0) ||
-      s.fossa_search_mm < 0)
-    return makeError(where, "widths, depths and grid must be > 0, reach, search and height above the CEJ >= 0, widen >= 1");
+      s.fossa_search_mm < 0 || !(s.neighbour_clearance_mm >= 0))
+    return makeError(where, "widths, depths and grid must be > 0, reach, search, clearance and height above the CEJ >= 0, "
+                            "widen >= 1");
   auto head = burHead(bur);
   if (!head) return makeError(where, head.message());
   const double r = head->radius_mm;
   if (!(s.isthmus_width_mm * s.widen > 2 * r) || !(s.box_width_mm * s.widen > 2 * r) || !(s.box_depth_mm * s.widen > r))
     return makeError(where, "the outline is narrower than the bur " + bur);
-  const TissueBox box = tissueBox(volume, frame);
+  // Landmarks on the tooth alone; the pocket is paced on the whole volume, neighbours and all.
+  const std::optional<BrickVolume> alone = withoutNeighbours(volume);
+  const BrickVolume& tooth = alone ? *alone : volume;
+  const TissueBox box = toothBox(tooth, frame);
   if (box.empty()) return makeError(where, "the volume holds no tissue");
-  SurfaceProbe probe(volume, frame, box);
-  TissueRay ray(volume, frame);
+  SurfaceProbe probe(tooth, frame, box);
+  TissueRay ray(tooth, frame);
   const Vec3 centre = box.centre();
 
   Class2Path out;
@@ -91,15 +140,32 @@ Result<Class2Path> class2CavityPath(const BrickVolume& volume, const VolumeFrame
 
   // Columns in a frame on the fossa's (x, y): the box's tips from outside that surface to the axial
   // wall less the bur; the occlusal part's from there to past the fossa.
-  const AxisFrame axis = AxisFrame::along({fossa->x, fossa->y, 0.0}, {0, 0, 1}, {1, 0, 0});
   const double g = s.pocket.grid_mm;
-  const double box_u0 = outermost - fossa->x, box_u1 = out.axial_wall_x - r - fossa->x;
+  const double box_u0 = outermost - fossa->x;
+  double box_u1 = out.axial_wall_x - r - fossa->x;
   const double box_v = out.box_half_width_mm - r;
   const double isthmus_v = 0.5 * s.isthmus_width_mm * s.widen - r;
   const double distal_u = s.distal_reach_mm + (s.widen - 1.0) * s.isthmus_width_mm;
-  const double half_u = std::max(-box_u0, distal_u) + g, half_v = std::max(box_v, isthmus_v) + g;
-  const auto columns = gridColumns(g, half_u, half_v, [&](double u, double v) -> std::optional<double> {
-    if (u >= box_u0 - g && u <= box_u1 && std::abs(v) <= box_v + 1e-9) return out.gingival_floor_z;
+  // The box's first column: one past the mesial surface, or, beside a neighbour, the first whose bur
+  // keeps the clearance from it (over the bur's whole reach across the box and down to the floor).
+  // Beside a neighbour the grid moves along x by `shift` [mm] to put a column on that limit, and the
+  // box keeps at least that one row, however close the limit comes to the axial wall.
+  double first_u = box_u0 - g, shift = 0.0;
+  out.neighbour_x = mesialNeighbourFace(volume, frame, fossa->x, fossa->y, out.box_half_width_mm,
+                                        out.gingival_floor_z, box.hi.z);
+  if (out.neighbour_x) {
+    out.bur_mesial_limit_x = *out.neighbour_x + s.neighbour_clearance_mm - (s.widen - 1.0) * s.box_depth_mm;
+    first_u = std::max(first_u, out.bur_mesial_limit_x + r - fossa->x);
+    shift = first_u - g * std::round(first_u / g);
+    box_u1 = std::max(box_u1, first_u);
+  }
+  const double half_u = std::max(out.neighbour_x ? -first_u + std::abs(shift) : -box_u0, distal_u + std::abs(shift)) + g;
+  const double half_v = std::max(box_v, isthmus_v) + g;
+  const AxisFrame axis = AxisFrame::along({fossa->x + shift, fossa->y, 0.0}, {0, 0, 1}, {1, 0, 0});
+  const double tol = out.neighbour_x ? 1e-9 : 0.0;  // a shifted column on the limit is on it
+  const auto columns = gridColumns(g, half_u, half_v, [&](double grid_u, double v) -> std::optional<double> {
+    const double u = grid_u + shift;  // from the fossa [mm]
+    if (u >= first_u - tol && u <= box_u1 + tol && std::abs(v) <= box_v + 1e-9) return out.gingival_floor_z;
     if (u >= box_u1 - 1e-9 && u <= distal_u && std::abs(v) <= isthmus_v + 1e-9) return out.occlusal_floor_z;
     return std::nullopt;
   });
@@ -122,7 +188,7 @@ Result<Class5Path> class5CavityPath(const BrickVolume& volume, const VolumeFrame
   const double r = head->radius_mm;
   if (!(s.width_mm * s.widen > 2 * r) || !(s.height_mm * s.widen > 2 * r))
     return makeError(where, "the outline is narrower than the bur " + bur);
-  const TissueBox box = tissueBox(volume, frame);
+  const TissueBox box = toothBox(volume, frame);
   if (box.empty()) return makeError(where, "the volume holds no tissue");
   SurfaceProbe probe(volume, frame, box);
   TissueRay ray(volume, frame);
@@ -230,7 +296,7 @@ Result<AccessPath> accessCavityPath(const BrickVolume& volume, const VolumeFrame
 
   // In each column of the oval, the first pulp under the surface: the floor is into_pulp_mm below it.
   const AxisFrame axis = AxisFrame::along(out.centre_mm, {0, 0, 1}, {1, 0, 0});
-  const double top = tissueBox(volume, frame).hi.z;
+  const double top = toothBox(volume, frame).hi.z;
   auto firstPulp = [&](double x, double y) -> std::optional<double> {
     const double fx = (x - frame.origin_mm[0]) / v, fy = (y - frame.origin_mm[1]) / v;
     if (fx < 0 || fy < 0 || fx >= volume.dim() || fy >= volume.dim()) return std::nullopt;

@@ -41,6 +41,13 @@ std::optional<double> cejAlong(TissueRay& ray, const Vec3& start, const Vec3& di
 // A class II MO preparation with a fissure bur held along +z: an occlusal part from just distal of
 // the fossa over the mesial marginal ridge, and a box down the mesial surface whose gingival floor
 // lies above the mesial CEJ. Walls are parallel to the bur; floors are flat.
+//
+// Beside a mesial neighbour (Material::Neighbour voxels mesial of the fossa, across the box), the
+// box stops short of it: the bur's mesial side keeps neighbour_clearance_mm from the neighbour's
+// most distal voxel face over the box's width and height, and leaves the thin shell of the molar's
+// enamel at the contact that a dentist breaks with a hand instrument rather than the bur. Without a
+// neighbour the box opens the whole mesial surface, as before. The over-cutter's box (widen > 1)
+// reaches (widen - 1) box depths past that limit, into the neighbour.
 struct Class2Settings {
   double isthmus_width_mm = 1.6;      // buccolingual width of the occlusal part [mm]
   double occlusal_depth_mm = 1.8;     // its floor below the fossa's surface [mm]
@@ -49,6 +56,12 @@ struct Class2Settings {
   double box_depth_mm = 1.2;          // its gingival floor's depth: mesial surface to axial wall [mm]
   double gingival_above_cej_mm = 1.0; // the gingival floor this far above the mesial CEJ [mm]
   double widen = 1.0;                 // widths, box depth and distal reach grow by this factor (>= 1 over-cuts)
+  // Beside a mesial neighbour, the bur keeps this far from it [mm], >= 0. Not less: the bur must not
+  // ride the rim of the shell it leaves, or its press slides it off into the occlusal embrasure and
+  // onto the premolar (at level 7, 0.5 mm put the bur's side 0.03 mm inside the molar's mesial
+  // outline at the floor, and the scripted bur took 0.07 mm^3 of the premolar; 0.3, 0.4, 0.6 and 0.8
+  // took none at levels 7 and 8).
+  double neighbour_clearance_mm = 0.4;
   double fossa_search_mm = 1.0;       // the fossa: the lowest rest within this of the crown's centre [mm]
   double fossa_grid_mm = 0.1;
   PocketSettings pocket = [] {
@@ -69,6 +82,8 @@ struct Class2Path {
   double mesial_surface_x = 0; // the mesial surface at the gingival floor's height [mm]
   double axial_wall_x = 0;     // the box's axial wall [mm]
   double box_half_width_mm = 0;  // buccolingual half-width of the box about the fossa's y [mm]
+  std::optional<double> neighbour_x;  // the mesial neighbour's most distal voxel face across the box [mm]; none without one
+  double bur_mesial_limit_x = 0; // with a neighbour: the bur's mesial side stays distal of this [mm]
 };
 
 Result<Class2Path> class2CavityPath(const BrickVolume& volume, const VolumeFrame& frame, const SimParams& params,

@@ -10,8 +10,11 @@
 
 #include "model/tool_generator.h"
 #include "volume/cut_zone.h"
+#include "volume/tooth_frame.h"
 
 namespace dentsim {
+
+TissueBox toothBox(const BrickVolume& volume, const VolumeFrame& frame) { return brickBoxMm(toothBricks(volume), frame); }
 
 // ---- 1. the cavity preparation path ----------------------------------------------------------------
 
@@ -23,7 +26,7 @@ Result<CavityPath> cavityPreparationPath(const BrickVolume& volume, const Volume
       !(s.hold_s > 0) || !(s.descent_s > 0) || s.dwell_s < 0 || !(s.lift_s > 0))
     return makeError(where, "radius, speed, laps, sample period, oval, grid, hold, descent and lift must be > 0; "
                             "search and dwell >= 0");
-  const TissueBox box = tissueBox(volume, frame);
+  const TissueBox box = toothBox(volume, frame);
   if (box.empty()) return makeError(where, "the volume holds no tissue");
   SurfaceProbe probe(volume, frame, box);
   const double r = s.bur_radius_mm;

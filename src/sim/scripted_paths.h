@@ -23,6 +23,11 @@
 
 namespace dentsim {
 
+// The treated tooth's box: tissueBox (sim/surface_probe.h) over the bricks that hold the tooth, not
+// those that hold only an adjacent tooth (volume/tooth_frame.h, toothBricks), so that a neighbour
+// does not move the crown's centre the paths start from. Without neighbours it is tissueBox.
+TissueBox toothBox(const BrickVolume& volume, const VolumeFrame& frame);
+
 // ---- 1. a class I cavity --------------------------------------------------------------------------
 
 // A class I occlusal preparation with a round bur held vertically (tool axis +Z, rotation identity).

@@ -5,8 +5,9 @@
 
 namespace dentsim {
 
-TissueBox tissueBox(const BrickVolume& volume, const VolumeFrame& frame) {
-  const BrickBox b = tissueBricks(volume);
+TissueBox tissueBox(const BrickVolume& volume, const VolumeFrame& frame) { return brickBoxMm(tissueBricks(volume), frame); }
+
+TissueBox brickBoxMm(const BrickBox& b, const VolumeFrame& frame) {
   TissueBox box;
   if (b.empty()) return box;
   const double brick_mm = frame.voxel_mm * DS_BRICK_DIM;

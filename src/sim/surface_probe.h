@@ -20,6 +20,9 @@ struct TissueBox {
   Vec3 centre() const { return (lo + hi) * 0.5; }
 };
 TissueBox tissueBox(const BrickVolume& volume, const VolumeFrame& frame);
+// The box of bricks `bricks` in the simulation frame [mm] (empty for none): what tissueBox and
+// scripted_paths.h's toothBox measure.
+TissueBox brickBoxMm(const BrickBox& bricks, const VolumeFrame& frame);
 
 // Column probes of one volume: the topmost crossing of the haptic field's surface (phi = 0, what the
 // student feels and sees), searched downward from above the tissue one voxel at a time.

@@ -6,6 +6,7 @@
 #include <system_error>
 
 #include "eval/cut_score.h"
+#include "io/dvol_file.h"
 #include "model/builtin_assets.h"
 
 namespace dentsim::ui {
@@ -57,8 +58,14 @@ CourseList listCourse(const std::string& folder) {
     list.tasks.push_back(taskChoice(name, name, true));  // a file shows as "name.json"
   }
   if (folder.empty()) return list;
-  for (const fs::path& f : filesWithExtension(folder, ".dvol", &list.error))
-    list.teeth.push_back({f.filename().string(), f.string(), 0});
+  // A tooth whose layers were synthesized from one surface says so where it is picked: its enamel
+  // and pulp are a model's, and a student drilling it should know. Only the header is read; a file
+  // that does not load keeps its plain name and fails, with its reason, when picked.
+  for (const fs::path& f : filesWithExtension(folder, ".dvol", &list.error)) {
+    const Result<bool> synthesized = readLayersSynthesized(f.string());
+    const std::string note = synthesized.ok() && *synthesized ? " (synthesized layers)" : "";
+    list.teeth.push_back({f.filename().string() + note, f.string(), 0});
+  }
   std::string ignored;  // the same folder: its error is already kept
   for (const fs::path& f : filesWithExtension(folder, ".json", &ignored))
     list.tasks.push_back(taskChoice(f.string(), f.filename().string(), false));

@@ -15,7 +15,7 @@ inline constexpr int kMaxLevel = 10;  // the paper's finest
 
 // One tooth the simulator can restart on.
 struct ToothChoice {
-  std::string label;  // the picker's line: "built-in molar, level 9", "tooth_2.dvol"
+  std::string label;  // the picker's line: "built-in molar, level 9", "tooth_2.dvol", "molar.dvol (synthesized layers)"
   std::string path;   // the volume file; empty: the built-in molar
   int level = 0;      // the built-in molar's octree level, kMinLevel..kMaxLevel; 0 for a file
 };

@@ -35,7 +35,8 @@ using uint = std::uint32_t;
 #define DS_MAT_DENTIN 2u
 #define DS_MAT_PULP 3u
 #define DS_MAT_CARIES 4u
-#define DS_TISSUE_COUNT 5u        // empty + the four tissues above
+#define DS_MAT_NEIGHBOUR 5u       // an adjacent tooth, whole: not the tooth being treated
+#define DS_TISSUE_COUNT 6u        // empty + the five tissues above
 
 // ---- bricks, chunks and index entries --------------------------------------------------------
 #define DS_BRICK_LOG2 3u          // 8 voxels per brick side

@@ -30,6 +30,7 @@ enum class Material : uint8_t {
   Dentin = DS_MAT_DENTIN,
   Pulp = DS_MAT_PULP,
   Caries = DS_MAT_CARIES,
+  Neighbour = DS_MAT_NEIGHBOUR,
 };
 
 constexpr Voxel makeVoxel(Material m, uint32_t fill = DS_FILL_FULL) {
@@ -183,6 +184,11 @@ struct BrickBox {
 };
 BrickBox tissueBricks(const BrickVolume& volume);
 
+// How a tooth's tissues were known. Measured: each tissue from its own source (a surface per layer,
+// a scan's grey values, labels). Synthesized: one closed surface split into enamel, dentin and pulp
+// by published proportions (volume/tooth_layer_synth.h), which every view of the tooth must say.
+enum class LayerSource : uint8_t { Measured = 0, Synthesized = 1 };
+
 // A tooth as loaded: the constant frame and the mutable voxels.
 struct ToothVolume {
   VolumeFrame frame;    // placement; never changes after loading
@@ -190,6 +196,8 @@ struct ToothVolume {
   // Where the voxels came from and what was chosen on the way (a scan's thresholds), as lines for
   // `dentsim info`; kept in the .dvol file (io/dvol_file.h), empty when not recorded.
   std::string source_note{};
+  LayerSource layers{LayerSource::Measured};  // kept in the .dvol; files before it load as Measured
+  uint8_t synthesized_type{0};  // with Synthesized: the ToothType whose proportions were used (tooth_layer_synth.h); 0 unknown
 };
 
 }  // namespace dentsim

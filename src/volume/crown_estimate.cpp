@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <limits>
 
+#include "volume/tissue_table.h"
+
 namespace dentsim {
 
 namespace {
@@ -19,7 +21,8 @@ struct Moments {
   Vec3 centroid() const { return weight > 0 ? sum / weight : Vec3{}; }
 };
 
-bool isTissue(Voxel v) { return layout::voxelMaterial(v) != DS_MAT_EMPTY && voxelFill(v) > 0; }
+// The treated tooth's tissue: a neighbour beside it would pull the centroid and the extent its way.
+bool isTissue(Voxel v) { return isToothTissue(voxelMaterial(v)) && voxelFill(v) > 0; }
 
 }  // namespace
 

@@ -15,13 +15,14 @@ struct CrownEstimate {
   Vec3 axis{0, 0, 1};        // unit, grid axes: from the roots toward the crown
   bool from_enamel = false;  // false: no usable enamel, +z assumed
   double lo = 0.0;           // the tissue's extent along the axis: min and max of dot(p, axis) over
-  double hi = 0.0;           //   the corners of bricks holding tissue [voxels]
+  double hi = 0.0;           //   the corners of bricks holding the tooth's tissue [voxels]
   // The crown half is where dot(p, axis) >= middle() (p a voxel centre [voxels]).
   double middle() const { return 0.5 * (lo + hi); }
 };
 
 // The estimate for `volume`. The enamel counts when its centroid lies at least one voxel from the
-// tooth's (fill-weighted, every tissue).
+// tooth's (fill-weighted, every tissue of the tooth). Neighbour voxels (an adjacent tooth) count for
+// nothing: the centroids and the extent are the treated tooth's.
 CrownEstimate estimateCrown(const BrickVolume& volume);
 
 }  // namespace dentsim

@@ -91,6 +91,8 @@ class Footprint {
 };
 
 bool isCaries(Voxel v) { return layout::voxelMaterial(v) == DS_MAT_CARIES && voxelFill(v) > 0; }
+// An adjacent tooth's voxel: never target nor allowed, since the exercise is on the treated tooth.
+bool isNeighbour(Voxel v) { return layout::voxelMaterial(v) == DS_MAT_NEIGHBOUR && voxelFill(v) > 0; }
 
 }  // namespace
 
@@ -129,9 +131,12 @@ void markCariesAccess(const BrickVolume& initial, const Vec3& axis, uint32_t bri
         const auto su = int64_t(std::ceil(spread_u)) + 1, sv = int64_t(std::ceil(spread_v)) + 1;
         if (!footprint.mayHold(cu - su - 1, cu + DS_BRICK_DIM + su, cv - sv - 1, cv + DS_BRICK_DIM + sv, max_along))
           continue;
+        // A line that runs on into an adjacent tooth does not take it: the access is through the
+        // treated tooth only.
+        const BrickView view = initial.brick(b);
         for (uint32_t n = 0; n < DS_BRICK_VOXELS; ++n) {
           const std::array<int64_t, 3> p{first[0] + (n & 7u), first[1] + ((n >> 3) & 7u), first[2] + (n >> 6)};
-          if (footprint.holds(lines.cellU(p), lines.cellV(p), lines.along(p))) masks->set(b, n);
+          if (footprint.holds(lines.cellU(p), lines.cellV(p), lines.along(p)) && !isNeighbour(view.at(n))) masks->set(b, n);
         }
       }
 }
@@ -251,7 +256,8 @@ ZoneGrid::ZoneGrid(const BrickVolume& initial, const TargetMasks& masks, LeewayF
           if (x < lo_[0] || y < lo_[1] || z < lo_[2] || x >= hi_[0] || y >= hi_[1] || z >= hi_[2]) continue;
           const Voxel v = view.uniform ? view.value : view.voxels[n];
           uint8_t cell = 0;
-          if (mask && TargetMasks::test(*mask, n)) cell = kTarget;
+          if (isNeighbour(v)) cell = 0;  // an adjacent tooth is never the cut's to take, leeway or not
+          else if (mask && TargetMasks::test(*mask, n)) cell = kTarget;
           else if (voxelFill(v) == 0 || layout::voxelMaterial(v) == DS_MAT_EMPTY || (band && leeway.near(b)[n])) cell = kAllowed;
           cells_[size_t((x - lo_[0]) + size_[0] * ((y - lo_[1]) + size_[1] * (z - lo_[2])))] = cell;
         }

@@ -61,7 +61,8 @@ class TargetMasks {
 // Marks every caries voxel (fill > 0) of `initial`, and every voxel on the line from a caries voxel
 // along +axis (unit, grid axes: the way the bur comes in), as target: the access a bur held along
 // the insertion axis needs, with the tissue that the lesion undermines. Only bricks within
-// `brick_reach` bricks of the tissue's bricks are marked; beyond them no tissue can be near.
+// `brick_reach` bricks of the tissue's bricks are marked; beyond them no tissue can be near. A
+// neighbour voxel (an adjacent tooth) on a line is not marked: the access is the treated tooth's.
 void markCariesAccess(const BrickVolume& initial, const Vec3& axis, uint32_t brick_reach, TargetMasks* masks);
 
 // ---- 3. the leeway --------------------------------------------------------------------------------
@@ -101,7 +102,8 @@ class LeewayField {
 // ---- 4. the allowed zone as a grid -------------------------------------------------------------------
 
 // Whether each voxel of a box lies where a cut may go: the target, the leeway, or space that held no
-// tissue at the start. A voxel outside the box is not known to be allowed: false.
+// tissue at the start. A voxel outside the box is not known to be allowed: false. A neighbour voxel
+// (an adjacent tooth) is never allowed, even within the leeway.
 class ZoneGrid {
  public:
   // The box [lo, hi) in voxels, clipped to the grid.

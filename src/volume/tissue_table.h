@@ -74,6 +74,11 @@ inline constexpr TissueRow kTissueTable[] = {
     {"caries", Material::Caries, 4, 3, {0.50, 0.32, 0.15}, {110, 70, 35},
      {300.0, 0.004, 0.4, 0.5},
      {{0.12, 0.08, 0.04}, {0.45, 0.30, 0.14}, {0.08, 0.08, 0.06}, 1.0, 6.0}},
+    // An adjacent tooth, whole and of one tissue: it feels and cuts as enamel, its outer layer, and
+    // looks as an untreated tooth, opaque and a little greyer than the treated tooth's enamel.
+    {"neighbour", Material::Neighbour, 5, 4, {0.78, 0.80, 0.84}, {205, 208, 214},
+     {2000.0, 0.0005, 0.15, 0.1},
+     {{0.22, 0.22, 0.22}, {0.80, 0.80, 0.78}, {0.45, 0.45, 0.45}, 1.0, 40.0}},
 };
 
 // ---- 3. look-ups and derived lists -------------------------------------------------------------------
@@ -117,9 +122,14 @@ constexpr std::array<Material, kTissueCount> tissuesInDrawOrder() {
   return out;
 }
 
-// Whether a tissue is sound tooth: every tissue but caries, the lesion a caries removal is meant to
-// take. The scores report and charge the healthy tissues that a cut removes.
-constexpr bool isHealthyTissue(Material m) { return m != Material::Caries; }
+// Whether a tissue is sound tooth: every tissue of the treated tooth but caries, the lesion a caries
+// removal is meant to take. The scores report and charge the healthy tissues that a cut removes; a
+// neighbour cut is charged apart, as adjacent-tooth damage.
+constexpr bool isHealthyTissue(Material m) { return m != Material::Caries && m != Material::Neighbour; }
+
+// Whether a tissue belongs to the tooth being treated: every tissue but a neighbour. A tooth's
+// extent, axis, volume and score are over these; a neighbour is only in the way.
+constexpr bool isToothTissue(Material m) { return m != Material::Empty && m != Material::Neighbour; }
 
 // The tissue names for messages and help: "enamel, dentin, pulp or caries"; with_empty appends
 // "empty" as the last choice.

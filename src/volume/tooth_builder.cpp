@@ -8,6 +8,7 @@
 #include "volume/tooth_builder.h"
 
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -16,6 +17,8 @@
 #include "core/text_escape.h"
 #include "io/grey_volume_file.h"
 #include "io/mesh_units.h"
+#include "io/obj_file.h"
+#include "io/ply_file.h"
 #include "io/stl_file.h"
 #include "volume/tooth_sanity.h"
 
@@ -37,14 +40,47 @@ struct LoadedLayer {
   double volume_mm3 = 0.0;
 };
 
+struct ReadMesh {
+  TriangleMesh mesh;      // welded, in the file's units
+  MeshTopology topology;
+};
+
+// An indexed mesh welded as the STL reader welds its own, and its topology.
+ReadMesh welded(TriangleMesh mesh) {
+  ReadMesh read{std::move(mesh), {}};
+  weldVertices(read.mesh);
+  read.topology = analyzeTopology(read.mesh);
+  return read;
+}
+
+// A closed surface from an STL, or a PLY or OBJ when the name says so (a tooth library's or a CBCT
+// segmentation's export).
+Result<ReadMesh> readMeshFile(const std::string& path) {
+  std::string ext = path.size() >= 4 ? path.substr(path.size() - 4) : std::string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".ply") {
+    auto ply = readPly(path);
+    if (!ply) return ply.error();
+    return welded(std::move(ply->mesh));
+  }
+  if (ext == ".obj") {
+    auto obj = readObj(path);
+    if (!obj) return obj.error();
+    return welded(std::move(obj->mesh));
+  }
+  auto stl = readStl(path);
+  if (!stl) return stl.error();
+  return ReadMesh{std::move(stl->mesh), stl->info.topology};
+}
+
 // Reads one layer and converts it to mm. What is wrong with the mesh is a warning, since the
 // voxelizer copes (a leaky ray borrows from a closed one); only an unreadable file is an error.
 Result<LoadedLayer> loadLayer(const MeshLayerSource& source, double mm_per_unit, const ToothBuildHooks& hooks) {
-  auto stl = readStl(source.path);
-  if (!stl) return stl.error();
-  LoadedLayer layer{source.path, source.material, std::move(stl->mesh), 0.0};
+  auto read = readMeshFile(source.path);
+  if (!read) return read.error();
+  LoadedLayer layer{source.path, source.material, std::move(read->mesh), 0.0};
   layer.mesh.scale(mm_per_unit);
-  const MeshTopology& topo = stl->info.topology;
+  const MeshTopology& topo = read->topology;
   const std::string shown = shownPath(source.path);  // a file name in a warning could drive the terminal
   if (topo.open_edges > 0)
     warnVia(hooks, shown + ": " + std::to_string(topo.open_edges) +
@@ -87,14 +123,65 @@ Bounds3 turnLikeReference(const VolumeFrame& reference, std::vector<LoadedLayer>
   return bounds;
 }
 
+
+// The plan of a voxelization followed by synthesis: the synthesis runs after the rays are freed, so
+// the peak is the larger of the two, and the times add.
+VoxelizeCost withSynthesis(VoxelizeCost cost, const Bounds3& tooth, double voxel_mm) {
+  double voxels = 1.0;
+  for (int a = 0; a < 3; ++a) voxels *= std::ceil((tooth.hi[a] - tooth.lo[a]) / voxel_mm) + 2.0;
+  cost.memory_bytes = std::max(cost.memory_bytes, uint64_t(voxels * kLayerSynthBytesPerBoxVoxel));
+  cost.seconds += voxels * kLayerSynthSecondsPerBoxVoxel;
+  return cost;
+}
+
+// All neighbours as one mesh: one layer for the voxelizer, whose four priority slots are the
+// treated tooth's tissues. It is voxelized as enamel and relabelled in addNeighbours.
+TriangleMesh joinedMesh(const std::vector<LoadedLayer>& meshes) {
+  TriangleMesh all;
+  for (const LoadedLayer& l : meshes) {
+    const uint32_t base = uint32_t(all.positions.size());
+    all.positions.insert(all.positions.end(), l.mesh.positions.begin(), l.mesh.positions.end());
+    for (const auto& t : l.mesh.triangles) all.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  }
+  return all;
+}
+
+// The synthesizer's report into the tooth: its provenance and its lines, for `info` and the window.
+void recordSynthesis(ToothVolume& tooth, const LayerSynthReport& synth) {
+  tooth.layers = LayerSource::Synthesized;
+  tooth.synthesized_type = uint8_t(synth.type);
+  for (size_t i = 0; i < synth.lines.size(); ++i)
+    tooth.source_note += (i || !tooth.source_note.empty() ? "\n" : "") + synth.lines[i];
+}
+
 }  // namespace
+
+uint64_t addNeighbours(BrickVolume& tooth, const BrickVolume& neighbours) {
+  uint64_t added = 0;
+  std::array<Voxel, DS_BRICK_VOXELS> out{};
+  neighbours.forEachBrick([&](const BrickView& n) {
+    if (n.uniform && voxelMaterial(n.value) == Material::Empty) return;
+    const BrickView t = tooth.brick(n.coord);
+    for (uint32_t i = 0; i < DS_BRICK_VOXELS; ++i) {
+      const Voxel tv = t.at(i), nv = n.at(i);
+      const bool take = voxelMaterial(tv) == Material::Empty && voxelFill(nv) > 0;
+      out[i] = take ? makeVoxel(Material::Neighbour, voxelFill(nv)) : tv;
+      added += take;
+    }
+    tooth.setBrick(n.coord, out.data());
+  });
+  return added;
+}
 
 Result<ToothVolume> buildToothFromMeshes(const MeshToothOptions& options, const ToothAxesHint& hint,
                                          const ToothBuildHooks& hooks, MeshToothReport* report) {
   MeshToothReport local;
   MeshToothReport& rep = report ? *report : local;
   rep = {};
-  std::vector<LoadedLayer> loaded;
+  if (options.synthesize && options.layers.size() != 1)
+    return Error{"layers are synthesized from one whole-tooth surface, not from " + std::to_string(options.layers.size()) +
+                 " layers"};
+  std::vector<LoadedLayer> loaded, near;
   Bounds3 bounds;
   for (const MeshLayerSource& source : options.layers) {
     auto layer = loadLayer(source, options.mm_per_unit, hooks);
@@ -102,8 +189,17 @@ Result<ToothVolume> buildToothFromMeshes(const MeshToothOptions& options, const 
     bounds.add(layer->mesh.bounds());
     loaded.push_back(std::move(layer).value());
   }
+  for (const std::string& path : options.neighbours) {
+    auto layer = loadLayer({path, Material::Neighbour}, options.mm_per_unit, hooks);
+    if (!layer) return layer.error();
+    bounds.add(layer->mesh.bounds());
+    near.push_back(std::move(layer).value());
+  }
   const std::optional<VolumeFrame>& reference = options.reference;
-  if (reference && reference->tooth.turned()) bounds = turnLikeReference(*reference, loaded);
+  if (reference && reference->tooth.turned()) {
+    bounds = turnLikeReference(*reference, loaded);
+    if (!near.empty()) bounds.add(turnLikeReference(*reference, near));
+  }
   std::vector<MeshLayer> layers;
   for (const LoadedLayer& l : loaded) layers.push_back({l.material, &l.mesh, l.path});
 
@@ -123,8 +219,11 @@ Result<ToothVolume> buildToothFromMeshes(const MeshToothOptions& options, const 
     if (!opened) return opened.error();
     on_engine = *opened;
   }
-  if (hooks.approve)
-    if (Status planned = hooks.approve(estimateMeshVoxelize(*setup, on_engine)); !planned) return planned.error();
+  if (hooks.approve) {
+    VoxelizeCost cost = estimateMeshVoxelize(*setup, on_engine);
+    if (options.synthesize) cost = withSynthesis(cost, loaded.front().mesh.bounds(), frame->voxel_mm);
+    if (Status planned = hooks.approve(cost); !planned) return planned.error();
+  }
   const auto t0 = std::chrono::steady_clock::now();
   Result<BrickVolume> voxels = on_engine ? options.engine.run(*setup, options.voxelize, progressOf(hooks))
                                          : voxelizeCpu(*setup, options.voxelize, progressOf(hooks));
@@ -134,8 +233,39 @@ Result<ToothVolume> buildToothFromMeshes(const MeshToothOptions& options, const 
   for (const LoadedLayer& l : loaded) rep.layers.push_back({l.path, l.material, l.mesh.triangleCount(), l.volume_mm3});
 
   ToothVolume tooth{*frame, std::move(voxels).value()};
-  if (!reference)
-    if (Status st = standToothUp(tooth, hint); !st) return st.error();
+  // The layers come before the neighbours join, so that the shape they read is the tooth's alone.
+  ToothAxesHint stand = hint;
+  if (options.synthesize) {
+    LayerSynthOptions so = *options.synthesize;
+    so.crown = hint.crown;
+    auto synth = synthesizeLayers(tooth.voxels, frame->voxel_mm, so, &progressOf(hooks));
+    if (!synth) return synth.error();
+    recordSynthesis(tooth, *synth);
+    if (!stand.crown) stand.crown = synth->crown;
+    // Without a mesial end, the mesiodistal line still turns the tooth so that its neighbours would
+    // lie along x; its sign is arbitrary, so it stays assumed (below).
+    if (!stand.mesial && !stand.buccal) stand.mesial = synth->mesial ? synth->mesial : synth->mesiodistal;
+    rep.synthesized = std::move(synth).value();
+  }
+  if (!near.empty()) {
+    const TriangleMesh all = joinedMesh(near);
+    auto near_setup = makeRaySetup({{Material::Enamel, &all, "the neighbours"}}, *frame, options.voxelize);
+    if (!near_setup) return near_setup.error();
+    if (hooks.approve)
+      if (Status planned = hooks.approve(estimateMeshVoxelize(*near_setup, false)); !planned) return planned.error();
+    Result<BrickVolume> near_voxels = voxelizeCpu(*near_setup, options.voxelize, progressOf(hooks));
+    if (!near_voxels) return near_voxels.error();
+    rep.neighbour_voxels = addNeighbours(tooth.voxels, *near_voxels);
+    for (const LoadedLayer& l : near) rep.neighbours.push_back({l.path, l.material, l.mesh.triangleCount(), l.volume_mm3});
+  }
+  if (!reference) {
+    if (Status st = standToothUp(tooth, stand); !st) return st.error();
+    // What the shape showed stands as found, not as given: standToothUp took it as a hint.
+    const LayerSynthReport* synth = rep.synthesized ? &*rep.synthesized : nullptr;
+    if (synth && !hint.crown && synth->crown_found) tooth.frame.tooth.crown_source = AxisSource::Found;
+    if (synth && !hint.mesial && !hint.buccal && (synth->mesial || synth->mesiodistal))
+      tooth.frame.tooth.mesial_source = synth->mesial ? AxisSource::Found : AxisSource::Assumed;
+  }
   return tooth;
 }
 

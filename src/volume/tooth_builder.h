@@ -2,12 +2,13 @@
 //
 // Contents
 //   1. ToothBuildHooks: progress, warnings and the plan, from the caller
-//   2. buildToothFromMeshes: STL layers, voxelized by the CPU reference or an engine the caller gives
+//   2. buildToothFromMeshes: STL, PLY or OBJ layers, voxelized by the CPU reference or an engine the caller
+//      gives; one whole-tooth surface split into layers; adjacent teeth as neighbour voxels
 //   3. buildToothFromLabels: a label volume imported
 //   4. buildToothFromScan: a grey-value volume segmented into tissues, then imported
 //
-// Every builder ends with standToothUp (volume/tooth_frame.h): the crown axis from the hint or the
-// enamel, the grid turned unless hint.turn is false. The caller saves and prints. The GPU voxelizer
+// Every builder ends with standToothUp (volume/tooth_frame.h): the crown axis from the hint, the
+// enamel, or a synthesized tooth's shape, the grid turned unless hint.turn is false. The caller saves and prints. The GPU voxelizer
 // sits in a later stage than this one, so it comes in as a MeshVoxelizeEngine.
 #pragma once
 
@@ -28,6 +29,7 @@
 #include "volume/label_import.h"
 #include "volume/mesh_voxelizer.h"
 #include "volume/tooth_frame.h"
+#include "volume/tooth_layer_synth.h"
 #include "volume/voxelize_plan.h"
 
 namespace dentsim {
@@ -41,7 +43,7 @@ struct ToothBuildHooks {
 
 // ---- 2. buildToothFromMeshes ------------------------------------------------------------------
 struct MeshLayerSource {
-  std::string path;                     // STL file
+  std::string path;                     // STL file, or PLY or OBJ when its name ends in .ply or .obj
   Material material = Material::Dentin;  // the tissue inside it
 };
 
@@ -63,6 +65,14 @@ struct MeshToothOptions {
   int level = 9;                         // without a reference and voxel_mm: fit into a 2^level grid
   VoxelizeOptions voxelize;
   MeshVoxelizeEngine engine;             // empty `open`: the CPU reference
+  // The one layer is a whole tooth's closed surface: its voxels are split into enamel, dentin and
+  // pulp (volume/tooth_layer_synth.h), and the crown axis and mesial found there stand it up, as
+  // Found. `crown` here is ignored: the hint's crown, when given, is passed on. None: as voxelized.
+  std::optional<LayerSynthOptions> synthesize;
+  // Adjacent teeth's closed surfaces (STL, PLY or OBJ), each whole: voxelized by the CPU reference in the
+  // same grid (fitted to the tooth and them) and kept as Material::Neighbour where the tooth is
+  // empty, the tooth winning shared voxels. They stay out of the crown axis and the layers.
+  std::vector<std::string> neighbours;
 };
 
 struct MeshToothReport {
@@ -75,15 +85,27 @@ struct MeshToothReport {
   std::vector<Layer> layers;  // in MeshToothOptions::layers' order
   bool engine_ran = false;    // the caller's engine voxelized (else the CPU reference)
   double voxelize_ms = 0.0;   // wall time of the voxelization alone [ms]
+  std::optional<LayerSynthReport> synthesized;  // with MeshToothOptions::synthesize: what was found and made
+  std::vector<Layer> neighbours;                // in MeshToothOptions::neighbours' order, material Neighbour
+  uint64_t neighbour_voxels = 0;                // voxels that became Neighbour (the tooth's kept where shared)
 };
 
-// Reads each layer (warning on holes, non-manifold or flipped edges, an inside-out mesh and an
-// implausible extent, naming the file), scales it to mm, fits the grid (or takes the reference's),
-// sets up the rays, asks the engine and the plan, voxelizes, and stands the tooth up (not with a
-// reference, whose frame is kept). Errors: the first file that cannot be read, a grid that does not
-// fit, the engine's or the plan's error, a cancel, and standToothUp's.
+// Reads each layer and neighbour (warning on holes, non-manifold or flipped edges, an inside-out mesh
+// and an implausible extent, naming the file), scales it to mm, fits the grid to all of them (or
+// takes the reference's), sets up the rays, asks the engine and the plan, voxelizes, synthesizes the
+// layers when asked (recording it in the tooth: LayerSource::Synthesized, the report's lines in
+// source_note), adds the neighbours, and stands the tooth up (not with a reference, whose frame is
+// kept). Errors: the first file that cannot be read, synthesis asked with other than one layer, a
+// grid that does not fit, the engine's or the plan's error, synthesizeLayers' error, a cancel, and
+// standToothUp's.
 Result<ToothVolume> buildToothFromMeshes(const MeshToothOptions& options, const ToothAxesHint& hint,
                                          const ToothBuildHooks& hooks, MeshToothReport* report = nullptr);
+
+// The neighbours' voxels join the tooth's where the tooth has none, as Material::Neighbour with
+// their own fill: the tooth wins every voxel it reaches, so its voxels are those of a run without
+// neighbours. Returns the voxels added. Both volumes are on one grid. Used by buildToothFromMeshes
+// and the built-in molar's neighbours (sim/builtin_tooth.h).
+uint64_t addNeighbours(BrickVolume& tooth, const BrickVolume& neighbours);
 
 // ---- 3. buildToothFromLabels ------------------------------------------------------------------
 // Imports `image` with `import` (its `approve` is hooks.approve when the hooks have one), warns when

@@ -1,6 +1,8 @@
 // ToothVolume <-> .dvol: the io layer moves words, this layer checks what they mean.
 #include "volume/tooth_file.h"
 
+#include <algorithm>
+
 #include "io/dvol_file.h"
 
 namespace dentsim {
@@ -15,6 +17,8 @@ Status saveTooth(const std::string& path, ToothVolume& tooth) {
   d.blocks = copy(tooth.voxels.blockWords());
   d.bricks = copy(tooth.voxels.brickWords());
   d.source_note = tooth.source_note;
+  d.layers_synthesized = tooth.layers == LayerSource::Synthesized;
+  d.layer_type = d.layers_synthesized ? std::min(tooth.synthesized_type, kMaxLayerTypeCode) : 0;
   return writeVolumeFile(path, d);
 }
 
@@ -25,7 +29,8 @@ Result<ToothVolume> toothOf(Result<VolumeFileData> file, const std::string& wher
   VolumeFileData& d = *file;
   auto voxels = BrickVolume::fromWords(d.frame.level, std::move(d.chunks), std::move(d.blocks), std::move(d.bricks), where);
   if (!voxels) return voxels.error();
-  return ToothVolume{d.frame, std::move(*voxels), std::move(d.source_note)};
+  return ToothVolume{d.frame, std::move(*voxels), std::move(d.source_note),
+                     d.layers_synthesized ? LayerSource::Synthesized : LayerSource::Measured, d.layer_type};
 }
 
 }  // namespace

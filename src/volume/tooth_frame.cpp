@@ -6,11 +6,14 @@
 #include <vector>
 
 #include "volume/crown_estimate.h"
+#include "volume/tissue_table.h"
 
 namespace dentsim {
 namespace {
 
 bool isTissue(Voxel v) { return voxelMaterial(v) != Material::Empty && voxelFill(v) > 0; }
+// The treated tooth's own tissue: its frame is measured on it, not on a neighbour beside it.
+bool isToothVoxel(Voxel v) { return isToothTissue(voxelMaterial(v)) && voxelFill(v) > 0; }
 
 // The source axis that simulation axis r takes, and its sign.
 struct TurnRow {
@@ -172,6 +175,7 @@ std::array<VoxelBox, DS_MATERIAL_COUNT> tissueVoxelBoxes(const BrickVolume& volu
   std::array<VoxelBox, DS_MATERIAL_COUNT> boxes{};
   const auto grow = [&](size_t m, int64_t x0, int64_t y0, int64_t z0, int64_t x1, int64_t y1, int64_t z1) {
     for (size_t k : {size_t{0}, m}) {
+      if (k == 0 && !isToothTissue(Material(m))) continue;  // a neighbour has its own box, not the tooth's
       VoxelBox& b = boxes[k];
       b.lo = {std::min(b.lo[0], x0), std::min(b.lo[1], y0), std::min(b.lo[2], z0)};
       b.hi = {std::max(b.hi[0], x1), std::max(b.hi[1], y1), std::max(b.hi[2], z1)};
@@ -195,13 +199,31 @@ std::array<VoxelBox, DS_MATERIAL_COUNT> tissueVoxelBoxes(const BrickVolume& volu
   return boxes;
 }
 
+BrickBox toothBricks(const BrickVolume& volume) {
+  BrickBox box;
+  volume.forEachBrick([&](const BrickView& b) {
+    if (b.uniform && voxelFill(b.value) == 0) return;
+    bool neighbour = false, tooth = false;
+    for (uint32_t n = 0; n < (b.uniform ? 1u : DS_BRICK_VOXELS) && !tooth; ++n) {
+      const Voxel v = b.at(n);
+      if (voxelFill(v) == 0) continue;
+      if (voxelMaterial(v) == Material::Neighbour) neighbour = true;
+      else tooth = true;
+    }
+    if (neighbour && !tooth) return;
+    box.lo = {std::min(box.lo.x, b.coord.x), std::min(box.lo.y, b.coord.y), std::min(box.lo.z, b.coord.z)};
+    box.hi = {std::max(box.hi.x, b.coord.x), std::max(box.hi.y, b.coord.y), std::max(box.hi.z, b.coord.z)};
+  });
+  return box;
+}
+
 std::optional<Vec3> occlusalCentreMm(const ToothVolume& tooth) {
   const VoxelBox box = tissueVoxelBoxes(tooth.voxels)[0];
   if (box.empty()) return std::nullopt;
   const int64_t cx = (box.lo[0] + box.hi[0]) / 2, cy = (box.lo[1] + box.hi[1]) / 2;
   int64_t top = box.hi[2];
   for (int64_t z = box.hi[2]; z >= box.lo[2]; --z)
-    if (isTissue(tooth.voxels.voxel(uint32_t(cx), uint32_t(cy), uint32_t(z)))) {
+    if (isToothVoxel(tooth.voxels.voxel(uint32_t(cx), uint32_t(cy), uint32_t(z)))) {
       top = z;
       break;
     }

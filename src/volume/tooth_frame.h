@@ -47,7 +47,8 @@ Vec3 sourceDirection(const VolumeFrame& frame, const Vec3& d);
 void turnTooth(ToothVolume& tooth, const QuarterTurn& turn);
 
 // The voxel box of each material's voxels with fill > 0 [voxel indices, inclusive]; an empty box
-// (lo > hi) for a material that is absent. Index 0 is every tissue together.
+// (lo > hi) for a material that is absent. Index 0 is every tissue of the tooth together
+// (isToothTissue): a neighbour has its own box at Material::Neighbour and is not in it.
 struct VoxelBox {
   std::array<int64_t, 3> lo{INT64_MAX, INT64_MAX, INT64_MAX};
   std::array<int64_t, 3> hi{INT64_MIN, INT64_MIN, INT64_MIN};
@@ -55,9 +56,15 @@ struct VoxelBox {
 };
 std::array<VoxelBox, DS_MATERIAL_COUNT> tissueVoxelBoxes(const BrickVolume& volume);
 
-// The middle of the occlusal surface [mm, simulation frame]: the centre of the tissue's extent
-// across z, at the top of the tissue in that column (the fossa of a molar, the incisal edge's
-// middle). None for a volume without tissue.
+// The box of the bricks that hold the tooth, as tissueBricks (brick_volume.h) but leaving out a
+// brick whose tissue is all neighbour (an adjacent tooth). On a volume without neighbours it is
+// tissueBricks exactly.
+BrickBox toothBricks(const BrickVolume& volume);
+
+// The middle of the occlusal surface [mm, simulation frame]: the centre of the tooth's extent
+// across z, at the top of the tooth's tissue in that column (the fossa of a molar, the incisal
+// edge's middle). Neighbour voxels are not the tooth's and are passed over. None for a volume
+// without the tooth's tissue.
 std::optional<Vec3> occlusalCentreMm(const ToothVolume& tooth);
 
 // Finds the tooth's frame and stands it crown up: the crown axis from the hint or estimated from

@@ -12,8 +12,9 @@ ToothSize segmentedToothSize(const ToothSegmentReport& report, const std::array<
   ToothSize size;
   const double voxel_mm3 = pitch_mm[0] * pitch_mm[1] * pitch_mm[2];
   uint64_t hard = 0;
+  // The tooth's own hard tissue: a neighbour (an adjacent tooth) is not part of its volume.
   for (size_t t = 0; t < kTissueCount; ++t)
-    if (kTissueTable[t].material != Material::Pulp) hard += report.tissue_voxels[t];
+    if (isToothTissue(kTissueTable[t].material) && kTissueTable[t].material != Material::Pulp) hard += report.tissue_voxels[t];
   size.hard_mm3 = double(hard) * voxel_mm3;
   for (size_t a = 0; a < 3; ++a) {
     const int64_t voxels = report.tooth_hi[a] - report.tooth_lo[a] + 1;

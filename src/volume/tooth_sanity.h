@@ -38,7 +38,7 @@ constexpr double kSoftTissueHu = 0.0;      // [HU]
 
 // ---- 2. the size found ------------------------------------------------------------------------
 struct ToothSize {
-  double hard_mm3 = 0.0;   // enamel, dentin and caries [mm^3]
+  double hard_mm3 = 0.0;   // enamel, dentin and caries of the tooth, not of a neighbour [mm^3]
   double length_mm = 0.0;  // the longest edge of the tooth's bounding box in the scan's axes [mm]
 };
 

@@ -35,8 +35,8 @@ class MeshCli : public ::testing::Test {
     writeBytes(dir_->file("cube.stl"), encodeStlBinary(test::box({0, 0, 0}, {10, 10, 10}), "cube"));
     writeBytes(dir_->file("sphere.stl"), encodeStlBinary(test::uvSphere({0, 0, 0}, 5.0), "sphere"));
     writeBytes(dir_->file("pulp.stl"), encodeStlBinary(test::uvSphere({5, 5, 5}, 2.5), "pulp"));
-    voxelize("--tooth " + dir_->file("cube.stl") + " --level 5", "cube.dvol");
-    voxelize("--tooth " + dir_->file("sphere.stl") + " --level 5", "sphere.dvol");
+    voxelize("--tooth " + dir_->file("cube.stl") + " --tooth-material dentin --level 5", "cube.dvol");
+    voxelize("--tooth " + dir_->file("sphere.stl") + " --tooth-material dentin --level 5", "sphere.dvol");
     voxelize("--enamel " + dir_->file("cube.stl") + " --pulp " + dir_->file("pulp.stl") + " --level 6", "layered.dvol");
   }
   static void TearDownTestSuite() {

@@ -104,8 +104,8 @@ TEST_F(FrameOfCli, EachTissueSurvivesMeshAndVoxelize) {
 
 TEST_F(FrameOfCli, MeshesOutsideTheGridAreWarnedAbout) {
   writeBytes(file("far.stl"), encodeStlBinary(test::box({8, 8, 8}, {20, 20, 20}), "far"));
-  const auto r = runDentsim("voxelize --tooth " + file("far.stl") + " --frame-of " + file("layered.dvol") +
-                            " --cpu -o " + file("far.dvol"));
+  const auto r = runDentsim("voxelize --tooth " + file("far.stl") + " --tooth-material dentin --frame-of " +
+                            file("layered.dvol") + " --cpu -o " + file("far.dvol"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("warning: the meshes reach outside the grid of " + file("layered.dvol")), std::string::npos)
       << r.output;

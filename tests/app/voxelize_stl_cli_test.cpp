@@ -86,10 +86,11 @@ TEST_F(VoxelizeStlCli, BadInputFailsInOneLineAndWritesNothing) {
 
 // Every tissue of the table has its STL flag, named as the table names it, that fills the layer with
 // that tissue; the message for no input names them all. A tissue added to the table gets its flag
-// without another list to edit.
+// without another list to edit; the neighbour, an adjacent tooth whole, has --neighbour instead.
 TEST_F(VoxelizeStlCli, EveryTissueOfTheTableHasItsLayerFlag) {
   std::string flags;
   for (const TissueRow& row : kTissueTable) {
+    if (row.material == Material::Neighbour) continue;  // no layer flag: --neighbour adds whole teeth
     const std::string out = dir_.file(std::string(row.name) + ".dvol");
     const auto r = runDentsim("voxelize --" + std::string(row.name) + " " + dir_.file("outer.stl") +
                               " --units cm --level 5 --cpu -o " + out);
@@ -109,7 +110,8 @@ TEST_F(VoxelizeStlCli, OpenMeshAndOddUnitsAreVoxelizedWithWarnings) {
   TriangleMesh open = test::uvSphere({0, 0, 0}, 5.0, 48, 24);
   open.triangles.resize(open.triangles.size() - 48);  // the north polar fan
   writeBytes(dir_.file("open.stl"), encodeStlBinary(open, "open"));
-  const auto r = runDentsim("voxelize --tooth " + dir_.file("open.stl") + " --level 6 --cpu -o " + dir_.file("open.dvol"));
+  const auto r = runDentsim("voxelize --tooth " + dir_.file("open.stl") + " --tooth-material dentin --level 6 --cpu -o " +
+                            dir_.file("open.dvol"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("48 open edges"), std::string::npos) << r.output;
   auto t = loadTooth(dir_.file("open.dvol"));

@@ -104,7 +104,7 @@ TEST_P(CourseTask, TheExpertScoresAtLeast90AndEachNoviceAtLeast20Less) {
   const bool on_molar = task.tooth == kBuiltinMolarTooth;
   std::optional<ToothVolume> own;
   if (!on_molar) {
-    auto t = taskTooth(task, 0);
+    auto t = taskTooth(task, isBuiltinTooth(task.tooth) ? test::kMolarLevel : 0);  // another built-in tooth: as low as the molar
     ASSERT_TRUE(t.ok()) << t.message();
     own = std::move(*t);
   }

@@ -150,7 +150,9 @@ TEST(ScoreReportSummary, ReadsTheGoldenDemoReport) {
   EXPECT_EQ(s->completion_share, report["completion"]["share"].get<double>());
   EXPECT_TRUE(s->parts[3].deduction);
   EXPECT_EQ(s->parts[4].applied, std::optional<bool>(false));
-  for (size_t t = 0; t < kScoredTissues.size(); ++t) EXPECT_TRUE(s->removed_mm3[t]) << t;
+  // Every tissue of the tooth; the demo's tooth has no neighbour, so its report has none.
+  for (size_t t = 0; t < kScoredTissues.size(); ++t) EXPECT_EQ(s->removed_mm3[t].has_value(), isToothTissue(kScoredTissues[t])) << t;
+  EXPECT_FALSE(s->adjacent_removed_mm3);
   EXPECT_FALSE(s->overcut_mm3);  // no ideal: no over-cut of one
   EXPECT_EQ(s->overcutOrHealthyOutsideMm3(), report["zones"]["healthy_outside_zone_mm3"].get<double>());
   EXPECT_EQ(s->undercutOrCariesLeftMm3(), report["caries_remaining_mm3"].get<double>());

@@ -123,6 +123,28 @@ TEST(Task, PassMarkIsOptionalAndWithinTheHundredPoints) {
   EXPECT_EQ(errorOf(cariesText(R"("pass_mark": 70)")).rfind("t.json: pass_mark: unknown key", 0), 0u);
 }
 
+TEST(Task, AdjacentTermsAreReadForEveryKindAndChecked) {
+  auto plain = parseTask(v2Text(kV2Caries), kWhere);
+  ASSERT_TRUE(plain.ok()) << plain.message();
+  EXPECT_EQ(plain->adjacent.coefficient, 100.0);  // docs/SCORING.md's defaults
+  EXPECT_EQ(plain->adjacent.min_points, 25.0);
+  EXPECT_EQ(plain->adjacent.noise_voxels, 3.0);
+  for (const std::string& kind : {kV2Caries, kV2Cavity}) {
+    auto t = parseTask(v2Text(kind, R"("adjacent": {"coefficient": 40, "min_points": 100, "noise_voxels": 0})"), kWhere);
+    ASSERT_TRUE(t.ok()) << t.message();
+    EXPECT_EQ(t->adjacent.coefficient, 40.0);
+    EXPECT_EQ(t->adjacent.min_points, 100.0);
+    EXPECT_EQ(t->adjacent.noise_voxels, 0.0);
+  }
+  EXPECT_EQ(errorOf(v2Text(kV2Caries, R"("adjacent": {"min_points": 100.5})")),
+            "t.json: adjacent.min_points: 100.5 is not in [0, 100]");
+  EXPECT_EQ(errorOf(v2Text(kV2Cavity, R"("adjacent": {"noise_voxels": -1})")),
+            "t.json: adjacent.noise_voxels: -1 is not >= 0 and <= 1e9");
+  EXPECT_EQ(errorOf(v2Text(kV2Cavity, R"("adjacent": {"coefficent": 1})")).rfind("t.json: adjacent.coefficent: unknown key", 0), 0u);
+  // Version 1 does not know it.
+  EXPECT_EQ(errorOf(cariesText(R"("adjacent": {})")).rfind("t.json: adjacent: unknown key", 0), 0u);
+}
+
 TEST(Task, VersionTwoErrors) {
   EXPECT_EQ(errorOf(v2Text(R"("kind": "cavity")")), "t.json: ideal: missing");
   EXPECT_EQ(errorOf(v2Text(kV2Caries, R"("pulp_exposure_cap": 101)")), "t.json: pulp_exposure_cap: 101 is not in [0, 100]");

@@ -39,6 +39,31 @@ TEST(TaskValidation, MostInItsOwnPartMeansMoreThanAnyOtherOnePart) {
   EXPECT_FALSE(none.mostInOwnPart());
 }
 
+TEST(TaskValidation, AnOvercutIntoANeighbourLosesInItsOwnPart) {
+  // The expert leaves the neighbour whole (the adjacent deduction is there, at 0); the over-cut
+  // loses 10 of its over-cut part and 30 to the neighbour it nicked; the slow hand nicks it too.
+  ValidatedAttempt expert, overcut, slow;
+  expert.total = 90;
+  expert.parts = {{"undercut", 20.0}, {"overcut", 25.0}, {"time", 25.0}, {"adjacent", 0.0}};
+  overcut.attempt = Attempt::Overcut;
+  overcut.total = 40;
+  overcut.parts = {{"undercut", 20.0}, {"overcut", 15.0}, {"time", 25.0}, {"adjacent", -30.0}};
+  slow.attempt = Attempt::Slow;
+  slow.total = 40;
+  slow.parts = {{"undercut", 20.0}, {"overcut", 25.0}, {"time", 5.0}, {"adjacent", -30.0}};
+  const FaultCheck c = compareWithExpert(expert, overcut, TaskKind::Cavity, 70);
+  EXPECT_DOUBLE_EQ(c.lost, 40.0);
+  EXPECT_DOUBLE_EQ(c.lost_in_fault, 40.0);  // the over-cut's 10 and the neighbour's 30
+  EXPECT_DOUBLE_EQ(c.most_lost_elsewhere, 0.0);
+  EXPECT_TRUE(c.mostInOwnPart());
+  // A slow hand's fault is time: the neighbour it nicked is another fault, and the larger one.
+  const FaultCheck s = compareWithExpert(expert, slow, TaskKind::Cavity, 70);
+  EXPECT_DOUBLE_EQ(s.lost_in_fault, 20.0);
+  EXPECT_DOUBLE_EQ(s.most_lost_elsewhere, 30.0);
+  EXPECT_FALSE(s.mostInOwnPart());
+  EXPECT_EQ(s.most_lost_part, "adjacent");
+}
+
 // The built-in class I on the molar at level 7, its second hand and two faults: the times come from
 // the professional drilled here, the token and the under-cut fail, and the JSON says so.
 TEST(TaskValidation, TheClassOneCavityAtLevelSevenSeparatesItsAttempts) {

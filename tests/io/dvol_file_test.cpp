@@ -87,10 +87,10 @@ TEST(DvolFile, CorruptionIsCaughtByTheChecksums) {
 TEST(DvolFile, VersionAndLimitsAreChecked) {
   std::vector<uint8_t> bytes = encodeVolumeFile(sample());
   auto future = bytes;
-  const uint32_t v4 = 4;
-  std::memcpy(future.data() + 8, &v4, 4);
+  const uint32_t v5 = kVolumeFileVersion + 1;
+  std::memcpy(future.data() + 8, &v5, 4);
   rehashHeader(future);
-  EXPECT_NE(parseVolumeFile(future, "x").message().find("unsupported volume file version 4"), std::string::npos);
+  EXPECT_NE(parseVolumeFile(future, "x").message().find("unsupported volume file version 5"), std::string::npos);
 
   auto huge = bytes;
   const uint64_t words = uint64_t{1} << 40;  // 4 TiB of bricks
@@ -215,6 +215,72 @@ TEST(DvolFile, ASourceNoteRoundTripsAndOnlyItMakesVersion3) {
   EXPECT_NE(parseVolumeFile(bare, "x").message().find("source note after the payload is missing"), std::string::npos);
   d.source_note = "bell\a";
   EXPECT_NE(parseVolumeFile(encodeVolumeFile(d), "x").message().find("control character"), std::string::npos);
+}
+
+// Synthesized layers make a version 4 file, its note present even when empty; a measured tooth's
+// file is version 2 or 3 as before, and such a file loads as measured.
+TEST(DvolFile, SynthesizedLayersRoundTripAsVersion4AndOldFilesLoadAsMeasured) {
+  test::TempDir dir;
+  VolumeFileData d = sample();
+  const std::vector<uint8_t> measured = encodeVolumeFile(d);
+  uint32_t version = 0;
+  std::memcpy(&version, measured.data() + 8, 4);
+  EXPECT_EQ(version, 2u);
+  Result<VolumeFileData> old = parseVolumeFile(measured, "old.dvol");
+  ASSERT_TRUE(old.ok()) << old.message();
+  EXPECT_FALSE(old->layers_synthesized);
+  EXPECT_EQ(old->layer_type, 0);
+
+  d.layers_synthesized = true;
+  d.layer_type = 1;  // molar
+  ASSERT_TRUE(writeVolumeFile(dir.file("s.dvol"), d).ok());
+  const std::vector<uint8_t> bytes = slurp(dir.file("s.dvol"));
+  std::memcpy(&version, bytes.data() + 8, 4);
+  EXPECT_EQ(version, 4u);
+  EXPECT_EQ(bytes[333], 1);
+  EXPECT_EQ(bytes[334], 1);
+  ASSERT_EQ(bytes.size(), measured.size() + 16 + 0 + 8);  // an empty note: magic, length, checksum
+  Result<VolumeFileData> back = readVolumeFile(dir.file("s.dvol"));
+  ASSERT_TRUE(back.ok()) << back.message();
+  EXPECT_TRUE(back->layers_synthesized);
+  EXPECT_EQ(back->layer_type, 1);
+  EXPECT_EQ(back->source_note, "");
+  EXPECT_EQ(back->bricks, d.bricks);
+
+  d.source_note = "layers synthesized from one surface";
+  back = parseVolumeFile(encodeVolumeFile(d), "x");
+  ASSERT_TRUE(back.ok()) << back.message();
+  EXPECT_EQ(back->source_note, d.source_note);
+  EXPECT_TRUE(back->layers_synthesized);
+
+  // A forged provenance byte or type is one line naming the file.
+  auto forged = bytes;
+  forged[333] = 2;
+  rehashTooth(forged);
+  EXPECT_EQ(parseVolumeFile(forged, "f.dvol").message(), "f.dvol: layer provenance is not 0 or 1");
+  forged = bytes;
+  forged[334] = kMaxLayerTypeCode + 1;
+  rehashTooth(forged);
+  EXPECT_EQ(parseVolumeFile(forged, "f.dvol").message(), "f.dvol: unknown synthesized tooth type 5");
+  // The picker's look at the header alone agrees, and refuses what is no volume.
+  Result<bool> seen = readLayersSynthesized(dir.file("s.dvol"));
+  ASSERT_TRUE(seen.ok()) << seen.message();
+  EXPECT_TRUE(*seen);
+  test::writeBytes(dir.file("m.dvol"), measured);
+  seen = readLayersSynthesized(dir.file("m.dvol"));
+  ASSERT_TRUE(seen.ok()) << seen.message();
+  EXPECT_FALSE(*seen);
+  test::writeBytes(dir.file("x.dvol"), {'n', 'o', 't'});
+  EXPECT_EQ(readLayersSynthesized(dir.file("x.dvol")).message(), dir.file("x.dvol") + ": not a dentsim volume file");
+  EXPECT_FALSE(readLayersSynthesized(dir.file("missing.dvol")).ok());
+  // Version 3 ignores the spare bytes: a version 3 file with them set still loads as measured.
+  d.layers_synthesized = false;
+  auto v3 = encodeVolumeFile(d);
+  v3[333] = 1;
+  rehashTooth(v3);
+  back = parseVolumeFile(v3, "x");
+  ASSERT_TRUE(back.ok()) << back.message();
+  EXPECT_FALSE(back->layers_synthesized);
 }
 
 TEST(DvolFile, MissingFileAndDirectoryAreErrors) {

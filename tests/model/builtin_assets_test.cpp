@@ -41,6 +41,10 @@ TEST(BuiltinAssets, RegeneratedFilesEqualCheckedInAndEmbeddedBytes) {
                            g.molar.pulp.triangleCount() + g.molar.caries.triangleCount();
   EXPECT_GE(triangles, 80'000u);
   EXPECT_LE(triangles, 150'000u);
+  // The neighbours, on their coarser lattice: about 39k triangles for both.
+  const size_t neighbours = g.neighbours.premolar.triangleCount() + g.neighbours.second_molar.triangleCount();
+  EXPECT_GE(neighbours, 20'000u);
+  EXPECT_LE(neighbours, 60'000u);
   size_t bytes = 0;
   for (const AssetFile& f : g.files) bytes += f.bytes.size();
   EXPECT_LT(bytes, 10'000'000u);
@@ -53,6 +57,16 @@ TEST(BuiltinAssets, MolarParsesBackClosedAndOutward) {
     const MeshTopology t = analyzeTopology(*m);
     EXPECT_TRUE(t.closed());
     EXPECT_EQ(t.orientation(), "outward");
+  }
+}
+
+TEST(BuiltinAssets, NeighboursParseBackClosedAndOutward) {
+  auto teeth = loadBuiltinNeighbours();
+  ASSERT_TRUE(teeth.ok()) << teeth.message();
+  for (const NeighbourRow& row : kNeighbourTeeth) {
+    const MeshTopology t = analyzeTopology((*teeth).*row.mesh);
+    EXPECT_TRUE(t.closed()) << row.name;
+    EXPECT_EQ(t.orientation(), "outward") << row.name;
   }
 }
 

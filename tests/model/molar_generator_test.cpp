@@ -6,6 +6,7 @@
 #include <iterator>
 #include <numeric>
 #include <set>
+#include <string_view>
 #include <unordered_map>
 
 #include <gtest/gtest.h>
@@ -26,22 +27,52 @@ const MolarLayers& coarseMolar() {
 }
 
 // Every tissue of the tissue table is a layer of the molar, in the table's order, each row on its
-// own mesh: a tissue added to the table fails here until the molar has its layer.
+// own mesh, except the tissues named here with the reason: a tissue added to the table fails here
+// until the molar has its layer or a line below says why it has none.
+struct NoLayer {
+  const char* tissue;
+  const char* why;
+};
+constexpr NoLayer kTissuesWithoutAMolarLayer[] = {
+    // An adjacent tooth is a tooth of its own beside the molar, not a layer inside it: the
+    // neighbours are separate meshes (model/neighbour_generator.h), voxelized beside the molar.
+    {"neighbour", "neighbours are separate teeth (neighbour_generator.h)"},
+};
+
+const NoLayer* whyNoLayer(const char* tissue) {
+  for (const NoLayer& n : kTissuesWithoutAMolarLayer)
+    if (std::string_view(n.tissue) == tissue) return &n;
+  return nullptr;
+}
+
 TEST(MolarLayers, EveryTissueOfTheTableIsALayer) {
-  ASSERT_EQ(std::size(kMolarLayers), kTissueCount);
-  for (size_t t = 0; t < kTissueCount; ++t) EXPECT_STREQ(kMolarLayers[t].tissue, kTissueTable[t].name);
+  std::vector<const char*> layered;
+  for (const TissueRow& row : kTissueTable)
+    if (!whyNoLayer(row.name)) layered.push_back(row.name);
+  ASSERT_EQ(std::size(kMolarLayers), layered.size());
+  for (size_t t = 0; t < layered.size(); ++t) EXPECT_STREQ(kMolarLayers[t].tissue, layered[t]);
   const MolarLayers& m = coarseMolar();
   std::set<const TriangleMesh*> meshes;
   for (const TissueRow& row : kTissueTable) {
     const TriangleMesh* mesh = m.layer(row.name);
+    if (const NoLayer* n = whyNoLayer(row.name)) {
+      EXPECT_EQ(mesh, nullptr) << row.name << " has a layer, yet is listed without one: " << n->why;
+      continue;
+    }
     ASSERT_NE(mesh, nullptr) << row.name;
     EXPECT_GT(mesh->triangleCount(), 0u) << row.name;
     meshes.insert(mesh);
   }
-  EXPECT_EQ(meshes.size(), kTissueCount);
+  EXPECT_EQ(meshes.size(), layered.size());
   EXPECT_EQ(m.layer("enamel"), &m.enamel);
   EXPECT_EQ(m.layer("caries"), &m.caries);
   EXPECT_EQ(m.layer("cementum"), nullptr);  // a tissue the molar lacks has no layer
+  // Each tissue listed without a layer is a tissue of the table (no stale excuse).
+  for (const NoLayer& n : kTissuesWithoutAMolarLayer) {
+    bool known = false;
+    for (const TissueRow& row : kTissueTable) known = known || std::string_view(row.name) == n.tissue;
+    EXPECT_TRUE(known) << n.tissue;
+  }
 }
 
 Vec3d toD(const Vec3f& p) { return {p[0], p[1], p[2]}; }

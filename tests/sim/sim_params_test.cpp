@@ -41,8 +41,9 @@ TEST(SimParams, DefaultsHoldThePapersHardness) {
   EXPECT_EQ(p.tissue(Material::Caries).hardness, 0.5);
   EXPECT_EQ(p.tissue(Material::Enamel).stiffness_n_per_mm3, 2000.0);
   EXPECT_EQ(p.tissue(Material::Caries).damping_s_per_mm, 0.004);
-  // Empty and the spare codes 5..7 stay zero: nothing to touch there.
-  for (uint32_t m : {0u, 5u, 6u, 7u}) EXPECT_EQ(p.tissues[m], TissueParams{}) << "material " << m;
+  // Empty and the spare codes 6..7 stay zero: nothing to touch there. A neighbour feels as enamel.
+  EXPECT_EQ(p.tissue(Material::Neighbour), p.tissue(Material::Enamel));
+  for (uint32_t m : {0u, 6u, 7u}) EXPECT_EQ(p.tissues[m], TissueParams{}) << "material " << m;
 }
 
 TEST(SimParams, DefaultsGiveEveryBuiltinBurAnAbility) {
@@ -174,7 +175,7 @@ std::vector<ErrorCase> errorCases() {
       {"version a float", R"({"format": "dentsim-params", "version": 1.0})", "version: expected an integer, got number"},
       {"unknown top key", preset(R"("colour": 1)"), "colour: unknown key (known: format, version, tissues, burs, "},
       {"unknown tissue", preset(R"("tissues": {"enamal": {}})"),
-       "tissues.enamal: unknown key (known: enamel, dentin, pulp, caries)"},
+       "tissues.enamal: unknown key (known: enamel, dentin, pulp, caries, neighbour)"},
       {"empty is no tissue", preset(R"("tissues": {"empty": {}})"), "tissues.empty: unknown key"},
       {"unknown field", preset(R"("tissues": {"enamel": {"hardnes": 0.2}})"),
        "tissues.enamel.hardnes: unknown key (known: stiffness_n_per_mm3, damping_s_per_mm, friction, hardness)"},

@@ -8,6 +8,7 @@
 #include <fstream>
 #include <string>
 
+#include "io/dvol_file.h"
 #include "test_support.h"
 
 namespace dentsim::ui {
@@ -85,6 +86,25 @@ TEST(CourseList, AFoldersTeethAndTasksWithTitlesInstructionsAndErrors) {
   EXPECT_TRUE(list.tasks.front().builtin);
   EXPECT_EQ(list.tasks[list.tasks.size() - 2].label, "broken.json");
   EXPECT_EQ(list.tasks.back().label, "occlusal.json");
+}
+
+// A tooth whose layers were synthesized from one surface says so in the picker; a measured one
+// keeps its plain name. The list reads only the header.
+TEST(CourseList, AToothWithSynthesizedLayersSaysSo) {
+  test::TempDir dir;
+  VolumeFileData d;
+  d.frame = VolumeFrame::axisAligned(6, 0.1, {0, 0, 0});
+  d.chunks.assign(1, 0x80000000u);  // level 6: one chunk, a tile of empty
+  ASSERT_TRUE(writeVolumeFile(dir.file("measured.dvol"), d));
+  d.layers_synthesized = true;
+  d.layer_type = 1;
+  ASSERT_TRUE(writeVolumeFile(dir.file("synth.dvol"), d));
+  const CourseList list = listCourse(dir.path().string());
+  const size_t builtin = size_t(kMaxLevel - kMinLevel + 1);
+  ASSERT_EQ(list.teeth.size(), builtin + 2);
+  EXPECT_EQ(list.teeth[builtin].label, "measured.dvol");
+  EXPECT_EQ(list.teeth[builtin + 1].label, "synth.dvol (synthesized layers)");
+  EXPECT_EQ(list.teeth[builtin + 1].path, dir.file("synth.dvol"));
 }
 
 TEST(CourseList, AFolderThatCannotBeReadSaysSoAndKeepsTheBuiltIns) {

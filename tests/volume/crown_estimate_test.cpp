@@ -1,4 +1,4 @@
-// Tests of the crown estimate: enamel over dentin faces +z, enamel on one side faces that side, a tooth without enamel keeps +z, and the extent along the axis.
+// Tests of the crown estimate: enamel over dentin faces +z, enamel on one side faces that side, a tooth without enamel keeps +z, the extent along the axis, and a neighbour beside the tooth changes nothing.
 #include "volume/crown_estimate.h"
 
 #include <gtest/gtest.h>
@@ -49,6 +49,26 @@ TEST(CrownEstimate, WithoutEnamelTheCrownIsAssumedUp) {
   setBox(v, {0, 0, 0}, {16, 16, 1}, makeVoxel(Material::Enamel));
   setBox(v, {0, 0, 7}, {16, 16, 8}, makeVoxel(Material::Enamel));
   EXPECT_FALSE(estimateCrown(v).from_enamel);
+}
+
+TEST(CrownEstimate, ANeighbourBesideTheToothChangesNothing) {
+  // The tooth: dentin z 0..5 under enamel z 6..7, x 0..7, in a 32^3 grid.
+  BrickVolume alone(5);
+  setBox(alone, {0, 0, 0}, {8, 16, 6}, makeVoxel(Material::Dentin));
+  setBox(alone, {0, 0, 6}, {8, 16, 8}, makeVoxel(Material::Enamel));
+  // Its neighbour: a taller block x 16..31, z 0..23 in bricks of its own, which would pull the
+  // tooth's centroid 10 voxels along x and up, and stretch the extent to z 24.
+  BrickVolume beside = alone;
+  setBox(beside, {16, 0, 0}, {32, 16, 24}, makeVoxel(Material::Neighbour));
+  const CrownEstimate a = estimateCrown(alone), b = estimateCrown(beside);
+  EXPECT_TRUE(b.from_enamel);
+  EXPECT_EQ(b.axis.x, a.axis.x);
+  EXPECT_EQ(b.axis.y, a.axis.y);
+  EXPECT_EQ(b.axis.z, a.axis.z);
+  EXPECT_NEAR(b.axis.z, 1.0, 1e-12);
+  EXPECT_EQ(b.lo, a.lo);
+  EXPECT_EQ(b.hi, a.hi);
+  EXPECT_NEAR(b.hi, 8.0, 1e-12);  // the tooth's brick, not the neighbour's z 24
 }
 
 }  // namespace

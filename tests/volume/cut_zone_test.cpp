@@ -1,4 +1,4 @@
-// Tests of the cut zone: the caries' access marked along upright and slanted axes, the leeway's voxels counted by hand, and the allowed zone's grid.
+// Tests of the cut zone: the caries' access marked along upright and slanted axes, the leeway's voxels counted by hand, the allowed zone's grid, and a neighbour never in it.
 #include "volume/cut_zone.h"
 
 #include <gtest/gtest.h>
@@ -114,6 +114,30 @@ TEST(CutZone, ZoneGridAllowsTargetLeewayAndEmptySpace) {
   EXPECT_FALSE(grid.allowed(11, 8, 7));    // 3 voxels away: enamel to keep
   EXPECT_TRUE(grid.allowed(11, 8, 9));     // no tissue there
   EXPECT_FALSE(grid.allowed(20, 8, 7));    // outside the box
+}
+
+TEST(CutZone, ANeighbourIsNeverTargetNorAllowed) {
+  BrickVolume v = slab();
+  v.setVoxel(8, 8, 7, makeVoxel(Material::Caries));
+  // A neighbour's overhang across the caries' column (z 10..11) and a block beside it, 2 voxels
+  // from the caries: within the leeway.
+  setBox(v, {7, 7, 10}, {10, 10, 12}, makeVoxel(Material::Neighbour));
+  setBox(v, {10, 8, 7}, {12, 9, 8}, makeVoxel(Material::Neighbour));
+  TargetMasks m(v.brickDim());
+  markCariesAccess(v, {0, 0, 1}, 1, &m);
+  // The column is the caries and the space above it, less the two neighbour voxels on it: z 7..23
+  // (the tissue's bricks, the neighbour's among them, end at z 16, and one brick of reach beyond),
+  // 17 voxels, with z 10 and 11 left out.
+  EXPECT_TRUE(marked(m, 8, 8, 9));
+  EXPECT_FALSE(marked(m, 8, 8, 10));
+  EXPECT_FALSE(marked(m, 8, 8, 11));
+  EXPECT_TRUE(marked(m, 8, 8, 12));
+  EXPECT_EQ(countMarked(m, v.dim()), 17u - 2u);
+  LeewayField leeway(m, 2.0);
+  const ZoneGrid grid(v, m, leeway, {0, 0, 0}, {16, 16, 16});
+  EXPECT_FALSE(grid.allowed(8, 8, 10));  // on the line, but another tooth
+  EXPECT_FALSE(grid.allowed(10, 8, 7));  // 2 voxels away: enamel there would be leeway
+  EXPECT_TRUE(grid.allowed(9, 8, 7));    // the enamel beside the caries still is
 }
 
 }  // namespace

@@ -26,10 +26,16 @@ struct Box {
 
 // Every tissue of the table is either a class the grey values give or pulp, which importLabels fills
 // as enclosed space: a tissue added to the table fails here until segmentation decides which it is.
+// A neighbour is neither: a scan's segmentation keeps one tooth, and its neighbours are cut away.
 // Each class is a table tissue, darker classes first (caries < dentin < enamel in mineral).
 TEST(TissueBoundaryRules, EveryTissueOfTheTableIsAGreyClassOrFilledAfter) {
-  for (const TissueRow& row : kTissueTable)
+  for (const TissueRow& row : kTissueTable) {
+    if (row.material == Material::Neighbour) {
+      EXPECT_FALSE(isGreyClass(row.material));
+      continue;
+    }
     EXPECT_NE(isGreyClass(row.material), row.material == Material::Pulp) << row.name;
+  }
   EXPECT_EQ(kClassTissue[0], Material::Empty);
   for (size_t c = 1; c < kClassTissue.size(); ++c) EXPECT_NE(findTissue(kClassTissue[c]), nullptr) << c;
   EXPECT_EQ(kClassTissue, (std::array<Material, 4>{Material::Empty, Material::Caries, Material::Dentin, Material::Enamel}));

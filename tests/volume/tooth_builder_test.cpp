@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "io/ply_file.h"
 #include "io/stl_file.h"
 #include "test_meshes.h"
 #include "test_support.h"
@@ -181,6 +182,98 @@ TEST(ToothBuilder, APlanThatRefusesEndsTheBuildWithItsMessage) {
   Result<ToothVolume> tooth = buildToothFromMeshes(mo, crownAlong(1), hooks);
   ASSERT_FALSE(tooth);
   EXPECT_EQ(tooth.message(), "voxelize: beyond the memory budget");
+}
+
+// A 4 mm dentin cube at 0..4 and two neighbour cubes beside it, one at -5..-1 (apart) and one at
+// 3..7 (overlapping the tooth's last millimetre in x). The grid is fitted to all three: -5..7 in x
+// with 2 margin voxels of 1 mm is 16 voxels, level 4, origin (-7, -6, -6), so every cube lies on
+// voxel faces. The tooth keeps its 64 voxels; the neighbours get 64 + (64 - 16) = 112.
+TEST(ToothBuilder, NeighboursJoinWhereTheToothIsEmptyAndTheToothWinsSharedVoxels) {
+  test::TempDir dir;
+  ASSERT_TRUE(writeStl(dir.file("tooth.stl"), test::box({0, 0, 0}, {4, 4, 4}), "tooth"));
+  ASSERT_TRUE(writeStl(dir.file("left.stl"), test::box({-5, 0, 0}, {-1, 4, 4}), "left"));
+  ASSERT_TRUE(writeStl(dir.file("right.stl"), test::box({3, 0, 0}, {7, 4, 4}), "right"));
+  MeshToothOptions mo;
+  mo.layers = {{dir.file("tooth.stl"), Material::Dentin}};
+  mo.neighbours = {dir.file("left.stl"), dir.file("right.stl")};
+  mo.voxel_mm = 1.0;
+  MeshToothReport report;
+  Result<ToothVolume> tooth = buildToothFromMeshes(mo, crownAlong(1), {}, &report);
+  ASSERT_TRUE(tooth) << tooth.message();
+  EXPECT_EQ(tooth->frame.level, 4);
+  EXPECT_EQ(tooth->frame.origin_mm, (std::array<double, 3>{-7, -6, -6}));
+  const MaterialTotals totals = tooth->voxels.materialTotals();
+  EXPECT_EQ(totals.voxels[DS_MAT_DENTIN], 64u);
+  EXPECT_EQ(totals.voxels[DS_MAT_NEIGHBOUR], 112u);
+  EXPECT_EQ(totals.fill_sum[DS_MAT_NEIGHBOUR], 112u * DS_FILL_FULL);
+  EXPECT_EQ(report.neighbour_voxels, 112u);
+  ASSERT_EQ(report.neighbours.size(), 2u);
+  EXPECT_NEAR(report.neighbours[1].volume_mm3, 64.0, 1e-6);
+  // Voxel (x = 3 mm .. 4 mm) is the tooth's, (4 .. 5) the right neighbour's: grid x 10 and 11.
+  EXPECT_EQ(voxelMaterial(tooth->voxels.voxel(10, 7, 7)), Material::Dentin);
+  EXPECT_EQ(voxelMaterial(tooth->voxels.voxel(11, 7, 7)), Material::Neighbour);
+  // The frame is the treated tooth's: its occlusal centre over the tooth (x 1..3 mm, the middle
+  // voxel's centre: 1.5 mm), not over all three cubes (0.5 mm).
+  ASSERT_TRUE(tooth->frame.tooth.has_occlusal_centre);
+  EXPECT_GE(tooth->frame.tooth.occlusal_centre_mm[0], 1.0);
+  EXPECT_LE(tooth->frame.tooth.occlusal_centre_mm[0], 3.0);
+  EXPECT_NEAR(tooth->frame.tooth.occlusal_centre_mm[2], 4.0, 0.01);
+}
+
+// An enamel top over dentin, and one neighbour standing taller, to one side: the crown axis is found
+// from the tooth's enamel against its own roots, +z, not tilted toward the neighbour.
+TEST(ToothBuilder, TheCrownAxisIsFoundFromTheTreatedToothAlone) {
+  test::TempDir dir;
+  ASSERT_TRUE(writeStl(dir.file("enamel.stl"), test::box({0, 0, 0}, {4, 4, 6}), "enamel"));
+  ASSERT_TRUE(writeStl(dir.file("dentin.stl"), test::box({0, 0, 0}, {4, 4, 5}), "dentin"));
+  ASSERT_TRUE(writeStl(dir.file("near.stl"), test::box({-5, 0, -6}, {-1, 4, 6}), "near"));
+  MeshToothOptions mo;
+  mo.layers = {{dir.file("enamel.stl"), Material::Enamel}, {dir.file("dentin.stl"), Material::Dentin}};
+  mo.neighbours = {dir.file("near.stl")};
+  mo.voxel_mm = 0.5;
+  ToothAxesHint hint;
+  hint.turn = false;
+  Result<ToothVolume> tooth = buildToothFromMeshes(mo, hint, {});
+  ASSERT_TRUE(tooth) << tooth.message();
+  EXPECT_EQ(tooth->frame.tooth.crown_source, AxisSource::Found);
+  EXPECT_GT(tooth->frame.tooth.crown[2], 0.99) << tooth->frame.tooth.crown[0];
+  EXPECT_EQ(tooth->voxels.materialTotals().voxels[DS_MAT_NEIGHBOUR], 8u * 8u * 24u);
+}
+
+TEST(ToothBuilder, LayersAreSynthesizedFromOneSurfaceOnly) {
+  test::TempDir dir;
+  ASSERT_TRUE(writeStl(dir.file("a.stl"), test::box({0, 0, 0}, {4, 4, 4}), "a"));
+  MeshToothOptions mo;
+  mo.layers = {{dir.file("a.stl"), Material::Enamel}, {dir.file("a.stl"), Material::Dentin}};
+  mo.synthesize = LayerSynthOptions{};
+  Result<ToothVolume> tooth = buildToothFromMeshes(mo, {}, {});
+  ASSERT_FALSE(tooth);
+  EXPECT_EQ(tooth.message(), "layers are synthesized from one whole-tooth surface, not from 2 layers");
+}
+
+// A PLY or an OBJ is read as an STL would be: the same cube, the same voxels.
+TEST(ToothBuilder, PlyAndObjLayersAreReadLikeAnStl) {
+  test::TempDir dir;
+  const TriangleMesh cube = test::box({0, 0, 0}, {4, 4, 4});
+  ASSERT_TRUE(writePly(dir.file("cube.PLY"), PlyView{cube.positions, {}, {}, cube.triangles}));
+  MeshToothOptions mo;
+  mo.layers = {{dir.file("cube.PLY"), Material::Dentin}};
+  mo.voxel_mm = 1.0;
+  Result<ToothVolume> tooth = buildToothFromMeshes(mo, crownAlong(1), {});
+  ASSERT_TRUE(tooth) << tooth.message();
+  EXPECT_EQ(tooth->voxels.materialTotals().voxels[DS_MAT_DENTIN], 64u);
+
+  // And an OBJ of the same cube, its corners written out by hand.
+  std::string obj;
+  for (const Vec3f& p : cube.positions)
+    obj += "v " + std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(p[2]) + "\n";
+  for (const auto& t : cube.triangles)
+    obj += "f " + std::to_string(t[0] + 1) + " " + std::to_string(t[1] + 1) + " " + std::to_string(t[2] + 1) + "\n";
+  test::writeBytes(dir.file("cube.obj"), std::vector<uint8_t>(obj.begin(), obj.end()));
+  mo.layers = {{dir.file("cube.obj"), Material::Dentin}};
+  tooth = buildToothFromMeshes(mo, crownAlong(1), {});
+  ASSERT_TRUE(tooth) << tooth.message();
+  EXPECT_EQ(tooth->voxels.materialTotals().voxels[DS_MAT_DENTIN], 64u);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// Tests for src/volume/tooth_frame.cpp: the nearest quarter turn, turning the voxels and the frame, standing a sideways tooth up.
+// Tests for src/volume/tooth_frame.cpp: the nearest quarter turn, turning the voxels and the frame, standing a sideways tooth up, and a neighbour left out of the tooth's box and frame.
 #include "volume/tooth_frame.h"
 
 #include <gtest/gtest.h>
@@ -125,6 +125,39 @@ TEST(ToothFrame, GivenAxesWinAndBadOnesAreNamed) {
   ASSERT_TRUE(standToothUp(kept, keep).ok());
   EXPECT_FALSE(kept.frame.tooth.turned());
   EXPECT_LT(kept.frame.tooth.crown[1], -0.99);  // found, not turned: still -y
+}
+
+TEST(ToothFrame, ANeighbourBesideTheToothLeavesItsFrameAndBoxAsTheyWere) {
+  // A sideways tooth with a neighbour beside it at +x, taller along -y than the tooth's crown, in
+  // bricks of its own: standing up, the box and the occlusal centre are the tooth's alone.
+  ToothVolume alone = sidewaysTooth();
+  ToothVolume beside = sidewaysTooth();
+  for (uint32_t y = 0; y < 32; ++y)
+    for (uint32_t z = 8; z < 24; ++z)
+      for (uint32_t x = 24; x < 32; ++x) beside.voxels.setVoxel(x, y, z, makeVoxel(Material::Neighbour));
+  ASSERT_TRUE(standToothUp(alone, {}).ok());
+  ASSERT_TRUE(standToothUp(beside, {}).ok());
+  const ToothAxes &a = alone.frame.tooth, &b = beside.frame.tooth;
+  EXPECT_EQ(b.crown, a.crown);
+  EXPECT_EQ(b.turn, a.turn);
+  ASSERT_TRUE(b.has_occlusal_centre);
+  EXPECT_EQ(b.occlusal_centre_mm, a.occlusal_centre_mm);
+  const auto boxes_a = tissueVoxelBoxes(alone.voxels), boxes_b = tissueVoxelBoxes(beside.voxels);
+  EXPECT_EQ(boxes_b[0].lo, boxes_a[0].lo);  // index 0: the tooth, not the neighbour
+  EXPECT_EQ(boxes_b[0].hi, boxes_a[0].hi);
+  // The neighbour keeps a box of its own: 8 x 32 x 16 voxels, however the grid turned.
+  const VoxelBox& n = boxes_b[size_t(Material::Neighbour)];
+  ASSERT_FALSE(n.empty());
+  EXPECT_EQ((n.hi[0] - n.lo[0] + 1) * (n.hi[1] - n.lo[1] + 1) * (n.hi[2] - n.lo[2] + 1), 8 * 32 * 16);
+  // The tooth's bricks leave out the bricks that hold only the neighbour.
+  const BrickBox tb = toothBricks(beside.voxels), ta = toothBricks(alone.voxels);
+  EXPECT_EQ(tb.lo.x, ta.lo.x);
+  EXPECT_EQ(tb.hi.x, ta.hi.x);
+  EXPECT_EQ(tb.hi.y, ta.hi.y);
+  EXPECT_EQ(tb.hi.z, ta.hi.z);
+  const BrickBox all = tissueBricks(alone.voxels);  // without neighbours: tissueBricks exactly
+  EXPECT_EQ(ta.lo.x, all.lo.x);
+  EXPECT_EQ(ta.hi.z, all.hi.z);
 }
 
 }  // namespace

@@ -31,13 +31,27 @@ TEST(ToothSanity, ALengthBeyondAnyToothIsNamedEvenAtAToothsVolume) {
 
 TEST(ToothSanity, TheSizeOfASegmentationCountsHardTissueAndItsLongestBoxEdge) {
   ToothSegmentReport r;
-  for (size_t t = 0; t < kTissueCount; ++t)  // 100 voxels of each tissue: pulp (never a grey class) left out
+  for (size_t t = 0; t < kTissueCount; ++t)  // 100 voxels of each tissue
     r.tissue_voxels[t] = 100;
   r.tooth_lo = {13, 23, 33};
   r.tooth_hi = {16, 36, 76};  // 4, 14 and 44 voxels
   const ToothSize size = segmentedToothSize(r, {0.5, 0.5, 0.25});
-  EXPECT_DOUBLE_EQ(size.hard_mm3, double(100 * (kTissueCount - 1)) * 0.0625);
+  // Enamel, dentin and caries: 300 voxels of 0.0625 mm^3. The pulp (never a grey class) and a
+  // neighbour (another tooth, not this one's volume) are left out.
+  EXPECT_DOUBLE_EQ(size.hard_mm3, 300 * 0.0625);
   EXPECT_DOUBLE_EQ(size.length_mm, 44 * 0.25);  // 11 mm along k: longer than j's 7 mm though fewer voxels
+}
+
+TEST(ToothSanity, ANeighbourBesideTheToothAddsNothingToItsHardTissue) {
+  ToothSegmentReport alone;
+  alone.tissue_voxels[size_t(tissueIndex(Material::Enamel))] = 4000;
+  alone.tissue_voxels[size_t(tissueIndex(Material::Dentin))] = 12000;
+  ToothSegmentReport beside = alone;
+  // An adjacent tooth five times the treated one's size: a whole second molar in the volume.
+  beside.tissue_voxels[size_t(tissueIndex(Material::Neighbour))] = 80000;
+  const std::array<double, 3> pitch{0.1, 0.1, 0.1};
+  EXPECT_DOUBLE_EQ(segmentedToothSize(beside, pitch).hard_mm3, segmentedToothSize(alone, pitch).hard_mm3);
+  EXPECT_NEAR(segmentedToothSize(beside, pitch).hard_mm3, 16.0, 1e-9);  // 16000 voxels of 0.001 mm^3
 }
 
 TEST(ToothSanity, ADentinThresholdInSoftTissueIsNamedOnlyInHu) {

@@ -92,7 +92,8 @@ TEST(VolumeCompare, DifferentLevelsAreAnError) {
 TEST(VolumeCompare, MatchesAVoxelByVoxelTallyAndIsSymmetric) {
   const BrickVolume a = test::randomVolume(5, 1, test::NoiseMaterials::Tissues);
   const BrickVolume b = test::randomVolume(5, 2, test::NoiseMaterials::Tissues);
-  for (uint32_t m = 1; m < DS_TISSUE_COUNT; ++m) {
+  // The random volumes hold a tooth's own four tissues (test_volumes.h), no neighbour.
+  for (uint32_t m = 1; m < DS_MAT_NEIGHBOUR; ++m) {
     const auto tissue = Material(m);
     uint64_t in_a = 0, in_b = 0, both = 0, either = 0, lo = 0, hi = 0;
     for (uint32_t k = 0; k < 32; ++k)
