@@ -24,14 +24,17 @@ struct ToothChoice {
     return {task_tooth == kBuiltinMolarTooth ? std::string() : task_tooth, task_level};
   }
 
-  // The run's first tooth: --tooth, else the task's; --level (0: not given) builds the built-in
-  // molar only, so with a file it is an error rather than silently ignored.
+  // The run's first tooth: --tooth, else the task's; --level (0: not given) builds a built-in tooth
+  // (the molar, or the molar with its neighbours) at that level, so with a file it is an error rather
+  // than silently ignored.
   static Result<ToothChoice> atStart(const std::string& tooth_option, int level_option, const std::string& task_tooth,
                                      int task_level) {
+    const bool other_builtin = tooth_option.empty() && isBuiltinTooth(task_tooth) && task_tooth != kBuiltinMolarTooth;
+    if (other_builtin && level_option != 0) return ofTask(task_tooth, level_option);
     ToothChoice c = ofTask(task_tooth, task_level);
     if (!tooth_option.empty()) c.file = tooth_option;
     if (level_option != 0 && !c.builtin())
-      return makeError("--level", "applies only to the built-in molar; the tooth " + c.file + " keeps its own grid");
+      return makeError("--level", "applies only to a built-in tooth; the tooth " + c.file + " keeps its own grid");
     if (level_option != 0) c.level = level_option;
     return c;
   }

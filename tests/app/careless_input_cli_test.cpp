@@ -108,7 +108,7 @@ TEST_F(CarelessInputCli, AnOptionThatCannotApplyIsRefusedWithTheReason) {
       {"run --headless --demo-script --pen-script " + dir_.file("p.csv") + " --out " + never, "--pen-script",
        "give one of the two"},
       {"run --headless --tooth " + dvol() + " --level 9 --exit-after 1 --out " + never, "--level",
-       "applies only to the built-in molar"},
+       "applies only to a built-in tooth"},
       {"run --headless --demo-script --no-sound --audio-out " + dir_.file("s.wav") + " --out " + never, "--audio-out",
        "--no-sound"},
       {"run --headless --demo-script --bur mirror_size4 --out " + never, "--bur", "\"mirror_size4\" is a mirror, not a bur"},

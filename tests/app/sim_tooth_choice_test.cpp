@@ -21,6 +21,17 @@ TEST(ToothChoice, LevelAskedForBuildsTheMolarAtThatLevel) {
   EXPECT_EQ(c->level, 7);
 }
 
+// The molar with its neighbours goes by its session source, and --level rebuilds it at that level.
+TEST(ToothChoice, TheNeighboursToothTakesTheLevelAskedFor) {
+  auto at_task = ToothChoice::atStart("", 0, "builtin:molar_neighbours", 9);
+  ASSERT_TRUE(at_task) << at_task.message();
+  EXPECT_EQ(at_task->file, "builtin:molar_neighbours:9");
+  auto asked = ToothChoice::atStart("", 7, "builtin:molar_neighbours", 9);
+  ASSERT_TRUE(asked) << asked.message();
+  EXPECT_EQ(asked->file, "builtin:molar_neighbours:7");
+  EXPECT_EQ(asked->level, 7);
+}
+
 TEST(ToothChoice, ToothOptionWinsOverTheTasksTooth) {
   auto c = ToothChoice::atStart("my.dvol", 0, "asset:tasks/ct_tooth_3.dvol", 9);
   ASSERT_TRUE(c);
