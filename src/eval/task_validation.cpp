@@ -177,8 +177,11 @@ FaultCheck compare(const ValidatedAttempt& expert, const ValidatedAttempt& fault
     c.lost += l;
     // A cut beyond where it belongs (over-cut, healthy tissue) that reaches an adjacent tooth is the
     // same fault: the adjacent-tooth deduction, present only on a tooth with neighbours, is its part too.
+    // So it is for a tilted bur: in a proximal box its side swings past the wall at the contact, the
+    // commonest way a class II nicks the neighbour.
     const bool beyond = std::find(own.begin(), own.end(), "overcut") != own.end() ||
-                        std::find(own.begin(), own.end(), "healthy") != own.end();
+                        std::find(own.begin(), own.end(), "healthy") != own.end() ||
+                        std::find(own.begin(), own.end(), "parallel") != own.end();
     const bool is_own = std::find(own.begin(), own.end(), n) != own.end() || (n == "adjacent" && beyond);
     if (is_own) c.lost_in_fault += l;
     else c.most_lost_elsewhere = std::max(c.most_lost_elsewhere, l);
