@@ -221,6 +221,10 @@ void addVoxelizeCommand(CLI::App& root, Action& action) {
                   "Keep --tooth one tissue, this one (e.g. dentin): no layers are synthesized");
   cmd->add_option("--tooth-type", opts->tooth_type,
                   "The synthesized layers' proportions: " + toothTypeNames() + " (default: guessed from the size and roots)");
+  cmd->add_option("--pulp-from", opts->pulp_from,
+                  "With --tooth: take the pulp from a grey-value scan of the same tooth (NIfTI, NRRD or a DICOM "
+                  "folder) instead of synthesizing it; the surface's mm (after --units and --scale) must be the "
+                  "scan's world mm, as in a segmentation exported from that scan. Enamel stays synthesized");
   cmd->add_option("--neighbour", opts->neighbours,
                   "An adjacent tooth's closed surface (STL, PLY or OBJ), whole, as neighbour tissue in the same grid; "
                   "repeat for each (with --tooth or the tissue layers)")

@@ -138,6 +138,18 @@ Status checkVoxelizeOptions(const VoxelizeFlags& o, const std::function<bool(con
                                "sets the proportions of synthesized layers; --tooth-material keeps one tissue");
       !st)
     return st;
+  if (Status st = refuseOption(given("--pulp-from") && o.tooth.empty(), "--pulp-from",
+                               "replaces the pulp synthesized from --tooth; no --tooth is given");
+      !st)
+    return st;
+  if (Status st = refuseOption(given("--pulp-from") && given("--tooth-material"), "--pulp-from",
+                               "replaces a synthesized pulp; --tooth-material keeps one tissue");
+      !st)
+    return st;
+  if (Status st = refuseOption(given("--pulp-from") && given("--frame-of"), "--pulp-from",
+                               "reads the scan in the surface's own mm; --frame-of turns the surface into another grid");
+      !st)
+    return st;
   if (Status st = refuseOption(given("--neighbour") && !meshes && !o.labels.empty(), "--neighbour",
                                "adds adjacent teeth to STL layers; with --labels, map their label to neighbour in "
                                "--label-map");
@@ -161,7 +173,7 @@ Status checkVoxelizeSources(const VoxelizeFlags& o) {
     return Error{"--neighbour adds adjacent teeth to STL layers, not to --labels, --dicom or --ct (labels: map the "
                  "neighbours' label to neighbour in --label-map)"};
   std::vector<std::string> inputs(o.layer.begin(), o.layer.end());
-  inputs.insert(inputs.end(), {o.tooth, o.labels, o.frame_of, o.dicom, o.ct});
+  inputs.insert(inputs.end(), {o.tooth, o.labels, o.frame_of, o.dicom, o.ct, o.pulp_from});
   inputs.insert(inputs.end(), o.neighbours.begin(), o.neighbours.end());
   if (Status st = checkOutputsAreNotInputs(inputs, {o.output, o.plan_json}); !st) return st;
   if (meshes && (o.min_piece != 0 || !o.label_map.empty() || !o.fill_enclosed.empty()))
@@ -219,6 +231,7 @@ Result<MeshToothOptions> meshToothOptions(const VoxelizeFlags& o) {
         synth.type = *type;
       }
       mo.synthesize = synth;
+      mo.pulp_from = o.pulp_from;
     }
   }
   for (size_t t : layersByPriority())

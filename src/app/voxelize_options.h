@@ -24,6 +24,7 @@ struct VoxelizeFlags {
   std::string tooth_material;             // one tissue for all of --tooth; empty: layers synthesized
   std::string tooth_type;                 // the synthesized layers' proportions; empty: guessed
   std::vector<std::string> neighbours;    // adjacent teeth's surfaces (--neighbour, repeatable)
+  std::string pulp_from;                  // a grey-value scan of the same tooth whose pulp replaces the synthesized one
   std::string units = "mm";               // unit of the STL coordinates
   double scale = 1.0;                     // extra factor after the unit
   int subsamples = 2;                     // rays per voxel side

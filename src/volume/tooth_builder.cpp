@@ -2,7 +2,7 @@
 //
 // Contents
 //   1. Shared helpers
-//   2. buildToothFromMeshes
+//   2. buildToothFromMeshes (and the pulp from a scan of the same tooth)
 //   3. buildToothFromLabels
 //   4. buildToothFromScan and buildToothFromGreyImage
 #include "volume/tooth_builder.h"
@@ -12,7 +12,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <utility>
+#include <vector>
 
 #include "core/text_escape.h"
 #include "io/grey_volume_file.h"
@@ -31,6 +33,13 @@ void warnVia(const ToothBuildHooks& hooks, const std::string& line) {
 }
 
 Interrupter& progressOf(const ToothBuildHooks& hooks) { return hooks.progress ? *hooks.progress : nullInterrupter(); }
+
+// A grey value with its unit, as the scan's lines print it.
+std::string greyValue(double v, GreyUnit unit) {
+  char buf[48];
+  std::snprintf(buf, sizeof buf, "%.6g %s", v, greyUnitName(unit));
+  return buf;
+}
 
 // ---- 2. Meshes --------------------------------------------------------------------------------
 struct LoadedLayer {
@@ -154,6 +163,189 @@ void recordSynthesis(ToothVolume& tooth, const LayerSynthReport& synth) {
     tooth.source_note += (i || !tooth.source_note.empty() ? "\n" : "") + synth.lines[i];
 }
 
+// ---- Pulp from a scan of the same tooth ----------------------------------------------------------
+// The scan named by pulp_from: a folder is a DICOM series, a file NIfTI or NRRD. A file's read is
+// planned as voxelize plans a scan's; the DICOM reader asks again in its checking child, where a plan
+// line would print twice, so it keeps to its own budget.
+Result<GreyImage> readPulpScan(const std::string& path, const ToothBuildHooks& hooks) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return readDicomSeries(path, DicomReadOptions{}, progressOf(hooks));
+  ScanReadApproval approve;
+  if (hooks.approve)
+    approve = [&hooks](uint64_t voxels, uint32_t stored_bytes) { return hooks.approve(estimateScanRead(voxels, stored_bytes)); };
+  return readGreyVolume(path, greyBudgetBytes(), approve);
+}
+
+// The box of the scan's voxels, to their outer faces, in its world mm.
+Bounds3 scanExtent(const GreyImage& scan) {
+  const auto& m = scan.scanner_from_voxel;
+  Bounds3 box;
+  for (int c = 0; c < 8; ++c) {
+    const double i = (c & 1) ? scan.dims[0] - 0.5 : -0.5, j = (c & 2) ? scan.dims[1] - 0.5 : -0.5,
+                 k = (c & 4) ? scan.dims[2] - 0.5 : -0.5;
+    Vec3d p{};
+    for (size_t r = 0; r < 3; ++r) p[r] = m[4 * r] * i + m[4 * r + 1] * j + m[4 * r + 2] * k + m[4 * r + 3];
+    box.add(p);
+  }
+  return box;
+}
+
+std::string boxText(const Bounds3& b) {
+  char buf[160];
+  std::snprintf(buf, sizeof buf, "%.3g..%.3g, %.3g..%.3g, %.3g..%.3g mm", b.lo[0], b.hi[0], b.lo[1], b.hi[1], b.lo[2],
+                b.hi[2]);
+  return buf;
+}
+
+// The scan's grey value at a world point [mm]: its voxel index through the inverse of its affine,
+// trilinear between voxel centres, clamped at the edges (the tooth lies inside, checked before).
+class ScanSampler {
+ public:
+  explicit ScanSampler(const GreyImage& scan) : scan_(scan) {
+    const auto& m = scan.scanner_from_voxel;
+    const double a = m[0], b = m[1], c = m[2], d = m[4], e = m[5], f = m[6], g = m[8], h = m[9], k = m[10];
+    const double det = a * (e * k - f * h) - b * (d * k - f * g) + c * (d * h - e * g);
+    ok_ = std::isfinite(det) && std::abs(det) > 1e-12;
+    if (!ok_) return;
+    inv_ = {(e * k - f * h) / det, (c * h - b * k) / det, (b * f - c * e) / det,
+            (f * g - d * k) / det, (a * k - c * g) / det, (c * d - a * f) / det,
+            (d * h - e * g) / det, (b * g - a * h) / det, (a * e - b * d) / det};
+    for (size_t r = 0; r < 3; ++r) t_[r] = m[4 * r + 3];
+  }
+  bool ok() const { return ok_; }
+  float at(const Vec3d& mm) const {
+    std::array<double, 3> idx{}, frac{};
+    std::array<int64_t, 3> i0{}, i1{};
+    for (size_t r = 0; r < 3; ++r) {
+      double v = 0.0;
+      for (size_t c = 0; c < 3; ++c) v += inv_[3 * r + c] * (mm[c] - t_[c]);
+      idx[r] = std::clamp(v, 0.0, double(scan_.dims[r] - 1));
+      i0[r] = int64_t(std::floor(idx[r]));
+      i1[r] = std::min<int64_t>(i0[r] + 1, scan_.dims[r] - 1);
+      frac[r] = idx[r] - double(i0[r]);
+    }
+    double sum = 0.0;
+    for (int c = 0; c < 8; ++c) {
+      const double w = ((c & 1) ? frac[0] : 1 - frac[0]) * ((c & 2) ? frac[1] : 1 - frac[1]) * ((c & 4) ? frac[2] : 1 - frac[2]);
+      if (w == 0.0) continue;
+      sum += w * scan_.values[scan_.index((c & 1) ? i1[0] : i0[0], (c & 2) ? i1[1] : i0[1], (c & 4) ? i1[2] : i0[2])];
+    }
+    return float(sum);
+  }
+
+ private:
+  const GreyImage& scan_;
+  std::array<double, 9> inv_{};
+  std::array<double, 3> t_{};
+  bool ok_ = false;
+};
+
+double median(std::vector<float>& values) {
+  const auto mid = values.begin() + std::ptrdiff_t(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  return double(*mid);
+}
+
+// The synthesized pulp replaced by the scan's: the tooth's voxels (enamel left out: it stays
+// synthesized) more than kScanPulpDepthVoxels inside the tooth and darker than midway between the
+// dentin's grey and the surroundings' become pulp; the rest of the synthesized pulp becomes dentin.
+// The grid is the surface's, not yet turned: a voxel's centre in mm is its scanner_from_grid.
+Result<ScanPulpReport> pulpFromScan(BrickVolume& volume, const VolumeFrame& frame, const GreyImage& scan,
+                                    const std::string& path) {
+  const ScanSampler sampler(scan);
+  if (!sampler.ok()) return makeError(path, "the scan's voxel axes are degenerate (a zero or flat affine)");
+  const VoxelBox tooth_box = tissueVoxelBoxes(volume)[0];
+  if (tooth_box.empty()) return makeError(path, "no tooth voxels to take the pulp into");
+  // A dense local box one voxel wider than the tooth, so that the voxels around it are in it.
+  std::array<int64_t, 3> lo{}, n{};
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = std::max<int64_t>(tooth_box.lo[a] - 1, 0);
+    n[a] = std::min<int64_t>(tooth_box.hi[a] + 1, volume.dim() - 1) - lo[a] + 1;
+  }
+  const auto at = [&](int64_t x, int64_t y, int64_t z) { return size_t(x + n[0] * (y + n[1] * z)); };
+  std::vector<uint8_t> inside(size_t(n[0] * n[1] * n[2]), 0);
+  for (int64_t z = 0; z < n[2]; ++z)
+    for (int64_t y = 0; y < n[1]; ++y)
+      for (int64_t x = 0; x < n[0]; ++x) {
+        const Material m = voxelMaterial(volume.voxel(uint32_t(lo[0] + x), uint32_t(lo[1] + y), uint32_t(lo[2] + z)));
+        inside[at(x, y, z)] = m != Material::Empty && m != Material::Neighbour;
+      }
+  const auto held = [&](const std::vector<uint8_t>& mask, int64_t x, int64_t y, int64_t z) {
+    return x >= 0 && y >= 0 && z >= 0 && x < n[0] && y < n[1] && z < n[2] && mask[at(x, y, z)];
+  };
+  const auto allNeighbours = [&](const std::vector<uint8_t>& mask, int64_t x, int64_t y, int64_t z) {
+    return held(mask, x - 1, y, z) && held(mask, x + 1, y, z) && held(mask, x, y - 1, z) && held(mask, x, y + 1, z) &&
+           held(mask, x, y, z - 1) && held(mask, x, y, z + 1);
+  };
+  // Deep: eroded kScanPulpDepthVoxels times (6-connected).
+  std::vector<uint8_t> deep = inside;
+  for (int pass = 0; pass < kScanPulpDepthVoxels; ++pass) {
+    std::vector<uint8_t> next(deep.size(), 0);
+    for (int64_t z = 0; z < n[2]; ++z)
+      for (int64_t y = 0; y < n[1]; ++y)
+        for (int64_t x = 0; x < n[0]; ++x) next[at(x, y, z)] = deep[at(x, y, z)] && allNeighbours(deep, x, y, z);
+    deep.swap(next);
+  }
+  const auto centreMm = [&](int64_t x, int64_t y, int64_t z) {
+    const auto& f = frame.scanner_from_grid;
+    const double g[3] = {double(lo[0] + x), double(lo[1] + y), double(lo[2] + z)};
+    Vec3d p{};
+    for (size_t r = 0; r < 3; ++r) p[r] = f[4 * r] * g[0] + f[4 * r + 1] * g[1] + f[4 * r + 2] * g[2] + f[4 * r + 3];
+    return p;
+  };
+  // The deep voxels' grey values, and those of the voxels just outside the tooth.
+  std::vector<float> grey(deep.size(), 0.0f), deep_values, around_values;
+  for (int64_t z = 0; z < n[2]; ++z)
+    for (int64_t y = 0; y < n[1]; ++y)
+      for (int64_t x = 0; x < n[0]; ++x) {
+        const size_t i = at(x, y, z);
+        if (deep[i]) {
+          grey[i] = sampler.at(centreMm(x, y, z));
+          deep_values.push_back(grey[i]);
+        } else if (!inside[i] && (held(inside, x - 1, y, z) || held(inside, x + 1, y, z) || held(inside, x, y - 1, z) ||
+                                  held(inside, x, y + 1, z) || held(inside, x, y, z - 1) || held(inside, x, y, z + 1))) {
+          around_values.push_back(sampler.at(centreMm(x, y, z)));
+        }
+      }
+  if (deep_values.empty() || around_values.empty())
+    return makeError(path, "the tooth is too thin at this voxel size to read a pulp from the scan (give a higher --level)");
+  ScanPulpReport rep;
+  rep.unit = scan.unit;
+  rep.dentin_grey = median(deep_values);
+  rep.around_grey = median(around_values);
+  if (!(rep.dentin_grey > rep.around_grey))
+    return makeError(path, "the scan is no brighter inside the tooth (" + greyValue(rep.dentin_grey, scan.unit) +
+                               ") than around it (" + greyValue(rep.around_grey, scan.unit) +
+                               "): is it this tooth's scan, with the surface in its mm?");
+  rep.threshold = 0.5 * (rep.dentin_grey + rep.around_grey);
+  const MaterialTotals before = volume.materialTotals();
+  rep.synthesized_pulp_mm3 = before.volumeMm3(Material::Pulp, frame.voxel_mm);
+  for (int64_t z = 0; z < n[2]; ++z)
+    for (int64_t y = 0; y < n[1]; ++y)
+      for (int64_t x = 0; x < n[0]; ++x) {
+        const size_t i = at(x, y, z);
+        if (!inside[i]) continue;
+        const uint32_t gx = uint32_t(lo[0] + x), gy = uint32_t(lo[1] + y), gz = uint32_t(lo[2] + z);
+        const Voxel v = volume.voxel(gx, gy, gz);
+        const Material m = voxelMaterial(v);
+        if (m == Material::Enamel) continue;
+        const bool pulp = deep[i] && grey[i] < rep.threshold;
+        const Material now = pulp ? Material::Pulp : m == Material::Pulp ? Material::Dentin : m;
+        if (now != m) volume.setVoxel(gx, gy, gz, makeVoxel(now, voxelFill(v)));
+        rep.pulp_voxels += pulp;
+      }
+  rep.pulp_mm3 = volume.materialTotals().volumeMm3(Material::Pulp, frame.voxel_mm);
+  char buf[400];
+  std::snprintf(buf, sizeof buf,
+                " (%.2f mm^3), enamel synthesized; pulp where the grey value is below %s (midway between the "
+                "dentin's %s and the surroundings' %s), more than %d voxels inside the tooth; the synthesized pulp's "
+                "%.2f mm^3 is dentin",
+                rep.pulp_mm3, greyValue(rep.threshold, scan.unit).c_str(), greyValue(rep.dentin_grey, scan.unit).c_str(),
+                greyValue(rep.around_grey, scan.unit).c_str(), kScanPulpDepthVoxels, rep.synthesized_pulp_mm3);
+  rep.line = "pulp from the scan " + shownPath(path) + buf;
+  return rep;
+}
+
 }  // namespace
 
 uint64_t addNeighbours(BrickVolume& tooth, const BrickVolume& neighbours) {
@@ -196,6 +388,21 @@ Result<ToothVolume> buildToothFromMeshes(const MeshToothOptions& options, const 
     near.push_back(std::move(layer).value());
   }
   const std::optional<VolumeFrame>& reference = options.reference;
+  // The scan is read, and its box checked, before the voxelization, so that a wrong one fails fast.
+  GreyImage pulp_scan;
+  if (!options.pulp_from.empty()) {
+    if (!options.synthesize) return Error{"the pulp is taken from a scan in place of a synthesized one: give one whole-tooth surface"};
+    if (reference) return Error{"the pulp from a scan needs the surface's own mm; a reference grid turns them"};
+    auto scan = readPulpScan(options.pulp_from, hooks);
+    if (!scan) return scan.error();
+    pulp_scan = std::move(scan).value();
+    const Bounds3 tooth_box = loaded.front().mesh.bounds(), scan_box = scanExtent(pulp_scan);
+    for (int a = 0; a < 3; ++a)
+      if (tooth_box.lo[a] < scan_box.lo[a] || tooth_box.hi[a] > scan_box.hi[a])
+        return makeError(options.pulp_from, "the tooth's box " + boxText(tooth_box) + " does not lie inside the scan's " +
+                                                boxText(scan_box) +
+                                                ": the surface's mm must be the scan's (a segmentation of this scan)");
+  }
   if (reference && reference->tooth.turned()) {
     bounds = turnLikeReference(*reference, loaded);
     if (!near.empty()) bounds.add(turnLikeReference(*reference, near));
@@ -240,6 +447,16 @@ Result<ToothVolume> buildToothFromMeshes(const MeshToothOptions& options, const 
     so.crown = hint.crown;
     auto synth = synthesizeLayers(tooth.voxels, frame->voxel_mm, so, &progressOf(hooks));
     if (!synth) return synth.error();
+    if (!options.pulp_from.empty()) {
+      auto pulp = pulpFromScan(tooth.voxels, *frame, pulp_scan, options.pulp_from);
+      if (!pulp) return pulp.error();
+      pulp_scan = GreyImage{};
+      synth->dentin_mm3 += synth->pulp_mm3 - pulp->pulp_mm3;
+      synth->pulp_mm3 = pulp->pulp_mm3;
+      // After the first line, which says the layers are synthesized: this one says which are not.
+      synth->lines.insert(synth->lines.begin() + std::min<std::ptrdiff_t>(1, std::ptrdiff_t(synth->lines.size())), pulp->line);
+      rep.scan_pulp = std::move(pulp).value();
+    }
     recordSynthesis(tooth, *synth);
     if (!stand.crown) stand.crown = synth->crown;
     // Without a mesial end, the mesiodistal line still turns the tooth so that its neighbours would
@@ -290,12 +507,6 @@ Result<ToothVolume> buildToothFromLabels(const LabelImage& image, LabelImportOpt
 
 // ---- 4. Scans ---------------------------------------------------------------------------------
 namespace {
-
-std::string greyValue(double v, GreyUnit unit) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.6g %s", v, greyUnitName(unit));
-  return buf;
-}
 
 // What the segmentation chose: the lines `voxelize` prints and the volume file keeps for `info`.
 std::vector<std::string> segmentationLines(const std::string& source, const GreyImage& scan,

@@ -73,7 +73,28 @@ struct MeshToothOptions {
   // same grid (fitted to the tooth and them) and kept as Material::Neighbour where the tooth is
   // empty, the tooth winning shared voxels. They stay out of the crown axis and the layers.
   std::vector<std::string> neighbours;
+  // With `synthesize` and no reference: a grey-value scan of the same tooth (NIfTI or NRRD, or a DICOM
+  // folder) whose dark space inside the tooth becomes the pulp in place of the synthesized one. The
+  // surface's mm (after mm_per_unit) are taken to be the scan's world mm, as a segmentation exported
+  // from that scan has them. Empty: the pulp stays synthesized.
+  std::string pulp_from;
 };
+
+// The pulp taken from a scan (MeshToothOptions::pulp_from): the tooth's voxels, enamel left out, that
+// lie at least kScanPulpDepthVoxels inside the tooth and whose grey value is below `threshold`.
+struct ScanPulpReport {
+  double dentin_grey = 0.0;     // median grey value of the tooth's deep voxels (the bulk of a tooth is dentin) [scan's unit]
+  double around_grey = 0.0;     // median grey value of the voxels just outside the tooth (soft tissue, air) [scan's unit]
+  double threshold = 0.0;       // midway between the two: darker is pulp [scan's unit]
+  GreyUnit unit = GreyUnit::Raw;
+  uint64_t pulp_voxels = 0;     // voxels that are pulp now
+  double pulp_mm3 = 0.0;        // their volume [mm^3]
+  double synthesized_pulp_mm3 = 0.0;  // the synthesized pulp it replaced [mm^3]
+  std::string line;             // "pulp from the scan NAME (N mm^3), enamel synthesized; ...", also in synthesized->lines
+};
+// How deep inside the tooth [voxels, 6-connected] a dark voxel must lie to be pulp: the rim's voxels
+// sample the scan half outside the tooth, and a dark dent in the surface is no pulp.
+inline constexpr int kScanPulpDepthVoxels = 2;
 
 struct MeshToothReport {
   struct Layer {
@@ -88,16 +109,20 @@ struct MeshToothReport {
   std::optional<LayerSynthReport> synthesized;  // with MeshToothOptions::synthesize: what was found and made
   std::vector<Layer> neighbours;                // in MeshToothOptions::neighbours' order, material Neighbour
   uint64_t neighbour_voxels = 0;                // voxels that became Neighbour (the tooth's kept where shared)
+  std::optional<ScanPulpReport> scan_pulp;      // with MeshToothOptions::pulp_from
 };
 
 // Reads each layer and neighbour (warning on holes, non-manifold or flipped edges, an inside-out mesh
 // and an implausible extent, naming the file), scales it to mm, fits the grid to all of them (or
 // takes the reference's), sets up the rays, asks the engine and the plan, voxelizes, synthesizes the
 // layers when asked (recording it in the tooth: LayerSource::Synthesized, the report's lines in
-// source_note), adds the neighbours, and stands the tooth up (not with a reference, whose frame is
-// kept). Errors: the first file that cannot be read, synthesis asked with other than one layer, a
-// grid that does not fit, the engine's or the plan's error, synthesizeLayers' error, a cancel, and
-// standToothUp's.
+// source_note), takes the pulp from the scan when given (read before the voxelization; the grid is
+// not yet turned, so its mm are the surface's), adds the neighbours, and stands the tooth up (not
+// with a reference, whose frame is kept). Errors: the first file that cannot be read, synthesis
+// asked with other than one layer, a grid that does not fit, the engine's or the plan's error,
+// synthesizeLayers' error, a cancel, and standToothUp's; with pulp_from also the scan's reader's, a
+// scan without synthesis or with a reference, a tooth's box not inside the scan's (both boxes named),
+// and a scan no brighter inside the tooth than around it.
 Result<ToothVolume> buildToothFromMeshes(const MeshToothOptions& options, const ToothAxesHint& hint,
                                          const ToothBuildHooks& hooks, MeshToothReport* report = nullptr);
 

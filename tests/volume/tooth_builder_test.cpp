@@ -251,6 +251,28 @@ TEST(ToothBuilder, LayersAreSynthesizedFromOneSurfaceOnly) {
   EXPECT_EQ(tooth.message(), "layers are synthesized from one whole-tooth surface, not from 2 layers");
 }
 
+// The pulp from a scan replaces a synthesized one in the surface's own mm: without synthesis, or in
+// a reference's turned grid, it is refused before any scan is read (the scan named here does not exist).
+TEST(ToothBuilder, ThePulpFromAScanNeedsSynthesisAndTheSurfacesOwnMm) {
+  test::TempDir dir;
+  ASSERT_TRUE(writeStl(dir.file("a.stl"), test::box({0, 0, 0}, {4, 4, 4}), "a"));
+  MeshToothOptions mo;
+  mo.layers = {{dir.file("a.stl"), Material::Dentin}};
+  mo.pulp_from = dir.file("none.nii");
+  Result<ToothVolume> plain = buildToothFromMeshes(mo, {}, {});
+  ASSERT_FALSE(plain);
+  EXPECT_EQ(plain.message(), "the pulp is taken from a scan in place of a synthesized one: give one whole-tooth surface");
+  mo.synthesize = LayerSynthOptions{};
+  mo.reference = VolumeFrame::axisAligned(5, 0.25, {0, 0, 0});
+  Result<ToothVolume> referenced = buildToothFromMeshes(mo, {}, {});
+  ASSERT_FALSE(referenced);
+  EXPECT_EQ(referenced.message(), "the pulp from a scan needs the surface's own mm; a reference grid turns them");
+  mo.reference.reset();
+  Result<ToothVolume> missing = buildToothFromMeshes(mo, {}, {});
+  ASSERT_FALSE(missing);
+  EXPECT_NE(missing.message().find("none.nii"), std::string::npos) << missing.message();
+}
+
 // A PLY or an OBJ is read as an STL would be: the same cube, the same voxels.
 TEST(ToothBuilder, PlyAndObjLayersAreReadLikeAnStl) {
   test::TempDir dir;
