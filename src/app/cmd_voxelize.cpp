@@ -69,10 +69,14 @@ void printSummary(const ToothVolume& tooth, const std::string& output) {
               f.level, f.voxel_mm);
   for (uint32_t m = 1; m < DS_TISSUE_COUNT; ++m) {
     const auto mat = static_cast<Material>(m);
-    if (totals.voxels[m] == 0) continue;
+    if (totals.voxels[m] == 0 || !isToothTissue(mat)) continue;
     std::printf("  %-7s %14.4f mm^3  (%llu voxels)\n", materialName(mat).c_str(), totals.volumeMm3(mat, f.voxel_mm),
                 static_cast<unsigned long long>(totals.voxels[m]));
   }
+  // Adjacent teeth are in the volume but are no part of the tooth: apart, so the lines above sum to it.
+  if (const uint32_t n = DS_MAT_NEIGHBOUR; totals.voxels[n] > 0)
+    std::printf("  beside it, its neighbours: %.4f mm^3  (%llu voxels)\n",
+                totals.volumeMm3(Material::Neighbour, f.voxel_mm), static_cast<unsigned long long>(totals.voxels[n]));
 }
 
 // One line for the clean-up: what was relabelled, by tissue before and after. Silent when it was off.
