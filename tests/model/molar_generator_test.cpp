@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "io/mesh_topology.h"
+#include "model/field_distance.h"
 #include "volume/tissue_table.h"
 
 namespace dentsim {
@@ -77,20 +78,8 @@ TEST(MolarLayers, EveryTissueOfTheTableIsALayer) {
 
 Vec3d toD(const Vec3f& p) { return {p[0], p[1], p[2]}; }
 
-// How far p lies outside the tooth [mm], to first order: the field over its gradient's length.
-// The occlusal height field is steep in the fissures, so its raw value overstates the distance.
-double outsideTooth(const Vec3f& p) {
-  const Vec3d c = toD(p);
-  const double f = molarToothField(c), e = 1e-4;
-  double g2 = 0.0;
-  for (int a = 0; a < 3; ++a) {
-    Vec3d lo = c, hi = c;
-    lo[a] -= e;
-    hi[a] += e;
-    g2 += std::pow((molarToothField(hi) - molarToothField(lo)) / (2 * e), 2);
-  }
-  return f / std::sqrt(std::max(g2, 1e-12));
-}
+// How far p lies outside the tooth [mm], to first order.
+double outsideTooth(const Vec3f& p) { return test::fieldDistanceMm(molarToothField, toD(p)); }
 
 // Nearest-point queries over a vertex cloud, bucketed in cubes of `cell` mm.
 class PointCloud {

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "io/mesh_topology.h"
+#include "model/field_distance.h"
 #include "model/molar_generator.h"
 
 namespace dentsim {
@@ -132,17 +133,8 @@ TEST(NeighbourGenerator, MeshesKeepTheGap) {
   for (const TriangleMesh* m : {&n.premolar, &n.second_molar}) {
     double nearest = HUGE_VAL;
     for (const Vec3f& p : m->positions) {
-      const Vec3d c{p[0], p[1], p[2]};
-      // The field over its gradient's length: the distance to the molar's surface, to first order.
-      const double f = molarToothField(c), e = 1e-4;
-      double g2 = 0.0;
-      for (int a = 0; a < 3; ++a) {
-        Vec3d lo = c, hi = c;
-        lo[a] -= e;
-        hi[a] += e;
-        g2 += std::pow((molarToothField(hi) - molarToothField(lo)) / (2 * e), 2);
-      }
-      nearest = std::min(nearest, f / std::sqrt(g2));
+      // The distance to the molar's surface, to first order.
+      nearest = std::min(nearest, test::fieldDistanceMm(molarToothField, Vec3d{p[0], p[1], p[2]}));
     }
     // A vertex lies on a lattice edge, off the curved surface by a fraction of a 0.6 mm cell.
     EXPECT_GT(nearest, 0.0);
