@@ -28,6 +28,7 @@
 
 #include "bench/svg_plot.h"
 #include "core/steady_clock.h"
+#include "core/text_format.h"
 #include "io/atomic_file.h"
 #include "io/pen_playback.h"
 #include "sim/edit_channel.h"
@@ -510,16 +511,6 @@ nlohmann::json hapticReportJson(const HapticReportInfo& info, const std::vector<
 // ---- 4. Markdown -----------------------------------------------------------------------------------
 namespace {
 
-// A number for the report's tables; the attribute has the compiler check each call's literal format.
-__attribute__((format(printf, 1, 2))) std::string fmt(const char* format, ...) {
-  char buf[64];
-  va_list args;
-  va_start(args, format);
-  std::vsnprintf(buf, sizeof buf, format, args);
-  va_end(args);
-  return buf;
-}
-
 std::string count(uint64_t v) { return std::to_string(v); }
 
 }  // namespace
@@ -532,34 +523,34 @@ std::string hapticRowsTable(const std::vector<HapticBenchRow>& rows, const Hapti
        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const HapticBenchRow& r : rows) {
     const bool goal_row = r.level == s.goal_level;
-    o << "| " << r.level << " | " << fmt("%.4f", r.voxel_mm) << " | thread (" << r.scheduler << ") | "
-      << count(r.thread.steps) << " | " << count(r.missed_deadlines) << " | " << fmt("%.1f", r.thread.p50_us) << " | "
-      << fmt("%.1f", r.thread.p99_us) << " | " << fmt("%.1f", r.thread.max_us) << " | "
-      << fmt("%.1f", r.thread.mean_us) << " | " << fmt("%.0f", r.load.points_mean) << ", " << r.load.points_max
-      << " | " << fmt("%.0f", r.load.clear_mean) << " | " << fmt("%.0f", r.load.contacts_mean) << ", " << r.load.contacts_max << " | "
-      << fmt("%.3f", r.removed_mm3) << " | " << count(r.voxels_changed) << " | " << count(r.deferred_cuts) << " | ";
+    o << "| " << r.level << " | " << formatted("%.4f", r.voxel_mm) << " | thread (" << r.scheduler << ") | "
+      << count(r.thread.steps) << " | " << count(r.missed_deadlines) << " | " << formatted("%.1f", r.thread.p50_us) << " | "
+      << formatted("%.1f", r.thread.p99_us) << " | " << formatted("%.1f", r.thread.max_us) << " | "
+      << formatted("%.1f", r.thread.mean_us) << " | " << formatted("%.0f", r.load.points_mean) << ", " << r.load.points_max
+      << " | " << formatted("%.0f", r.load.clear_mean) << " | " << formatted("%.0f", r.load.contacts_mean) << ", " << r.load.contacts_max << " | "
+      << formatted("%.3f", r.removed_mm3) << " | " << count(r.voxels_changed) << " | " << count(r.deferred_cuts) << " | ";
     if (goal_row)
       o << "p99 " << (r.p99_met ? "met" : "missed") << ", max " << (r.max_met ? "met" : "missed");
     else
       o << "(level " << s.goal_level << " only)";
     o << " |\n";
     if (r.has_step_only)
-      o << "| " << r.level << " | " << fmt("%.4f", r.voxel_mm) << " | step only | " << count(r.step_only.steps)
-        << " | - | " << fmt("%.1f", r.step_only.p50_us) << " | " << fmt("%.1f", r.step_only.p99_us) << " | "
-        << fmt("%.1f", r.step_only.max_us) << " | " << fmt("%.1f", r.step_only.mean_us) << " | "
-        << fmt("%.0f", r.step_only_load.points_mean) << ", " << r.step_only_load.points_max << " | "
-        << fmt("%.0f", r.step_only_load.clear_mean) << " | "
-        << fmt("%.0f", r.step_only_load.contacts_mean) << ", " << r.step_only_load.contacts_max << " | "
-        << fmt("%.3f", r.step_only_removed_mm3) << " | " << count(r.step_only_voxels_changed) << " | - | - |\n"
-        << "| " << r.level << " | " << fmt("%.4f", r.voxel_mm) << " | step only, guided | " << count(r.step_only_guided.steps)
-        << " | - | " << fmt("%.1f", r.step_only_guided.p50_us) << " | " << fmt("%.1f", r.step_only_guided.p99_us) << " | "
-        << fmt("%.1f", r.step_only_guided.max_us) << " | " << fmt("%.1f", r.step_only_guided.mean_us)
+      o << "| " << r.level << " | " << formatted("%.4f", r.voxel_mm) << " | step only | " << count(r.step_only.steps)
+        << " | - | " << formatted("%.1f", r.step_only.p50_us) << " | " << formatted("%.1f", r.step_only.p99_us) << " | "
+        << formatted("%.1f", r.step_only.max_us) << " | " << formatted("%.1f", r.step_only.mean_us) << " | "
+        << formatted("%.0f", r.step_only_load.points_mean) << ", " << r.step_only_load.points_max << " | "
+        << formatted("%.0f", r.step_only_load.clear_mean) << " | "
+        << formatted("%.0f", r.step_only_load.contacts_mean) << ", " << r.step_only_load.contacts_max << " | "
+        << formatted("%.3f", r.step_only_removed_mm3) << " | " << count(r.step_only_voxels_changed) << " | - | - |\n"
+        << "| " << r.level << " | " << formatted("%.4f", r.voxel_mm) << " | step only, guided | " << count(r.step_only_guided.steps)
+        << " | - | " << formatted("%.1f", r.step_only_guided.p50_us) << " | " << formatted("%.1f", r.step_only_guided.p99_us) << " | "
+        << formatted("%.1f", r.step_only_guided.max_us) << " | " << formatted("%.1f", r.step_only_guided.mean_us)
         << " | - | - | - | - | - | - | - |\n";
     if (r.has_after_idle)  // the same steps as step only: their load is that run's
-      o << "| " << r.level << " | " << fmt("%.4f", r.voxel_mm) << " | after idle | " << count(r.after_idle.steps)
-        << " | - | " << fmt("%.1f", r.after_idle.p50_us) << " | " << fmt("%.1f", r.after_idle.p99_us) << " | "
-        << fmt("%.1f", r.after_idle.max_us) << " | " << fmt("%.1f", r.after_idle.mean_us) << " | (as step only) | | | "
-        << fmt("%.3f", r.after_idle_removed_mm3) << " | " << count(r.after_idle_voxels_changed) << " | - | - |\n";
+      o << "| " << r.level << " | " << formatted("%.4f", r.voxel_mm) << " | after idle | " << count(r.after_idle.steps)
+        << " | - | " << formatted("%.1f", r.after_idle.p50_us) << " | " << formatted("%.1f", r.after_idle.p99_us) << " | "
+        << formatted("%.1f", r.after_idle.max_us) << " | " << formatted("%.1f", r.after_idle.mean_us) << " | (as step only) | | | "
+        << formatted("%.3f", r.after_idle_removed_mm3) << " | " << count(r.after_idle_voxels_changed) << " | - | - |\n";
   }
   return o.str();
 }
@@ -572,18 +563,18 @@ std::string hapticReportMarkdown(const HapticReportInfo& info, const std::vector
     << info.cpu_threads << " hardware threads; load average before " << info.load_before << ", after "
     << info.load_after << ".\n\n"
     << "A scripted class I preparation with " << s.tool << " held vertically (a ScriptedPen, samples every "
-    << fmt("%g", p.sample_s * 1000) << " ms): the central fossa is where the bur rests lowest within "
-    << fmt("%g", p.fossa_search_mm) << " mm of the crown's centre; the pen starts " << fmt("%g", p.approach_mm)
-    << " mm above the bur's resting height over the +x end of a " << fmt("%g", p.oval_x_mm) << " x "
-    << fmt("%g", p.oval_y_mm) << " mm oval around the fossa, the pedal goes to 1, the target comes down to "
-    << fmt("%g", p.press_mm) << " mm below the resting height (coupling 1 N/mm), then traces " << fmt("%g", p.laps)
-    << " laps of the oval at " << fmt("%g", p.speed_mm_s) << " mm/s, " << fmt("%g", p.press_mm)
-    << " mm below the untouched surface and " << fmt("%g", p.step_down_mm)
+    << formatted("%g", p.sample_s * 1000) << " ms): the central fossa is where the bur rests lowest within "
+    << formatted("%g", p.fossa_search_mm) << " mm of the crown's centre; the pen starts " << formatted("%g", p.approach_mm)
+    << " mm above the bur's resting height over the +x end of a " << formatted("%g", p.oval_x_mm) << " x "
+    << formatted("%g", p.oval_y_mm) << " mm oval around the fossa, the pedal goes to 1, the target comes down to "
+    << formatted("%g", p.press_mm) << " mm below the resting height (coupling 1 N/mm), then traces " << formatted("%g", p.laps)
+    << " laps of the oval at " << formatted("%g", p.speed_mm_s) << " mm/s, " << formatted("%g", p.press_mm)
+    << " mm below the untouched surface and " << formatted("%g", p.step_down_mm)
     << " mm deeper per lap; then pedal up and lift. The cutting rate does not depend on the force, so the bur "
        "sinks toward the target as fast as it removes tissue: the force shown drops below the press as it does.\n\n"
     << "Thread: HapticLoop::start(), the loop on its own thread at 1 kHz with absolute deadlines, until its time "
        "passes the path's end; a second thread drains the voxel edits every "
-    << fmt("%g", s.drain_period_ms) << " ms" << (s.replay_edits ? " into a mirror copy, as the renderer would" : "")
+    << formatted("%g", s.drain_period_ms) << " ms" << (s.replay_edits ? " into a mirror copy, as the renderer would" : "")
     << ". Step times are HapticLoop::stepTimes() (0.5 us bins; a percentile is its bin's upper edge); a missed "
        "deadline is a step that ended after its 1 ms slot. Points sampled / step: shell points sampled against the "
        "field, from every step's snapshot. Points skipped: those still within the clearance of their last sample "
@@ -592,7 +583,7 @@ std::string hapticReportMarkdown(const HapticReportInfo& info, const std::vector
        "bench thread, back to back, no deadlines: the compute alone. After idle: the same steps on the bench "
        "thread at its normal priority, without the drain thread, each started 1 ms after the last began, so "
        "the thread idles between them as the loop's does: what idling alone costs the next step. Goals (level "
-    << s.goal_level << "): p99 under " << fmt("%g", s.goal_p99_us) << " us and max under " << fmt("%g", s.goal_max_us)
+    << s.goal_level << "): p99 under " << formatted("%g", s.goal_p99_us) << " us and max under " << formatted("%g", s.goal_max_us)
     << " us on the thread.\n\n";
   if (!info.command.empty()) o << "Command: `" << info.command << "`\n\n";
   o << hapticRowsTable(rows, s) << "\n";
@@ -600,12 +591,12 @@ std::string hapticReportMarkdown(const HapticReportInfo& info, const std::vector
        "[N] | lowest tip [mm] | drained edits | mirror | wall [s] |\n|---|---|---|---|---|---|---|---|---|---|\n";
   for (const HapticBenchRow& r : rows)
     o << "| " << r.level << " | " << r.shell_points << " (" << r.shell_cutting_points << ") | ("
-      << fmt("%.2f", r.path.fossa_mm.x) << ", " << fmt("%.2f", r.path.fossa_mm.y) << ", "
-      << fmt("%.2f", r.path.fossa_mm.z) << ") | " << fmt("%.2f", r.path.duration_s) << " | " << r.load.contact_steps
-      << " | " << fmt("%.2f", r.load.force_mean_n) << ", " << fmt("%.2f", r.load.force_max_n) << " | "
-      << fmt("%.3f", r.load.lowest_tip_mm) << " | " << r.edits_drained << " | "
+      << formatted("%.2f", r.path.fossa_mm.x) << ", " << formatted("%.2f", r.path.fossa_mm.y) << ", "
+      << formatted("%.2f", r.path.fossa_mm.z) << ") | " << formatted("%.2f", r.path.duration_s) << " | " << r.load.contact_steps
+      << " | " << formatted("%.2f", r.load.force_mean_n) << ", " << formatted("%.2f", r.load.force_max_n) << " | "
+      << formatted("%.3f", r.load.lowest_tip_mm) << " | " << r.edits_drained << " | "
       << (r.mirror_checked ? (r.mirror_equal ? "equal" : "DIFFERS") : "not checked") << " | "
-      << fmt("%.2f", r.wall_s) << " |\n";
+      << formatted("%.2f", r.wall_s) << " |\n";
   o << "\nIdle CPUs while the thread and the after-idle run ran (requested: "
     << (s.idle_latency_us < 0 ? std::string("nothing") : "wake within " + std::to_string(s.idle_latency_us) + " us")
     << "):";

@@ -27,6 +27,7 @@
 #include "bench/svg_plot.h"
 #include "bench/voxelize_bench.h"
 #include "core/percentile.h"
+#include "core/text_format.h"
 #include "io/atomic_file.h"
 #include "volume/surface_mesher.h"
 #include "volume/volume_edit.h"
@@ -406,16 +407,6 @@ Result<std::vector<NormalErrorRow>> measureNormalErrors(const NormalsSettings& s
 // ---- 6. the whole run ------------------------------------------------------------------------------
 namespace {
 
-// A number for the report's tables; the attribute has the compiler check each call's literal format.
-__attribute__((format(printf, 1, 2))) std::string fmt(const char* format, ...) {
-  char buf[64];
-  va_list args;
-  va_start(args, format);
-  std::vsnprintf(buf, sizeof buf, format, args);
-  va_end(args);
-  return buf;
-}
-
 // 1234567 -> "1,234,567", as docs/PERFORMANCE.md writes counts.
 std::string grouped(uint64_t v) {
   const std::string digits = std::to_string(v);
@@ -429,13 +420,13 @@ std::string grouped(uint64_t v) {
 
 std::string levelLine(const MeshLevelRow& row) {
   std::ostringstream o;
-  o << "level " << row.level << " (" << fmt("%.4f", row.voxel_mm) << " mm voxels, part of " << row.part.bricks.size()
+  o << "level " << row.level << " (" << formatted("%.4f", row.voxel_mm) << " mm voxels, part of " << row.part.bricks.size()
     << " bricks):";
   for (const ModeTiming& m : row.modes)
-    o << " " << m.normals << " normals full " << fmt("%.1f", m.full_ms) << " ms (" << grouped(m.triangles)
-      << " triangles), part " << fmt("%.2f", m.part_ms) << " ms;";
+    o << " " << m.normals << " normals full " << formatted("%.1f", m.full_ms) << " ms (" << grouped(m.triangles)
+      << " triangles), part " << formatted("%.2f", m.part_ms) << " ms;";
   if (row.vtk.available)
-    o << " " << row.vtk.name << " " << fmt("%.1f", row.vtk.ms) << " ms (" << grouped(row.vtk.triangles) << " triangles)";
+    o << " " << row.vtk.name << " " << formatted("%.1f", row.vtk.ms) << " ms (" << grouped(row.vtk.triangles) << " triangles)";
   else
     o << " " << row.vtk.name << ": " << row.vtk.skipped;
   return o.str();
@@ -444,10 +435,10 @@ std::string levelLine(const MeshLevelRow& row) {
 std::string burLine(const BurPathResult& b) {
   std::ostringstream o;
   o << "bur path: " << b.frames.size() << " frames at level " << b.settings.level << " with " << b.settings.normals
-    << " normals: re-mesh p50 " << fmt("%.2f", b.p50_ms) << " ms, p95 " << fmt("%.2f", b.p95_ms) << " ms (target "
-    << fmt("%g", b.settings.target_p95_ms) << " ms: " << (b.meets_target ? "met" : "missed") << "), max "
-    << fmt("%.2f", b.max_ms) << " ms; " << fmt("%.1f", b.mean_dirty_bricks) << " dirty bricks and "
-    << fmt("%.1f", b.mean_blocks) << " blocks per frame";
+    << " normals: re-mesh p50 " << formatted("%.2f", b.p50_ms) << " ms, p95 " << formatted("%.2f", b.p95_ms) << " ms (target "
+    << formatted("%g", b.settings.target_p95_ms) << " ms: " << (b.meets_target ? "met" : "missed") << "), max "
+    << formatted("%.2f", b.max_ms) << " ms; " << formatted("%.1f", b.mean_dirty_bricks) << " dirty bricks and "
+    << formatted("%.1f", b.mean_blocks) << " blocks per frame";
   return o.str();
 }
 
@@ -488,7 +479,7 @@ Result<MeshReport> runMeshBench(const MeshBenchSettings& settings, const VolumeM
     report.normals = std::move(rows).value();
     for (const NormalErrorRow& r : report.normals)
       say(r.solid + " level " + std::to_string(r.level) + ", " + std::to_string(r.normals) + " normals: mean " +
-          fmt("%.3f", r.mean_deg) + " deg, p95 " + fmt("%.3f", r.p95_deg) + " deg");
+          formatted("%.3f", r.mean_deg) + " deg, p95 " + formatted("%.3f", r.p95_deg) + " deg");
   }
   return report;
 }
@@ -629,19 +620,19 @@ void figure15Markdown(std::ostringstream& o, const MeshReport& report) {
   const bool kernels = report.mesher == "gpu";
   for (const MeshLevelRow& row : report.levels)
     for (const ModeTiming& m : row.modes)
-      o << "| " << report.mesher << " | " << row.level << " | " << fmt("%.4f", row.voxel_mm) << " | " << m.normals << " | "
-        << fmt("%.1f", m.full_ms) << " | " << (kernels ? fmt("%.1f", m.full_kernel_ms) : "n/a") << " | "
-        << fmt("%.2f", m.part_ms) << " | " << (kernels ? fmt("%.2f", m.part_kernel_ms) : "n/a") << " | " << row.part.bricks.size() << " | " << grouped(m.triangles) << " | "
-        << (row.vtk.available ? fmt("%.1f", row.vtk.ms) : "n/a") << " | "
-        << (row.vtk.available ? fmt("%.2f", m.vtk_ratio) : "n/a") << " |\n";
+      o << "| " << report.mesher << " | " << row.level << " | " << formatted("%.4f", row.voxel_mm) << " | " << m.normals << " | "
+        << formatted("%.1f", m.full_ms) << " | " << (kernels ? formatted("%.1f", m.full_kernel_ms) : "n/a") << " | "
+        << formatted("%.2f", m.part_ms) << " | " << (kernels ? formatted("%.2f", m.part_kernel_ms) : "n/a") << " | " << row.part.bricks.size() << " | " << grouped(m.triangles) << " | "
+        << (row.vtk.available ? formatted("%.1f", row.vtk.ms) : "n/a") << " | "
+        << (row.vtk.available ? formatted("%.2f", m.vtk_ratio) : "n/a") << " |\n";
 
   o << "\nVTK Flying Edges per level: one surface with its own normals, on the same voxels.\n\n"
     << "| level | VTK FE [ms] | image copy [ms] | image [MiB] | triangles | points | note |\n"
        "|---|---|---|---|---|---|---|\n";
   for (const MeshLevelRow& row : report.levels) {
     const PeerMesh& v = row.vtk;
-    o << "| " << row.level << " | " << (v.available ? fmt("%.1f", v.ms) : "n/a") << " | "
-      << (v.available ? fmt("%.1f", v.image_ms) : "n/a") << " | " << fmt("%.0f", double(v.image_bytes) / (1 << 20))
+    o << "| " << row.level << " | " << (v.available ? formatted("%.1f", v.ms) : "n/a") << " | "
+      << (v.available ? formatted("%.1f", v.image_ms) : "n/a") << " | " << formatted("%.0f", double(v.image_bytes) / (1 << 20))
       << " | " << (v.available ? grouped(v.triangles) : "n/a") << " | " << (v.available ? grouped(v.points) : "n/a")
       << " | " << (v.available ? "" : v.skipped) << " |\n";
   }
@@ -650,20 +641,20 @@ void figure15Markdown(std::ostringstream& o, const MeshReport& report) {
 void burMarkdown(std::ostringstream& o, const std::string& mesher, const BurPathResult& b) {
   const BurPathSettings& p = b.settings;
   o << "### One frame of drilling: re-mesh of the dirty bricks\n\n"
-    << "A " << fmt("%g", p.diameter_mm) << " mm ball moving at " << fmt("%g", p.speed_mm_s) << " mm/s, "
-    << fmt("%g", p.fps) << " frames/s (" << fmt("%.3f", p.speed_mm_s / p.fps) << " mm a frame), back and forth along x "
-    << "over the middle " << fmt("%g", p.span * 100) << "% of the tooth through its centre in y, resting on the "
-    << "original surface and sunk " << fmt("%g", p.depth_mm) << " mm into it per pass; level " << p.level << " ("
-    << fmt("%.4f", b.voxel_mm) << " mm voxels), " << p.normals << " normals. Each frame: carveBall on the CPU "
+    << "A " << formatted("%g", p.diameter_mm) << " mm ball moving at " << formatted("%g", p.speed_mm_s) << " mm/s, "
+    << formatted("%g", p.fps) << " frames/s (" << formatted("%.3f", p.speed_mm_s / p.fps) << " mm a frame), back and forth along x "
+    << "over the middle " << formatted("%g", p.span * 100) << "% of the tooth through its centre in y, resting on the "
+    << "original surface and sunk " << formatted("%g", p.depth_mm) << " mm into it per pass; level " << p.level << " ("
+    << formatted("%.4f", b.voxel_mm) << " mm voxels), " << p.normals << " normals. Each frame: carveBall on the CPU "
     << "bricks, then an update of the bricks it changed. Frames that changed nothing count as 0 ms.\n\n"
     << "| mesher | frames | frames cut | p50 [ms] | p95 [ms] | max [ms] | target p95 [ms] | met | dirty bricks / "
        "frame (mean, max) | blocks / frame | carve [ms] | removed [mm^3] |\n"
        "|---|---|---|---|---|---|---|---|---|---|---|---|\n"
-    << "| " << mesher << " | " << b.frames.size() << " | " << b.frames_cut << " | " << fmt("%.2f", b.p50_ms) << " | "
-    << fmt("%.2f", b.p95_ms) << " | " << fmt("%.2f", b.max_ms) << " | " << fmt("%g", p.target_p95_ms) << " | "
-    << (b.meets_target ? "yes" : "no") << " | " << fmt("%.1f", b.mean_dirty_bricks) << ", "
-    << fmt("%.0f", b.max_dirty_bricks) << " | " << fmt("%.1f", b.mean_blocks) << " | " << fmt("%.3f", b.mean_carve_ms)
-    << " | " << fmt("%.3f", b.removed_mm3) << " |\n";
+    << "| " << mesher << " | " << b.frames.size() << " | " << b.frames_cut << " | " << formatted("%.2f", b.p50_ms) << " | "
+    << formatted("%.2f", b.p95_ms) << " | " << formatted("%.2f", b.max_ms) << " | " << formatted("%g", p.target_p95_ms) << " | "
+    << (b.meets_target ? "yes" : "no") << " | " << formatted("%.1f", b.mean_dirty_bricks) << ", "
+    << formatted("%.0f", b.max_dirty_bricks) << " | " << formatted("%.1f", b.mean_blocks) << " | " << formatted("%.3f", b.mean_carve_ms)
+    << " | " << formatted("%.3f", b.removed_mm3) << " |\n";
 }
 
 void normalsMarkdown(std::ostringstream& o, const NormalsSettings& s, const std::vector<NormalErrorRow>& rows) {
@@ -683,7 +674,7 @@ void normalsMarkdown(std::ostringstream& o, const NormalsSettings& s, const std:
     o << "| " << rows[i].solid << " | " << rows[i].level << " | " << grouped(rows[i].vertices) << " |";
     bool ordered = true;
     for (size_t k = i; k < j; ++k) {
-      o << " " << fmt("%.3f", rows[k].mean_deg) << " / " << fmt("%.3f", rows[k].p95_deg) << " |";
+      o << " " << formatted("%.3f", rows[k].mean_deg) << " / " << formatted("%.3f", rows[k].p95_deg) << " |";
       if (k > i) ordered = ordered && rows[k].mean_deg < rows[k - 1].mean_deg;
     }
     o << " " << (ordered ? "yes" : "no") << " |\n";

@@ -18,6 +18,7 @@
 #include <utility>
 
 #include "bench/svg_plot.h"
+#include "core/text_format.h"
 #include "io/atomic_file.h"
 
 namespace dentsim::bench {
@@ -229,17 +230,7 @@ std::string grouped(uint64_t v) {
   return out;
 }
 
-// A number for the report's tables; the attribute has the compiler check each call's literal format.
-__attribute__((format(printf, 1, 2))) std::string fmt(const char* format, ...) {
-  char buf[64];
-  va_list args;
-  va_start(args, format);
-  std::vsnprintf(buf, sizeof buf, format, args);
-  va_end(args);
-  return buf;
-}
-
-std::string percent(double fraction) { return fmt("%g", fraction * 100.0); }
+std::string percent(double fraction) { return formatted("%g", fraction * 100.0); }
 
 }  // namespace
 
@@ -264,14 +255,14 @@ std::string voxelizeReportMarkdown(const VoxelizeReportInfo& info, const std::ve
        "and as its usual narrow-band level set (3 voxels each side, interior known by sign only).\n\n";
   if (!info.command.empty()) o << "Command: `" << info.command << "`\n\n";
 
-  auto peerMs = [](const PeerTiming& p) { return p.available ? fmt("%.1f", p.ms) : std::string("n/a"); };
-  auto peerRatio = [](const PeerTiming& p) { return p.available ? fmt("%.2f", p.ratio) : std::string("n/a"); };
+  auto peerMs = [](const PeerTiming& p) { return p.available ? formatted("%.1f", p.ms) : std::string("n/a"); };
+  auto peerRatio = [](const PeerTiming& p) { return p.available ? formatted("%.2f", p.ratio) : std::string("n/a"); };
   o << "| level | voxel [mm] | triangles [%] | triangles | dentsim [ms] | GPU kernels [ms] | OpenVDB filled [ms] | "
        "OpenVDB / dentsim | OpenVDB band [ms] | band / dentsim | dense bricks |\n"
        "|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const VoxelizeRow& r : rows)
-    o << "| " << r.level << " | " << fmt("%.4f", r.voxel_mm) << " | " << percent(r.fraction) << " | "
-      << grouped(r.triangles) << " | " << fmt("%.1f", r.dentsim_ms) << " | " << fmt("%.1f", r.dentsim_kernel_ms)
+    o << "| " << r.level << " | " << formatted("%.4f", r.voxel_mm) << " | " << percent(r.fraction) << " | "
+      << grouped(r.triangles) << " | " << formatted("%.1f", r.dentsim_ms) << " | " << formatted("%.1f", r.dentsim_kernel_ms)
       << " | " << peerMs(r.openvdb) << " | " << peerRatio(r.openvdb) << " | " << peerMs(r.openvdb_band) << " | "
       << peerRatio(r.openvdb_band) << " | " << grouped(r.dense_bricks) << " |\n";
 
@@ -286,8 +277,8 @@ std::string voxelizeReportMarkdown(const VoxelizeReportInfo& info, const std::ve
   for (const VoxelizeRow& r : rows) {
     if (r.fraction != top) continue;
     for (const TissueRow& t : r.tissues)
-      o << "| " << r.level << " | " << t.name << " | " << grouped(t.triangles) << " | " << fmt("%.2f", t.mesh_mm3)
-        << " | " << (r.openvdb.available ? fmt("%.2f", t.openvdb_mm3) : "n/a") << " | " << fmt("%.2f", t.dentsim_mm3)
+      o << "| " << r.level << " | " << t.name << " | " << grouped(t.triangles) << " | " << formatted("%.2f", t.mesh_mm3)
+        << " | " << (r.openvdb.available ? formatted("%.2f", t.openvdb_mm3) : "n/a") << " | " << formatted("%.2f", t.dentsim_mm3)
         << " |\n";
   }
 
@@ -301,8 +292,8 @@ std::string voxelizeReportMarkdown(const VoxelizeReportInfo& info, const std::ve
     done[r.fraction] = true;
     for (const TissueRow& t : r.tissues)
       o << "| " << percent(r.fraction) << " | " << t.name << " | " << grouped(t.triangles) << " | " << t.decimation
-        << " | " << fmt("%.4f", t.deviation_mm) << " | " << grouped(t.open_edges) << " | "
-        << fmt("%.2f", t.mesh_mm3) << " |\n";
+        << " | " << formatted("%.4f", t.deviation_mm) << " | " << grouped(t.open_edges) << " | "
+        << formatted("%.2f", t.mesh_mm3) << " |\n";
   }
   return o.str();
 }

@@ -12,6 +12,7 @@
 #include "app/commands.h"
 #include "app/simulator.h"
 #include "bench/svg_plot.h"
+#include "core/text_format.h"
 #include "gpu/context.h"
 #include "io/atomic_file.h"
 #include "render/camera.h"
@@ -46,16 +47,6 @@ struct FirstFrameRow {
   bool in_parts = false;
   double first_frame_s = 0.0, full_detail_s = 0.0;
 };
-
-// A number for the report's tables; the attribute has the compiler check each call's literal format.
-__attribute__((format(printf, 1, 2))) std::string fmt(const char* f, ...) {
-  char b[64];
-  va_list args;
-  va_start(args, f);
-  std::vsnprintf(b, sizeof b, f, args);
-  va_end(args);
-  return b;
-}
 
 std::array<uint8_t, 3> backgroundRgb() {
   const std::array<float, 3> bg = render::FrameState{}.background;
@@ -229,10 +220,10 @@ int runFramesBench(const FramesBenchOptions& o) {
                          {"triangles_drawn_mean", r.run.triangles_drawn_mean},
                          {"surface_triangles", r.run.triangles}});
     md += "| " + std::to_string(r.level) + " | " + (r.screen_sized ? "screen-sized" : "full") + " | " + r.run.device +
-          " | " + std::to_string(r.run.drawn) + " | " + fmt("%.1f", r.run.frame_ms_p50) + " | " +
-          fmt("%.1f", r.run.frame_ms_p95) + " | " + fmt("%.1f", r.run.frame_ms_mean) + " | " +
-          fmt("%.1f", 1000.0 / r.run.frame_ms_mean) + " | " + fmt("%.1f", r.run.remesh_ms_mean) + " | " +
-          fmt("%.0f", r.run.triangles_drawn_mean) + " |\n";
+          " | " + std::to_string(r.run.drawn) + " | " + formatted("%.1f", r.run.frame_ms_p50) + " | " +
+          formatted("%.1f", r.run.frame_ms_p95) + " | " + formatted("%.1f", r.run.frame_ms_mean) + " | " +
+          formatted("%.1f", 1000.0 / r.run.frame_ms_mean) + " | " + formatted("%.1f", r.run.remesh_ms_mean) + " | " +
+          formatted("%.0f", r.run.triangles_drawn_mean) + " |\n";
     (r.screen_sized ? screen_p50 : full_p50).points.emplace_back(r.level, r.run.frame_ms_p50);
   }
   md += "\n| level | full / screen-sized frame (mean) | shot: mean difference [grey] | pixels over 8 | crack pixels |\n"
@@ -246,7 +237,7 @@ int runFramesBench(const FramesBenchOptions& o) {
                           {"mean_abs_difference", d.mean_abs},
                           {"pixels_over_8", d.differing},
                           {"crack_pixels", d.cracks}});
-    md += "| " + std::to_string(full.level) + " | " + fmt("%.2f", speedup) + " | " + fmt("%.2f", d.mean_abs) + " | " +
+    md += "| " + std::to_string(full.level) + " | " + formatted("%.2f", speedup) + " | " + formatted("%.2f", d.mean_abs) + " | " +
           std::to_string(d.differing) + " | " + std::to_string(d.cracks) + " |\n";
   }
   md += "\n| level | view | tooth pixels | triangles full | triangles screen-sized | per tooth pixel | mean difference "
@@ -263,8 +254,8 @@ int runFramesBench(const FramesBenchOptions& o) {
                           {"pixels_over_8", v.diff.differing},
                           {"crack_pixels", v.diff.cracks}});
     md += "| " + std::to_string(v.level) + " | " + v.view + " | " + std::to_string(v.diff.covered) + " | " +
-          std::to_string(v.full_triangles) + " | " + std::to_string(v.triangles) + " | " + fmt("%.2f", per_px) + " | " +
-          fmt("%.2f", v.diff.mean_abs) + " | " + std::to_string(v.diff.differing) + " | " +
+          std::to_string(v.full_triangles) + " | " + std::to_string(v.triangles) + " | " + formatted("%.2f", per_px) + " | " +
+          formatted("%.2f", v.diff.mean_abs) + " | " + std::to_string(v.diff.differing) + " | " +
           std::to_string(v.diff.cracks) + " |\n";
   }
   if (!firsts.empty()) {
@@ -275,7 +266,7 @@ int runFramesBench(const FramesBenchOptions& o) {
                                   {"first_frame_s", f.first_frame_s},
                                   {"full_detail_s", f.full_detail_s}});
       md += "| " + std::to_string(f.level) + " | " + (f.in_parts ? "in parts" : "whole") + " | " +
-            fmt("%.2f", f.first_frame_s) + " | " + fmt("%.2f", f.full_detail_s) + " |\n";
+            formatted("%.2f", f.first_frame_s) + " | " + formatted("%.2f", f.full_detail_s) + " |\n";
     }
   }
   const std::string svg = bench::svgLinePlot("Frame time while drilling (" + std::to_string(o.width) + "x" +

@@ -20,6 +20,7 @@
 #include <deque>
 #include <limits>
 
+#include "core/text_format.h"
 #include "volume/distance_transform.h"
 #include "volume/tissue_table.h"
 #include "volume/tooth_frame.h"
@@ -502,16 +503,6 @@ double enamelThickness(double above_cej_mm, double crown_mm, const TypeProportio
   return p.enamel_full_mm * u * (2.0 - u);  // steep off the CEJ, flat at the cusp tips  // rises steeply off the CEJ, flat at the top
 }
 
-// A report line; formats are literals here, and no outside text goes through them.
-__attribute__((format(printf, 1, 2))) std::string fmt(const char* format, ...) {
-  char buf[256];
-  va_list args;
-  va_start(args, format);
-  std::vsnprintf(buf, sizeof buf, format, args);
-  va_end(args);
-  return buf;
-}
-
 }  // namespace
 
 // ---- 7. synthesizeLayers ------------------------------------------------------------------------
@@ -542,7 +533,7 @@ Result<LayerSynthReport> synthesizeLayers(BrickVolume& volume, double voxel_mm, 
   // 2. slices, heights, roots and type
   const Slices s = sliceTooth(g, r.crown, depth);
   if (s.bins < kMinLengthVoxels)
-    return Error{fmt("layer synthesis: the tooth is too small for layers at this voxel size: %d voxels long at %.3f mm, "
+    return Error{formatted("layer synthesis: the tooth is too small for layers at this voxel size: %d voxels long at %.3f mm, "
                      "at least %d needed",
                      s.bins, voxel_mm, kMinLengthVoxels)};
   ToothHeights h = findHeights(s, voxel_mm, options.type);
@@ -554,7 +545,7 @@ Result<LayerSynthReport> synthesizeLayers(BrickVolume& volume, double voxel_mm, 
   }
   const TypeProportions& prop = proportions(r.type);
   if (prop.enamel_fissure_mm < voxel_mm)
-    return Error{fmt("layer synthesis: a %.3f mm voxel is coarser than the thinnest enamel (%.1f mm); use a finer grid",
+    return Error{formatted("layer synthesis: a %.3f mm voxel is coarser than the thinnest enamel (%.1f mm); use a finer grid",
                      voxel_mm, prop.enamel_fissure_mm)};
   r.roots = h.roots;
   r.tooth_length_mm = s.bins * voxel_mm;
@@ -616,21 +607,21 @@ Result<LayerSynthReport> synthesizeLayers(BrickVolume& volume, double voxel_mm, 
   r.lines.push_back(std::string("layers synthesized, not measured: enamel, dentin and pulp by published proportions for a ") +
                     toothTypeName(r.type) + (r.type_guessed ? " (type guessed from size and roots)" : " (type given)") +
                     "; method and sources in docs/LAYER_SYNTHESIS.md");
-  r.lines.push_back(fmt("crown axis (%.3f, %.3f, %.3f) ", r.crown.x, r.crown.y, r.crown.z) +
+  r.lines.push_back(formatted("crown axis (%.3f, %.3f, %.3f) ", r.crown.x, r.crown.y, r.crown.z) +
                     (r.crown_found ? "found from the shape (the wide end)" : "given"));
   if (r.mesiodistal)
-    r.lines.push_back(fmt("mesiodistal line (%.3f, %.3f, %.3f) from the ", r.mesiodistal->x, r.mesiodistal->y,
+    r.lines.push_back(formatted("mesiodistal line (%.3f, %.3f, %.3f) from the ", r.mesiodistal->x, r.mesiodistal->y,
                           r.mesiodistal->z) +
                       (r.roots >= 2 ? std::string("roots") : std::string("crown's cross-section")) +
                       "; which end is mesial the shape does not tell (the arch and side)");
   else
     r.lines.push_back("mesial not known: the shape does not tell the mesiodistal line for this type, nor its sign");
-  r.lines.push_back(fmt("%d root(s); tooth %.2f mm long; CEJ %.2f mm above the apex", r.roots, r.tooth_length_mm,
+  r.lines.push_back(formatted("%d root(s); tooth %.2f mm long; CEJ %.2f mm above the apex", r.roots, r.tooth_length_mm,
                         r.cej_mm) +
-                    (r.furcation_mm > 0 ? fmt(", furcation at %.2f mm", r.furcation_mm) : std::string()));
-  r.lines.push_back(fmt("enamel up to %.2f mm at the cusps, at least %.2f mm in fissures, to a knife edge at the CEJ: %.2f mm^3",
+                    (r.furcation_mm > 0 ? formatted(", furcation at %.2f mm", r.furcation_mm) : std::string()));
+  r.lines.push_back(formatted("enamel up to %.2f mm at the cusps, at least %.2f mm in fissures, to a knife edge at the CEJ: %.2f mm^3",
                         r.enamel_cusp_mm, r.enamel_fissure_mm, r.enamel_mm3));
-  r.lines.push_back(fmt("pulp chamber %.1f mm high below the CEJ's level, canals to %.1f mm short of each apex: %.2f mm^3; dentin %.2f mm^3",
+  r.lines.push_back(formatted("pulp chamber %.1f mm high below the CEJ's level, canals to %.1f mm short of each apex: %.2f mm^3; dentin %.2f mm^3",
                         prop.chamber_height_mm, kApexGapMm, r.pulp_mm3, r.dentin_mm3));
   return r;
 }
