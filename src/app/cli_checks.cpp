@@ -146,12 +146,12 @@ Status checkCatalogTool(const std::string& option, const std::string& name, Tool
   const char* wanted = bur ? "a bur" : "a mirror";
   std::string names;
   for (const ToolSpec& s : toolCatalog()) {
-    const bool is_bur = s.kind == ToolKind::RoundBur || s.kind == ToolKind::FissureBur;
+    const bool is_bur = isBur(s.kind);
     if (bur ? is_bur : s.kind == ToolKind::Mirror) names += (names.empty() ? "" : ", ") + std::string(s.name);
   }
   for (const ToolSpec& s : toolCatalog()) {
     if (name != s.name) continue;
-    const bool is_bur = s.kind == ToolKind::RoundBur || s.kind == ToolKind::FissureBur;
+    const bool is_bur = isBur(s.kind);
     if (bur ? is_bur : s.kind == ToolKind::Mirror) return Ok{};
     return makeError(option, "\"" + escapeControl(name) + "\" is a " + toolKindName(s.kind) + ", not " + wanted + " (" +
                                  wanted + " is one of " + names + ")");

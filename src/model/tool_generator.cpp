@@ -1,6 +1,7 @@
 // Built-in instruments as surfaces of revolution (see tool_generator.h for the frames).
 #include "model/tool_generator.h"
 
+#include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <cstdio>
@@ -32,6 +33,18 @@ CosSin cosSin(double angle) {
     term *= angle / double(n + 1);
   }
   return {c, s};
+}
+
+// atan(t) from its series with only + - * /, for the same reason; |t| <= 0.25 (a taper under 14
+// degrees) keeps 30 terms far past double precision.
+double atanSmall(double t) {
+  assert(std::abs(t) <= 0.25);
+  double sum = 0.0, power = t;  // power = t^(2n+1)
+  for (int n = 0; n < 30; ++n) {
+    sum += (n % 2 == 0 ? power : -power) / double(2 * n + 1);
+    power *= t * t;
+  }
+  return sum;
 }
 
 struct ProfilePoint {
@@ -137,6 +150,65 @@ TriangleMesh fissureBur(double d, double head_length) {
   return m;
 }
 
+// A tapered head (chamfer or shoulder bur): a cone from its tip radius at z = 0 to its top radius
+// at the cutting length, closed below by an arc tangent to the cone: for a chamfer bur a sphere
+// resting on the tip, for a shoulder bur a small fillet between the flat end and the cone.
+constexpr double kShoulderEdgeMm = 0.05;  // fillet of a shoulder bur's end edge: a sharp but not knife-like margin [mm]
+constexpr int kShoulderEdgeSteps = 4;     // profile steps around that fillet: it is a twentieth of a millimetre
+
+struct TaperedHead {
+  double tip_r, top_r, length;  // the cone's radius at z = 0 and at z = length [mm]
+  double tan_a, sin_a, cos_a;   // of the half-angle
+  double angle;                 // the half-angle [rad]
+  bool round_end;               // chamfer bur: the sphere; shoulder bur: flat with a fillet
+  double arc_r;                 // radius of the end's arc [mm]
+  double arc_centre_r;          // its centre: (arc_centre_r, arc_r) in (radius, height) [mm]
+  double cone_from;             // height where the arc meets the cone [mm]
+
+  explicit TaperedHead(const ToolSpec& spec)
+      : tip_r(0.5 * spec.tip_diameter_mm), top_r(0.5 * spec.head_diameter_mm), length(spec.cutting_length_mm),
+        round_end(spec.kind == ToolKind::ChamferBur) {
+    tan_a = (top_r - tip_r) / length;
+    cos_a = 1.0 / std::sqrt(1.0 + tan_a * tan_a);
+    sin_a = tan_a * cos_a;
+    angle = atanSmall(tan_a);
+    // The arc's centre lies at its radius above the tip plane and at its radius from the cone
+    // r = tip_r + z tan_a; the sphere's centre is on the axis, the fillet's at the end's rim.
+    if (round_end) {
+      arc_r = tip_r * cos_a / (1.0 - sin_a);
+      arc_centre_r = 0.0;
+    } else {
+      arc_r = kShoulderEdgeMm;
+      arc_centre_r = tip_r + arc_r * tan_a - arc_r / cos_a;
+    }
+    cone_from = arc_r * (1.0 - sin_a);
+  }
+  double radiusAt(double h) const {
+    if (h >= cone_from) return tip_r + h * tan_a;
+    const double dz = arc_r - h;
+    return arc_centre_r + std::sqrt(std::max(0.0, arc_r * arc_r - dz * dz));
+  }
+};
+
+TriangleMesh taperedBur(const ToolSpec& spec) {
+  const TaperedHead head(spec);
+  std::vector<ProfilePoint> p;
+  if (!head.round_end) p.push_back({0.0, 0.0});  // the flat end's centre
+  // The arc from the tip plane (polar angle 0) to where it turns into the cone (90 degrees less the taper).
+  const double sweep = 0.5 * std::numbers::pi - head.angle;
+  const int steps = head.round_end ? int(std::ceil(sweep / (0.5 * std::numbers::pi) * kArcSteps)) : kShoulderEdgeSteps;
+  for (int i = 0; i <= steps; ++i) {
+    const CosSin cs = cosSin(sweep * i / steps);
+    p.push_back({head.arc_centre_r + head.arc_r * cs.s, head.arc_r - head.arc_r * cs.c});
+  }
+  // The cone is straight: one ring at its top is all it needs (the assets' 10 MB budget counts).
+  p.push_back({head.top_r, head.length});
+  appendNeckAndShank(p, 0.55 * head.top_r, head.length + 0.2, head.length + 1.5);
+  TriangleMesh m;
+  revolve(m, p, zAxis(), kBurSegments);
+  return m;
+}
+
 TriangleMesh handpiece() {
   TriangleMesh m;
   // Head: chuck nose (4 mm across) under a 10.5 mm cylinder with rounded rims.
@@ -167,26 +239,43 @@ TriangleMesh mirror() {
   return m;
 }
 
+// tan(2 degrees): the half-angle makers give for 856 and 847 diamonds (assets/tools/README.md).
+constexpr double kTan2Deg = 0.03492076949174773;
+// The diameter at the tip of a head that narrows from `top` over `length` at 2 degrees a side.
+constexpr double taperedTip(double top, double length) { return top - 2.0 * length * kTan2Deg; }
+
 constexpr ToolSpec kCatalog[] = {
-    {"round_bur_008", ToolKind::RoundBur, 0.8, 0.8},
-    {"round_bur_010", ToolKind::RoundBur, 1.0, 1.0},
-    {"round_bur_014", ToolKind::RoundBur, 1.4, 1.4},
-    {"round_bur_018", ToolKind::RoundBur, 1.8, 1.8},
-    {"fissure_bur_008", ToolKind::FissureBur, 0.8, 4.0},
-    {"fissure_bur_010", ToolKind::FissureBur, 1.0, 4.0},
-    {"fissure_bur_012", ToolKind::FissureBur, 1.2, 4.0},
-    {"turbine_handpiece", ToolKind::Handpiece, 10.5, 0.0},
-    {"mirror_size4", ToolKind::Mirror, 22.0, 0.0},
+    {"round_bur_008", ToolKind::RoundBur, 0.8, 0.8, 0.8},
+    {"round_bur_010", ToolKind::RoundBur, 1.0, 1.0, 1.0},
+    {"round_bur_014", ToolKind::RoundBur, 1.4, 1.4, 1.4},
+    {"round_bur_018", ToolKind::RoundBur, 1.8, 1.8, 1.8},
+    {"fissure_bur_008", ToolKind::FissureBur, 0.8, 4.0, 0.8},
+    {"fissure_bur_010", ToolKind::FissureBur, 1.0, 4.0, 1.0},
+    {"fissure_bur_012", ToolKind::FissureBur, 1.2, 4.0, 1.2},
+    {"chamfer_bur_016", ToolKind::ChamferBur, 1.6, 8.0, taperedTip(1.6, 8.0)},
+    {"chamfer_bur_018", ToolKind::ChamferBur, 1.8, 8.0, taperedTip(1.8, 8.0)},
+    {"shoulder_bur_014", ToolKind::ShoulderBur, 1.4, 8.0, taperedTip(1.4, 8.0)},
+    {"shoulder_bur_016", ToolKind::ShoulderBur, 1.6, 8.0, taperedTip(1.6, 8.0)},
+    {"turbine_handpiece", ToolKind::Handpiece, 10.5, 0.0, 0.0},
+    {"mirror_size4", ToolKind::Mirror, 22.0, 0.0, 0.0},
 };
 
 }  // namespace
 
 std::span<const ToolSpec> toolCatalog() { return kCatalog; }
 
+const ToolSpec* findTool(std::string_view name) {
+  for (const ToolSpec& t : kCatalog)
+    if (name == t.name) return &t;
+  return nullptr;
+}
+
 const char* toolKindName(ToolKind kind) {
   switch (kind) {
     case ToolKind::RoundBur: return "round_bur";
     case ToolKind::FissureBur: return "fissure_bur";
+    case ToolKind::ChamferBur: return "chamfer_bur";
+    case ToolKind::ShoulderBur: return "shoulder_bur";
     case ToolKind::Handpiece: return "handpiece";
     case ToolKind::Mirror: return "mirror";
   }
@@ -197,10 +286,29 @@ TriangleMesh generateTool(const ToolSpec& spec) {
   switch (spec.kind) {
     case ToolKind::RoundBur: return roundBur(spec.head_diameter_mm);
     case ToolKind::FissureBur: return fissureBur(spec.head_diameter_mm, spec.cutting_length_mm);
+    case ToolKind::ChamferBur:
+    case ToolKind::ShoulderBur: return taperedBur(spec);
     case ToolKind::Handpiece: return handpiece();
     case ToolKind::Mirror: return mirror();
   }
   return {};
+}
+
+double burRadiusAt(const ToolSpec& spec, double height_mm) {
+  if (!isBur(spec.kind) || !(height_mm >= 0.0) || height_mm > spec.cutting_length_mm) return 0.0;
+  const double r = 0.5 * spec.head_diameter_mm;
+  switch (spec.kind) {
+    case ToolKind::RoundBur:
+    case ToolKind::FissureBur: {
+      // The ball (a round bur's whole head, a fissure bur's end) up to its equator, then the cylinder.
+      if (spec.kind == ToolKind::FissureBur && height_mm >= r) return r;
+      const double dz = height_mm - r;
+      return std::sqrt(std::max(0.0, r * r - dz * dz));
+    }
+    case ToolKind::ChamferBur:
+    case ToolKind::ShoulderBur: return TaperedHead(spec).radiusAt(height_mm);
+    default: return 0.0;
+  }
 }
 
 std::string toolCatalogJson() {
@@ -208,14 +316,15 @@ std::string toolCatalogJson() {
   const auto tools = toolCatalog();
   for (size_t i = 0; i < tools.size(); ++i) {
     const ToolSpec& t = tools[i];
-    const bool bur = t.kind == ToolKind::RoundBur || t.kind == ToolKind::FissureBur;
+    const bool bur = isBur(t.kind);
     char line[512];
     std::snprintf(line, sizeof line, "    {\"name\": \"%s\", \"file\": \"%s.stl\", \"kind\": \"%s\", \"head_diameter_mm\": %.1f",
                   t.name, t.name, toolKindName(t.kind), t.head_diameter_mm);
     j += line;
     if (bur) {
-      std::snprintf(line, sizeof line, ", \"cutting_length_mm\": %.1f, \"shank_diameter_mm\": %.1f, \"length_mm\": %.1f",
-                    t.cutting_length_mm, 2.0 * kShankRadius, kBurLength);
+      std::snprintf(line, sizeof line,
+                    ", \"tip_diameter_mm\": %.3f, \"cutting_length_mm\": %.1f, \"shank_diameter_mm\": %.1f, \"length_mm\": %.1f",
+                    t.tip_diameter_mm, t.cutting_length_mm, 2.0 * kShankRadius, kBurLength);
       j += line;
     }
     j += i + 1 < tools.size() ? "},\n" : "}\n";

@@ -18,9 +18,12 @@ Result<BurHead> burHead(const std::string& bur) {
     if (t.name != bur) continue;
     if (t.kind == ToolKind::RoundBur) return BurHead{true, 0.5 * t.head_diameter_mm, t.head_diameter_mm};
     if (t.kind == ToolKind::FissureBur) return BurHead{false, 0.5 * t.head_diameter_mm, t.cutting_length_mm};
+    // A tapered bur by its narrowest part, the tip: what it claims is never more than it cuts.
+    if (t.kind == ToolKind::ChamferBur) return BurHead{true, 0.5 * t.tip_diameter_mm, t.tip_diameter_mm};
+    if (t.kind == ToolKind::ShoulderBur) return BurHead{false, 0.5 * t.tip_diameter_mm, t.cutting_length_mm};
     break;
   }
-  return makeError(bur, "not a round or fissure bur of the tool catalog");
+  return makeError(bur, "not a bur of the tool catalog");
 }
 
 AxisFrame AxisFrame::along(const Vec3& origin, const Vec3& axis, const Vec3& u_hint) {

@@ -33,7 +33,8 @@ struct BurHead {
   double radius_mm = 0.5;   // [mm]
   double length_mm = 1.0;   // along the axis [mm]: the diameter for a ball, the cutting length for a cylinder
 };
-// The head of a round or fissure bur of the tool catalog; an error names any other tool.
+// The head of a bur of the tool catalog; a chamfer bur as a ball and a shoulder bur as a flat-ended
+// cylinder, each of its tip radius (the narrowest part of the taper). An error names any other tool.
 Result<BurHead> burHead(const std::string& bur);
 
 // A frame whose third axis is the bur's (from the tip toward the handle): a point is

@@ -117,7 +117,7 @@ Result<CavityPath> cavityPreparationPath(const BrickVolume& volume, const Volume
 
 std::optional<double> burHeadRadiusMm(const std::string& bur) {
   for (const ToolSpec& t : toolCatalog())
-    if (t.name == bur && (t.kind == ToolKind::RoundBur || t.kind == ToolKind::FissureBur)) return 0.5 * t.head_diameter_mm;
+    if (t.name == bur && isBur(t.kind)) return 0.5 * t.head_diameter_mm;
   return std::nullopt;
 }
 

@@ -93,7 +93,7 @@ Result<CavityPath> cavityPreparationPath(const BrickVolume& volume, const Volume
 // touches: it is metered, not driven to a target. Each position gets `margin` times the time the
 // tissue it adds to the cut takes at the rates the parameter set gives (removal rate x hardness x
 // the bur's ability, full speed), so the cut keeps to the plan whatever the press.
-// A catalog bur's head radius [mm] (round or fissure); nullopt for other tools and unknown names.
+// A catalog bur's head radius [mm] (a tapered bur's widest, at its top); nullopt for other tools and unknown names.
 std::optional<double> burHeadRadiusMm(const std::string& bur);
 
 // The box of the caries voxels (fill > 0) [voxel indices, inclusive] and their volume [fill units].

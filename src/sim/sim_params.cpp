@@ -98,6 +98,8 @@ SimParams defaultSimParams() {
   for (const ToolSpec& t : toolCatalog()) {
     if (t.kind == ToolKind::RoundBur) p.burs[t.name].cutting_ability = 0.8;
     if (t.kind == ToolKind::FissureBur) p.burs[t.name].cutting_ability = 0.9;
+    // Diamond grit abrades enamel readily but clogs sooner than a carbide's blades: as a round bur.
+    if (t.kind == ToolKind::ChamferBur || t.kind == ToolKind::ShoulderBur) p.burs[t.name].cutting_ability = 0.8;
   }
   return p;
 }

@@ -35,7 +35,7 @@ namespace {
 Result<ToolModel> buildToolModel(const std::string& name, const PointShellParams& spacing) {
   for (const ToolSpec& spec : toolCatalog()) {
     if (name != spec.name) continue;
-    const bool bur = spec.kind == ToolKind::RoundBur || spec.kind == ToolKind::FissureBur;
+    const bool bur = isBur(spec.kind);
     if (!bur && spec.kind != ToolKind::Mirror)
       return makeError(name, "is not a bur or a mirror; the handpiece is drawn, not simulated");
     auto mesh = loadBuiltinTool(name);

@@ -53,6 +53,8 @@ TEST(SimParams, DefaultsGiveEveryBuiltinBurAnAbility) {
     switch (t.kind) {
       case ToolKind::RoundBur: EXPECT_EQ(p.cuttingAbility(t.name), 0.8) << t.name; ++burs; break;
       case ToolKind::FissureBur: EXPECT_EQ(p.cuttingAbility(t.name), 0.9) << t.name; ++burs; break;
+      case ToolKind::ChamferBur:
+      case ToolKind::ShoulderBur: EXPECT_EQ(p.cuttingAbility(t.name), 0.8) << t.name; ++burs; break;
       default: EXPECT_EQ(p.burs.count(t.name), 0u) << t.name << " is not a bur"; break;
     }
   }
