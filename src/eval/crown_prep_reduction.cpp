@@ -6,7 +6,9 @@
 #include <limits>
 #include <string>
 
+#include "volume/brick_layout.h"
 #include "volume/tissue_table.h"
+#include "volume/half_fill.h"
 
 namespace dentsim {
 namespace {
@@ -18,54 +20,15 @@ constexpr double kStep = 0.125;
 // Band comparisons forgive rounding in voxel_mm products, so a reduction exactly at a bound is in band.
 constexpr double kBandEps = 1e-9;
 
-// Both tooth masks over the tissue's bounding box padded by one voxel (a dense copy: the rays read
-// each voxel many times, and BrickVolume::voxel walks the tree each time).
+// The flags of the reduction's voxel box.
+constexpr uint8_t kOriginal = 1;  // tooth in the original
+constexpr uint8_t kPrepared = 2;  // tooth in the prepared tooth
+
 struct Masks {
-  int32_t lo[3] = {0, 0, 0};
-  int32_t n[3] = {0, 0, 0};
-  std::vector<uint8_t> original, prepared;
-
-  bool inBox(int32_t x, int32_t y, int32_t z) const {
-    return x >= lo[0] && y >= lo[1] && z >= lo[2] && x < lo[0] + n[0] && y < lo[1] + n[1] && z < lo[2] + n[2];
-  }
-  size_t index(int32_t x, int32_t y, int32_t z) const {
-    return (size_t(z - lo[2]) * size_t(n[1]) + size_t(y - lo[1])) * size_t(n[0]) + size_t(x - lo[0]);
-  }
-  bool orig(int32_t x, int32_t y, int32_t z) const { return inBox(x, y, z) && original[index(x, y, z)]; }
-  bool prep(int32_t x, int32_t y, int32_t z) const { return inBox(x, y, z) && prepared[index(x, y, z)]; }
+  CrownVoxelBox box;
+  bool orig(int32_t x, int32_t y, int32_t z) const { return box.at(x, y, z) & kOriginal; }
+  bool prep(int32_t x, int32_t y, int32_t z) const { return box.at(x, y, z) & kPrepared; }
 };
-
-Masks buildMasks(const BrickVolume& original, const BrickVolume& prepared, const BrickBox& box) {
-  Masks m;
-  const int32_t dim = int32_t(original.dim());
-  const uint32_t blo[3] = {box.lo.x, box.lo.y, box.lo.z};
-  const uint32_t bhi[3] = {box.hi.x, box.hi.y, box.hi.z};
-  for (int a = 0; a < 3; ++a) {
-    m.lo[a] = std::max(0, int32_t(blo[a] * DS_BRICK_DIM) - 1);
-    const int32_t hi = std::min(dim, int32_t((bhi[a] + 1) * DS_BRICK_DIM) + 1);
-    m.n[a] = hi - m.lo[a];
-  }
-  const size_t count = size_t(m.n[0]) * size_t(m.n[1]) * size_t(m.n[2]);
-  m.original.assign(count, 0);
-  m.prepared.assign(count, 0);
-  for (int32_t z = m.lo[2]; z < m.lo[2] + m.n[2]; ++z)
-    for (int32_t y = m.lo[1]; y < m.lo[1] + m.n[1]; ++y)
-      for (int32_t x = m.lo[0]; x < m.lo[0] + m.n[0]; ++x) {
-        const size_t i = m.index(x, y, z);
-        m.original[i] = isToothTissue(voxelMaterial(original.voxel(uint32_t(x), uint32_t(y), uint32_t(z)))) ? 1 : 0;
-        m.prepared[i] = isToothTissue(voxelMaterial(prepared.voxel(uint32_t(x), uint32_t(y), uint32_t(z)))) ? 1 : 0;
-      }
-  return m;
-}
-
-BrickBox unite(const BrickBox& a, const BrickBox& b) {
-  if (a.empty()) return b;
-  if (b.empty()) return a;
-  BrickBox u;
-  u.lo = {std::min(a.lo.x, b.lo.x), std::min(a.lo.y, b.lo.y), std::min(a.lo.z, b.lo.z)};
-  u.hi = {std::max(a.hi.x, b.hi.x), std::max(a.hi.y, b.hi.y), std::max(a.hi.z, b.hi.z)};
-  return u;
-}
 
 // The voxel holding coordinate c on a ray going `dir` along that axis: a point on a face between two
 // voxels counts in the one ahead, so a ray reaches a voxel at the same step whichever way it runs.
@@ -73,21 +36,40 @@ int32_t roundAlong(double c, double dir) {
   return int32_t(dir < 0 ? std::ceil(c - 0.5) : std::floor(c + 0.5));
 }
 
+// A voxel centre's height along `axis` from the grid origin [voxels].
+double centreHeight(int32_t x, int32_t y, int32_t z, const Vec3& axis) {
+  return dot(Vec3(x + 0.5, y + 0.5, z + 0.5), axis);
+}
+
 // The reduction [voxels] along -normal from (x,y,z), or a negative value when the ray leaves the
-// original tooth or goes down to the margin (height along `axis` above `base`, in voxels, at or
-// under `margin`) without meeting the prepared one.
+// original tooth or goes down to the margin (a centre height along `axis`, in voxels, at or under
+// `margin`) without meeting the prepared one. `hit` gets the prepared voxel met (x,y,z itself when
+// it is still prepared).
 double rayReduction(const Masks& m, int32_t x, int32_t y, int32_t z, const Vec3& inward, const Vec3& axis,
-                    double base, double margin) {
+                    double margin, std::array<int32_t, 3>& hit) {
+  hit = {x, y, z};
   if (m.prep(x, y, z)) return 0;
+  int32_t last[3] = {x, y, z};
   for (int k = 1;; ++k) {
     const double t = k * kStep;
     const int32_t qx = roundAlong(x + t * inward.x, inward.x);
     const int32_t qy = roundAlong(y + t * inward.y, inward.y);
     const int32_t qz = roundAlong(z + t * inward.z, inward.z);
-    if (dot(Vec3(qx, qy, qz), axis) - base <= margin) return -1;
-    if (m.prep(qx, qy, qz)) return t + 0.5;  // outer face to outer face: half a voxel beyond each centre
+    if (qx == last[0] && qy == last[1] && qz == last[2]) continue;  // still in the voxel just read
+    last[0] = qx, last[1] = qy, last[2] = qz;
+    if (centreHeight(qx, qy, qz, axis) <= margin) return -1;
+    if (m.prep(qx, qy, qz)) {
+      hit = {qx, qy, qz};
+      return t + 0.5;  // outer face to outer face: half a voxel beyond each centre
+    }
     if (!m.orig(qx, qy, qz)) return -1;
   }
+}
+
+// Sorts a key list (so z, y, x order) and drops repeats.
+void sortUnique(std::vector<uint64_t>& keys) {
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
 }
 
 struct Accum {
@@ -109,56 +91,131 @@ struct Accum {
 
 }  // namespace
 
-Result<CrownPrepReduction> measureReduction(const BrickVolume& original, const BrickVolume& prepared, double voxel_mm,
-                                            const Vec3& insertion_axis, const Vec3& mesial, double margin_height_mm,
-                                            const ReductionBands& bands) {
-  const std::string where = "crown reduction";
+Status checkCrownTeeth(const BrickVolume& original, const BrickVolume& prepared, double voxel_mm, const std::string& where) {
   if (original.level() != prepared.level())
     return makeError(where, "the original (level " + std::to_string(original.level()) + ") and the prepared tooth (level " +
                                 std::to_string(prepared.level()) + ") are on different grids");
   if (!(voxel_mm > 0) || !std::isfinite(voxel_mm)) return makeError(where, "the voxel size must be > 0 mm");
-  if (!finite(insertion_axis) || norm(insertion_axis) == 0) return makeError(where, "the insertion axis is zero");
-  const Vec3 axis = normalized(insertion_axis);
+  return Ok{};
+}
+
+Result<CrownFrame> crownFrame(const Vec3& insertion_axis, const Vec3& mesial, const std::string& where) {
+  if (!finite(insertion_axis) || norm(insertion_axis) == 0) return makeError(where, "the insertion axis is zero or not finite");
+  CrownFrame f;
+  f.axis = normalized(insertion_axis);
   if (!finite(mesial)) return makeError(where, "the mesial direction is not finite");
-  const Vec3 mesial_dir = normalized(mesial - axis * dot(mesial, axis));
-  if (norm(mesial - axis * dot(mesial, axis)) < 1e-6 * std::max(1.0, norm(mesial)))
+  const Vec3 across = mesial - f.axis * dot(mesial, f.axis);
+  if (norm(across) < 1e-6 * std::max(1.0, norm(mesial)))
     return makeError(where, "the mesial direction is zero or along the insertion axis");
+  f.mesial = normalized(across);
+  f.buccal = cross(f.axis, f.mesial);
+  return f;
+}
+
+CrownVoxelBox crownVoxelBox(const BrickVolume& a, const BrickVolume* b) {
+  BrickBox bricks;
+  auto grow = [&](const BrickView& v) {
+    if (v.uniform) {
+      if (!isToothTissue(voxelMaterial(v.value))) return;
+    } else if (std::none_of(v.voxels, v.voxels + DS_BRICK_VOXELS, [](Voxel x) { return isToothTissue(voxelMaterial(x)); })) {
+      return;
+    }
+    bricks.lo = {std::min(bricks.lo.x, v.coord.x), std::min(bricks.lo.y, v.coord.y), std::min(bricks.lo.z, v.coord.z)};
+    bricks.hi = {std::max(bricks.hi.x, v.coord.x), std::max(bricks.hi.y, v.coord.y), std::max(bricks.hi.z, v.coord.z)};
+  };
+  a.forEachBrick(grow);
+  if (b != nullptr) b->forEachBrick(grow);
+  CrownVoxelBox box;
+  if (bricks.empty()) return box;
+  const int32_t dim = int32_t(a.dim());
+  const uint32_t blo[3] = {bricks.lo.x, bricks.lo.y, bricks.lo.z};
+  const uint32_t bhi[3] = {bricks.hi.x, bricks.hi.y, bricks.hi.z};
+  for (int k = 0; k < 3; ++k) {
+    box.lo[k] = std::max(0, int32_t(blo[k] * DS_BRICK_DIM) - 1);
+    box.n[k] = std::min(dim, int32_t((bhi[k] + 1) * DS_BRICK_DIM) + 1) - box.lo[k];
+  }
+  box.bits.assign(size_t(box.n[0]) * size_t(box.n[1]) * size_t(box.n[2]), 0);
+  return box;
+}
+
+void markTooth(CrownVoxelBox& box, const BrickVolume& v, uint8_t tooth_bit, uint8_t enamel_bit) {
+  if (box.empty()) return;
+  const int32_t d = int32_t(DS_BRICK_DIM);
+  int32_t blo[3], bhi[3];
+  for (int k = 0; k < 3; ++k) {
+    blo[k] = box.lo[k] / d;
+    bhi[k] = std::min(int32_t(v.brickDim()) - 1, (box.lo[k] + box.n[k] - 1) / d);
+  }
+  for (int32_t bz = blo[2]; bz <= bhi[2]; ++bz)
+    for (int32_t by = blo[1]; by <= bhi[1]; ++by)
+      for (int32_t bx = blo[0]; bx <= bhi[0]; ++bx) {
+        const BrickView b = v.brick({uint32_t(bx), uint32_t(by), uint32_t(bz)});
+        if (b.uniform && !isSolidTooth(b.value)) continue;
+        if (box.inBox(bx * d, by * d, bz * d) && box.inBox(bx * d + d - 1, by * d + d - 1, bz * d + d - 1)) {
+          // The whole brick lies in the box (all but the padding's): row by row, no bounds to test.
+          for (int32_t z = 0; z < d; ++z)
+            for (int32_t y = 0; y < d; ++y) {
+              uint8_t* row = &box.bits[box.index(bx * d, by * d + y, bz * d + z)];
+              for (int32_t x = 0; x < d; ++x) {
+                const Voxel here = b.at(layout::brickCoordToOffset(uint32_t(x), uint32_t(y), uint32_t(z)));
+                if (!isSolidTooth(here)) continue;
+                const Material m = voxelMaterial(here);
+                row[x] = uint8_t(row[x] | tooth_bit | (m == Material::Enamel ? enamel_bit : 0));
+              }
+            }
+          continue;
+        }
+        for (int32_t z = 0; z < d; ++z)
+          for (int32_t y = 0; y < d; ++y)
+            for (int32_t x = 0; x < d; ++x) {
+              const int32_t gx = bx * d + x, gy = by * d + y, gz = bz * d + z;
+              if (!box.inBox(gx, gy, gz)) continue;
+              const Voxel here = b.at(layout::brickCoordToOffset(uint32_t(x), uint32_t(y), uint32_t(z)));
+              if (!isSolidTooth(here)) continue;
+              const Material m = voxelMaterial(here);
+              uint8_t& f = box.bits[box.index(gx, gy, gz)];
+              f |= tooth_bit;
+              if (m == Material::Enamel) f |= enamel_bit;
+            }
+      }
+}
+
+Result<CrownPrepReduction> measureReduction(const BrickVolume& original, const BrickVolume& prepared, double voxel_mm,
+                                            const Vec3& insertion_axis, const Vec3& mesial, double margin_height_mm,
+                                            const ReductionBands& bands) {
+  const std::string where = "crown reduction";
+  if (Status st = checkCrownTeeth(original, prepared, voxel_mm, where); !st) return st.error();
+  const Result<CrownFrame> frame = crownFrame(insertion_axis, mesial, where);
+  if (!frame) return frame.error();
+  const Vec3 axis = frame->axis;
   if (!(bands.occlusal_lo <= bands.occlusal_hi) || !(bands.axial_lo <= bands.axial_hi))
     return makeError(where, "a target band's lo is above its hi");
 
-  const BrickBox orig_box = tissueBricks(original);
-  const BrickBox prep_box = tissueBricks(prepared);
-  if (orig_box.empty()) return makeError(where, "the original holds no tooth");
-  if (prep_box.empty()) return makeError(where, "the prepared tooth holds no tooth");
-  const Masks m = buildMasks(original, prepared, unite(orig_box, prep_box));
-  if (std::find(m.original.begin(), m.original.end(), 1) == m.original.end())
-    return makeError(where, "the original holds no tooth");
-  if (std::find(m.prepared.begin(), m.prepared.end(), 1) == m.prepared.end())
-    return makeError(where, "the prepared tooth holds no tooth");
+  Masks m;
+  m.box = crownVoxelBox(original, &prepared);
+  markTooth(m.box, original, kOriginal);
+  markTooth(m.box, prepared, kPrepared);
+  bool any_original = false, any_prepared = false;
+  for (uint8_t f : m.box.bits) any_original = any_original || (f & kOriginal), any_prepared = any_prepared || (f & kPrepared);
+  if (!any_original) return makeError(where, "the original holds no tooth");
+  if (!any_prepared) return makeError(where, "the prepared tooth holds no tooth");
 
-  // Heights are along the axis above the original's lowest voxel centre, in voxels until compared.
-  double base = std::numeric_limits<double>::infinity();
-  for (int32_t z = m.lo[2]; z < m.lo[2] + m.n[2]; ++z)
-    for (int32_t y = m.lo[1]; y < m.lo[1] + m.n[1]; ++y)
-      for (int32_t x = m.lo[0]; x < m.lo[0] + m.n[0]; ++x)
-        if (m.original[m.index(x, y, z)]) base = std::min(base, dot(Vec3(x, y, z), axis));
+  // Heights are along the axis from the grid origin (as crown_prep_taper.h), in voxels until compared.
+  const double margin_voxels = margin_height_mm / voxel_mm;
 
-  const Vec3 buccal_dir = cross(axis, mesial_dir);
-  const std::array<Vec3, 4> wall_dirs = {mesial_dir, -mesial_dir, buccal_dir, -buccal_dir};
+  const std::array<Vec3, 4> wall_dirs = {frame->mesial, -frame->mesial, frame->buccal, -frame->buccal};
 
   CrownPrepReduction out;
   Accum occlusal;
   std::array<Accum, 4> walls;
   bool any_above = false;
-  static constexpr int kFace[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  for (int32_t z = m.lo[2]; z < m.lo[2] + m.n[2]; ++z)
-    for (int32_t y = m.lo[1]; y < m.lo[1] + m.n[1]; ++y)
-      for (int32_t x = m.lo[0]; x < m.lo[0] + m.n[0]; ++x) {
-        if (!m.original[m.index(x, y, z)]) continue;
-        bool surface = false;
-        for (const auto& f : kFace) surface = surface || !m.orig(x + f[0], y + f[1], z + f[2]);
-        if (!surface) continue;
-        if ((dot(Vec3(x, y, z), axis) - base) * voxel_mm <= margin_height_mm) continue;
+  const CrownVoxelBox& box = m.box;
+  for (int32_t z = box.lo[2]; z < box.lo[2] + box.n[2]; ++z)
+    for (int32_t y = box.lo[1]; y < box.lo[1] + box.n[1]; ++y)
+      for (int32_t x = box.lo[0]; x < box.lo[0] + box.n[0]; ++x) {
+        if (!(box.bits[box.index(x, y, z)] & kOriginal)) continue;
+        if (box.faceNeighboursAnd(x, y, z) & kOriginal) continue;  // inside: not a sample
+        if (centreHeight(x, y, z, axis) <= margin_voxels) continue;
         any_above = true;
         Vec3 sum;
         for (int dz = -1; dz <= 1; ++dz)
@@ -183,7 +240,8 @@ Result<CrownPrepReduction> measureReduction(const BrickVolume& original, const B
             }
         }
         if (acc == nullptr) continue;
-        const double voxels = rayReduction(m, x, y, z, -normal, axis, base, margin_height_mm / voxel_mm);
+        std::array<int32_t, 3> hit;
+        const double voxels = rayReduction(m, x, y, z, -normal, axis, margin_voxels, hit);
         if (voxels < 0) {
           ++out.unreached;
           continue;
@@ -194,17 +252,26 @@ Result<CrownPrepReduction> measureReduction(const BrickVolume& original, const B
         acc->min = std::min(acc->min, mm);
         acc->max = std::max(acc->max, mm);
         const uint64_t key = reductionVoxelKey(uint32_t(x), uint32_t(y), uint32_t(z));
+        const uint64_t hit_key = reductionVoxelKey(uint32_t(hit[0]), uint32_t(hit[1]), uint32_t(hit[2]));
         if (mm < lo - kBandEps) {
           ++acc->under;
           out.under_voxels.push_back(key);
+          out.prepared_under.push_back(hit_key);
         } else if (mm > hi + kBandEps) {
           ++acc->over;
           out.over_voxels.push_back(key);
+          out.prepared_over.push_back(hit_key);
+        } else {
+          out.prepared_within.push_back(hit_key);
         }
       }
   if (!any_above)
     return makeError(where, "no surface of the original lies above the margin height " + std::to_string(margin_height_mm) + " mm");
 
+  // Several samples' rays may meet one prepared voxel (at an inside corner); each list names it once.
+  sortUnique(out.prepared_under);
+  sortUnique(out.prepared_within);
+  sortUnique(out.prepared_over);
   out.occlusal = occlusal.stats();
   for (size_t w = 0; w < 4; ++w) out.axial[w] = walls[w].stats();
   return out;

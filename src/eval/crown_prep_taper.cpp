@@ -11,6 +11,7 @@
 
 #include "volume/brick_layout.h"
 #include "volume/tissue_table.h"
+#include "volume/half_fill.h"
 
 namespace dentsim {
 namespace {
@@ -25,11 +26,11 @@ constexpr double kSlabHalfVoxels = 0.75;
 template <class Fn>
 void forEachToothVoxel(const BrickVolume& volume, double voxel_mm, Fn&& fn) {
   volume.forEachBrick([&](const BrickView& b) {
-    if (b.uniform && !isToothTissue(voxelMaterial(b.value))) return;
+    if (b.uniform && !isSolidTooth(b.value)) return;
     for (uint32_t z = 0; z < DS_BRICK_DIM; ++z)
       for (uint32_t y = 0; y < DS_BRICK_DIM; ++y)
         for (uint32_t x = 0; x < DS_BRICK_DIM; ++x) {
-          if (!isToothTissue(voxelMaterial(b.at(layout::brickCoordToOffset(x, y, z))))) continue;
+          if (!isSolidTooth(b.at(layout::brickCoordToOffset(x, y, z)))) continue;
           fn(Vec3{(b.coord.x * DS_BRICK_DIM + x + 0.5) * voxel_mm, (b.coord.y * DS_BRICK_DIM + y + 0.5) * voxel_mm,
                   (b.coord.z * DS_BRICK_DIM + z + 0.5) * voxel_mm});
         }
@@ -138,10 +139,29 @@ Result<CrownPrepShape> measurePrepShape(const BrickVolume& volume, double voxel_
         hs.push_back(binHeight(i));
         ds.push_back(side == 0 ? prof[k].hi[i] - u0 : u0 - prof[k].lo[i]);
       }
-      plane.points[side] = int(hs.size());
-      if (plane.points[side] < kMinWallPoints)
+      if (int(hs.size()) < kMinWallPoints)
         return Error{std::string("crown preparation: ") + plane.name + " plane: " + std::to_string(hs.size()) +
                      " heights on a wall in the band above the margin, fewer than " + std::to_string(kMinWallPoints)};
+      // The finish line's rounding (a chamfer's or shoulder's foot) runs outward at the band's
+      // bottom; the axial wall is what stays on the upper half's line. Walk down from the upper
+      // half while the profile keeps within kWallDepartureVoxels of that line.
+      size_t first = hs.size() / 2;
+      {
+        const std::vector<double> uh(hs.begin() + long(first), hs.end()), ud(ds.begin() + long(first), ds.end());
+        const double slope = fitSlope(uh, ud);
+        double hm = 0, dm = 0;
+        for (size_t j = 0; j < uh.size(); ++j) hm += uh[j], dm += ud[j];
+        hm /= double(uh.size()), dm /= double(uh.size());
+        const double tol = kWallDepartureVoxels * voxel_mm;
+        // Only a converging wall no steeper than 45 deg is an axial wall a foot can stand out from:
+        // a wall leaning out or stepped (an undercut) is read over the whole band, as it stands.
+        if (!(slope < 0 && slope > -1)) first = 0;
+        while (first > 0 && ds[first - 1] - (dm + slope * (hs[first - 1] - hm)) <= tol) --first;
+      }
+      hs.erase(hs.begin(), hs.begin() + long(first));
+      ds.erase(ds.begin(), ds.begin() + long(first));
+      plane.points[side] = int(hs.size());
+      plane.foot_skipped[side] = int(first);
       // A wall converging toward occlusal comes nearer the axis as it rises: its slope is negative.
       plane.wall_deg[side] = -std::atan(fitSlope(hs, ds)) * kRadToDeg;
     }

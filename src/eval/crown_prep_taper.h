@@ -10,8 +10,11 @@
 // voxel_mm on each grid axis). Each plane holds the axis and one direction across it; the plane
 // passes through the centroid of the tooth voxels in the gingival band (the margin up 2 mm). In a
 // slab 1.5 voxels thick around the plane, each height bin (one voxel tall) gives the outermost tooth
-// voxel on either side: the section's profile. A least-squares line through each wall's profile
-// over the band gives that wall's inclination to the axis; the TOC is the sum of the two (the angle
+// voxel on either side: the section's profile. Examiners read the axial wall, not the finish line's
+// curve: a chamfer's rounded foot at the band's bottom runs outward far faster than the wall, so
+// the fit starts above it (where the profile leaves the line of the band's upper half by more than
+// kWallDepartureVoxels). A least-squares line through each wall's remaining profile gives that
+// wall's inclination to the axis; the TOC is the sum of the two (the angle
 // between the lines when both converge; a wall that leans out, an undercut, counts negative).
 // Only tooth tissues count (isToothTissue): a neighbour beside the tooth changes nothing.
 #pragma once
@@ -34,6 +37,14 @@ inline constexpr double kMinHeightWidthRatio = 0.4;     // least height / width 
 // The axial walls are fitted over this band above the margin [mm]: the gingival part, where
 // retention comes from and where examiners read the taper (the occlusal part is rounded off).
 inline constexpr double kTaperBandMm = 2.0;
+// The axial wall ends where the finish line's rounding begins: walking down from the band's upper
+// half, a height whose profile lies farther than this from the upper half's line [voxels] is the
+// chamfer's (or shoulder's) foot, and it and all below are left out of the fit. One voxel is the
+// profile's own rounding on a straight wall; a 0.5 mm chamfer departs by more within its lower
+// part, so the foot's outward curve cannot read as a steeper wall. Only an upper half that
+// converges, no steeper than 45 deg, is such a wall: one leaning out or stepped (an undercut) is
+// fitted over the whole band, so its reading is not that of its step alone.
+inline constexpr double kWallDepartureVoxels = 0.5;
 // A wall's line needs at least this many heights with tooth on that side: fewer is not a line but a
 // step (a preparation shorter than a few voxels, or a voxel far too coarse for 2 mm).
 inline constexpr int kMinWallPoints = 5;
@@ -45,7 +56,8 @@ struct TaperPlane {
   double toc_deg = 0;        // total occlusal convergence: wall_deg[0] + wall_deg[1] [deg]
   double wall_deg[2] = {0, 0};  // each wall's inclination to the axis, + converging toward occlusal;
                                 // [0] on the +direction side (mesial in the mesiodistal plane), [1] opposite [deg]
-  int points[2] = {0, 0};    // heights fitted on each wall (one per voxel-tall bin in the band)
+  int points[2] = {0, 0};    // heights fitted on each wall (one per voxel-tall bin in the band, less the foot)
+  int foot_skipped[2] = {0, 0};  // heights at the band's bottom left out as the finish line's rounding
 };
 
 // The preparation's shape as a section would show it.

@@ -15,6 +15,7 @@
 
 #include "eval/tooth_diff.h"
 #include "volume/tissue_table.h"
+#include "volume/half_fill.h"
 
 namespace dentsim {
 
@@ -75,16 +76,15 @@ namespace {
 
 // ---- 2. the box and its labels -------------------------------------------------------------------
 
-constexpr uint32_t kTissueFill = 16;  // a voxel at least half full is tissue [fill units of 31]
 constexpr uint8_t kTissue = 1;        // initial tissue
 constexpr uint8_t kIdealKept = 2;     // initial tissue the ideal kept
 constexpr uint8_t kStudentKept = 4;   // initial tissue the student kept
 
 bool isTissue(Voxel v) {
-  return kTissueIndexByCode[layout::voxelMaterial(v) & (DS_MATERIAL_COUNT - 1)] >= 0 && voxelFill(v) >= kTissueFill;
+  return kTissueIndexByCode[layout::voxelMaterial(v) & (DS_MATERIAL_COUNT - 1)] >= 0 && isHalfFull(v);
 }
 // The ideal cavity at the threshold: initial tissue whose ideal fill fell below half.
-bool inIdealCavity(Voxel initial, Voxel ideal) { return isTissue(initial) && voxelFill(ideal) < kTissueFill; }
+bool inIdealCavity(Voxel initial, Voxel ideal) { return isTissue(initial) && !isHalfFull(ideal); }
 
 // A dense box [lo, hi) of the grid [voxels], x fastest.
 struct Box {
@@ -144,8 +144,8 @@ std::vector<uint8_t> labelBox(const Box& box, const BrickVolume& initial, const 
           const Voxel i = vi.at(n);
           if (!isTissue(i)) continue;
           uint8_t label = kTissue;
-          if (voxelFill(vk.at(n)) >= kTissueFill) label |= kIdealKept;
-          if (std::min(voxelFill(vf.at(n)), voxelFill(i)) >= kTissueFill) label |= kStudentKept;
+          if (isHalfFull(vk.at(n))) label |= kIdealKept;
+          if (isHalfFull(vf.at(n)) && isHalfFull(i)) label |= kStudentKept;
           labels[box.index(x, y, z)] = label;
         }
       }

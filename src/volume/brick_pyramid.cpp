@@ -1,5 +1,6 @@
 // Coarse copies of a brick volume, brick by brick, with whole empty or solid chunks copied as tiles.
 #include "volume/brick_pyramid.h"
+#include "volume/half_fill.h"
 
 #include <algorithm>
 #include <array>
@@ -160,9 +161,6 @@ namespace dentsim {
 
 namespace {
 
-constexpr uint32_t kHalfFill = 16;  // fill at or above which a voxel is inside (F/31 > 0.5)
-
-bool insideVoxel(Voxel v) { return voxelFill(v) >= kHalfFill; }
 
 // Where along an edge from fill fa to fb (one inside, one not) marching cubes puts the vertex, in
 // [0, 1] from the first voxel's centre: the same t the mesher computes.
@@ -196,7 +194,7 @@ double nearestFullCrossing(const BrickVolume& full, int axis, const int64_t row[
 bool holdsSurface(const BrickView& b) {
   if (b.uniform) return false;
   bool in = false, out = false;
-  for (uint32_t i = 0; i < DS_BRICK_VOXELS && !(in && out); ++i) (insideVoxel(b.voxels[i]) ? in : out) = true;
+  for (uint32_t i = 0; i < DS_BRICK_VOXELS && !(in && out); ++i) (isHalfFull(b.voxels[i]) ? in : out) = true;
   return in && out;
 }
 
@@ -276,7 +274,7 @@ void measureCopyError(const BrickVolume& full, const BrickVolume& coarse, uint32
             const Voxel there = local[axis] + 1 < DS_BRICK_DIM
                                     ? b.voxels[layout::brickCoordToOffset(vx + (axis == 0), vy + (axis == 1), vz + (axis == 2))]
                                     : coarse.voxel(uint32_t(n[0]), uint32_t(n[1]), uint32_t(n[2]));
-            if (insideVoxel(here) == insideVoxel(there)) continue;
+            if (isHalfFull(here) == isHalfFull(there)) continue;
             // The coarse vertex in full voxels, and the full row through it (the lower of the two
             // rows its other coordinates fall between).
             double p[3];

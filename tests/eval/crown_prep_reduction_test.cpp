@@ -12,10 +12,11 @@ constexpr int kLevel = 7;          // 128 voxels a side
 constexpr double kVoxelMm = 0.05;  // so the box is 80 x 80 x 100 voxels
 const Vec3 kAxis{0, 0, 1};
 const Vec3 kMesial{1, 0, 0};       // mesial = +x, distal = -x, buccal = axis x mesial = +y, lingual = -y
-// The original box: x, y in [20, 100), z in [10, 110). The margin is at z = 30 (1.0 mm above the
-// lowest centre, z = 10); 0.975 mm puts it between the centres at z = 29 and z = 30.
+// The original box: x, y in [20, 100), z in [10, 110). The margin is at z = 30: heights run from the
+// grid origin with centres at (i + 0.5) * 0.05 mm, so 1.5 mm is the face between the centres at z = 29
+// (1.475 mm, root) and z = 30 (1.525 mm, measured).
 constexpr uint32_t kLo = 20, kHi = 100, kZ0 = 10, kZ1 = 110, kMarginZ = 30;
-constexpr double kMarginMm = 0.975;
+constexpr double kMarginMm = 1.5;
 // Faces' samples by hand: a box's edge and corner voxels have normals at exactly 45 degrees and
 // belong to no region, so the top has 78 x 78 samples and each wall 78 (y or x from 21 to 98) by 79
 // (z from 30 to 108).
@@ -179,6 +180,40 @@ TEST(CrownPrepReductionTest, UnpreparedToothIsZeroAndAllUnder) {
   EXPECT_EQ(r->under_voxels.size(), size_t(kTopFace + 4 * kWallFace));
 }
 
+bool listed(const std::vector<uint64_t>& keys, uint32_t x, uint32_t y, uint32_t z) {
+  return std::binary_search(keys.begin(), keys.end(), reductionVoxelKey(x, y, z));
+}
+
+TEST(CrownPrepReductionTest, PreparedSideOfTheExactBoxIsAllWithin) {
+  const auto r = measure(originalTooth(), preparedTooth());
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_TRUE(r->prepared_under.empty());
+  EXPECT_TRUE(r->prepared_over.empty());
+  // The rays meet the preparation's whole surface above the margin, each voxel once: its top layer
+  // (z = 74, 40 x 40) and the ring of each layer below it down to z = 30 (44 layers of 4 * 39 voxels).
+  EXPECT_EQ(r->prepared_within.size(), size_t(40 * 40 + 44 * 4 * 39));
+  EXPECT_TRUE(std::is_sorted(r->prepared_within.begin(), r->prepared_within.end()));
+  EXPECT_TRUE(listed(r->prepared_within, 60, 60, 74));  // the top's centre
+  EXPECT_TRUE(listed(r->prepared_within, 79, 60, 50));  // the mesial wall
+  EXPECT_TRUE(listed(r->prepared_within, 40, 40, 30));  // a corner at the margin
+  EXPECT_FALSE(listed(r->prepared_within, 60, 60, 50));  // inside
+}
+
+TEST(CrownPrepReductionTest, PreparedSideOfAnUnderReducedWallIsUnder) {
+  const auto r = measure(originalTooth(), preparedTooth(10));  // the mesial wall 0.5 mm in, at x = 89
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_TRUE(r->prepared_over.empty());
+  // The mesial samples' rays meet the wall x = 89 over y in [40, 80) and z in [30, 75), once each.
+  EXPECT_EQ(r->prepared_under.size(), size_t(40 * 45));
+  for (uint64_t key : r->prepared_under) EXPECT_EQ(key & 0x1FFFFF, 89u);
+  EXPECT_TRUE(listed(r->prepared_under, 89, 60, 50));
+  EXPECT_FALSE(listed(r->prepared_within, 89, 60, 50));
+  EXPECT_TRUE(listed(r->prepared_within, 40, 60, 50));  // the distal wall, 1.0 mm in
+  // The mesial wall's buccal edge is met by the under mesial rays and the within buccal ones: in both.
+  EXPECT_TRUE(listed(r->prepared_under, 89, 79, 50));
+  EXPECT_TRUE(listed(r->prepared_within, 89, 79, 50));
+}
+
 TEST(CrownPrepReductionTest, ErrorsNameTheirCause) {
   const BrickVolume tooth = originalTooth();
   const auto grids = measure(tooth, BrickVolume(kLevel - 1));
@@ -192,14 +227,14 @@ TEST(CrownPrepReductionTest, ErrorsNameTheirCause) {
   const auto only_neighbour = measure(neighbour_only, tooth);
   ASSERT_FALSE(only_neighbour.ok());
   EXPECT_NE(only_neighbour.message().find("no tooth"), std::string::npos) << only_neighbour.message();
-  const auto high = measureReduction(tooth, tooth, kVoxelMm, kAxis, kMesial, 5.0, {});  // top centre at 4.95 mm
+  const auto high = measureReduction(tooth, tooth, kVoxelMm, kAxis, kMesial, 5.5, {});  // top centre at 5.475 mm
   ASSERT_FALSE(high.ok());
   EXPECT_NE(high.message().find("above the margin"), std::string::npos) << high.message();
   const auto along = measureReduction(tooth, tooth, kVoxelMm, kAxis, Vec3{0, 0, 2}, kMarginMm, {});
   ASSERT_FALSE(along.ok());
   EXPECT_NE(along.message().find("mesial"), std::string::npos) << along.message();
   // Just under the top centre's height the top face is still above the margin.
-  EXPECT_TRUE(measureReduction(tooth, tooth, kVoxelMm, kAxis, kMesial, 4.9, {}).ok());
+  EXPECT_TRUE(measureReduction(tooth, tooth, kVoxelMm, kAxis, kMesial, 5.45, {}).ok());
 }
 
 }  // namespace

@@ -24,13 +24,18 @@ constexpr double kMarginMm = 1.0;  // every shape's base, the finish line
 // moved t * shift along +x. Voxel centres sit at (i + 0.5) * 0.05, so the base layer is at 1.025 mm and the top at
 // 5.975: height 5 mm to the top faces; the base disc's extent on x is +-2.475 between centres, so
 // 5 mm between faces.
-void addFrustum(BrickVolume& v, double shrink_per_mm, double shift_per_mm, Material m = Material::Dentin) {
+void addFrustum(BrickVolume& v, double shrink_per_mm, double shift_per_mm, Material m = Material::Dentin,
+                double foot_radius_mm = 0) {
   const int n = int(v.dim());
   for (int z = 0; z < n; ++z) {
     const double pz = (z + 0.5) * kVoxelMm;
     if (pz < 1.0 || pz > 6.0) continue;
     const double t = pz - 1.0;
-    const double r = 2.5 - t * shrink_per_mm, cx = kCentreMm + t * shift_per_mm;
+    // A rounded foot: a quarter circle of radius f tangent to the wall at height f and to the base
+    // plane f out from the wall, as a chamfer bur's ball end leaves it.
+    const double f = foot_radius_mm;
+    const double foot = t < f ? f - std::sqrt(f * f - (f - t) * (f - t)) : 0.0;
+    const double r = 2.5 - t * shrink_per_mm + foot, cx = kCentreMm + t * shift_per_mm;
     for (int y = 0; y < n; ++y)
       for (int x = 0; x < n; ++x) {
         const double dx = (x + 0.5) * kVoxelMm - cx, dy = (y + 0.5) * kVoxelMm - kCentreMm;
@@ -88,6 +93,33 @@ TEST(CrownPrepTaper, SixDegreeFrustumConvergesTwelveInEveryPlane) {
   EXPECT_NEAR(s.width_md_mm, 5.0, 2 * kVoxelMm);
   EXPECT_NEAR(s.width_bl_mm, 5.0, 2 * kVoxelMm);
   EXPECT_DOUBLE_EQ(s.height_width_ratio, s.height_mm / std::max(s.width_md_mm, s.width_bl_mm));
+}
+
+// The same 6 deg frustum standing on a chamfer's rounded foot of radius 0.5 mm (the base juts out
+// 0.5 mm and curves up into the wall by 0.5 mm): the axial wall still reads 6 deg a side, TOC 12 in
+// every plane. Fitted from the margin, the foot's outward run would pull each wall's line steeper
+// (10 bins of the 40 lie on it); the fit leaves out at least the foot's lower part, and nothing of
+// the plain frustum, whose voxel steps stay within half a voxel outside its line.
+TEST(CrownPrepTaper, RoundedChamferFootIsNotReadAsTaper) {
+  BrickVolume v(kLevel);
+  addFrustum(v, std::tan(6 * kDeg), 0, Material::Dentin, 0.5);
+  const CrownPrepShape s = measured(v);
+  for (const TaperPlane& p : s.planes) {
+    EXPECT_NEAR(p.toc_deg, 12.0, 1.0) << p.name << " skipped " << p.foot_skipped[0] << " " << p.foot_skipped[1];
+    EXPECT_NEAR(p.wall_deg[0], 6.0, 1.0) << p.name;
+    EXPECT_NEAR(p.wall_deg[1], 6.0, 1.0) << p.name;
+    EXPECT_GE(p.foot_skipped[0], 3) << p.name;
+    EXPECT_LE(p.foot_skipped[0], 20) << p.name;  // never below the upper half
+  }
+  // The margin's width is the foot's outer edge at the base layer's centres, 0.025 mm up:
+  // 5 + 2 * (0.5 - sqrt(0.5^2 - 0.475^2)) = 5.69 mm.
+  EXPECT_NEAR(s.width_md_mm, 5.0 + 2 * (0.5 - std::sqrt(0.25 - 0.475 * 0.475)), 2 * kVoxelMm);
+  BrickVolume plain(kLevel);
+  addFrustum(plain, std::tan(6 * kDeg), 0);
+  for (const TaperPlane& p : measured(plain).planes) {
+    EXPECT_NEAR(p.toc_deg, 12.0, 1.0) << p.name;
+    EXPECT_EQ(p.foot_skipped[0] + p.foot_skipped[1], 0) << p.name;  // its staircase never juts out half a voxel
+  }
 }
 
 // 15 deg half-angle: TOC 30 deg, past Goodacre's 20.
