@@ -91,7 +91,7 @@ void addScoresBenchCommand(CLI::App& bench, Action& action) {
   CLI::App* cmd = bench.add_subcommand("scores", "task validate's scripted attempts (a second expert, over-cut, under-cut, heavy, slow, "
                                                  "trench, tilted, token) at every built-in task on the molar, scored: the gaps");
   cmd->add_option("--level", o->level, "Octree level of the molar")->check(CLI::Range(6, 10))->capture_default_str();
-  cmd->add_option("--attempts", o->attempts, "Attempts to run besides the expert: " + attemptNames())->delimiter(',');
+  cmd->add_option("--attempts", o->attempts, "Attempts to run besides the expert: " + attemptNames() + "; at a crown: " + crownAttemptNames())->delimiter(',');
   cmd->add_option("--tasks", o->tasks, "Built-in tasks to run (default: every one on the built-in molar: " +
                                           [] {
                                             std::string list;

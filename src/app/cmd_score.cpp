@@ -53,10 +53,12 @@ int runScore(const ScoreCliOptions& o) {
   files.ideal = o.ideal;
   auto score = scoreCut(*task, *initial, *final_, ideal ? &*ideal : nullptr, session ? &*session : nullptr, files);
   if (!score) return fail(score.message());
-  // Before anything is written: a caries removal has no ideal cavity's surface to draw.
+  // Before anything is written: a caries removal, or a crown without an ideal, has no ideal surface to draw.
   if (!o.deviation_png.empty() && !score->agreement)
     return fail("--deviation-png: task " + task->name +
-                " is a caries removal; the deviation picture needs a cavity or access task, which has an ideal cavity");
+                (task->kind == TaskKind::Crown
+                     ? " is a crown preparation without an ideal; the deviation picture needs one (the task's or --ideal)"
+                     : " is a caries removal; the deviation picture needs a cavity or access task, which has an ideal cavity"));
   // Recorded before the report is written, so that the report names its statement and a class report
   // counts the attempt once; the record's own failures are a warning, the score stands.
   recordAttemptOrWarn(o.learning, *task, score->report, o.session, o.final_);
@@ -93,9 +95,11 @@ void addScoreCommand(CLI::App& root, Action& action) {
   cmd->add_option("--ideal", o->ideal, "The professional's final tooth (.dvol); default: the task's ideal");
   cmd->add_option("--session", o->session, "The session (.dses), for time, force and bur-angle statistics");
   cmd->add_option("-o,--report", o->report, "Report to write (.json)")->capture_default_str();
-  cmd->add_option("--png", o->png, "Score picture to write: over-cut red, under-cut blue (.png); none unless given");
+  cmd->add_option("--png", o->png,
+                  "Score picture to write: over-cut red, under-cut blue; a crown: its reduction map, finish line and "
+                  "undercut (.png); none unless given");
   cmd->add_option("--deviation-png", o->deviation_png,
-                  "Cavity and access: deviation picture to write: the ideal cavity's surface green within the "
+                  "Cavity, access and a crown with an ideal: deviation picture to write: the ideal's cut surface green within the "
                   "+/-0.2 mm band, red where cut beyond it, blue where short of it (.png)");
   cmd->add_flag("--json", o->json, "Print the report on stdout");
   addLearningOptions(cmd, o->learning);

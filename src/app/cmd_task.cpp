@@ -18,6 +18,7 @@
 #include "app/cli_checks.h"
 #include "app/commands.h"
 #include "eval/beside_file.h"
+#include "eval/crown_targets.h"
 #include "eval/cut_score.h"
 #include "eval/task_axis.h"
 #include "eval/task_checks.h"
@@ -30,6 +31,7 @@
 #include "volume/tissue_table.h"
 #include "volume/tooth_file.h"
 #include "volume/tooth_frame.h"
+#include "volume/tooth_layer_synth.h"
 
 namespace dentsim::app {
 namespace {
@@ -40,8 +42,9 @@ namespace fs = std::filesystem;
 
 struct TaskNewOptions {
   std::string tooth;              // a .dvol, or builtin:molar
-  std::string kind = "caries";    // caries, cavity, access
+  std::string kind = "caries";    // a kind of eval/task_kinds.h
   std::string cavity_class;       // Black's class of a cavity: I, II or V; empty: not said
+  std::string finish, material;   // a crown's finish line and material (eval/crown_targets.h); empty: the tables' first
   std::string output;             // the task file
   std::string name, title, instructions;
   std::string bur, mirror = kDefaultMirror;
@@ -102,6 +105,25 @@ std::string failureTimeHelp() {
   return kinds + ": the time that earns no time points [s] (default " + defaults + ")";
 }
 
+// --bur's help: each kind's bur, and a crown's for each finish line beyond the first.
+std::string burHelp() {
+  std::string out = "The drill's bur (default by kind: " +
+                    defaultsByKind([](const TaskKindRow& row) { return std::string(row.default_bur); });
+  for (size_t i = 1; i < std::size(kCrownFinishTable); ++i)
+    out += std::string("; a crown on a ") + kCrownFinishTable[i].name + ": " + kCrownFinishTable[i].default_bur;
+  return out + ")";
+}
+
+// Whether the tooth is known not to be a molar: only a tooth whose layers were synthesized records
+// its type (volume/tooth_layer_synth.h); any other is taken as a molar, the built-in one's kind.
+bool knownNotMolar(const ToothVolume& tooth) {
+  const ToothType type = ToothType(tooth.synthesized_type);
+  return tooth.layers == LayerSource::Synthesized && type != ToothType::Unknown && type != ToothType::Molar;
+}
+
+// "0.8-1.5": a band as the summary prints it.
+std::string bandText(double lo, double hi) { return numberText(lo) + "-" + numberText(hi); }
+
 std::string vecText(const Vec3& v) {
   char text[96];
   std::snprintf(text, sizeof text, "(%.3f, %.3f, %.3f)", v.x, v.y, v.z);
@@ -150,6 +172,8 @@ void printWhatTheIdealSet(const std::string& task_path, const IdealRecord& r) {
   char rest[200];
   if (hasFailureTime(taskKindRow(t.kind)))
     std::snprintf(rest, sizeof rest, "failure_s %.1f s (%.2f x)", timed.failure_s, kFailureFactor);
+  else if (std::string(taskKindRow(t.kind).coefficients) != "cavity")
+    std::snprintf(rest, sizeof rest, "%s's score has no time part", kindWithArticle(taskKindRow(t.kind)).c_str());
   else
     std::snprintf(rest, sizeof rest,
                   "cavity.time_coefficient %.2f points a minute, so the time points are gone at %.1f s (%.2f x)",
@@ -188,6 +212,18 @@ int runTaskNew(const TaskNewOptions& o) {
     black = builtinPathClass(o.ideal_path);
   }
   const CavityClassRow* klass = findCavityClass(black);
+  // A crown's finish line and material: given, or the tables' first (chamfer, all-ceramic).
+  const CrownFinishRow* finish = nullptr;
+  const CrownMaterialRow* material = nullptr;
+  if (kind->kind != TaskKind::Crown) {
+    for (auto [flag, value] : {std::pair{"--finish", &o.finish}, {"--material", &o.material}})
+      if (!value->empty()) return fail(std::string(flag) + " applies to a crown task, not to " + o.kind);
+  } else {
+    finish = findCrownFinish(o.finish.empty() ? kCrownFinishTable[0].name : o.finish);
+    if (!finish) return fail("--finish: \"" + o.finish + "\" is not one of " + crownFinishNameList(", ", ", "));
+    material = findCrownMaterial(o.material.empty() ? kCrownMaterialTable[0].name : o.material);
+    if (!material) return fail("--material: \"" + o.material + "\" is not one of " + crownMaterialNameList(", ", ", "));
+  }
   if (fs::exists(o.output) && !o.force) return fail(o.output + ": exists; give --force to replace it");
   const int ideals = !o.ideal_path.empty() + !o.ideal_volume.empty() + !o.ideal_session.empty();
   if (ideals > 1) return fail("give at most one of --ideal-path, --ideal-volume and --ideal-session");
@@ -222,7 +258,12 @@ int runTaskNew(const TaskNewOptions& o) {
     if (!named) return fail(named.message());
     t.tooth = *named;
   }
-  t.drill_tool = !o.bur.empty() ? o.bur : klass ? klass->bur : kind->default_bur;
+  // A crown's bur cuts its finish line: the finish's own, which for the first finish is the kind's.
+  t.drill_tool = !o.bur.empty() ? o.bur : klass ? klass->bur : finish ? finish->default_bur : kind->default_bur;
+  if (finish) {
+    t.crown = crownTargets(*finish, *material);
+    if (knownNotMolar(*tooth)) t.crown.min_height_mm = kCrownMinHeightOtherMm;
+  }
   if (o.mirror != "none") t.mirror_tool = o.mirror;
   t.target_s = o.target_s > 0 ? o.target_s : kind->default_target_s;
   if (timed_out) t.failure_s = o.failure_s > 0 ? o.failure_s : kind->default_failure_s;
@@ -264,6 +305,17 @@ int runTaskNew(const TaskNewOptions& o) {
   if (auto written = writeTaskFile(o.output, newTaskJson(t)); !written) return fail(written.message());
   std::printf("wrote %s: %s task \"%s\" on %s, insertion axis (%.4f, %.4f, %.4f): %s\n", o.output.c_str(), o.kind.c_str(),
               t.title.c_str(), o.tooth.c_str(), t.insertion_axis.x, t.insertion_axis.y, t.insertion_axis.z, axis_from.c_str());
+  if (finish) {
+    const CrownTask& c = t.crown;
+    std::printf("the crown's targets (%s, on a %s): occlusal reduction %s mm, axial %s mm, the %s %s mm wide, "
+                "convergence %s deg (near %s), height at least %s mm%s; change them in the task's crown object\n",
+                c.material.c_str(), c.finish.c_str(), bandText(c.occlusal_lo_mm, c.occlusal_hi_mm).c_str(),
+                bandText(c.axial_lo_mm, c.axial_hi_mm).c_str(), c.finish.c_str(),
+                bandText(c.margin_lo_mm, c.margin_hi_mm).c_str(), bandText(c.toc_lo_deg, c.toc_hi_deg).c_str(),
+                bandText(c.toc_near_lo_deg, c.toc_near_hi_deg).c_str(), numberText(c.min_height_mm).c_str(),
+                knownNotMolar(*tooth) ? (std::string(" (a ") + toothTypeName(ToothType(tooth->synthesized_type)) + ")").c_str()
+                                      : "");
+  }
   if (!o.ideal_session.empty()) {
     auto record = setTaskIdeal(o.output, o.ideal_session, o.ideal_final);
     if (!record) return fail(record.message());
@@ -293,9 +345,12 @@ int runTaskCheck(const std::string& path) {
   for (const std::string& e : problems.errors) std::printf("%s: error: %s\n", path.c_str(), e.c_str());
   if (!problems.ok()) return 1;
   const int black = taskCavityClass(*task);
-  std::printf("%s: ok: %s task%s \"%s\" on %s, drill %s%s\n", path.c_str(), taskKindName(task->kind),
-              black ? (std::string(" (class ") + cavityClassName(black) + ")").c_str() : "", task->title.c_str(),
-              task->tooth.c_str(), task->drill_tool.c_str(),
+  // What says more than the kind: a cavity's class, a crown's material and finish line.
+  const std::string detail = black ? std::string(" (class ") + cavityClassName(black) + ")"
+                             : task->kind == TaskKind::Crown ? " (" + task->crown.material + ", " + task->crown.finish + ")"
+                                                             : "";
+  std::printf("%s: ok: %s task%s \"%s\" on %s, drill %s%s\n", path.c_str(), taskKindName(task->kind), detail.c_str(),
+              task->title.c_str(), task->tooth.c_str(), task->drill_tool.c_str(),
               task->ideal ? (", ideal " + task->ideal->path).c_str() : ", no ideal");
   return 0;
 }
@@ -329,13 +384,17 @@ void addTaskCommand(CLI::App& root, Action& action) {
   make->add_option("--class", n->cavity_class,
                    "A cavity's Black class: " + cavityClassList(", ", " or ") +
                        " (its built-in ideal path and bur; a class V's axis is the buccal one)");
+  make->add_option("--finish", n->finish,
+                   "A crown's finish line: " + crownFinishNameList(", ", " or ") + " (default " + kCrownFinishTable[0].name +
+                       "); it picks the bur and the margin's width");
+  make->add_option("--material", n->material,
+                   "A crown's material: " + crownMaterialNameList(", ", " or ") + " (default " + kCrownMaterialTable[0].name +
+                       "); it sets the reductions and the margin's width (docs/SCORING.md)");
   make->add_option("-o,--output", n->output, "The task file to write (.json)")->required();
   make->add_option("--name", n->name, "The task's name (default: the file's stem)");
   make->add_option("--title", n->title, "One line for the task picker");
   make->add_option("--instructions", n->instructions, "What the student is to do");
-  make->add_option("--bur", n->bur,
-                   "The drill's bur (default by kind: " +
-                       defaultsByKind([](const TaskKindRow& row) { return std::string(row.default_bur); }) + ")");
+  make->add_option("--bur", n->bur, burHelp());
   make->add_option("--mirror", n->mirror, "The mirror, or none")->capture_default_str();
   make->add_option("--level", n->level, "The built-in molar's level (default 9)")->check(CLI::Range(DS_MIN_LEVEL, DS_MAX_LEVEL));
   make->add_option("--target-s", n->target_s,

@@ -88,7 +88,7 @@ void addTaskValidateCommand(CLI::App& task_cmd, Action& action) {
   cmd->add_option("--out", o->out, "Folder for validation.json and validation.md");
   cmd->add_option("--level", o->level, "A task on the built-in molar: drill it at this level instead of the task's")
       ->check(CLI::Range(DS_MIN_LEVEL, DS_MAX_LEVEL));
-  cmd->add_option("--attempts", o->attempts, "Only these attempts (the expert always runs): " + attemptNames())->delimiter(',');
+  cmd->add_option("--attempts", o->attempts, "Only these attempts (the expert always runs): " + attemptNames() + "; at a crown: " + crownAttemptNames())->delimiter(',');
   cmd->add_flag("--pictures", o->pictures, "Also each attempt's score picture, into --out");
   cmd->callback([o, &action] { action = [o] { return runTaskValidate(*o); }; });
 }

@@ -47,7 +47,7 @@ struct ClassAttempt {
   std::string student_name;            // what to show; the id when no name is known
   std::string task;                    // the task's name ("class2_cavity"): a report's task.name, a statement's last IRI segment
   std::string task_title;              // the task's title; the name when none is known
-  std::string task_kind;               // "caries", "cavity", "access"; empty when unknown (statements)
+  std::string task_kind;               // "caries", "cavity", "access", "crown"; empty when unknown (statements)
   double score = 0.0;                  // [points of 100], [0, 100]
   double time_s = 0.0;                 // when the attempt ended [s since 1970-01-01 UTC]
   std::optional<double> duration_s;    // how long it took [s], when said

@@ -195,6 +195,22 @@ Result<ToothVolume> idealForTask(const Task& task, const ToothVolume& initial, s
   return makeError(where, "unknown kind");
 }
 
+namespace {
+
+// Reports (not scores) how the ideal cavity's surface agrees with the student's: a cavity's, an
+// access's and a crown's with an ideal.
+Status addSurfaceAgreement(const Task& task, const ToothVolume& initial, const ToothVolume& final_,
+                           const ToothVolume& ideal, SessionScore& out) {
+  auto agreement = measureSurfaceAgreement(initial, final_, ideal, task.insertion_axis);
+  if (!agreement) return agreement.error();
+  out.report["surface_agreement"] = surfaceAgreementReport(*agreement);
+  out.summary += surfaceAgreementClause(*agreement);
+  out.agreement = std::move(*agreement);
+  return Ok{};
+}
+
+}  // namespace
+
 Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, const ToothVolume& final_,
                               const ToothVolume* ideal, const SessionRecording* session, const ScoreFiles& files) {
   SessionScore out;
@@ -239,6 +255,19 @@ Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, cons
     out.lines = scoreLines(s);
     out.caries_remaining_mm3 = s.caries_remaining_mm3;
     out.pulp_exposed = s.pulp_exposed;
+  } else if (task.kind == TaskKind::Crown) {
+    auto s = scoreCrownPreparation(task, initial, final_, *diff);
+    if (!s) return s.error();
+    out.total = s->total;
+    out.total_max = s->total_max;
+    out.report = scoreReportJson(task, inputs, *diff, st, *s);
+    out.summary = scoreSummary(*s, inputs);
+    out.lines = scoreLines(*s);
+    out.pulp_exposed = s->pulp_exposed;
+    out.crown = std::move(*s);
+    // An ideal is optional for a crown; with one, its surface agreement is reported as a cavity's.
+    if (ideal)
+      if (Status agreed = addSurfaceAgreement(task, initial, final_, *ideal, out); !agreed) return agreed.error();
   } else {
     auto s = scoreCavityPreparation(*diff, st, task);
     if (!s) return makeError(names.ideal, s.message());
@@ -248,13 +277,8 @@ Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, cons
     out.summary = scoreSummary(*s, inputs);
     out.lines = scoreLines(*s);
     out.pulp_exposed = s->pulp_exposed;
-    if (ideal) {
-      auto agreement = measureSurfaceAgreement(initial, final_, *ideal, task.insertion_axis);
-      if (!agreement) return agreement.error();
-      out.report["surface_agreement"] = surfaceAgreementReport(*agreement);
-      out.summary += surfaceAgreementClause(*agreement);
-      out.agreement = std::move(*agreement);
-    }
+    if (ideal)
+      if (Status agreed = addSurfaceAgreement(task, initial, final_, *ideal, out); !agreed) return agreed.error();
   }
   // A guided attempt is not the student's alone: the report and the line say so.
   if (session && !session->info.guide_json.empty()) {
@@ -283,7 +307,8 @@ Status writeScoreReport(const std::string& path, const nlohmann::ordered_json& r
 }
 
 CutMarks scorePictureRed(TaskKind kind, const ToothDiff& diff) {
-  CutMarks red = kind != TaskKind::Caries ? diff.beyond_target : diff.healthy_outside_zone;
+  // A crown is graded on its shape, not against an ideal's volume: its over-reduction is painted.
+  CutMarks red = kind == TaskKind::Crown ? CutMarks{} : kind != TaskKind::Caries ? diff.beyond_target : diff.healthy_outside_zone;
   red.merge(diff.adjacent_removed);
   return red;
 }
@@ -294,6 +319,10 @@ RgbImage scorePicture(const Task& task, const ToothVolume& initial, const ToothV
   options.oblique = true;
   const ToothVolume* ideal = given_ideal ? given_ideal : (score.ideal ? &*score.ideal : nullptr);
   const CutMarks red = scorePictureRed(task.kind, score.diff);
+  if (task.kind == TaskKind::Crown && score.crown) {
+    const CutMarks paint = crownPaint(*score.crown);
+    return renderScoreImage(initial, final_, nullptr, &red, options, &paint).image;
+  }
   return renderScoreImage(initial, final_, ideal, &red, options).image;
 }
 

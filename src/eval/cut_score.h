@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/result.h"
+#include "eval/crown_score.h"
 #include "eval/score_summary.h"
 #include "eval/scores.h"
 #include "eval/surface_agreement.h"
@@ -58,6 +59,7 @@ struct SessionScore {
   // What a screen shows (the report holds the same and more).
   std::vector<ScoreLine> lines;        // parts and deductions, in the report's order
   std::optional<double> caries_remaining_mm3;  // caries removal only
+  std::optional<CrownScore> crown;     // a crown preparation: its measures and criteria (the picture paints them)
   bool pulp_exposed = false;
   bool guided = false;                 // the session's drill had a guide's spring (the report's "guided" says which)
 };
@@ -85,10 +87,12 @@ Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, cons
 // Writes the report as JSON (2-space indent), atomically.
 Status writeScoreReport(const std::string& path, const nlohmann::ordered_json& report);
 // The voxels the score picture paints red: the over-cut of a cavity or access, or the healthy tissue
-// cut outside the allowed zone of a caries removal; and in every kind, what was cut of an adjacent tooth.
+// cut outside the allowed zone of a caries removal; and in every kind, what was cut of an adjacent
+// tooth (a crown's only red fog: its reduction map is painted on the surface, scorePicture).
 CutMarks scorePictureRed(TaskKind kind, const ToothDiff& diff);
 // The score picture: an occlusal and an oblique view; red is scorePictureRed, blue the under-cut of
-// an ideal.
+// an ideal. A crown's shows the prepared tooth painted instead (crownPaint: the reduction map green
+// within, blue under, red over; the finish line yellow; the undercut magenta), with no ideal's tint.
 RgbImage scorePicture(const Task& task, const ToothVolume& initial, const ToothVolume& final_, const SessionScore& score,
                       const ToothVolume* given_ideal);
 // Writes the score picture.

@@ -14,6 +14,7 @@
 #include <limits>
 
 #include "volume/tissue_table.h"
+#include "volume/half_fill.h"
 
 namespace dentsim {
 
@@ -34,10 +35,9 @@ Rgb mix(const Rgb& a, const Rgb& b, double t) { return {a.r + (b.r - a.r) * t, a
 constexpr Rgb kBackground{0.16, 0.17, 0.20};
 constexpr Rgb kRed{0.90, 0.10, 0.08};
 constexpr Rgb kUndercut{0.12, 0.32, 0.95};
-constexpr Rgb kPaintRgb[4]{{0, 0, 0}, {0.18, 0.78, 0.26}, kRed, kUndercut};  // by kPaint* code
+constexpr Rgb kPaintRgb[6]{{0, 0, 0}, {0.18, 0.78, 0.26}, kRed, kUndercut, {0.98, 0.84, 0.10}, {0.86, 0.16, 0.82}};  // by kPaint* code
 constexpr double kUndercutTint = 0.8;   // blend toward blue of a fully under-cut hit voxel
 constexpr double kRedFog = 0.6;         // opacity of one full red voxel: one voxel of error shows
-constexpr uint32_t kSurfaceFill = 16;   // a voxel at least half full is surface
 
 // The tissue table's score_rgb; grey for the spare codes.
 Rgb tissueColour(uint32_t material) {
@@ -85,8 +85,8 @@ Occupancy occupancy(const Volumes& v) {
         const BrickCoord c{bx, by, bz};
         const BrickView f = v.final_.brick(c);
         bool occ = false;
-        if (f.uniform) occ = voxelFill(f.value) >= kSurfaceFill;
-        for (uint32_t n = 0; !f.uniform && !occ && n < DS_BRICK_VOXELS; ++n) occ = voxelFill(f.voxels[n]) >= kSurfaceFill;
+        if (f.uniform) occ = isHalfFull(f.value);
+        for (uint32_t n = 0; !f.uniform && !occ && n < DS_BRICK_VOXELS; ++n) occ = isHalfFull(f.voxels[n]);
         if (!occ && v.red) occ = v.red->brickHasMarks(c);
         if (!occ) continue;
         o.occupied[bx + size_t(o.brick_dim) * (by + size_t(o.brick_dim) * bz)] = 1;
@@ -211,7 +211,7 @@ class RayCaster {
       for (;;) {
         const uint32_t n = layout::brickCoordToOffset(uint32_t(ix[0] & 7), uint32_t(ix[1] & 7), uint32_t(ix[2] & 7));
         const Voxel f = vf.at(n);
-        if (voxelFill(f) >= kSurfaceFill) {
+        if (isHalfFull(f)) {
           const uint32_t paint = v_.paint ? v_.paint->at(uint32_t(ix[0]), uint32_t(ix[1]), uint32_t(ix[2])) : 0u;
           const Rgb surface = shade(ix, f, v_.ideal ? undercutOf(vi.at(n), f, vk.at(n)) : 0u, paint, d, light);
           return mix(surface, kRed, fog);
@@ -259,7 +259,7 @@ class RayCaster {
     const double lambert = std::max(0.0, dot(normal, light));
     Rgb base = tissueColour(layout::voxelMaterial(f));
     base = mix(base, kUndercut, kUndercutTint * undercut / DS_FILL_FULL);
-    if (paint >= kPaintGreen && paint <= kPaintBlue) base = kPaintRgb[paint];
+    if (paint >= kPaintGreen && paint <= kPaintMagenta) base = kPaintRgb[paint];
     const double s = 0.28 + 0.72 * lambert;
     return {base.r * s, base.g * s, base.b * s};
   }

@@ -49,10 +49,13 @@ struct ScoreImage {
 };
 
 // Paint: a surface voxel that `paint` marks is drawn in the mark's colour in place of its tissue's
-// (and of the under-cut tint); the deviation picture (eval/surface_agreement.h) paints this way.
+// (and of the under-cut tint); the deviation picture (eval/surface_agreement.h) and the crown's
+// picture (eval/crown_score.h: reduction map, finish line, undercut) paint this way.
 inline constexpr uint32_t kPaintGreen = 1;
 inline constexpr uint32_t kPaintRed = 2;
 inline constexpr uint32_t kPaintBlue = 3;
+inline constexpr uint32_t kPaintYellow = 4;   // a crown's finish line
+inline constexpr uint32_t kPaintMagenta = 5;  // a crown's undercut
 
 // Renders the views. The volumes must share the level (compareTeeth checks frames); ideal, red and
 // paint may be null (no blue, no red, no paint). red's amounts are fill units removed per voxel;

@@ -77,7 +77,7 @@ struct ScoreReportSummary {
   int version = 2;                          // the report's "version"
   std::string task_name;                    // "task"."name": "caries_removal", "class2_cavity", ...; required
   std::string task_title;                   // "task"."title"; empty when the report has none
-  std::string task_kind;                    // "task"."kind": "caries", "cavity", "access"; empty when none
+  std::string task_kind;                    // "task"."kind": "caries", "cavity", "access", "crown"; empty when none
   double total = 0.0;                       // the headline score [points of 100], [0, 100]; required
   std::optional<double> total_max;          // what the parts scored can reach: 100, or less without a session
   std::optional<double> paper_total;        // "paper_total": the parts summed by the paper's formulas, before shares, caps and clamps [points]

@@ -385,9 +385,23 @@ ojson tail(ojson j, const ToothDiff& diff, const SessionStats* stats, const Scor
 
 }  // namespace
 
+ojson scoreReportHeader(const Task& task, const ScoreInputs& inputs) { return header(task, inputs); }
+void scoreReportTotals(ojson& report, double total, double total_max, double paper_total,
+                       const std::vector<std::string>& not_scored, const ScoreInputs& inputs) {
+  totals(report, total, total_max, paper_total, not_scored, inputs);
+}
+ojson adjacentDeductionJson(const Task& task, const AdjacentScore& adjacent) { return adjacentJson(task, adjacent); }
+double pulpExposureCap(const Task& task, double total_max) { return pulpCap(task, total_max); }
+ojson pulpExposureCapJson(const Task& task, bool exposed, bool applied, double total_max) {
+  return pulpCapJson(task, exposed, applied, total_max);
+}
+ojson scoreZonesJson(const ToothDiff& diff) { return zonesJson(diff); }
+ojson scoreVolumesJson(const ToothDiff& diff) { return volumesJson(diff); }
+ojson scoreSessionJson(const SessionStats* stats, const ScoreInputs& inputs) { return sessionJson(stats, inputs); }
+
 namespace {
-ScoreLine scorePart(const char* name, std::optional<double> points, double max) { return {name, points, max, false}; }
-ScoreLine scoreDeduction(const char* name, std::optional<double> points) { return {name, points, 0.0, true}; }
+ScoreLine scorePart(const char* name, std::optional<double> points, double max) { return {name, points, max, false, {}}; }
+ScoreLine scoreDeduction(const char* name, std::optional<double> points) { return {name, points, 0.0, true, {}}; }
 }  // namespace
 
 // In the order scoreReportJson writes "components", then "deductions". (Filled one by one: an

@@ -138,12 +138,30 @@ nlohmann::ordered_json scoreReportJson(const Task& task, const ScoreInputs& inpu
 nlohmann::ordered_json scoreReportJson(const Task& task, const ScoreInputs& inputs, const ToothDiff& diff,
                                        const SessionStats* stats, const CavityScore& score);
 
+// The report's shared pieces, for a kind scored in a file of its own (eval/crown_score.h), so that
+// its report keeps the same shape: the header (format, version, task, inputs); the totals with the
+// parts not scored; the adjacent-tooth deduction and the pulp-exposure cap as "deductions" hold
+// them; the zones, the volumes and the session block.
+nlohmann::ordered_json scoreReportHeader(const Task& task, const ScoreInputs& inputs);
+void scoreReportTotals(nlohmann::ordered_json& report, double total, double total_max, double paper_total,
+                       const std::vector<std::string>& not_scored, const ScoreInputs& inputs);
+nlohmann::ordered_json adjacentDeductionJson(const Task& task, const AdjacentScore& adjacent);
+// The cap an exposed pulp puts on a total out of total_max [points]: the task's cap is out of 100.
+double pulpExposureCap(const Task& task, double total_max);
+nlohmann::ordered_json pulpExposureCapJson(const Task& task, bool exposed, bool applied, double total_max);
+nlohmann::ordered_json scoreZonesJson(const ToothDiff& diff);
+nlohmann::ordered_json scoreVolumesJson(const ToothDiff& diff);
+nlohmann::ordered_json scoreSessionJson(const SessionStats* stats, const ScoreInputs& inputs);
+
 // A score's parts and deductions in the report's order, for a screen to show without reading JSON.
 struct ScoreLine {
   std::string name;               // the report's key: "removal", "time", ...; "healthy", "force", "adjacent"
   std::optional<double> points;   // none: not scored (no session)
   double max = 0.0;               // what a part can reach; 0 for a deduction
   bool deduction = false;         // points are taken off the total
+  // A part graded against a range (a crown's criteria): what was measured, the range and the
+  // verdict in words, "12.4 deg (10-20) within"; empty for the parts scored by formula.
+  std::string detail;
 };
 std::vector<ScoreLine> scoreLines(const CariesScore& score);
 std::vector<ScoreLine> scoreLines(const CavityScore& score);

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "eval/crown_targets.h"
 #include "eval/task_kinds.h"
 #include "io/atomic_file.h"
 #include "io/strict_json.h"
@@ -84,6 +85,29 @@ class TaskReader : public JsonSchemaReader {
     std::string list;
     for (const std::string& c : choices) list += (list.empty() ? "\"" : ", \"") + c + "\"";
     return fail(jsonChildPath(path, key), quotedForMessage(s) + " is not one of " + list);
+  }
+
+  // A band [lo, hi]: two finite numbers, each with bound < v (bound <= v when bound_closed) and
+  // v <= top, and lo < hi.
+  bool band(const json& j, const std::string& path, const char* key, double bound, bool bound_closed, double top,
+            const std::string& range_text, double* lo, double* hi) {
+    const json* v = member(j, path, key, false);
+    if (!v) return !failed();
+    const std::string p = jsonChildPath(path, key);
+    if (!v->is_array() || v->size() != 2) return fail(p, "expected [lo, hi], an array of 2 numbers");
+    double d[2];
+    for (size_t i = 0; i < 2; ++i) {
+      const json& e = (*v)[i];
+      const std::string pi = p + "[" + std::to_string(i) + "]";
+      if (!e.is_number()) return fail(pi, std::string("expected a number, got ") + e.type_name());
+      d[i] = e.get<double>();
+      if (!std::isfinite(d[i])) return fail(pi, "not a finite number");
+      if (!(bound_closed ? d[i] >= bound : d[i] > bound) || !(d[i] <= top)) return fail(pi, e.dump() + " is not " + range_text);
+    }
+    if (!(d[0] < d[1])) return fail(p, "lo " + (*v)[0].dump() + " is not < hi " + (*v)[1].dump());
+    *lo = d[0];
+    *hi = d[1];
+    return true;
   }
 
   // Three finite numbers, not all zero; normalized.
@@ -213,6 +237,49 @@ void readCaries(const json& j, TaskReader& r, Task* t) {
   r.number(j, path, "healthy_coefficient", false, 0, true, kHuge, kNonNegative, &t->caries.healthy_coefficient);
 }
 
+// The crown object: finish and material choose every band (eval/crown_targets.h), and each key
+// given replaces its own. A file without the object is an all-ceramic crown on a chamfer.
+void readCrown(const json& j, TaskReader& r, Task* t) {
+  const std::string path = "crown";
+  if (!r.object(j, path, {"finish", "material", "occlusal_mm", "axial_mm", "margin_width_mm", "toc_deg", "toc_near_deg",
+                          "min_height_mm", "min_height_width_ratio", "margin_above_cej_mm", "undercut_tolerance_mm2",
+                          "undercut_cap"}))
+    return;
+  std::vector<std::string> finishes, materials;
+  for (const CrownFinishRow& row : kCrownFinishTable) finishes.push_back(row.name);
+  for (const CrownMaterialRow& row : kCrownMaterialTable) materials.push_back(row.name);
+  size_t finish = 0, material = 0;
+  if (j.contains("finish") && !r.choice(j, path, "finish", finishes, &finish)) return;
+  if (j.contains("material") && !r.choice(j, path, "material", materials, &material)) return;
+  CrownTask* c = &t->crown;
+  *c = crownTargets(kCrownFinishTable[finish], kCrownMaterialTable[material]);
+  // A reduction or a margin beyond 10 mm is wider than a molar's crown: a slip of the decimal point.
+  const std::string mm = "> 0 and <= 10";
+  if (!r.band(j, path, "occlusal_mm", 0, false, 10, mm, &c->occlusal_lo_mm, &c->occlusal_hi_mm)) return;
+  if (!r.band(j, path, "axial_mm", 0, false, 10, mm, &c->axial_lo_mm, &c->axial_hi_mm)) return;
+  if (!r.band(j, path, "margin_width_mm", 0, false, 10, mm, &c->margin_lo_mm, &c->margin_hi_mm)) return;
+  if (!r.band(j, path, "toc_deg", 0, true, 60, "in [0, 60]", &c->toc_lo_deg, &c->toc_hi_deg)) return;
+  if (!r.band(j, path, "toc_near_deg", 0, true, 60, "in [0, 60]", &c->toc_near_lo_deg, &c->toc_near_hi_deg)) return;
+  // Near is the recommended convergence widened: it must hold it. The key the file gave is named.
+  if (!(c->toc_near_lo_deg <= c->toc_lo_deg && c->toc_hi_deg <= c->toc_near_hi_deg)) {
+    const std::string toc = "[" + json(c->toc_lo_deg).dump() + ", " + json(c->toc_hi_deg).dump() + "]";
+    const std::string near = "[" + json(c->toc_near_lo_deg).dump() + ", " + json(c->toc_near_hi_deg).dump() + "]";
+    if (j.contains("toc_near_deg"))
+      r.fail(jsonChildPath(path, "toc_near_deg"), near + " does not hold toc_deg " + toc);
+    else
+      r.fail(jsonChildPath(path, "toc_deg"), toc + " is not within toc_near_deg " + near + " (give toc_near_deg too)");
+    return;
+  }
+  if (!r.number(j, path, "min_height_mm", false, 0, false, 20, "> 0 and <= 20", &c->min_height_mm)) return;
+  if (!r.number(j, path, "min_height_width_ratio", false, 0, false, 10, "> 0 and <= 10", &c->min_height_width_ratio)) return;
+  // Below zero: a subgingival margin, under the CEJ.
+  if (!r.band(j, path, "margin_above_cej_mm", -10, true, 10, "in [-10, 10]", &c->margin_above_cej_lo_mm,
+              &c->margin_above_cej_hi_mm))
+    return;
+  if (!r.number(j, path, "undercut_tolerance_mm2", false, 0, true, kHuge, kNonNegative, &c->undercut_tolerance_mm2)) return;
+  r.number(j, path, "undercut_cap", false, 0, true, 100, "in [0, 100]", &c->undercut_cap);
+}
+
 // The kinds whose row passes `has`, quoted for a message: "\"caries\"", or "\"a\" or \"b\"".
 template <typename RowTest>
 std::string quotedKinds(RowTest has) {
@@ -250,7 +317,7 @@ void readTask(const json& root, TaskReader& r, Task* t) {
                                    "tools",     "target_s",  "failure_s",     "force_error_n", "cavity"};
   if (version >= 2)
     keys.insert(keys.end(), {"insertion_axis", "leeway_mm", "ideal", "pulp_exposure_cap", "caries", "instructions", "view", "access",
-                             "pass_mark", "from_ideal", "cavity_class", "adjacent"});
+                             "pass_mark", "from_ideal", "cavity_class", "adjacent", "crown"});
   if (!r.object(root, "", keys)) return;
   if (!r.string(root, "", "name", true, true, &t->name)) return;
   std::vector<std::string> kinds;
@@ -336,6 +403,11 @@ void readTask(const json& root, TaskReader& r, Task* t) {
   }
   if (root.contains("failure_s")) {
     r.fail("failure_s", "only for kind " + quotedKinds([](const TaskKindRow& k) { return hasFailureTime(k); }));
+    return;
+  }
+  if (t->kind == TaskKind::Crown) {
+    const json* crown = r.member(root, "", own.c_str(), false);
+    readCrown(crown ? *crown : json::object(), r, t);
     return;
   }
   // Version 1 requires the cavity object (it holds the ideal); version 2 only its coefficients.

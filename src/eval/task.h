@@ -16,6 +16,7 @@ enum class TaskKind {
   Caries,  // caries removal (the paper's Table 4)
   Cavity,  // cavity preparation against a professional's result (Table 5)
   Access,  // endodontic access: scored as a cavity, but the pulp chamber must be opened
+  Crown,   // a full-crown preparation, measured as examiners measure it (docs/CROWN_PREPARATION.md)
 };
 
 // Where the professional's final tooth comes from; idealForTask (eval/cut_score.h) turns it into a volume.
@@ -85,6 +86,30 @@ struct AccessTask {
   double unopened_cap = 40.0;         // a pulp chamber left closed caps the total at this [points of 100], [0, 100]
 };
 
+// The full-crown preparation's targets (docs/CROWN_PREPARATION.md gives each one's source). `task new
+// --kind crown` fills them from the finish line and the crown's material (eval/crown_targets.h); the
+// task file holds them, and a teacher may change any. Heights are along the insertion axis.
+struct CrownTask {
+  std::string finish = "chamfer";        // the finish line: "chamfer" or "shoulder"
+  std::string material = "all-ceramic";  // "all-ceramic", "metal-ceramic" or "metal": what set the bands
+  double occlusal_lo_mm = 1.5;           // occlusal reduction's band [mm]: less is under-reduced
+  double occlusal_hi_mm = 2.0;           //   more is over-reduced
+  double axial_lo_mm = 1.0;              // axial reduction's band [mm]
+  double axial_hi_mm = 1.5;
+  double margin_lo_mm = 0.8;             // the finish line's width [mm]
+  double margin_hi_mm = 1.5;
+  double toc_lo_deg = 10.0;              // total occlusal convergence recommended (Goodacre 2001) [deg]
+  double toc_hi_deg = 20.0;
+  double toc_near_lo_deg = 4.0;          // still acceptable down to this (4-10 as some schools teach) [deg]
+  double toc_near_hi_deg = 30.0;         // and up to this (21-30 judged acceptable) [deg]
+  double min_height_mm = 4.0;            // occlusocervical height: 4 on molars, 3 on other teeth [mm]
+  double min_height_width_ratio = 0.4;   // height / width [-]
+  double margin_above_cej_lo_mm = 0.0;   // the margin's height over the CEJ, where the tooth has one [mm]
+  double margin_above_cej_hi_mm = 1.0;
+  double undercut_tolerance_mm2 = 0.5;   // undercut shadow up to this is near; beyond it fails [mm^2]
+  double undercut_cap = 50.0;            // an undercut beyond the tolerance caps the total here [points of 100], [0, 100]
+};
+
 // Damage to an adjacent tooth, a deduction in every kind; the defaults are docs/SCORING.md's
 // ("Adjacent teeth"). Removal at or under the noise floor is the bur grazing a contact, not damage,
 // and costs nothing; above it, min_points + coefficient x the volume removed.
@@ -131,10 +156,11 @@ struct Task {
   CariesTask caries;                  // kind Caries only (defaults otherwise)
   CavityTask cavity;                  // kinds Cavity and Access (defaults otherwise)
   AccessTask access;                  // kind Access only (defaults otherwise)
+  CrownTask crown;                    // kind Crown only (defaults otherwise)
   AdjacentTask adjacent;              // every kind; scored only on a tooth with a neighbour
 };
 
-// "caries", "cavity" or "access".
+// "caries", "cavity", "access" or "crown".
 const char* taskKindName(TaskKind kind);
 // Black's class in Roman numerals, "I" to "VI", for 1 to 6; "" for anything else.
 const char* cavityClassName(int cavity_class);

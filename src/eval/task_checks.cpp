@@ -3,9 +3,12 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include "core/volume_frame.h"
+#include "eval/crown_targets.h"
 #include "eval/cut_score.h"
 #include "eval/task_axis.h"
 #include "eval/task_tooth.h"
@@ -17,17 +20,42 @@ namespace dentsim {
 
 namespace {
 
-const ToolSpec* catalogTool(const std::string& name) {
-  const auto tool = std::find_if(toolCatalog().begin(), toolCatalog().end(), [&](const ToolSpec& s) { return name == s.name; });
-  return tool == toolCatalog().end() ? nullptr : &*tool;
+// The catalog's burs that cut the finish line, "chamfer_bur_016 or chamfer_bur_018"; where the
+// catalog has none, the finish's own default.
+std::string finishBurs(const CrownFinishRow& finish) {
+  std::vector<std::string> names;
+  for (const ToolSpec& tool : toolCatalog())
+    if (isBur(tool.kind) && cutsCrownFinish(finish, tool.name)) names.push_back(tool.name);
+  if (names.empty()) names.push_back(finish.default_bur);
+  std::string out;
+  for (size_t i = 0; i < names.size(); ++i) out += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+  return out;
+}
+
+// A crown's finish line is the print of the bur's end: a warning, not an error, since a teacher
+// may mean another bur (a round-ended one for a deep chamfer), but a student given it cannot cut
+// the finish the task measures.
+void checkCrownBur(const Task& task, TaskProblems& out) {
+  const CrownFinishRow* finish = findCrownFinish(task.crown.finish);
+  if (!finish) return;  // the parser allows none other
+  const CrownFinishRow* cut = crownFinishOfBur(task.drill_tool);
+  if (cut == finish) return;
+  const std::string wanted = "a " + task.crown.finish + " is cut with " + finishBurs(*finish);
+  if (!cut)
+    out.warnings.push_back("tools.drill: \"" + task.drill_tool + "\" cuts no crown finish line (" +
+                           crownFinishNameList(", ", " or ") + "); " + wanted);
+  else
+    out.warnings.push_back("tools.drill: \"" + task.drill_tool + "\" cuts a " + cut->name + ", but crown.finish is " +
+                           task.crown.finish + "; " + wanted);
 }
 
 void checkTools(const Task& task, TaskProblems& out) {
-  const ToolSpec* drill = catalogTool(task.drill_tool);
-  if (!drill || (drill->kind != ToolKind::RoundBur && drill->kind != ToolKind::FissureBur))
+  const ToolSpec* drill = findTool(task.drill_tool);
+  if (task.kind == TaskKind::Crown) checkCrownBur(task, out);
+  if (!drill || !isBur(drill->kind))
     out.errors.push_back("tools.drill: \"" + task.drill_tool + "\" is not a bur in the tool catalog (assets/tools/tools.json)");
   if (task.mirror_tool.empty()) return;
-  const ToolSpec* mirror = catalogTool(task.mirror_tool);
+  const ToolSpec* mirror = findTool(task.mirror_tool);
   if (!mirror || mirror->kind != ToolKind::Mirror)
     out.errors.push_back("tools.mirror: \"" + task.mirror_tool + "\" is not a mirror in the tool catalog");
 }

@@ -1,4 +1,4 @@
-// The checks of a task definition beyond its schema (`dentsim task check`): the tools in the catalog, the tooth holding what the kind needs, a valid axis, an ideal that cuts.
+// The checks of a task definition beyond its schema (`dentsim task check`): the tools in the catalog (a crown's bur for its finish), the tooth holding what the kind needs, a valid axis, an ideal that cuts.
 //
 // parseTask (eval/task.h) already holds a task file to its schema: keys, types, ranges and times.
 // These checks need what a file cannot say of itself: the tool catalog, the tooth and the ideal.
@@ -26,7 +26,8 @@ struct TaskProblems {
 bool lacksRequiredTissue(const TaskKindRow& kind, const MaterialTotals& totals);
 
 // Checks a task as builtinTask (eval/cut_score.h) reads it, its files resolved: the drill is a bur
-// and the mirror a mirror of the tool catalog; the tooth loads and holds the kind's tissue; the
+// and the mirror a mirror of the tool catalog (a crown's drill not of its finish line is a warning,
+// eval/crown_targets.h); the tooth loads and holds the kind's tissue; the
 // insertion axis suits the kind and class on it (eval/task_axis.h); the ideal is made, and cuts
 // (a warning when it cut an adjacent tooth: the professional is to leave neighbours whole).
 // Loads the tooth and makes the ideal: a built-in path is drilled, a session replayed.

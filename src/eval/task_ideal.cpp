@@ -71,7 +71,7 @@ void applyFromIdeal(const ProfessionalFigures& pro, const ToothAxes& axes, Task&
     root["target_s"] = task.target_s;
     if (hasFailureTime(taskKindRow(task.kind))) {
       root["failure_s"] = task.failure_s;
-    } else {
+    } else if (std::string(taskKindRow(task.kind).coefficients) == "cavity") {  // a crown's score has no time part
       if (!root.contains("cavity")) root["cavity"] = nlohmann::ordered_json::object();
       root["cavity"]["time_coefficient"] = task.cavity.time_coefficient;
     }

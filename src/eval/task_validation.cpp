@@ -32,7 +32,34 @@ using ojson = nlohmann::ordered_json;
 
 // ---- 1. which part each fault should cost ------------------------------------------------------------
 
+std::vector<Attempt> kindAttempts(TaskKind kind) {
+  if (kind == TaskKind::Crown) return {kCrownAttempts.begin(), kCrownAttempts.end()};
+  return {kAttempts.begin(), kAttempts.end()};
+}
+
+namespace {
+
+// A crown's faults, each in its own criterion (eval/crown_score.h); the under-cut and the token
+// leave every criterion short.
+std::vector<std::string> crownFaultParts(Attempt attempt) {
+  switch (attempt) {
+    case Attempt::Overtaper: return {"taper"};
+    case Attempt::Shallow: return {"occlusal_reduction"};
+    // An undercut beyond the task's tolerance caps the total as well as costing its criterion.
+    case Attempt::WallUndercut: return {"undercut", "undercut cap"};
+    case Attempt::ThinMargin: return {"margin_width"};
+    case Attempt::Nick: return {"adjacent"};
+    case Attempt::Undercut:
+    case Attempt::Token:
+      return {"occlusal_reduction", "axial_reduction", "taper", "height", "margin_width", "margin_line", "undercut"};
+    default: return {};
+  }
+}
+
+}  // namespace
+
 std::vector<std::string> faultParts(TaskKind kind, Attempt attempt) {
+  if (kind == TaskKind::Crown) return crownFaultParts(attempt);
   const bool caries = kind == TaskKind::Caries;
   // A chamber the kind must open and did not is the pulp cap's (eval/task_kinds.h's pulp rule).
   const bool must_open = taskKindRow(kind).pulp == PulpRule::MustOpen;
@@ -56,6 +83,12 @@ std::vector<std::string> faultParts(TaskKind kind, Attempt attempt) {
       return caries ? std::vector<std::string>{"removal", "healthy"}
                     : must_open ? std::vector<std::string>{"undercut", "overcut", "pulp cap"}
                                 : std::vector<std::string>{"undercut", "overcut"};
+    // A crown's own faults are not run at the other kinds.
+    case Attempt::Overtaper:
+    case Attempt::Shallow:
+    case Attempt::WallUndercut:
+    case Attempt::ThinMargin:
+    case Attempt::Nick: return {};
   }
   return {};
 }
@@ -118,10 +151,11 @@ std::vector<std::pair<std::string, double>> reportParts(const ScoreReportSummary
     parts.push_back({part.name, points});
     sum += points;
   }
-  for (const char* key : {"pulp_exposure", "pulp_unopened"})
+  for (const char* key : {"pulp_exposure", "pulp_unopened", "undercut_cap"})
     for (const ScoreReportPart& cap : report.parts)
       if (cap.deduction && cap.name == key && cap.applied.value_or(false))
-        parts.push_back({"pulp cap", report.total - std::clamp(sum, 0.0, report.total_max.value_or(100.0))});
+        parts.push_back({std::string(key) == "undercut_cap" ? "undercut cap" : "pulp cap",
+                         report.total - std::clamp(sum, 0.0, report.total_max.value_or(100.0))});
   return parts;
 }
 
@@ -221,8 +255,9 @@ void check(TaskValidation& v, const ValidationSettings& s) {
     v.faults.push_back(c);
     const std::string name = attemptName(c.attempt);
     const std::string own = joined(faultParts(v.task.kind, c.attempt), " and ");
-    if (c.gap < s.min_gap)
-      v.failures.push_back(name + ": loses " + fixed(c.gap) + " points against the expert, not " + fixed(s.min_gap, 0) +
+    const double min_gap = v.task.kind == TaskKind::Crown ? s.crown_min_gap : s.min_gap;
+    if (c.gap < min_gap)
+      v.failures.push_back(name + ": loses " + fixed(c.gap) + " points against the expert, not " + fixed(min_gap, 0) +
                            " (" + own + " lost " + fixed(c.lost_in_fault) + ")");
     if (!c.mostInOwnPart())
       v.failures.push_back(name + ": loses most in " + (c.most_lost_part.empty() ? "no part" : c.most_lost_part) + " (" +
@@ -295,8 +330,13 @@ Result<TaskValidation> validateTask(const Task& task, const ToothVolume& tooth, 
   }
 
   std::vector<Attempt> order{Attempt::Expert};
-  for (Attempt a : settings.attempts) {
+  const std::vector<Attempt> own = kindAttempts(task.kind);
+  for (Attempt a : settings.attempts.empty() ? own : settings.attempts) {
     if (a == Attempt::Expert || std::find(order.begin(), order.end(), a) != order.end()) continue;
+    if (std::find(own.begin(), own.end(), a) == own.end()) {
+      v.skipped.push_back(std::string(attemptName(a)) + ": not an attempt at a " + taskKindName(task.kind) + " task");
+      continue;
+    }
     if (a == Attempt::Tilted && task.kind == TaskKind::Caries) {
       v.skipped.push_back("tilted: a caries removal has no bur-angle part to lose");
       continue;

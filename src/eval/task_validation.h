@@ -6,9 +6,14 @@
 // professional's path drilled and recorded first, and the attempts are derived from that recording.
 // A task whose ideal is only a volume file has no motion to derive from: an error says to set one.
 //
+// The attempts are the kind's: kAttempts (sim/novice_paths.h) at a caries removal, a cavity or an
+// access, kCrownAttempts at a crown preparation (docs/SCORING.md, "Crown preparation: scripted attempts").
+//
 // The checks (docs/SCORING.md section 13), each failure one line naming the attempt and the part:
 //   - the expert scores at least expert_floor (85);
-//   - every fault loses at least min_gap (20) points against the expert;
+//   - every fault loses at least min_gap (20) points against the expert; at a crown crown_min_gap
+//     (10): a crown's criterion is worth 10 to 20 points, so a fault outside one criterion's range
+//     loses 10 to 20 (one near it half that), where a cavity's fault moves parts worth 25 to 50;
 //   - every fault loses most in its own part (faultParts): its own parts lose more than any other
 //     one part does, measured at each part's own value before the share of the ideal cut scales it;
 //   - undercut, token and trench do not pass (the task's pass mark, 70 when it has none).
@@ -33,11 +38,13 @@
 namespace dentsim {
 
 struct ValidationSettings {
-  std::vector<Attempt> attempts{kAttempts.begin(), kAttempts.end()};  // the expert is always run, first
+  std::vector<Attempt> attempts;  // empty: the kind's list; the expert is always run, first; an attempt
+                                  // of the other kinds' list is skipped (the report says so)
   DerivedAttemptSettings derive;  // how far each attempt departs from the professional (the heavy hand's
                                   // press is set from the task's force limit, derivedSettingsFor)
   double expert_floor = 85.0;     // the expert's total must reach this [points of 100]
   double min_gap = 20.0;          // every fault must lose this much against the expert [points]
+  double crown_min_gap = 10.0;    // at a crown preparation [points]
   double default_pass_mark = 70.0;  // for a task without a pass mark
   std::string work_dir;           // where the sessions are written (required); each is removed once read back
   std::string picture_dir;        // each attempt's score picture <task>-<attempt>.png; empty: none
@@ -86,7 +93,10 @@ struct TaskValidation {
   bool valid() const { return failures.empty(); }
 };
 
-// The parts an attempt's fault should cost ("overcut", "force", ...): the part names of the report.
+// The attempts validateTask runs at a task of `kind` by default: kCrownAttempts at a crown, else kAttempts.
+std::vector<Attempt> kindAttempts(TaskKind kind);
+// The parts an attempt's fault should cost ("overcut", "force", ...): the part names of the report
+// (a crown's: eval/crown_score.h's criteria, "adjacent", and "undercut cap" for its cap).
 std::vector<std::string> faultParts(TaskKind kind, Attempt attempt);
 // How a fault's attempt compares with the expert's, part by part: its own parts are faultParts', and
 // on a tooth with neighbours the adjacent-tooth deduction too when the fault cuts beyond where it

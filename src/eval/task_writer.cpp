@@ -30,6 +30,24 @@ nlohmann::ordered_json idealJson(const IdealSpec& ideal) {
   return j;
 }
 
+nlohmann::ordered_json crownJson(const CrownTask& c) {
+  const auto band = [](double lo, double hi) { return nlohmann::ordered_json::array({lo, hi}); };
+  nlohmann::ordered_json j;
+  j["finish"] = c.finish;
+  j["material"] = c.material;
+  j["occlusal_mm"] = band(c.occlusal_lo_mm, c.occlusal_hi_mm);
+  j["axial_mm"] = band(c.axial_lo_mm, c.axial_hi_mm);
+  j["margin_width_mm"] = band(c.margin_lo_mm, c.margin_hi_mm);
+  j["toc_deg"] = band(c.toc_lo_deg, c.toc_hi_deg);
+  j["toc_near_deg"] = band(c.toc_near_lo_deg, c.toc_near_hi_deg);
+  j["min_height_mm"] = c.min_height_mm;
+  j["min_height_width_ratio"] = c.min_height_width_ratio;
+  j["margin_above_cej_mm"] = band(c.margin_above_cej_lo_mm, c.margin_above_cej_hi_mm);
+  j["undercut_tolerance_mm2"] = c.undercut_tolerance_mm2;
+  j["undercut_cap"] = c.undercut_cap;
+  return j;
+}
+
 nlohmann::ordered_json newTaskJson(const Task& task) {
   const TaskKindRow& kind = taskKindRow(task.kind);
   nlohmann::ordered_json j;
@@ -59,6 +77,7 @@ nlohmann::ordered_json newTaskJson(const Task& task) {
   }
   if (task.view)
     j["view"] = {{"camera", task.view->camera}, {"elevation_deg", task.view->elevation_deg}, {"fixed", task.view->fixed}};
+  if (task.kind == TaskKind::Crown) j[kind.coefficients] = crownJson(task.crown);
   return j;
 }
 

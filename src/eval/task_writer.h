@@ -16,11 +16,16 @@ namespace dentsim {
 // The "ideal" object: "kind" and "path", then "final" and the hashes each when not empty.
 nlohmann::ordered_json idealJson(const IdealSpec& ideal);
 
+// The "crown" object with every key, in the order docs/SCORING.md lists them: a crown task's targets
+// are the teacher's to read and change, so none is left to a default.
+nlohmann::ordered_json crownJson(const CrownTask& crown);
+
 // A version 2 task file of `task` with the keys a new task holds, in this order: format, version, name, kind, cavity_class (when not 0), title, instructions, tooth, level
 // (the built-in molar only), tools (the mirror when named), target_s, failure_s (a kind with a
 // failure time), force_error_n, pass_mark (when set), insertion_axis, leeway_mm, ideal (when set),
-// from_ideal (when it lists any) and view (when set). The coefficients keep their defaults, so they
-// are not written. The insertion axis is written as it stands, not normalized.
+// from_ideal (when it lists any), view (when set) and crown (kind crown: crownJson). The score
+// coefficients keep their defaults, so they are not written. The insertion axis is written as it
+// stands, not normalized.
 nlohmann::ordered_json newTaskJson(const Task& task);
 
 // Writes `root` as the task file at `path` (2-space indent, a final newline), atomically, once it

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/crown_paths.h"
 #include "sim/restorative_paths.h"
 #include "sim/scripted_paths.h"
 
@@ -68,6 +69,11 @@ CavityPathSettings class1Settings(const Exercise& e) {
 
 Result<PenPath> expertPath(const Exercise& exercise, const BrickVolume& volume, const VolumeFrame& frame,
                            const SimParams& params) {
+  if (exercise.path == "crown_prep") {
+    auto made = crownPrepPath(volume, frame, params, exercise.bur, exercise.insertion_axis);
+    if (!made) return made.error();
+    return made->path;
+  }
   if (exercise.path == "caries_removal") return cariesAttemptPath(Attempt::Expert, volume, frame, params, exercise.bur);
   if (exercise.path == "class1_cavity") {
     auto path = cavityPreparationPath(volume, frame, class1Settings(exercise));
@@ -89,6 +95,22 @@ Result<PenPath> taskAttemptPath(const Exercise& exercise, Attempt attempt, const
   if (exercise.path == "class1_cavity") return cavityAttemptPath(attempt, volume, frame, class1Settings(exercise), faults);
   if (!isBuiltinPath(exercise.path))
     return makeError(exercise.path, "no built-in path of that name (there are " + builtinPathNames() + ")");
+  if (exercise.path == "crown_prep") {
+    auto made = crownPrepPath(volume, frame, params, exercise.bur, exercise.insertion_axis);
+    if (!made) return made.error();
+    switch (attempt) {
+      case Attempt::Expert: return made->path;
+      case Attempt::Undercut:
+        return stoppedPath(made->path, made->cut_start_s + faults.undercut_share * (made->cut_end_s - made->cut_start_s), 3.0,
+                           0.3, exercise.insertion_axis);
+      case Attempt::Slow: return slowedPath(made->path, faults.slow_factor);
+      case Attempt::Token: return stoppedPath(made->path, made->cut_start_s + faults.token_s, 3.0, 0.3, exercise.insertion_axis);
+      default:
+        return makeError(std::string("attempt ") + attemptName(attempt),
+                         "has no crown_prep path of its own: a crown's faults are derived from the professional's session "
+                         "(dentsim task validate)");
+    }
+  }
   // The wrong place is the same groove for every exercise, cut with its bur.
   if (attempt == Attempt::Trench) return cavityAttemptPath(Attempt::Trench, volume, frame, class1Settings(exercise), faults);
   auto made = restorativePath(exercise, attempt, volume, frame, params, faults);

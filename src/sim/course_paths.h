@@ -11,6 +11,8 @@
 //   access_cavity   through the occlusal centre into the pulp chamber, roof off    round bur
 //   caries_removal  the careful caries removal of cariesRemovalPath (scripted_paths.h), which
 //                   leaves a layer of dentin over the pulp (selective removal)               the task's
+//   crown_prep      a full-crown preparation: the occlusal surface lowered, laps around the  chamfer bur
+//                   axial walls converging to a chamfer above the CEJ (crown_paths.h)
 //
 // A caries task without an ideal has no path name, and its expert is cariesRemovalPath as well.
 #pragma once
@@ -27,18 +29,19 @@
 
 namespace dentsim {
 
-inline constexpr std::array<const char*, 5> kBuiltinPaths = {"class1_cavity", "class2_cavity", "class5_cavity",
-                                                             "access_cavity", "caries_removal"};
-// "class1_cavity, class2_cavity, class5_cavity, access_cavity, caries_removal", for errors and help.
+inline constexpr std::array<const char*, 6> kBuiltinPaths = {"class1_cavity", "class2_cavity", "class5_cavity",
+                                                             "access_cavity", "caries_removal", "crown_prep"};
+// "class1_cavity, class2_cavity, class5_cavity, access_cavity, caries_removal, crown_prep", for errors and help.
 std::string builtinPathNames();
 bool isBuiltinPath(const std::string& name);
 
 // What the scripted dentist needs to know of an exercise.
 struct Exercise {
-  std::string kind = "cavity";   // the task's kind: "caries", "cavity" or "access" (taskKindName)
+  std::string kind = "cavity";   // the task's kind: "caries", "cavity", "access" or "crown" (taskKindName)
   std::string path;              // the built-in path of its ideal; empty: none (a caries removal)
   std::string bur = "round_bur_010";  // the drill's tool
-  Vec3 insertion_axis{0, 0, 1};  // the bur's axis the task asks for (class5_cavity holds the bur along it)
+  Vec3 insertion_axis{0, 0, 1};  // the bur's axis the task asks for (class5_cavity holds the bur along it;
+                                 // crown_prep's walls converge about it)
 };
 
 // The professional's path `exercise.path` (which must be a built-in path), drilled with its bur
@@ -53,7 +56,10 @@ Result<PenPath> expertPath(const Exercise& exercise, const BrickVolume& volume, 
 //   heavy     pressed faults.heavy_press times as far, and not held at the floor
 //   slow      faults.slow_factor times slower, the pedal eased to match
 //   trench    the groove across the buccal cusps (the wrong place), with the exercise's bur
-// Errors: an exercise without a path that is not a caries removal, or the generator's.
+// A crown preparation's own faults (overtaper ... nick) are edits of the professional's recorded
+// session (session_attempts.h); here crown_prep has the expert, undercut, slow and token.
+// Errors: an exercise without a path that is not a caries removal, an attempt the path has not, or
+// the generator's.
 Result<PenPath> taskAttemptPath(const Exercise& exercise, Attempt attempt, const BrickVolume& volume,
                                 const VolumeFrame& frame, const SimParams& params, const AttemptFaults& faults = {});
 

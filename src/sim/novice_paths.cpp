@@ -29,6 +29,11 @@ const char* attemptName(Attempt a) {
     case Attempt::Trench: return "trench";
     case Attempt::Tilted: return "tilted";
     case Attempt::Token: return "token";
+    case Attempt::Overtaper: return "overtaper";
+    case Attempt::Shallow: return "shallow";
+    case Attempt::WallUndercut: return "wall_undercut";
+    case Attempt::ThinMargin: return "thin_margin";
+    case Attempt::Nick: return "nick";
   }
   return "unknown";
 }
@@ -43,12 +48,19 @@ const char* attemptFault(Attempt a) {
     case Attempt::Trench: return "wrong place: a trench";
     case Attempt::Tilted: return "tilted: 15 degrees off the axis";
     case Attempt::Token: return "a token cut: touches and stops";
+    case Attempt::Overtaper: return "over-tapered: walls at 15 degrees";
+    case Attempt::Shallow: return "under-reduced occlusally by 1 mm";
+    case Attempt::WallUndercut: return "an undercut left on the buccal wall";
+    case Attempt::ThinMargin: return "a thin margin on the lingual";
+    case Attempt::Nick: return "the mesial neighbour nicked";
   }
   return "unknown";
 }
 
 std::optional<Attempt> parseAttempt(const std::string& name) {
   for (Attempt a : kAttempts)
+    if (name == attemptName(a)) return a;
+  for (Attempt a : kCrownAttempts)
     if (name == attemptName(a)) return a;
   return std::nullopt;
 }
@@ -57,7 +69,8 @@ Result<std::vector<Attempt>> parseAttemptList(const std::vector<std::string>& na
   std::vector<Attempt> out;
   for (const std::string& name : names) {
     const std::optional<Attempt> a = parseAttempt(name);
-    if (!a) return makeError(option, "\"" + name + "\" is not one of " + attemptNames());
+    if (!a)
+      return makeError(option, "\"" + name + "\" is not one of " + attemptNames() + " (a crown: " + crownAttemptNames() + ")");
     out.push_back(*a);
   }
   return out;
@@ -72,6 +85,12 @@ std::vector<std::string> attemptNameList() {
 std::string attemptNames() {
   std::string out;
   for (Attempt a : kAttempts) out += (out.empty() ? "" : ", ") + std::string(attemptName(a));
+  return out;
+}
+
+std::string crownAttemptNames() {
+  std::string out;
+  for (Attempt a : kCrownAttempts) out += (out.empty() ? "" : ", ") + std::string(attemptName(a));
   return out;
 }
 

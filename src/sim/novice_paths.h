@@ -27,19 +27,34 @@
 
 namespace dentsim {
 
-enum class Attempt { Expert, Overcut, Undercut, Heavy, Slow, Trench, Tilted, Token };
+// A crown preparation's faults (derived from the professional's session only, sim/session_attempts.h):
+//   overtaper      the walls leaning about 15 degrees each (TOC about 30)
+//   shallow        the occlusal surface lowered about 1 mm less
+//   wall_undercut  one wall (the buccal) leaning outward toward the occlusal: an undercut
+//   thin_margin    on one side (the lingual) the bur kept out, the chamfer there about 0.4 mm
+//   nick           one excursion from the mesial wall into the mesial neighbour
+enum class Attempt { Expert, Overcut, Undercut, Heavy, Slow, Trench, Tilted, Token, Overtaper, Shallow, WallUndercut, ThinMargin, Nick };
+// The attempts at a caries removal, a cavity or an access.
 inline constexpr std::array<Attempt, 8> kAttempts = {Attempt::Expert, Attempt::Overcut, Attempt::Undercut,
                                                      Attempt::Heavy,  Attempt::Slow,    Attempt::Trench,
                                                      Attempt::Tilted, Attempt::Token};
+// The attempts at a crown preparation.
+inline constexpr std::array<Attempt, 7> kCrownAttempts = {Attempt::Expert,       Attempt::Overtaper,  Attempt::Shallow,
+                                                          Attempt::WallUndercut, Attempt::ThinMargin, Attempt::Nick,
+                                                          Attempt::Token};
 
-const char* attemptName(Attempt a);    // "expert", "overcut", "undercut", "heavy", "slow", "trench", "tilted", "token"
+// "expert", "overcut", "undercut", "heavy", "slow", "trench", "tilted", "token", "overtaper", "shallow",
+// "wall_undercut", "thin_margin", "nick"
+const char* attemptName(Attempt a);
 const char* attemptFault(Attempt a);   // the fault in a few words, for tables
-std::optional<Attempt> parseAttempt(const std::string& name);
-// The names, for help and errors: "expert, overcut, undercut, heavy, slow, trench, tilted, token".
+std::optional<Attempt> parseAttempt(const std::string& name);  // any attempt of either list
+// kAttempts' names, for help and errors: "expert, overcut, undercut, heavy, slow, trench, tilted, token".
 std::string attemptNames();
 std::vector<std::string> attemptNameList();
+// kCrownAttempts' names: "expert, overtaper, shallow, wall_undercut, thin_margin, nick, token".
+std::string crownAttemptNames();
 // The attempts a command's list names (`--attempts overcut,slow`); `option` starts the error, which
-// names the first unknown one and lists the known.
+// names the first unknown one and lists the known (both lists).
 Result<std::vector<Attempt>> parseAttemptList(const std::vector<std::string>& names, const std::string& option);
 
 // How much each fault departs from the expert.

@@ -4,8 +4,10 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include "io/pen_playback.h"
+#include "sim/tool_library.h"
 #include "sim/sim_params.h"
 
 namespace dentsim {
@@ -85,6 +87,114 @@ PenPath hesitantPath(const PenPath& path, double factor, double work_s) {
   }
   std::stable_sort(out.samples.begin(), out.samples.end(), [](const PenSample& a, const PenSample& b) { return a.t_s < b.t_s; });
   return out;
+}
+
+// ---- a crown preparation's faults
+
+// A drill sample as a crown's edits see it: the bur's tip, its axis, whether it laps a wall, and the
+// wall's outward direction across the insertion axis (the side the bur's top leans away from).
+struct CrownSample {
+  Vec3 tip, bur;
+  bool lapping = false;
+  Vec3 side;
+};
+
+CrownSample crownSample(const PenSample& p, const Vec3& axis, const DerivedAttemptSettings& s) {
+  CrownSample c;
+  c.bur = p.pose.rotation.rotate({0, 0, 1});
+  c.tip = p.pose.position - p.pose.rotation.rotate(kBurGripLocal);
+  const Vec3 across = c.bur - axis * dot(c.bur, axis);
+  const double lean = std::atan2(norm(across), dot(c.bur, axis)) * 180.0 / std::numbers::pi;
+  c.lapping = lean > s.crown_lap_lean_deg;
+  if (c.lapping) c.side = normalized(across) * -1.0;
+  return c;
+}
+
+// How much of an edit a lapping sample on `side` gets for the wall facing `wall` (unit, across the
+// axis): all within crown_side_deg, none past crown_fade_deg more, linear between.
+double wallWeight(const Vec3& side, const Vec3& wall, const DerivedAttemptSettings& s) {
+  const double angle = std::acos(std::clamp(dot(side, wall), -1.0, 1.0)) * 180.0 / std::numbers::pi;
+  if (angle <= s.crown_side_deg) return 1.0;
+  if (s.crown_fade_deg <= 0 || angle >= s.crown_side_deg + s.crown_fade_deg) return 0.0;
+  return 1.0 - (angle - s.crown_side_deg) / s.crown_fade_deg;
+}
+
+// The sample turned about its tip by `degrees` in the plane of the axis and its side: positive
+// leans the bur's top further toward the axis.
+void turnAboutTip(PenSample& p, const CrownSample& c, const Vec3& axis, double degrees) {
+  const Vec3 about = normalized(cross(c.side, axis));  // a positive turn about it takes the top toward -side
+  const Quat turn = Quat::fromAxisAngle(about, degrees * std::numbers::pi / 180.0);
+  p.pose.rotation = turn * p.pose.rotation;
+  p.pose.position = c.tip + p.pose.rotation.rotate(kBurGripLocal);
+}
+
+// The tooth's direction `d` across the axis (unit).
+Vec3 acrossAxis(const std::array<double, 3>& d, const Vec3& axis) {
+  const Vec3 v{d[0], d[1], d[2]};
+  return normalized(v - axis * dot(v, axis));
+}
+
+// The nick: the lap stops at its last sample facing the mesial, swings out and back, and goes on.
+PenPath nickedPath(const ProfessionalPath& pro, const Vec3& axis, const ToothAxes& axes, const DerivedAttemptSettings& s) {
+  const Vec3 mesial = acrossTowardMesial(axis, axes);
+  std::optional<size_t> at;
+  for (size_t k = 0; k < pro.path.samples.size(); ++k) {
+    const PenSample& p = pro.path.samples[k];
+    if (p.pen != PenRole::Drill || p.pedal <= 0) continue;
+    const CrownSample c = crownSample(p, axis, s);
+    if (c.lapping && dot(c.side, mesial) > std::cos(3.0 * std::numbers::pi / 180.0)) at = k;
+  }
+  if (!at) return pro.path;
+  const PenSample& from = pro.path.samples[*at];
+  const CrownSample c = crownSample(from, axis, s);
+  PenPath out;
+  for (size_t k = 0; k <= *at; ++k) out.samples.push_back(pro.path.samples[k]);
+  // Out over the first 30 %, held, back over the last 30 %, every 10 ms.
+  const auto steps = std::max<int64_t>(2, int64_t(std::ceil(s.nick_s / 0.01)));
+  for (int64_t i = 1; i <= steps; ++i) {
+    const double f = double(i) / double(steps);
+    const double reach = std::clamp(std::min(f, 1.0 - f) / 0.3, 0.0, 1.0);
+    PenSample p = from;
+    p.t_s = from.t_s + f * s.nick_s;
+    p.pose.position += c.side * (s.nick_mm * reach);
+    out.samples.push_back(p);
+  }
+  for (size_t k = *at + 1; k < pro.path.samples.size(); ++k) {
+    PenSample p = pro.path.samples[k];
+    p.t_s += s.nick_s;
+    out.samples.push_back(p);
+  }
+  // The other pen's samples before the nick but listed after it keep their order by time.
+  std::stable_sort(out.samples.begin(), out.samples.end(), [](const PenSample& a, const PenSample& b) { return a.t_s < b.t_s; });
+  return out;
+}
+
+PenPath crownFault(const ProfessionalPath& pro, Attempt attempt, const Vec3& axis, const ToothAxes& axes,
+                   const DerivedAttemptSettings& s) {
+  const Vec3 buccal = acrossAxis(axes.buccal, axis);
+  switch (attempt) {
+    case Attempt::Overtaper:
+      return editDrill(pro, [&](PenSample& p, size_t) {
+        const CrownSample c = crownSample(p, axis, s);
+        if (c.lapping) turnAboutTip(p, c, axis, s.overtaper_deg);
+      });
+    case Attempt::Shallow:
+      return editDrill(pro, [&](PenSample& p, size_t) {
+        if (!crownSample(p, axis, s).lapping) p.pose.position += axis * s.shallow_mm;
+      });
+    case Attempt::WallUndercut:
+      return editDrill(pro, [&](PenSample& p, size_t) {
+        const CrownSample c = crownSample(p, axis, s);
+        if (c.lapping) turnAboutTip(p, c, axis, -s.undercut_turn_deg * wallWeight(c.side, buccal, s));
+      });
+    case Attempt::ThinMargin:
+      return editDrill(pro, [&](PenSample& p, size_t) {
+        const CrownSample c = crownSample(p, axis, s);
+        if (c.lapping) p.pose.position += c.side * (s.thin_margin_mm * wallWeight(c.side, buccal * -1.0, s));
+      });
+    case Attempt::Nick: return nickedPath(pro, axis, axes, s);
+    default: return pro.path;
+  }
 }
 
 }  // namespace
@@ -181,6 +291,11 @@ PenPath derivedAttemptPath(const ProfessionalPath& pro, Attempt attempt, const V
         }
         p.pose.position += heavy - press;
       });
+    case Attempt::Overtaper:
+    case Attempt::Shallow:
+    case Attempt::WallUndercut:
+    case Attempt::ThinMargin:
+    case Attempt::Nick: return crownFault(pro, attempt, axis, axes, s);
   }
   return pro.path;
 }

@@ -20,6 +20,25 @@
 //   tilted    the bur leaning tilt_deg off the insertion axis about its tip, toward the mesial
 //   trench    the same motion trench_offset_mm away, across the insertion axis toward the mesial
 //   token     stopped token_s after the bur first cut: touches the ideal and stops
+// A crown preparation's faults edit the professional's lapping and lowering (sim/crown_paths.h): a
+// drill sample whose bur leans more than crown_lap_lean_deg off the insertion axis is lapping an axial
+// wall, and the wall it cuts faces the way the bur's top leans from (its "side": the bur's axis
+// projected across the insertion axis, reversed); any other drill sample is lowering the occlusal
+// surface or moving between. A side within crown_side_deg of a wall's direction (the tooth's buccal,
+// lingual = -buccal, mesial; each across the insertion axis) is that wall's, fading to untouched over
+// the next crown_fade_deg, so that an edit does not jerk the bur:
+//   overtaper      every lapping sample turned about the tip by overtaper_deg further toward the axis
+//                  (a 2-degree-tapered bur leaning 4 degrees cuts walls of 6; 9 more make 15, TOC 30)
+//   shallow        every other drill sample lifted shallow_mm along the axis: the occlusal surface
+//                  lowered that much less
+//   wall_undercut  on the buccal wall the lapping bur turned about its tip by undercut_turn_deg away
+//                  from the axis: its top leans out, the wall widens toward the occlusal, an undercut
+//   thin_margin    on the lingual wall the lapping bur held thin_margin_mm further out, across the
+//                  axis: the chamfer there narrower by as much (and the wall reduced as much less)
+//   nick           at the last lapping sample facing the mesial (within 3 degrees), the lap stops and
+//                  the bur swings nick_mm toward the mesial and back over nick_s, the rest of the
+//                  session following later by nick_s: on the built-in molar, whose mesial wall the
+//                  professional cuts with the bur about 0.3 mm from the premolar, about 0.5 mm into it
 // "The cavity's axis" is the line along the insertion axis through the mean tip position while
 // cutting. "Cutting" is a step with the drill in contact and the pedal down.
 #pragma once
@@ -52,6 +71,16 @@ struct DerivedAttemptSettings {
   double trench_offset_mm = 2.0;     // the same motion this far away [mm]
   double token_s = 0.3;              // cutting time before the token attempt stops [s]
   double lift_mm = 3.0;              // a stopped attempt backs out this far along the axis [mm]
+  // A crown preparation's faults (above).
+  double crown_lap_lean_deg = 1.0;   // a bur leaning more than this off the axis laps a wall [deg]
+  double crown_side_deg = 45.0;      // a wall's samples: their side within this of its direction [deg]
+  double crown_fade_deg = 15.0;      // and fading out over this much further [deg]
+  double overtaper_deg = 9.0;        // further toward the axis [deg]
+  double shallow_mm = 1.0;           // the occlusal surface lowered this much less [mm]
+  double undercut_turn_deg = 12.0;   // the buccal wall's bur turned away from the axis [deg]
+  double thin_margin_mm = 0.6;       // the lingual wall's bur held out [mm]
+  double nick_mm = 0.9;              // the swing toward the mesial neighbour [mm]
+  double nick_s = 1.0;               // out, held and back [s]
 };
 
 // A heavy hand presses past the task's own force limit: at least this times force_error_n.

@@ -21,7 +21,8 @@ ScoreSummary scoreSummaryOf(const SessionScore& score) {
     } else {
       std::snprintf(text, sizeof text, "not scored");
     }
-    s.rows.push_back({line.name, text});
+    // A criterion graded against a range (a crown's) shows what was measured before its points.
+    s.rows.push_back({line.name, line.detail.empty() ? std::string(text) : line.detail + "  " + text});
   }
   if (score.caries_remaining_mm3) {
     std::snprintf(text, sizeof text, "%.3f mm^3", *score.caries_remaining_mm3);

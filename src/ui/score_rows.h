@@ -6,7 +6,8 @@
 
 namespace dentsim::ui {
 
-// Total and rows: each part "49.8 / 50" (or "not scored"), each deduction scored "-1.2", then the
+// Total and rows: each part "49.8 / 50" (or "not scored"; a crown's criteria lead with their detail,
+// "13.3 deg mesiodistal (10-20 deg) within  15.0 / 15"), each deduction scored "-1.2", then the
 // caries left (caries removal) and whether the pulp is exposed. The picture's size is the caller's.
 ScoreSummary scoreSummaryOf(const SessionScore& score);
 

@@ -14,6 +14,7 @@
 #include "test_sessions.h"
 #include "test_support.h"
 #include "volume/tooth_file.h"
+#include "volume/tooth_layer_synth.h"
 #include "volume/volume_hash.h"
 
 namespace dentsim {
@@ -260,6 +261,109 @@ TEST_F(TaskCli, SetIdealSetsTheAxisAndTheTimesTheTaskLeftToIt) {
   const nlohmann::json o = nlohmann::json::parse(own_in);
   EXPECT_EQ(o["target_s"], 200.0);
   EXPECT_EQ(o["failure_s"], 900.0);
+}
+
+// A crown task: the material's bands for its finish line, the finish's bur, and the height a molar
+// needs unless the tooth is known to be another type.
+TEST_F(TaskCli, TaskNewWritesACrownWithItsMaterialsBands) {
+  const std::string task = dir_.file("k.json");
+  const auto made = runDentsim("task new --tooth " + dir_.file("t.dvol") +
+                               " --kind crown --material metal-ceramic --finish shoulder -o " + task);
+  ASSERT_EQ(made.exit_code, 0) << made.output;
+  std::ifstream in(task);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_EQ(j["kind"], "crown");
+  EXPECT_EQ(j["tools"]["drill"], "shoulder_bur_016");
+  EXPECT_EQ(j["ideal"], nlohmann::json({{"kind", "builtin_path"}, {"path", "crown_prep"}}));
+  const nlohmann::json& c = j["crown"];
+  EXPECT_EQ(c["finish"], "shoulder");
+  EXPECT_EQ(c["material"], "metal-ceramic");
+  // Metal-ceramic: occlusal 1.5-2, axial 1.2-1.5 (metal and porcelain), a porcelain shoulder 1-1.5 wide.
+  EXPECT_EQ(c["occlusal_mm"], nlohmann::json::array({1.5, 2.0}));
+  EXPECT_EQ(c["axial_mm"], nlohmann::json::array({1.2, 1.5}));
+  EXPECT_EQ(c["margin_width_mm"], nlohmann::json::array({1.0, 1.5}));
+  EXPECT_EQ(c["toc_deg"], nlohmann::json::array({10.0, 20.0}));
+  EXPECT_EQ(c["toc_near_deg"], nlohmann::json::array({4.0, 30.0}));
+  // The tooth's layers are measured, so its type is not known: a molar's 4 mm.
+  EXPECT_EQ(c["min_height_mm"], 4.0);
+  EXPECT_EQ(c["min_height_width_ratio"], 0.4);
+  EXPECT_NE(made.output.find("the crown's targets (metal-ceramic, on a shoulder): occlusal reduction 1.5-2 mm, axial 1.2-1.5 "
+                             "mm, the shoulder 1-1.5 mm wide, convergence 10-20 deg (near 4-30), height at least 4 mm;"),
+            std::string::npos)
+      << made.output;
+
+  // The defaults: an all-ceramic crown on a chamfer, cut with the chamfer's bur; a premolar (its
+  // layers synthesized with that type) needs 3 mm.
+  auto tooth = loadTooth(dir_.file("t.dvol"));
+  ASSERT_TRUE(tooth.ok()) << tooth.message();
+  tooth->layers = LayerSource::Synthesized;
+  tooth->synthesized_type = uint8_t(ToothType::Premolar);
+  ASSERT_TRUE(saveTooth(dir_.file("p.dvol"), *tooth).ok());
+  const auto premolar = runDentsim("task new --tooth " + dir_.file("p.dvol") + " --kind crown -o " + dir_.file("kp.json"));
+  ASSERT_EQ(premolar.exit_code, 0) << premolar.output;
+  std::ifstream pin(dir_.file("kp.json"));
+  const nlohmann::json p = nlohmann::json::parse(pin);
+  EXPECT_EQ(p["tools"]["drill"], "chamfer_bur_016");
+  EXPECT_EQ(p["crown"]["finish"], "chamfer");
+  EXPECT_EQ(p["crown"]["material"], "all-ceramic");
+  EXPECT_EQ(p["crown"]["margin_width_mm"], nlohmann::json::array({0.8, 1.5}));
+  EXPECT_EQ(p["crown"]["min_height_mm"], 3.0);
+  EXPECT_NE(premolar.output.find("height at least 3 mm (a premolar)"), std::string::npos) << premolar.output;
+
+  // --finish and --material belong to a crown; an unknown one names the valid ones.
+  test::expectCleanFailure(runDentsim("task new --tooth " + dir_.file("t.dvol") + " --kind cavity --finish shoulder -o " +
+                                      dir_.file("c.json")),
+                           "--finish", "applies to a crown task, not to cavity", dir_.file("c.json"));
+  test::expectCleanFailure(runDentsim("task new --tooth " + dir_.file("t.dvol") + " --material metal -o " + dir_.file("c.json")),
+                           "--material", "applies to a crown task, not to caries", dir_.file("c.json"));
+  test::expectCleanFailure(runDentsim("task new --tooth " + dir_.file("t.dvol") + " --kind crown --finish bevel -o " +
+                                      dir_.file("c.json")),
+                           "--finish", "\"bevel\" is not one of chamfer, shoulder", dir_.file("c.json"));
+  test::expectCleanFailure(runDentsim("task new --tooth " + dir_.file("t.dvol") + " --kind crown --material gold -o " +
+                                      dir_.file("c.json")),
+                           "--material", "\"gold\" is not one of all-ceramic, metal-ceramic, metal", dir_.file("c.json"));
+}
+
+// task check on a crown: the bur that cuts another finish line is a warning, and the summary says
+// the crown's material and finish.
+TEST_F(TaskCli, TaskCheckWarnsOfACrownBurOfTheOtherFinish) {
+  const std::string task = dir_.file("k.json");
+  std::ofstream(task) << R"({"format": "dentsim-task", "version": 2, "name": "k", "kind": "crown", "tooth": "t.dvol",)"
+                         R"( "tools": {"drill": "fissure_bur_010"}, "target_s": 900, "force_error_n": 3,)"
+                         R"( "crown": {"finish": "shoulder", "material": "metal"}})";
+  const auto r = runDentsim("task check " + task);
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("warning: tools.drill: \"fissure_bur_010\" cuts no crown finish line (chamfer or shoulder); a "
+                          "shoulder is cut with "),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find(": ok: crown task (metal, shoulder) \"k\" on " + dir_.file("t.dvol") + ", drill fissure_bur_010, no ideal"),
+            std::string::npos)
+      << r.output;
+}
+
+// set-ideal on a crown sets its target time only: a crown's score has no time part, and its file
+// takes no cavity coefficients.
+TEST_F(TaskCli, SetIdealOnACrownSetsItsTargetAndKeepsItsTargets) {
+  const std::string task = dir_.file("k.json");
+  ASSERT_EQ(runDentsim("task new --tooth " + dir_.file("t.dvol") + " --kind crown --material metal -o " + task).exit_code, 0);
+  auto cut = loadTooth(dir_.file("t.dvol"));
+  ASSERT_TRUE(cut.ok());
+  for (uint32_t z = 0; z < 64; ++z) cut->voxels.setVoxel(32, 32, z, makeVoxel(Material::Empty));
+  ASSERT_TRUE(saveTooth(dir_.file("final.dvol"), *cut).ok());
+  writeBytes(dir_.file("p.dses"), professionalSession(dir_.file("t.dvol"), dir_.file("final.dvol"), "chamfer_bur_016"));
+  const auto set = runDentsim("task set-ideal " + task + " --session " + dir_.file("p.dses") + " --final " + dir_.file("final.dvol"));
+  ASSERT_EQ(set.exit_code, 0) << set.output;
+  EXPECT_NE(set.output.find("target_s set to 5.0 s, 1.25 x the professional's 4.0 s (from_ideal lists it); a crown "
+                            "preparation's score has no time part"),
+            std::string::npos)
+      << set.output;
+  std::ifstream in(task);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_DOUBLE_EQ(j["target_s"].get<double>(), 5.0);
+  EXPECT_FALSE(j.contains("cavity"));
+  EXPECT_EQ(j["crown"]["material"], "metal");
+  EXPECT_EQ(j["crown"]["axial_mm"], nlohmann::json::array({0.5, 1.0}));
 }
 
 // Every shipped task passes its own check, the class V's level buccal axis with it.

@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "eval/crown_targets.h"
 #include "eval/task_kinds.h"
 #include "test_support.h"
 
@@ -64,10 +65,33 @@ TEST(TaskKindsCli, TaskNewGivesEachClassItsRowsDefaults) {
   }
 }
 
+// A crown's finish picks its bur and its margin's width from eval/crown_targets.h's rows, on the
+// built-in molar (a molar: 4 mm high at least).
+TEST(TaskKindsCli, TaskNewGivesEachCrownFinishAndMaterialItsRows) {
+  TempDir dir;
+  for (const CrownFinishRow& finish : kCrownFinishTable)
+    for (const CrownMaterialRow& material : kCrownMaterialTable) {
+      SCOPED_TRACE(std::string(material.name) + " on a " + finish.name);
+      const nlohmann::json j = newTask(dir, std::string("k_") + finish.name + "_" + material.name,
+                                       std::string("--kind crown --finish ") + finish.name + " --material " + material.name);
+      ASSERT_FALSE(j.is_null());
+      EXPECT_EQ(j["tools"]["drill"], finish.default_bur);
+      const CrownBand width = material.*finish.width;
+      EXPECT_EQ(j["crown"]["margin_width_mm"], nlohmann::json::array({width.lo, width.hi}));
+      EXPECT_EQ(j["crown"]["occlusal_mm"], nlohmann::json::array({material.occlusal.lo, material.occlusal.hi}));
+      EXPECT_EQ(j["crown"]["axial_mm"], nlohmann::json::array({material.axial.lo, material.axial.hi}));
+      EXPECT_EQ(j["crown"]["min_height_mm"], kCrownMinHeightMolarMm);
+    }
+}
+
 TEST(TaskKindsCli, HelpAndErrorsListEveryRow) {
   const auto help = runDentsim("task new --help");
   EXPECT_EQ(help.exit_code, 0) << help.output;
   EXPECT_NE(help.output.find(taskKindNameList(", ", " or ")), std::string::npos) << help.output;
+  EXPECT_NE(help.output.find("--finish"), std::string::npos) << help.output;
+  EXPECT_NE(help.output.find(crownFinishNameList(", ", " or ")), std::string::npos) << help.output;
+  EXPECT_NE(help.output.find(crownMaterialNameList(", ", " or ")), std::string::npos) << help.output;
+  for (const CrownFinishRow& row : kCrownFinishTable) EXPECT_NE(help.output.find(row.default_bur), std::string::npos) << help.output;
   for (const TaskKindRow& row : kTaskKindTable) {
     SCOPED_TRACE(row.name);
     EXPECT_NE(help.output.find(row.default_bur), std::string::npos) << help.output;

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "sim/builtin_tooth.h"
 #include "test_support.h"
@@ -125,6 +126,49 @@ TEST(TaskChecks, AnIdealThatCutsANeighbourIsAWarning) {
   for (auto [x, y] : {std::pair{0u, 0u}, {1u, 0u}, {0u, 1u}}) clean.voxels.setVoxel(x, y, 0, makeVoxel(Material::Neighbour));
   ASSERT_TRUE(saveTooth(ideal_file, clean).ok());
   for (const std::string& w : checkTask(t).warnings) EXPECT_EQ(w.find("adjacent tooth"), std::string::npos) << w;
+}
+
+// The drill's warnings about a crown's bur, "tools.drill: ..." (its catalog error is not a warning).
+std::vector<std::string> drillWarnings(const Task& t) {
+  std::vector<std::string> out;
+  for (const std::string& w : checkTask(t).warnings)
+    if (w.rfind("tools.drill: ", 0) == 0) out.push_back(w);
+  return out;
+}
+
+TEST(TaskChecks, ACrownsBurMustCutItsFinishLineOrItIsAWarning) {
+  // The kind's own bur on its own finish: nothing said of the bur (until the catalog holds
+  // chamfer_bur_016, the catalog's error says it is unknown, and that is all).
+  Task t = molarTask(TaskKind::Crown);
+  ASSERT_EQ(t.crown.finish, "chamfer");
+  EXPECT_TRUE(drillWarnings(t).empty());
+  // A round bur cuts no finish line: a warning, not an error, naming the chamfer's burs.
+  t.drill_tool = "round_bur_010";
+  const TaskProblems round = checkTask(t);
+  EXPECT_TRUE(round.ok()) << (round.errors.empty() ? "" : round.errors[0]);
+  ASSERT_EQ(drillWarnings(t).size(), 1u);
+  const std::string w = drillWarnings(t)[0];
+  EXPECT_EQ(w.rfind("tools.drill: \"round_bur_010\" cuts no crown finish line (chamfer or shoulder); a chamfer is cut with ", 0),
+            0u) << w;
+  EXPECT_NE(w.find("chamfer_bur_016"), std::string::npos) << w;
+  EXPECT_EQ(w.find("shoulder_bur"), std::string::npos) << w;
+  // A chamfer's bur on a shoulder, and the other way round.
+  t.crown.finish = "shoulder";
+  t.drill_tool = "chamfer_bur_016";
+  ASSERT_EQ(drillWarnings(t).size(), 1u);
+  EXPECT_EQ(drillWarnings(t)[0].rfind(
+                "tools.drill: \"chamfer_bur_016\" cuts a chamfer, but crown.finish is shoulder; a shoulder is cut with ", 0),
+            0u) << drillWarnings(t)[0];
+  EXPECT_NE(drillWarnings(t)[0].find("shoulder_bur_016"), std::string::npos) << drillWarnings(t)[0];
+  t.crown.finish = "chamfer";
+  t.drill_tool = "shoulder_bur_016";
+  ASSERT_EQ(drillWarnings(t).size(), 1u);
+  EXPECT_EQ(drillWarnings(t)[0].rfind("tools.drill: \"shoulder_bur_016\" cuts a shoulder, but crown.finish is chamfer", 0), 0u)
+      << drillWarnings(t)[0];
+  // Only a crown's bur is held to a finish line.
+  Task cavity = molarTask(TaskKind::Cavity);
+  cavity.drill_tool = "round_bur_010";
+  EXPECT_TRUE(drillWarnings(cavity).empty());
 }
 
 TEST(TaskChecks, TheRequiredTissueIsTheRowsAndOnlyCountsWhenMissing) {

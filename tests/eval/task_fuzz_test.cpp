@@ -4,6 +4,7 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "eval/task.h"
@@ -17,7 +18,7 @@ using test::pick;
 
 const std::string kWhere = "fuzz.json";
 
-// Both kinds in both versions, every key present.
+// Caries and cavity in both versions and a crown, every key present.
 const char* const kSeeds[] = {
     R"({"format": "dentsim-task", "version": 2, "name": "caries_removal", "kind": "caries",
         "title": "Remove the caries", "tooth": "builtin:molar", "level": 9,
@@ -42,6 +43,15 @@ const char* const kSeeds[] = {
         "cavity": {"undercut_coefficient": 1.0, "overcut_coefficient": 1.0, "parallel_coefficient": 0.01,
                    "time_coefficient": 5.0, "parallel_error_deg": 10.0, "insertion_axis": [0, 0, 1],
                    "leeway_mm": 0.2, "ideal": {"kind": "builtin_path", "path": "class1_cavity"}}})",
+    R"({"format": "dentsim-task", "version": 2, "name": "crown_preparation", "kind": "crown",
+        "title": "Crown", "tooth": "builtin:molar", "level": 9,
+        "tools": {"drill": "shoulder_bur_016", "mirror": "mirror_size4"}, "target_s": 900, "force_error_n": 3.0,
+        "insertion_axis": [0, 0, 1], "leeway_mm": 0.2, "pulp_exposure_cap": 50,
+        "ideal": {"kind": "builtin_path", "path": "crown_prep"},
+        "crown": {"finish": "shoulder", "material": "metal-ceramic", "occlusal_mm": [1.5, 2.0], "axial_mm": [1.2, 1.5],
+                  "margin_width_mm": [1.0, 1.5], "toc_deg": [10, 20], "toc_near_deg": [4, 30], "min_height_mm": 4,
+                  "min_height_width_ratio": 0.4, "margin_above_cej_mm": [-0.5, 1.0], "undercut_tolerance_mm2": 0.5,
+                  "undercut_cap": 50}})",
 };
 
 // Replacements that aim at the schema rather than at the bytes: numbers out of range or beyond
@@ -95,6 +105,24 @@ TEST(TaskFuzz, MutatedTasksAreRefusedInOneLineOrKeepEveryRule) {
     if (task->kind == TaskKind::Caries) {
       ASSERT_GT(task->failure_s, task->target_s) << text;
       ASSERT_TRUE(std::isfinite(task->caries.healthy_coefficient) && task->caries.healthy_coefficient >= 0) << text;
+    } else if (task->kind == TaskKind::Crown) {
+      const CrownTask& c = task->crown;
+      for (auto [lo, hi] : {std::pair{c.occlusal_lo_mm, c.occlusal_hi_mm}, {c.axial_lo_mm, c.axial_hi_mm},
+                            {c.margin_lo_mm, c.margin_hi_mm}}) {
+        ASSERT_GT(lo, 0.0) << text;
+        ASSERT_LT(lo, hi) << text;
+        ASSERT_LE(hi, 10.0) << text;
+      }
+      ASSERT_LE(c.toc_near_lo_deg, c.toc_lo_deg) << text;
+      ASSERT_LT(c.toc_lo_deg, c.toc_hi_deg) << text;
+      ASSERT_LE(c.toc_hi_deg, c.toc_near_hi_deg) << text;
+      ASSERT_GE(c.toc_near_lo_deg, 0.0) << text;
+      ASSERT_LE(c.toc_near_hi_deg, 60.0) << text;
+      ASSERT_TRUE(c.min_height_mm > 0 && c.min_height_mm <= 20) << text;
+      ASSERT_TRUE(c.min_height_width_ratio > 0 && c.min_height_width_ratio <= 10) << text;
+      ASSERT_LT(c.margin_above_cej_lo_mm, c.margin_above_cej_hi_mm) << text;
+      ASSERT_TRUE(std::isfinite(c.undercut_tolerance_mm2) && c.undercut_tolerance_mm2 >= 0) << text;
+      ASSERT_TRUE(c.undercut_cap >= 0 && c.undercut_cap <= 100) << text;
     } else {
       ASSERT_TRUE(task->ideal.has_value()) << text;
       const CavityTask& c = task->cavity;

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "eval/class_report.h"
+#include "eval/crown_targets.h"
 #include "eval/task_axis.h"
 #include "eval/task_writer.h"
 #include "model/tool_generator.h"
@@ -31,9 +32,10 @@ Task taskOfRow(const TaskKindRow& row) {
   return t;
 }
 
+// A bur: any cutting head of the catalog, all but the handpiece and the mirror.
 bool isCatalogBur(const std::string& name) {
   return std::any_of(toolCatalog().begin(), toolCatalog().end(), [&](const ToolSpec& s) {
-    return name == s.name && (s.kind == ToolKind::RoundBur || s.kind == ToolKind::FissureBur);
+    return name == s.name && s.kind != ToolKind::Handpiece && s.kind != ToolKind::Mirror;
   });
 }
 
@@ -131,6 +133,12 @@ TEST(TaskKinds, DefaultsNameToolsPathsAndTissuesThatExist) {
     EXPECT_EQ(findCavityClass(row.black), &row);
   }
   EXPECT_EQ(findCavityClass(4), nullptr);
+  // A crown's bur for each finish line is a bur its own finish names.
+  for (const CrownFinishRow& row : kCrownFinishTable) {
+    SCOPED_TRACE(row.name);
+    EXPECT_TRUE(isCatalogBur(row.default_bur));
+    EXPECT_EQ(crownFinishOfBur(row.default_bur), &row);
+  }
 }
 
 TEST(TaskKinds, TheNameListHoldsEveryRowInOrder) {

@@ -5,8 +5,12 @@
 
 #include <filesystem>
 #include <fstream>
+#include <initializer_list>
 #include <string>
+#include <utility>
 
+#include "eval/crown_targets.h"
+#include "eval/task_writer.h"
 #include "test_support.h"
 
 namespace dentsim {
@@ -197,7 +201,7 @@ TEST(Task, ErrorsNameTheFileAndKey) {
   EXPECT_EQ(errorOf(cavityText(R"("ideal": {"kind": "guess", "path": "a"})")),
             "t.json: cavity.ideal: repeated key");
   EXPECT_EQ(errorOf(R"({"format": "dentsim-task", "version": 1, "name": "c", "kind": "filling"})"),
-            "t.json: kind: \"filling\" is not one of \"caries\", \"cavity\", \"access\"");
+            "t.json: kind: \"filling\" is not one of \"caries\", \"cavity\", \"access\", \"crown\"");
   EXPECT_EQ(errorOf(R"({"format": "dentsim-task", "version": 1, "name": "a b"})"),
             "t.json: name: \"a b\" is not a name (1 to 64 letters, digits, '_', '-', '.')");
 }
@@ -309,6 +313,140 @@ TEST(Task, AccessKeysBelongToTheAccessKind) {
             "t.json: access: only for kind \"access\"");
   EXPECT_EQ(errorOf(R"({"format": "dentsim-task", "version": 1, "name": "a", "kind": "access"})"),
             "t.json: kind: \"access\" needs version 2");
+}
+
+// A version 2 crown task, with no ideal, with `extra` members appended.
+std::string crownText(const std::string& extra = "") {
+  return std::string(R"({"format": "dentsim-task", "version": 2, "name": "k", "kind": "crown", "tooth": "builtin:molar",)"
+                     R"( "tools": {"drill": "chamfer_bur_016"}, "target_s": 900, "force_error_n": 3)") +
+         (extra.empty() ? "" : ", " + extra) + "}";
+}
+// The same with a crown object of `members`.
+std::string crownObjectText(const std::string& members) { return crownText(R"("crown": {)" + members + "}"); }
+
+// The table's figures, by hand: all-ceramic 1.5-2 / 1-1.5 / 0.8-1.5 either finish; metal-ceramic
+// 1.5-2 / 1.2-1.5, a shoulder 1-1.5 and a chamfer 0.5-1; metal 1-1.5 / 0.5-1, a chamfer 0.5-0.8
+// and a shoulder 0.8-1.2. What every material shares: TOC 10-20 (near 4-30), 4 mm, 0.4.
+TEST(Task, CrownTargetsAreTheTablesByMaterialAndFinish) {
+  struct Expected {
+    const char *finish, *material;
+    double occlusal_lo, occlusal_hi, axial_lo, axial_hi, margin_lo, margin_hi;
+  };
+  for (const Expected& e : {Expected{"chamfer", "all-ceramic", 1.5, 2.0, 1.0, 1.5, 0.8, 1.5},
+                            Expected{"shoulder", "all-ceramic", 1.5, 2.0, 1.0, 1.5, 0.8, 1.5},
+                            Expected{"chamfer", "metal-ceramic", 1.5, 2.0, 1.2, 1.5, 0.5, 1.0},
+                            Expected{"shoulder", "metal-ceramic", 1.5, 2.0, 1.2, 1.5, 1.0, 1.5},
+                            Expected{"chamfer", "metal", 1.0, 1.5, 0.5, 1.0, 0.5, 0.8},
+                            Expected{"shoulder", "metal", 1.0, 1.5, 0.5, 1.0, 0.8, 1.2}}) {
+    SCOPED_TRACE(std::string(e.material) + " on a " + e.finish);
+    auto c = crownTargets(e.finish, e.material);
+    ASSERT_TRUE(c.ok()) << c.message();
+    EXPECT_EQ(c->finish, e.finish);
+    EXPECT_EQ(c->material, e.material);
+    EXPECT_EQ(c->occlusal_lo_mm, e.occlusal_lo);
+    EXPECT_EQ(c->occlusal_hi_mm, e.occlusal_hi);
+    EXPECT_EQ(c->axial_lo_mm, e.axial_lo);
+    EXPECT_EQ(c->axial_hi_mm, e.axial_hi);
+    EXPECT_EQ(c->margin_lo_mm, e.margin_lo);
+    EXPECT_EQ(c->margin_hi_mm, e.margin_hi);
+    EXPECT_EQ(c->toc_lo_deg, 10.0);
+    EXPECT_EQ(c->toc_hi_deg, 20.0);
+    EXPECT_EQ(c->toc_near_lo_deg, 4.0);
+    EXPECT_EQ(c->toc_near_hi_deg, 30.0);
+    EXPECT_EQ(c->min_height_mm, 4.0);
+    EXPECT_EQ(c->min_height_width_ratio, 0.4);
+  }
+  EXPECT_EQ(kCrownMinHeightOtherMm, 3.0);
+  // task.h's defaults are the table's first finish and material, so a Task{} is a valid crown task.
+  EXPECT_EQ(crownJson(CrownTask{}), crownJson(*crownTargets("chamfer", "all-ceramic")));
+  EXPECT_EQ(crownTargets("bevel", "metal").message(), "finish \"bevel\" is not chamfer or shoulder");
+  EXPECT_EQ(crownTargets("chamfer", "zirconia").message(),
+            "material \"zirconia\" is not all-ceramic, metal-ceramic or metal");
+  // Each finish's burs, by name.
+  EXPECT_EQ(crownFinishOfBur("chamfer_bur_016"), findCrownFinish("chamfer"));
+  EXPECT_EQ(crownFinishOfBur("shoulder_bur_012"), findCrownFinish("shoulder"));
+  EXPECT_EQ(crownFinishOfBur("fissure_bur_010"), nullptr);
+}
+
+TEST(Task, ACrownTaskTakesItsBandsFromItsFinishAndMaterial) {
+  // No object, no ideal: an all-ceramic crown on a chamfer, measured from the prepared shape alone.
+  auto plain = parseTask(crownText(), kWhere);
+  ASSERT_TRUE(plain.ok()) << plain.message();
+  EXPECT_EQ(plain->kind, TaskKind::Crown);
+  EXPECT_STREQ(taskKindName(plain->kind), "crown");
+  EXPECT_FALSE(plain->ideal.has_value());
+  EXPECT_EQ(crownJson(plain->crown), crownJson(*crownTargets("chamfer", "all-ceramic")));
+  // An ideal is accepted.
+  auto ideal = parseTask(crownText(R"("ideal": {"kind": "builtin_path", "path": "crown_prep"})"), kWhere);
+  ASSERT_TRUE(ideal.ok()) << ideal.message();
+  EXPECT_EQ(ideal->ideal->path, "crown_prep");
+  // Only the finish and the material: that material's bands for that finish.
+  auto mc = parseTask(crownObjectText(R"("finish": "shoulder", "material": "metal-ceramic")"), kWhere);
+  ASSERT_TRUE(mc.ok()) << mc.message();
+  EXPECT_EQ(mc->crown.axial_lo_mm, 1.2);
+  EXPECT_EQ(mc->crown.margin_lo_mm, 1.0);
+  EXPECT_EQ(mc->crown.margin_hi_mm, 1.5);
+  EXPECT_EQ(crownJson(mc->crown), crownJson(*crownTargets("shoulder", "metal-ceramic")));
+  // A key given replaces only its own band; the rest stay the material's.
+  auto own = parseTask(crownObjectText(R"("material": "metal", "axial_mm": [0.6, 0.9], "margin_above_cej_mm": [-0.5, 0.5],)"
+                                       R"( "min_height_mm": 3, "undercut_cap": 0, "undercut_tolerance_mm2": 0, "toc_deg": [6, 12])"),
+                         kWhere);
+  ASSERT_TRUE(own.ok()) << own.message();
+  EXPECT_EQ(own->crown.finish, "chamfer");
+  EXPECT_EQ(own->crown.axial_lo_mm, 0.6);
+  EXPECT_EQ(own->crown.axial_hi_mm, 0.9);
+  EXPECT_EQ(own->crown.occlusal_lo_mm, 1.0);  // metal's
+  EXPECT_EQ(own->crown.margin_hi_mm, 0.8);    // metal's chamfer
+  EXPECT_EQ(own->crown.margin_above_cej_lo_mm, -0.5);  // subgingival
+  EXPECT_EQ(own->crown.min_height_mm, 3.0);
+  EXPECT_EQ(own->crown.undercut_cap, 0.0);
+  EXPECT_EQ(own->crown.undercut_tolerance_mm2, 0.0);
+  EXPECT_EQ(own->crown.toc_lo_deg, 6.0);
+}
+
+TEST(Task, EachCrownKeyRefusesWhatIsOutOfRange) {
+  for (auto [members, error] : std::initializer_list<std::pair<const char*, const char*>>{
+           {R"("finish": "bevel")", "crown.finish: \"bevel\" is not one of \"chamfer\", \"shoulder\""},
+           {R"("material": "gold")", "crown.material: \"gold\" is not one of \"all-ceramic\", \"metal-ceramic\", \"metal\""},
+           {R"("occlusal_mm": [2, 1.5])", "crown.occlusal_mm: lo 2 is not < hi 1.5"},
+           {R"("occlusal_mm": [1.5, 1.5])", "crown.occlusal_mm: lo 1.5 is not < hi 1.5"},
+           {R"("occlusal_mm": [0, 1.5])", "crown.occlusal_mm[0]: 0 is not > 0 and <= 10"},
+           {R"("occlusal_mm": 1.5)", "crown.occlusal_mm: expected [lo, hi], an array of 2 numbers"},
+           {R"("occlusal_mm": [1, 1.5, 2])", "crown.occlusal_mm: expected [lo, hi], an array of 2 numbers"},
+           {R"("axial_mm": [1, "2"])", "crown.axial_mm[1]: expected a number, got string"},
+           {R"("axial_mm": [1, 15])", "crown.axial_mm[1]: 15 is not > 0 and <= 10"},
+           {R"("margin_width_mm": [-0.8, 1.5])", "crown.margin_width_mm[0]: -0.8 is not > 0 and <= 10"},
+           {R"("margin_width_mm": [1.5, 0.8])", "crown.margin_width_mm: lo 1.5 is not < hi 0.8"},
+           {R"("toc_deg": [10, 61])", "crown.toc_deg[1]: 61 is not in [0, 60]"},
+           {R"("toc_deg": [20, 10])", "crown.toc_deg: lo 20 is not < hi 10"},
+           {R"("toc_deg": [2, 20])", "crown.toc_deg: [2.0, 20.0] is not within toc_near_deg [4.0, 30.0] (give toc_near_deg too)"},
+           {R"("toc_near_deg": [-1, 30])", "crown.toc_near_deg[0]: -1 is not in [0, 60]"},
+           {R"("toc_near_deg": [12, 30])", "crown.toc_near_deg: [12.0, 30.0] does not hold toc_deg [10.0, 20.0]"},
+           {R"("min_height_mm": 0)", "crown.min_height_mm: 0 is not > 0 and <= 20"},
+           {R"("min_height_width_ratio": -0.4)", "crown.min_height_width_ratio: -0.4 is not > 0 and <= 10"},
+           {R"("margin_above_cej_mm": [1, -1])", "crown.margin_above_cej_mm: lo 1 is not < hi -1"},
+           {R"("margin_above_cej_mm": [-11, 1])", "crown.margin_above_cej_mm[0]: -11 is not in [-10, 10]"},
+           {R"("undercut_tolerance_mm2": -0.1)", "crown.undercut_tolerance_mm2: -0.1 is not >= 0 and <= 1e9"},
+           {R"("undercut_cap": 101)", "crown.undercut_cap: 101 is not in [0, 100]"},
+           {R"("taper": 12)", "crown.taper: unknown key (known: finish, material, occlusal_mm, axial_mm, margin_width_mm, "
+                              "toc_deg, toc_near_deg, min_height_mm, min_height_width_ratio, margin_above_cej_mm, "
+                              "undercut_tolerance_mm2, undercut_cap)"},
+       }) {
+    EXPECT_EQ(errorOf(crownObjectText(members)), std::string("t.json: ") + error);
+  }
+  EXPECT_EQ(errorOf(crownText(R"("crown": [1])")), "t.json: crown: expected an object, got array");
+}
+
+TEST(Task, CrownKeysBelongToTheCrownKind) {
+  EXPECT_EQ(errorOf(v2Text(kV2Cavity, R"("crown": {"finish": "chamfer"})")), "t.json: crown: only for kind \"crown\"");
+  EXPECT_EQ(errorOf(v2Text(kV2Caries, R"("crown": {})")), "t.json: crown: only for kind \"crown\"");
+  EXPECT_EQ(errorOf(crownText(R"("cavity_class": "I")")), "t.json: cavity_class: only for kind \"cavity\"");
+  EXPECT_EQ(errorOf(crownText(R"("cavity": {"overcut_coefficient": 2})")), "t.json: cavity: only for kind \"cavity\"");
+  EXPECT_EQ(errorOf(crownText(R"("access": {"unopened_cap": 25})")), "t.json: access: only for kind \"access\"");
+  EXPECT_EQ(errorOf(crownText(R"("failure_s": 1800)")), "t.json: failure_s: only for kind \"caries\"");
+  std::string v1 = crownText();
+  v1.replace(v1.find("\"version\": 2"), 12, "\"version\": 1");
+  EXPECT_EQ(errorOf(v1), "t.json: kind: \"crown\" needs version 2");
 }
 
 TEST(Task, IdealKindMustBeKnown) {

@@ -22,6 +22,23 @@ TEST(TaskValidation, FaultPartsPerKind) {
   EXPECT_EQ(faultParts(TaskKind::Cavity, Attempt::Tilted), std::vector<std::string>{"parallel"});
   EXPECT_EQ(faultParts(TaskKind::Cavity, Attempt::Slow), std::vector<std::string>{"time"});
   EXPECT_TRUE(faultParts(TaskKind::Caries, Attempt::Expert).empty());
+  // A crown's faults, each in its criterion of eval/crown_score.h; the cap is the undercut's too.
+  EXPECT_EQ(faultParts(TaskKind::Crown, Attempt::Overtaper), std::vector<std::string>{"taper"});
+  EXPECT_EQ(faultParts(TaskKind::Crown, Attempt::Shallow), std::vector<std::string>{"occlusal_reduction"});
+  EXPECT_EQ(faultParts(TaskKind::Crown, Attempt::WallUndercut), (std::vector<std::string>{"undercut", "undercut cap"}));
+  EXPECT_EQ(faultParts(TaskKind::Crown, Attempt::ThinMargin), std::vector<std::string>{"margin_width"});
+  EXPECT_EQ(faultParts(TaskKind::Crown, Attempt::Nick), std::vector<std::string>{"adjacent"});
+  EXPECT_EQ(faultParts(TaskKind::Crown, Attempt::Token).size(), 7u);  // every criterion
+  EXPECT_TRUE(faultParts(TaskKind::Cavity, Attempt::Overtaper).empty());
+}
+
+TEST(TaskValidation, EachKindRunsItsOwnAttempts) {
+  EXPECT_EQ(kindAttempts(TaskKind::Cavity), std::vector<Attempt>(kAttempts.begin(), kAttempts.end()));
+  EXPECT_EQ(kindAttempts(TaskKind::Crown), std::vector<Attempt>(kCrownAttempts.begin(), kCrownAttempts.end()));
+  EXPECT_EQ(crownAttemptNames(), "expert, overtaper, shallow, wall_undercut, thin_margin, nick, token");
+  for (Attempt a : kCrownAttempts) EXPECT_EQ(parseAttempt(attemptName(a)), a);
+  EXPECT_EQ(ValidationSettings{}.crown_min_gap, 10.0);
+  EXPECT_EQ(ValidationSettings{}.min_gap, 20.0);
 }
 
 TEST(TaskValidation, MostInItsOwnPartMeansMoreThanAnyOtherOnePart) {

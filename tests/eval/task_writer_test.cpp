@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "test_support.h"
@@ -71,6 +72,61 @@ TEST(TaskWriter, OnlyWhatIsSetIsWritten) {
   EXPECT_EQ(keysOf(j), (std::vector<std::string>{"format", "version", "name", "kind", "title", "instructions", "tooth", "tools",
                                                  "target_s", "failure_s", "force_error_n", "insertion_axis", "leeway_mm"}));
   EXPECT_EQ(keysOf(j["tools"]), std::vector<std::string>{"drill"});
+}
+
+// A metal-ceramic crown on a shoulder, every target changed from the table's, so that a key the
+// writer dropped would read back as the default and show.
+Task crownTask() {
+  Task t;
+  t.name = "k";
+  t.kind = TaskKind::Crown;
+  t.title = "Prepare the tooth for a full crown";
+  t.instructions = "Prepare it.";
+  t.tooth = "builtin:molar";
+  t.drill_tool = "shoulder_bur_016";
+  t.target_s = 900;
+  CrownTask& c = t.crown;
+  c.finish = "shoulder";
+  c.material = "metal-ceramic";
+  c.occlusal_lo_mm = 1.6, c.occlusal_hi_mm = 2.1;
+  c.axial_lo_mm = 1.25, c.axial_hi_mm = 1.55;
+  c.margin_lo_mm = 1.05, c.margin_hi_mm = 1.45;
+  c.toc_lo_deg = 8, c.toc_hi_deg = 18;
+  c.toc_near_lo_deg = 3, c.toc_near_hi_deg = 28;
+  c.min_height_mm = 3;
+  c.min_height_width_ratio = 0.35;
+  c.margin_above_cej_lo_mm = -0.5, c.margin_above_cej_hi_mm = 0.75;
+  c.undercut_tolerance_mm2 = 0.25;
+  c.undercut_cap = 40;
+  return t;
+}
+
+TEST(TaskWriter, ACrownTaskWritesEveryTargetAndReadsItBack) {
+  const Task t = crownTask();
+  const nlohmann::ordered_json j = newTaskJson(t);
+  EXPECT_EQ(keysOf(j).back(), "crown");
+  EXPECT_EQ(keysOf(j["crown"]),
+            (std::vector<std::string>{"finish", "material", "occlusal_mm", "axial_mm", "margin_width_mm", "toc_deg",
+                                      "toc_near_deg", "min_height_mm", "min_height_width_ratio", "margin_above_cej_mm",
+                                      "undercut_tolerance_mm2", "undercut_cap"}));
+  EXPECT_EQ(j["crown"]["margin_width_mm"], nlohmann::ordered_json::array({1.05, 1.45}));
+  auto back = parseTask(j.dump(2), "t.json");
+  ASSERT_TRUE(back.ok()) << back.message();
+  const CrownTask &a = t.crown, &b = back->crown;
+  EXPECT_EQ(b.finish, a.finish);
+  EXPECT_EQ(b.material, a.material);
+  for (auto [x, y] : {std::pair{a.occlusal_lo_mm, b.occlusal_lo_mm}, {a.occlusal_hi_mm, b.occlusal_hi_mm},
+                      {a.axial_lo_mm, b.axial_lo_mm}, {a.axial_hi_mm, b.axial_hi_mm}, {a.margin_lo_mm, b.margin_lo_mm},
+                      {a.margin_hi_mm, b.margin_hi_mm}, {a.toc_lo_deg, b.toc_lo_deg}, {a.toc_hi_deg, b.toc_hi_deg},
+                      {a.toc_near_lo_deg, b.toc_near_lo_deg}, {a.toc_near_hi_deg, b.toc_near_hi_deg},
+                      {a.min_height_mm, b.min_height_mm}, {a.min_height_width_ratio, b.min_height_width_ratio},
+                      {a.margin_above_cej_lo_mm, b.margin_above_cej_lo_mm}, {a.margin_above_cej_hi_mm, b.margin_above_cej_hi_mm},
+                      {a.undercut_tolerance_mm2, b.undercut_tolerance_mm2}, {a.undercut_cap, b.undercut_cap}})
+    EXPECT_EQ(y, x);
+  // Written again, the same text: the round trip loses nothing.
+  EXPECT_EQ(newTaskJson(*back).dump(2), j.dump(2));
+  // Another kind writes no crown object.
+  EXPECT_FALSE(newTaskJson(fullTask()).contains("crown"));
 }
 
 TEST(TaskWriter, AnIdealWritesTheFieldsItHas) {

@@ -234,11 +234,11 @@ TEST(RestorativePaths, AccessOpensThePulpChamberThroughTheOcclusalCentreAndTakes
 
 TEST(CoursePaths, EveryBuiltinPathHasAnExpertAndTheNamesAreChecked) {
   const SimParams params = defaultSimParams();
-  EXPECT_EQ(builtinPathNames(), "class1_cavity, class2_cavity, class5_cavity, access_cavity, caries_removal");
+  EXPECT_EQ(builtinPathNames(), "class1_cavity, class2_cavity, class5_cavity, access_cavity, caries_removal, crown_prep");
   for (const char* name : kBuiltinPaths) {
     Exercise e;
     e.path = name;
-    e.bur = std::string(name) == "class2_cavity" ? "fissure_bur_010" : "round_bur_010";
+    e.bur = std::string(name) == "class2_cavity" ? "fissure_bur_010" : std::string(name) == "crown_prep" ? "chamfer_bur_016" : "round_bur_010";
     if (std::string(name) == "class5_cavity") e.insertion_axis = {0, -1, 0};
     auto path = expertPath(e, molar().voxels, molar().frame, params);
     ASSERT_TRUE(path.ok()) << name << ": " << path.message();

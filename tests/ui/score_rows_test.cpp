@@ -62,11 +62,11 @@ TEST(ScoreRows, EachPartAndScoredDeductionOfTheReportInItsOrder) {
 TEST(ScoreRows, ACavityShowsItsFourPartsAndNoCariesRow) {
   SessionScore score;
   score.total = 61.25;
-  score.lines = {{"undercut", 20.0, 25.0, false},
-                 {"overcut", 18.25, 25.0, false},
-                 {"parallel", std::nullopt, 25.0, false},
-                 {"time", std::nullopt, 25.0, false},
-                 {"force", std::nullopt, 0.0, true}};
+  score.lines = {{"undercut", 20.0, 25.0, false, {}},
+                 {"overcut", 18.25, 25.0, false, {}},
+                 {"parallel", std::nullopt, 25.0, false, {}},
+                 {"time", std::nullopt, 25.0, false, {}},
+                 {"force", std::nullopt, 0.0, true, {}}};
   score.pulp_exposed = true;
   const ui::ScoreSummary s = ui::scoreSummaryOf(score);
   ASSERT_EQ(s.rows.size(), 5u);
@@ -76,6 +76,17 @@ TEST(ScoreRows, ACavityShowsItsFourPartsAndNoCariesRow) {
   EXPECT_EQ(s.rows[3].label, "time");
   EXPECT_EQ(s.rows[4].label, "pulp exposed");  // the unscored force deduction shows no row
   EXPECT_EQ(s.rows[4].value, "yes");
+}
+
+// A crown's criterion leads with what was measured against its range, then its points.
+TEST(ScoreRows, ACrownCriterionShowsItsMeasurementBeforeItsPoints) {
+  SessionScore score;
+  score.total = 85.0;
+  score.lines = {{"taper", 0.0, 15.0, false, "0.0 deg mesiodistal (10-20 deg) outside"}};
+  const ui::ScoreSummary s = ui::scoreSummaryOf(score);
+  ASSERT_EQ(s.rows.size(), 2u);
+  EXPECT_EQ(s.rows[0].label, "taper");
+  EXPECT_EQ(s.rows[0].value, "0.0 deg mesiodistal (10-20 deg) outside  0.0 / 15");
 }
 
 }  // namespace
