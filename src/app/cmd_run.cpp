@@ -187,6 +187,9 @@ void addRunCommand(CLI::App& root, Action& action) {
                   "(standing where the professional's bur came nearest yours)")
       ->check(CLI::IsMember({"time", "nearest"}))
       ->capture_default_str();
+  cmd->add_flag("--reduction-map", o->reduction_map,
+                "A crown task: show the reduction map from the start (the View page's switch): the prepared surface "
+                "green within the task's band, blue where more must come off, red where too much did");
   // --course is the folder the pickers list, so the learning records' course id is --course-id here.
   addLearningOptions(cmd, *learning, "--course-id");
   cmd->callback([o, learning, overwrite, cmd, &action] {

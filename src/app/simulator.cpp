@@ -1,11 +1,12 @@
-// The simulator's frame loop: one frame as a contents list of stages (input, haptics, edits, surfaces, readouts, panel, scene, actions, end rules), and the run from set-up to outcome.
+// The simulator's frame loop: one frame as a contents list of stages (input, haptics, edits, surfaces, reduction map, readouts, panel, scene, actions, end rules), and the run from set-up to outcome.
 //
 // The parts it drives, one job each: the device rack (pens and pedal), the segments (loops and
 // their sessions), the frame painter (window, device, renderer), the window's input, the pictures
 // on disk (screenshots.h), the score screen, the sound and the end rules (sim_end_rules.h).
 // simulator_setup.cpp sets them up; simulator_segments.cpp starts and ends segments;
 // simulator_scene.cpp draws; simulator_panel.cpp carries out the panel's actions and the score;
-// simulator_picks.cpp the tooth and task picks; simulator_ghost.cpp the professional's ghost.
+// simulator_picks.cpp the tooth and task picks; simulator_ghost.cpp the professional's ghost;
+// simulator_reduction.cpp a crown task's live reduction map.
 #include "app/simulator.h"
 
 #include <algorithm>
@@ -57,6 +58,7 @@ Status Simulator::frame() {
   const FramePlan plan = stepHaptics();
   drainEdits();
   if (Status st = updateSurfaces(plan); !st) return st;
+  if (Status st = refreshReductionMap(plan); !st) return st;
   showReadouts(segments_.state());
   ui::PanelActions actions = drawPanel(plan);
   if (plan.draw) {
@@ -93,7 +95,9 @@ FramePlan Simulator::stepHaptics() {
 void Simulator::drainEdits() {
   // The loop's voxel edits reach this copy of the tooth at once; the changed bricks are re-meshed
   // when the frame is drawn.
+  const size_t dirty_before = state_.pending_dirty.size();
   segments_.drainEdits(state_.view.voxels, &state_.pending_dirty);
+  if (state_.pending_dirty.size() != dirty_before) map_.toothChanged();
 }
 
 Status Simulator::updateSurfaces(const FramePlan& plan) {

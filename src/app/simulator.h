@@ -94,6 +94,7 @@ struct SimulatorOptions {
                      const std::string& final_file)>
       on_scored;
   SimGhostOptions ghost;                // the professional's ghost
+  bool reduction_map = false;           // a crown task's reduction map shown from the start (the View page's switch)
 };
 
 struct SimulatorOutcome {

@@ -62,6 +62,7 @@ Status Simulator::rebuildTooth(bool new_level) {
   if (Status st = painter_->surfaces().build(state_.view.voxels); !st) return st;
   state_.score_shown = false;
   ui_.score = {};
+  reductionMapNewTooth(new_level);
   state_.tooth_first_segment = segments_.count() + 1;  // the restored or rebuilt tooth starts uncut
   return Ok{};
 }
@@ -86,6 +87,10 @@ Status Simulator::scoreNow() {
   state_.panel_relayout = true;  // the Score page appears and comes forward
   if (Status st = painter_->renderer().setOverlayImage(score->picture); !st) return st;
   state_.score_shown = true;
+  // The score's picture takes the window from the reduction map until the tooth changes again.
+  state_.score_picture = score->picture;
+  ui_.reduction.on_screen = false;
+  map_.discard();
   out_.score = score->total;
   note(score->summary);
   for (const std::string& w : score->warnings) noteWarning(w);

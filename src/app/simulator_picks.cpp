@@ -20,6 +20,7 @@ Status Simulator::restartOnNewTooth(const std::string& reason) {
   state_.pending_dirty.clear();
   state_.score_shown = false;
   ui_.score = {};
+  reductionMapNewTooth(true);
   state_.tooth_first_segment = segments_.count() + 1;
   if (pens_) {
     pens_->reset(PenRole::Drill, drillStartGrip(model_.box, 3.0));

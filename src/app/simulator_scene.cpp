@@ -15,7 +15,8 @@ render::FrameState Simulator::frameState(const HapticState& state, VkExtent2D ex
                                                         model_.mirror_tool.has_value(), ui_.params.device.max_force_n});
   showGhost(fs);
   fs.lod.pixel_error = o_.frames.detail_pixels;
-  if (state_.score_shown && !state_.last_actions.score_image_rect.empty()) {
+  // The picture window holds the score's picture or the crown's reduction map (simulator_reduction.cpp).
+  if ((state_.score_shown || ui_.reduction.on_screen) && !state_.last_actions.score_image_rect.empty()) {
     fs.overlay_shown = true;
     fs.overlay_rect = state_.last_actions.score_image_rect;
   }

@@ -17,6 +17,7 @@
 #include "app/device_rack.h"
 #include "app/frame_painter.h"
 #include "app/ghost.h"
+#include "app/reduction_map.h"
 #include "app/run_sound.h"
 #include "app/screenshots.h"
 #include "app/segments.h"
@@ -68,6 +69,7 @@ struct SimRunState {
   bool panel_relayout = true;        // the panel's next frame is laid out once unseen first (new tabs)
   PixelRect panel_rect;              // the parameter window [px]
   bool final_saved = false;          // final.dvol and the score's files hold the tooth as it is now
+  RgbImage score_picture;            // the last score's picture, shown again when the reduction map goes off
 };
 
 // What the run measured, for its outcome; nothing the run decides reads it.
@@ -102,7 +104,9 @@ class Simulator : private PanelTarget {
   explicit Simulator(const SimulatorOptions& o)
       : o_(o), rack_(o.devices, [this](const std::string& text) { note(text); }),
         input_(camera_, model_.box, {[this](double speed) { ui_.turbine_speed = speed; }, [this] { end_.stopQuietly(); }}),
-        shots_(o.shots.shots_s, o.shots.frame_every_s), end_(o.end, false, std::nullopt) {}
+        shots_(o.shots.shots_s, o.shots.frame_every_s), end_(o.end, false, std::nullopt) {
+    ui_.reduction.shown = o.reduction_map;
+  }
   Result<SimulatorOutcome> run();
 
  private:
@@ -212,6 +216,17 @@ class Simulator : private PanelTarget {
   std::optional<GhostDriver> ghost_;
   std::string ghost_failed_;                 // a source that did not load (not tried again)
   double ghost_t0_ = 0.0;                    // loop time at the segment's start [s]
+
+  // ---- the crown's reduction map (simulator_reduction.cpp): computed off this thread, never in the haptic loop
+  Status refreshReductionMap(const FramePlan& plan);  // the switch read, a finished map shown, a new one started
+  ReductionMapRefresh::Job reductionMapJob();         // copies of the teeth taken here, measured on the worker
+  Status showReductionMap(const Result<ReductionMap>& map);
+  Status hideReductionMap();                          // the switch off: the score's picture back, if any
+  void reductionMapNewTooth(bool new_initial);        // a reset, a new level or tooth: the map starts again
+  ReductionMapRefresh map_;
+  std::shared_ptr<const ToothVolume> map_initial_;    // the uncut tooth, copied once per tooth for the jobs
+  bool map_on_ = false;                               // the switch as last read (and the task a crown)
+  bool map_timed_ = false;                            // the first map's time printed
 };
 
 }  // namespace dentsim::app

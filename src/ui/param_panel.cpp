@@ -107,7 +107,7 @@ void tissuesPage(const Frame& f) {
 std::vector<std::string> burNames(const SimParams& params) {
   std::vector<std::string> names;
   for (const ToolSpec& t : toolCatalog())
-    if (t.kind == ToolKind::RoundBur || t.kind == ToolKind::FissureBur) names.emplace_back(t.name);
+    if (isBur(t.kind)) names.emplace_back(t.name);
   for (const auto& [name, bur] : params.burs)
     if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
   return names;
@@ -240,6 +240,25 @@ void ghostSection(const Frame& f) {
   if (sliderDouble(f, "ghost.opacity", "ghost opacity", opacity, 0.1, 0.9, "%.2f")) s.ghost_opacity = float(opacity);
   ImGui::EndDisabled();
   if (!s.ghost_source.empty()) ImGui::TextWrapped("%s", s.ghost_source.c_str());
+}
+
+// The crown preparation's reduction map, as a depth gauge is used on a typodont: where more must
+// come off, seen before asking for the score. Crown tasks only; the app computes and shows it.
+void reductionSection(const Frame& f) {
+  ReductionMapView& r = f.state.reduction;
+  if (!r.available) return;
+  ImGui::Spacing();
+  ImGui::TextDisabled("the crown's reduction");
+  ImGui::Checkbox("Reduction map", &r.shown);
+  f.record("reduction_map");
+  if (!r.shown) return;
+  ImGui::TextColored(ImVec4(0.20f, 0.80f, 0.30f, 1.0f), "green: within");
+  ImGui::SameLine();
+  ImGui::TextColored(ImVec4(0.30f, 0.50f, 1.00f, 1.0f), "blue: take more off");
+  ImGui::SameLine();
+  ImGui::TextColored(ImVec4(0.95f, 0.25f, 0.20f, 1.0f), "red: too much off");
+  if (!r.legend.empty()) ImGui::TextWrapped("%s", r.legend.c_str());
+  if (!r.status.empty()) ImGui::TextWrapped("%s", r.status.c_str());
 }
 
 // Start, Stop, Reset and Score with the run's state: above the pages, so that every page has them.
@@ -394,7 +413,7 @@ PicturePlace placePicture(const ScoreSummary& sc, const PixelRect& keep, float f
 // A window with no background around an empty item: the renderer draws the picture into the
 // item's visible rectangle before ImGui draws its frame, so the title bar and border sit over it.
 // It follows the tooth, so it stays beside it when the view turns or zooms.
-PixelRect scorePictureWindow(const ScoreSummary& sc, const PixelRect& keep, float free_right) {
+PixelRect scorePictureWindow(const char* title, const ScoreSummary& sc, const PixelRect& keep, float free_right) {
   const ImGuiStyle& style = ImGui::GetStyle();
   const PicturePlace place = placePicture(sc, keep, free_right, ImGui::GetIO().DisplaySize.y);
   const ImVec2 pic = pictureSize(sc, place.box);
@@ -406,7 +425,7 @@ PixelRect scorePictureWindow(const ScoreSummary& sc, const PixelRect& keep, floa
   PixelRect out;
   const ImGuiWindowFlags flags = ImGuiWindowFlags_NoBackground | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoMove |
                                  ImGuiWindowFlags_NoScrollbar | ImGuiWindowFlags_NoSavedSettings;
-  if (ImGui::Begin("Score picture", nullptr, flags)) {
+  if (ImGui::Begin(title, nullptr, flags)) {
     ImGui::Dummy(pic);
     ImVec2 lo = ImGui::GetItemRectMin(), hi = ImGui::GetItemRectMax();
     // Only the visible part: inside the window's clip rectangle and on the display.
@@ -453,6 +472,10 @@ PanelActions drawParamPanel(UiState& state, WidgetRects* rects) {
     const ImGuiID score_seen = ImGui::GetID("score seen");
     const bool new_score = state.score.valid && !storage->GetBool(score_seen);
     storage->SetBool(score_seen, state.score.valid);
+    // As the View page, which holds its switch and legend, the frame the reduction map first shows.
+    const ImGuiID map_seen = ImGui::GetID("reduction map seen");
+    const bool new_map = state.reduction.on_screen && !storage->GetBool(map_seen);
+    storage->SetBool(map_seen, state.reduction.on_screen);
     if (ImGui::BeginTabBar("pages")) {
       page(f, "task", "Task", [&] { taskPage(f); });
       page(f, "tissues", "Tissues", [&] { tissuesPage(f); });
@@ -460,10 +483,14 @@ PanelActions drawParamPanel(UiState& state, WidgetRects* rects) {
         burSection(f);
         soundSection(f);
       });
-      page(f, "view", "View", [&] {
-        viewPage(f);
-        ghostSection(f);
-      });
+      page(
+          f, "view", "View",
+          [&] {
+            viewPage(f);
+            ghostSection(f);
+            reductionSection(f);
+          },
+          new_map ? ImGuiTabItemFlags_SetSelected : 0);
       page(f, "presets", "Presets", [&] {
         presetSection(f);
         advancedSection(f);
@@ -481,8 +508,17 @@ PanelActions drawParamPanel(UiState& state, WidgetRects* rects) {
   actions.panel_rect = {int(panel_pos.x), int(panel_pos.y), int(panel_size.x), int(panel_size.y)};
   ImGui::End();
 
-  if (state.score.valid)
-    actions.score_image_rect = scorePictureWindow(state.score, state.keep_clear, std::min(display.x, panel_pos.x) - kMargin);
+  // One picture window: the reduction map while the app shows it, else the score's picture.
+  const ReductionMapView& map = state.reduction;
+  const float free_right = std::min(display.x, panel_pos.x) - kMargin;
+  if (map.on_screen && map.image_width > 0 && map.image_height > 0) {
+    ScoreSummary size;
+    size.image_width = map.image_width;
+    size.image_height = map.image_height;
+    actions.score_image_rect = scorePictureWindow("Reduction map", size, state.keep_clear, free_right);
+  } else if (state.score.valid) {
+    actions.score_image_rect = scorePictureWindow("Score picture", state.score, state.keep_clear, free_right);
+  }
   return actions;
 }
 

@@ -17,14 +17,16 @@
 //                     Score) sit on top; below them one tab per page, each of which fits in a window
 //                     800 px high without scrolling: Task (tooth and task pickers, the task's
 //                     instructions, teacher mode), Tissues, Tools (bur, turbine, sound), View
-//                     (normals, voxel level), Presets (and the advanced section), Score (with a
-//                     score); the status line last. A slider shows its value beside its track, never
-//                     under the grab.
+//                     (normals, voxel level, the ghost, a crown task's reduction map), Presets
+//                     (and the advanced section), Score (with a score); the status line last. A
+//                     slider shows its value beside its track, never under the grab.
 //   "##overlay"       top-left, takes no input: frame time, haptic rate, re-mesh time, triangles,
 //                     rpm, force gauge, contact
 //   "Score picture"   shown with a score, beside the tooth (UiState::keep_clear), never over it: no
 //                     background, so the renderer's red/blue picture drawn in
 //                     PanelActions::score_image_rect before the ImGui pass shows through
+//   "Reduction map"   the same window holding the crown's reduction map instead, while the app
+//                     says it is on screen (ReductionMapView::on_screen)
 #pragma once
 
 #include <cstdint>
@@ -57,6 +59,18 @@ struct ScoreSummary {
   double total_max = 100.0;      // 100, or less when parts were not scored (no session)
   std::vector<ScoreRow> rows;    // sub-scores and volumes, in display order
   int image_width = 0;           // the red/blue picture's size [px]; the panel keeps its aspect
+  int image_height = 0;
+};
+
+// The crown preparation's reduction map (View page, crown tasks only; app/reduction_map.h): the
+// app paints the prepared surface by its reduction and shows it in the picture window.
+struct ReductionMapView {
+  bool available = false;        // set by the app: the task is a crown preparation
+  bool shown = false;            // the checkbox "Reduction map"
+  bool on_screen = false;        // set by the app: the picture window holds the map, not the score picture
+  std::string legend;            // set by the app: the task's bands ("occlusal 1.5-2.0 mm, axial 1.0-1.5 mm")
+  std::string status;            // set by the app: the map's shares and its time to measure, or why there is none
+  int image_width = 0;           // the map's size [px]; the picture window keeps its aspect
   int image_height = 0;
 };
 
@@ -120,6 +134,7 @@ struct UiState {
   bool ghost_nearest = false;              // false: the ghost follows the task time; true: it stands nearest the bur
   float ghost_opacity = 0.4f;              // [0.1, 0.9]
   std::string ghost_source;                // set by the app: the session the ghost shows, or why none
+  ReductionMapView reduction;              // the crown preparation's live reduction map
 };
 
 // ---- 2. actions --------------------------------------------------------------------------------------
@@ -138,7 +153,7 @@ struct PanelActions {
   bool start = false, stop = false, reset = false, score = false;
   std::string load_preset;           // a preset to load; empty: none
   std::string save_preset;           // save params under this name; empty: none
-  PixelRect score_image_rect;        // where the renderer draws the score picture this frame; empty: nowhere
+  PixelRect score_image_rect;        // where the renderer draws the score's picture or the reduction map; empty: nowhere
   PixelRect panel_rect;              // where the "Parameters" window is this frame
 };
 
@@ -151,7 +166,7 @@ struct PanelActions {
 // "bur.cutting_ability", "turbine.speed", "turbine.max_rpm", "view.normal_neighbours.<8|64|216>",
 // "level", "tooth", "tooth_path", "open_tooth", "task", "teacher", "record_ideal", "start", "stop",
 // "reset", "score", "preset", "load", "save_name", "save", "ghost", "ghost.follow.<time|nearest>",
-// "ghost.opacity", the pages' tabs "page.<task|tissues|tools|
+// "ghost.opacity", "reduction_map", the pages' tabs "page.<task|tissues|tools|
 // view|presets|score>", the advanced section's header "section.advanced", the pickers' open lists'
 // entries "tooth.item.<i>" and "task.item.<i>", and beside each slider its value, "value.<the
 // slider's key>".
