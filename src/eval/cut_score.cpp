@@ -209,6 +209,18 @@ Status addSurfaceAgreement(const Task& task, const ToothVolume& initial, const T
   return Ok{};
 }
 
+// What every kind's score gives the caller alike: the total, the report, the summary, the lines.
+template <class KindScore>
+void takeScore(SessionScore& out, const KindScore& s, const Task& task, const ScoreInputs& inputs, const ToothDiff& diff,
+               const SessionStats* stats) {
+  out.total = s.total;
+  out.total_max = s.total_max;
+  out.report = scoreReportJson(task, inputs, diff, stats, s);
+  out.summary = scoreSummary(s, inputs);
+  out.lines = scoreLines(s);
+  out.pulp_exposed = s.pulp_exposed;
+}
+
 }  // namespace
 
 Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, const ToothVolume& final_,
@@ -248,22 +260,12 @@ Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, cons
   const SessionStats* st = stats ? &*stats : nullptr;
   if (task.kind == TaskKind::Caries) {
     const CariesScore s = scoreCariesRemoval(*diff, st, task);
-    out.total = s.total;
-    out.total_max = s.total_max;
-    out.report = scoreReportJson(task, inputs, *diff, st, s);
-    out.summary = scoreSummary(s, inputs);
-    out.lines = scoreLines(s);
+    takeScore(out, s, task, inputs, *diff, st);
     out.caries_remaining_mm3 = s.caries_remaining_mm3;
-    out.pulp_exposed = s.pulp_exposed;
   } else if (task.kind == TaskKind::Crown) {
     auto s = scoreCrownPreparation(task, initial, final_, *diff);
     if (!s) return s.error();
-    out.total = s->total;
-    out.total_max = s->total_max;
-    out.report = scoreReportJson(task, inputs, *diff, st, *s);
-    out.summary = scoreSummary(*s, inputs);
-    out.lines = scoreLines(*s);
-    out.pulp_exposed = s->pulp_exposed;
+    takeScore(out, *s, task, inputs, *diff, st);
     out.crown = std::move(*s);
     // An ideal is optional for a crown; with one, its surface agreement is reported as a cavity's.
     if (ideal)
@@ -271,12 +273,7 @@ Result<SessionScore> scoreCut(const Task& task, const ToothVolume& initial, cons
   } else {
     auto s = scoreCavityPreparation(*diff, st, task);
     if (!s) return makeError(names.ideal, s.message());
-    out.total = s->total;
-    out.total_max = s->total_max;
-    out.report = scoreReportJson(task, inputs, *diff, st, *s);
-    out.summary = scoreSummary(*s, inputs);
-    out.lines = scoreLines(*s);
-    out.pulp_exposed = s->pulp_exposed;
+    takeScore(out, *s, task, inputs, *diff, st);
     if (ideal)
       if (Status agreed = addSurfaceAgreement(task, initial, final_, *ideal, out); !agreed) return agreed.error();
   }
