@@ -9,6 +9,7 @@
 
 #include "eval/score_image.h"
 #include "volume/half_fill.h"
+#include "volume/loose_fragments.h"
 #include "volume/tissue_table.h"
 
 #ifdef __linux__
@@ -131,43 +132,13 @@ std::optional<double> reductionMapMarginMm(const CrownTask& crown, const Vec3& i
   return *cut - 0.5 * original.frame.voxel_mm;
 }
 
-CutMarks reductionPaint(const CrownPrepReduction& r, const BrickVolume* prepared) {
-  // CutMarks keeps the larger code where two marks meet: kPaintBlue > kPaintRed > kPaintGreen.
-  static_assert(kPaintBlue > kPaintRed && kPaintRed > kPaintGreen);
-  constexpr uint64_t kMask = (uint64_t{1} << 21) - 1;
-  CutMarks paint;
-  auto add = [&](const std::vector<uint64_t>& keys, uint32_t code) {
-    for (uint64_t k : keys) paint.add(uint32_t(k & kMask), uint32_t((k >> 21) & kMask), uint32_t(k >> 42), code);
-  };
-  add(r.prepared_within, kPaintGreen);
-  add(r.prepared_over, kPaintRed);
-  add(r.prepared_under, kPaintBlue);
-  if (!prepared) return paint;
-  // The neighbours, in the same order of precedence: blue lends first.
-  const int64_t dim = prepared->dim();
-  auto lend = [&](const std::vector<uint64_t>& keys, uint32_t code) {
-    for (uint64_t k : keys)
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int64_t x = int64_t(k & kMask) + dx, y = int64_t((k >> 21) & kMask) + dy, z = int64_t(k >> 42) + dz;
-            if (x < 0 || y < 0 || z < 0 || x >= dim || y >= dim || z >= dim) continue;
-            const auto ux = uint32_t(x), uy = uint32_t(y), uz = uint32_t(z);
-            if (paint.at(ux, uy, uz) == 0 && isToothTissue(voxelMaterial(prepared->voxel(ux, uy, uz))))
-              paint.add(ux, uy, uz, code);
-          }
-  };
-  lend(r.prepared_under, kPaintBlue);
-  lend(r.prepared_over, kPaintRed);
-  lend(r.prepared_within, kPaintGreen);
-  return paint;
-}
-
 Result<ReductionMap> drawReductionMap(const Task& task, const ToothVolume& original, const ToothVolume& prepared) {
   const auto t0 = std::chrono::steady_clock::now();
   const std::string where = "reduction map";
   if (task.kind != TaskKind::Crown) return makeError(where, "the task is not a crown preparation");
-  const ToothVolume solid_original = toothAlone(original, true), solid_prepared = toothAlone(prepared, true);
+  const ToothVolume solid_original = toothAlone(original, true);
+  ToothVolume solid_prepared = toothAlone(prepared, true);
+  dropLooseFragments(solid_prepared.voxels);  // a sliver the bur cut free is not the wall (volume/loose_fragments.h)
   const auto margin = reductionMapMarginMm(task.crown, task.insertion_axis, solid_original, solid_prepared);
   if (!margin) return makeError(where, "the tooth has no enamel to find the CEJ by, and nothing is cut yet");
   const std::array<double, 3>& m = original.frame.tooth.mesial;

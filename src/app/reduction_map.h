@@ -42,14 +42,6 @@ std::optional<double> cejHeightMm(const ToothVolume& original, const Vec3& axis)
 std::optional<double> reductionMapMarginMm(const CrownTask& crown, const Vec3& insertion_axis,
                                            const ToothVolume& original, const ToothVolume& prepared);
 
-// The paint for renderScoreImage: each prepared surface voxel the reduction met, kPaintGreen within
-// its band, kPaintBlue under, kPaintRed over. A voxel met by samples of different bands is painted
-// blue over red over green: where any reading says more must come off, that is what it shows.
-// With `prepared`, each painted voxel also lends its colour to its unpainted tooth neighbours (26):
-// the picture's rays stop at the first voxel at least half full, which under a thin outer voxel is
-// the one behind it.
-CutMarks reductionPaint(const CrownPrepReduction& reduction, const BrickVolume* prepared = nullptr);
-
 struct ReductionMap {
   RgbImage picture;               // the current tooth, occlusal and oblique views, painted
   std::string legend;             // the bands, one line: "occlusal 1.5-2.0 mm, axial 1.0-1.5 mm"

@@ -15,6 +15,7 @@
 #include <unordered_map>
 
 #include "eval/score_image.h"
+#include "volume/tissue_table.h"
 
 namespace dentsim {
 
@@ -373,9 +374,12 @@ Result<CrownScore> scoreCrownPreparation(const Task& task, const ToothVolume& in
 
   CrownScore s;
   describeAll(s, c);
-  // The measures read the teeth at half fill (volume/half_fill.h): the grains a bur leaves are not tooth.
+  // The measures read the teeth at half fill (volume/half_fill.h): the grains a bur leaves are not
+  // tooth, nor is a sliver of wall the bur cut free of it (volume/loose_fragments.h).
   const BrickVolume& original = initial.voxels;
-  const BrickVolume& prepared = final_.voxels;
+  BrickVolume prepared = final_.voxels;
+  s.loose = dropLooseFragments(prepared);
+  s.loose_mm3 = double(s.loose.voxels) * voxel_mm * voxel_mm * voxel_mm;
   auto margin = findMargin(original, prepared, voxel_mm, axis, mesial);
   if (!margin) return makeError(where, margin.message());
   s.margin = std::move(*margin);
@@ -572,6 +576,11 @@ ojson scoreReportJson(const Task& task, const ScoreInputs& inputs, const ToothDi
                      {"reached", s.completion_reached},
                      {"share_of_lo", kCompletionShareOfLo},
                      {"margin_coverage", s.coverage}};
+  j["loose_fragments"] = {{"pieces", s.loose.pieces},
+                          {"voxels", s.loose.voxels},
+                          {"volume_mm3", s.loose_mm3},
+                          {"rule", "pieces of solid tooth not joined by a face to the largest piece (the tooth with its "
+                                   "root) are cut free: they fall away in the mouth, and are measured as gone"}};
   ojson d = ojson::object();
   if (s.adjacent.has_neighbour) d["adjacent"] = adjacentDeductionJson(task, s.adjacent);
   d["undercut_cap"] = {{"undercut_failed", s.undercut_failed},
@@ -640,32 +649,59 @@ std::string scoreSummary(const CrownScore& s, const ScoreInputs& /*inputs*/) {
         line += "; " + label + " " + k.value;
       }
   }
+  if (s.loose.pieces > 0)
+    line += "; " + std::to_string(s.loose.pieces) + (s.loose.pieces == 1 ? " piece" : " pieces") + " cut free (" +
+            fixed(s.loose_mm3, 3) + " mm^3), measured as gone";
   line += s.pulp_exposed ? "; pulp exposed" : "; pulp not exposed";
   if (s.adjacent.has_neighbour) line += "; adjacent tooth " + fixed(s.adjacent.removed_mm3, 3) + " mm^3 removed";
   return line;
 }
 
-CutMarks crownPaint(const CrownScore& s) {
+CutMarks reductionPaint(const CrownPrepReduction& r, const BrickVolume* prepared) {
   constexpr uint64_t kMask = (uint64_t{1} << 21) - 1;
   // Where rays of several samples meet one prepared voxel, the shortest band wins: under, then
   // within, then over. The gauge held square to the surface is the shortest ray to a voxel; the
   // longer ones come in obliquely from samples farther off (a bevel's rays across the occlusal
-  // table), and would paint a table cut to depth red.
+  // table), and would paint a table cut to depth red. Where any square reading says more must come
+  // off, that is what the voxel shows.
   std::unordered_map<uint64_t, int> band_rank;  // 1 over, 2 within, 3 under
-  const auto rankAll = [&](const std::vector<uint64_t>& keys, int r) {
-    for (uint64_t key : keys) band_rank[key] = std::max(band_rank[key], r);
+  const auto rankAll = [&](const std::vector<uint64_t>& keys, int rank) {
+    for (uint64_t key : keys) band_rank[key] = std::max(band_rank[key], rank);
   };
-  if (s.reduction) {
-    rankAll(s.reduction->prepared_over, 1);
-    rankAll(s.reduction->prepared_within, 2);
-    rankAll(s.reduction->prepared_under, 3);
-  }
+  rankAll(r.prepared_over, 1);
+  rankAll(r.prepared_within, 2);
+  rankAll(r.prepared_under, 3);
   constexpr uint32_t kCodeOfRank[4] = {0, kPaintRed, kPaintGreen, kPaintBlue};
   CutMarks paint;
+  for (const auto& [key, rank] : band_rank)
+    paint.add(uint32_t(key & kMask), uint32_t((key >> 21) & kMask), uint32_t(key >> 42), kCodeOfRank[rank]);
+  if (!prepared) return paint;
+  // Each painted voxel lends its colour to its unpainted tooth neighbours (26), in the same order of
+  // precedence: a picture's ray stops at the first voxel at least half full, which under a thin
+  // outer voxel the gauge met is the one behind it, and the map would otherwise be speckled.
+  const int64_t dim = prepared->dim();
+  for (int rank = 3; rank >= 1; --rank)
+    for (const auto& [key, kr] : band_rank) {
+      if (kr != rank) continue;
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int64_t x = int64_t(key & kMask) + dx, y = int64_t((key >> 21) & kMask) + dy, z = int64_t(key >> 42) + dz;
+            if (x < 0 || y < 0 || z < 0 || x >= dim || y >= dim || z >= dim) continue;
+            const auto ux = uint32_t(x), uy = uint32_t(y), uz = uint32_t(z);
+            if (paint.at(ux, uy, uz) == 0 && isToothTissue(voxelMaterial(prepared->voxel(ux, uy, uz))))
+              paint.add(ux, uy, uz, kCodeOfRank[rank]);
+          }
+    }
+  return paint;
+}
+
+CutMarks crownPaint(const CrownScore& s, const BrickVolume* prepared) {
+  constexpr uint64_t kMask = (uint64_t{1} << 21) - 1;
+  CutMarks paint = s.reduction ? reductionPaint(*s.reduction, prepared) : CutMarks{};
   const auto mark = [&](uint64_t key, uint32_t code) {
     paint.add(uint32_t(key & kMask), uint32_t((key >> 21) & kMask), uint32_t((key >> 42) & kMask), code);
   };
-  for (const auto& [key, r] : band_rank) mark(key, kCodeOfRank[r]);
   // CutMarks keeps the larger code where two mark one voxel: the undercut over the line over the map.
   for (uint64_t key : s.margin.line_voxels) mark(key, kPaintYellow);
   if (s.undercut)

@@ -27,6 +27,7 @@
 #include "eval/task.h"
 #include "eval/tooth_diff.h"
 #include "volume/brick_volume.h"
+#include "volume/loose_fragments.h"
 
 namespace dentsim {
 
@@ -88,6 +89,9 @@ struct CrownScore {
   int completion_samples = 0;
   int completion_reached = 0;
   double coverage = 0.0;                   // the finish line's sectors found / kMarginSectors, [0, 1]
+  // Pieces of the prepared tooth cut free of it (volume/loose_fragments.h): measured as gone.
+  LooseFragments loose;
+  double loose_mm3 = 0.0;
 
   std::array<CrownCriterion, kCrownCriterionCount> criteria{};
   const CrownCriterion& criterion(CrownCriterionId id) const { return criteria[size_t(id)]; }
@@ -122,8 +126,16 @@ std::string scoreSummary(const CrownScore& score, const ScoreInputs& inputs);
 // The task's reduction bands as eval/crown_prep_reduction.h takes them.
 ReductionBands crownReductionBands(const CrownTask& crown);
 
-// The picture's paint (eval/score_image.h's codes): the prepared surface by its sample's band
-// (within green, under blue, over red), the finish line yellow and the undercut magenta.
-CutMarks crownPaint(const CrownScore& score);
+// The reduction map's paint (eval/score_image.h's codes), the one the score picture and the
+// window's map share: each prepared surface voxel a gauge reading met, kPaintGreen within its band,
+// kPaintBlue under, kPaintRed over; a voxel met by readings of different bands shows under, then
+// within, then over. With `prepared` (the prepared tooth's voxels), each painted voxel also lends
+// its colour to its unpainted tooth neighbours (26): a picture's ray stops at the first voxel at
+// least half full, under a thin outer voxel the one behind it.
+CutMarks reductionPaint(const CrownPrepReduction& reduction, const BrickVolume* prepared = nullptr);
+
+// The score picture's paint: the reduction map (reductionPaint), the finish line yellow and the
+// undercut magenta over it.
+CutMarks crownPaint(const CrownScore& score, const BrickVolume* prepared = nullptr);
 
 }  // namespace dentsim

@@ -317,7 +317,7 @@ RgbImage scorePicture(const Task& task, const ToothVolume& initial, const ToothV
   const ToothVolume* ideal = given_ideal ? given_ideal : (score.ideal ? &*score.ideal : nullptr);
   const CutMarks red = scorePictureRed(task.kind, score.diff);
   if (task.kind == TaskKind::Crown && score.crown) {
-    const CutMarks paint = crownPaint(*score.crown);
+    const CutMarks paint = crownPaint(*score.crown, &final_.voxels);
     return renderScoreImage(initial, final_, nullptr, &red, options, &paint).image;
   }
   return renderScoreImage(initial, final_, ideal, &red, options).image;

@@ -72,16 +72,17 @@ TEST(CrownPrepUndercut, StepUndercutOfKnownAreaIsFoundOnItsWall) {
 // Cast along an axis tilted 3 deg toward mesial: the mesial overhang's shadow is the same quarter
 // ring moved 2 tan 3 = 0.1 mm (still within 10 %: the staircase test must not eat a real undercut).
 // Seen along that path the upright radius-3 wall now leans out 3 deg on the distal side, over its
-// 3 mm height: a crescent of 2 R 3 tan 3 = 0.94 mm^2 by hand, less the voxel of depth (0.05 mm) the
-// staircase test gives up along it, 2 R (3 tan 3 - 0.05) = 0.64 mm^2.
+// 3 mm height: a crescent 2 R 3 tan 3 = 0.94 mm^2 by hand, but at most 3 tan 3 = 0.157 mm wide, less
+// the voxel of depth (0.05 mm) the staircase test gives up along it: 0.107 mm, narrower than the
+// square of 3 columns (0.15 mm) that the narrowest counted overhang, 0.1 mm, needs at 0.05 mm voxels.
+// A crown seats over it within its cement space; it does not count.
 TEST(CrownPrepUndercut, StepUndercutIsFoundAlongATiltedAxis) {
   const UndercutMap map = measured(overhang(), Vec3{std::sin(3 * kDeg), 0, std::cos(3 * kDeg)});
   const double mesial = map.wall_area_mm2[size_t(AxialWall::Mesial)];
   EXPECT_NEAR(mesial, kOverhangMm2, 0.1 * kOverhangMm2);
   const double crescent = 2 * 3.0 * 3.0 * std::tan(3 * kDeg);
-  EXPECT_GT(map.area_mm2 - mesial, 0.5);
-  EXPECT_LT(map.area_mm2 - mesial, crescent);
-  std::printf("overhang, axis tilted 3 deg: mesial %.4f mm2 (hand %.4f), elsewhere %.4f (hand %.4f less a voxel's depth)\n",
+  EXPECT_LT(map.area_mm2 - mesial, 4 * kVoxelMm * kVoxelMm);
+  std::printf("overhang, axis tilted 3 deg: mesial %.4f mm2 (hand %.4f), elsewhere %.4f (a crescent of %.4f, too thin to count)\n",
               mesial, kOverhangMm2, map.area_mm2 - mesial, crescent);
 }
 
@@ -127,6 +128,30 @@ TEST(CrownPrepUndercut, NothingCountsUnderTheMargin) {
   const Result<UndercutMap> r = measureUndercut(overhang(), kVoxelMm, kAxis, kMesial, 4.5);
   ASSERT_TRUE(r.ok()) << r.message();
   EXPECT_EQ(r->area_mm2, 0.0);
+}
+
+// An overhang counts where a square of 3 columns of 0.05 mm (0.1 mm, the narrowest that counts, and
+// one column for the lattice) holds it: a groove two voxels deep under the wall (radius 3 mm) along
+// 10 columns is a ridge the laps leave, not an undercut; three voxels deep, 10 x 3 columns of
+// 0.05^2 mm^2.
+TEST(CrownPrepUndercut, AShadowNarrowerThanTheCementSpaceDoesNotCount) {
+  auto groove = [](uint32_t depth) {
+    BrickVolume v = tooth([](double, double) { return 3.0; });
+    // The wall's outermost voxel on +x is x = 187 (centre 2.975 mm) on every row y 123-132. Cut it
+    // and `depth` - 1 voxels inside it from z 60 to 69; the wall at z 70 and above hangs over the groove.
+    for (uint32_t y = 123; y < 133; ++y)
+      for (uint32_t z = 60; z < 70; ++z)
+        for (uint32_t d = 0; d < depth; ++d) v.setVoxel(187 - d, y, z, makeVoxel(Material::Empty));
+    return v;
+  };
+  for (uint32_t thin : {1u, 2u}) {
+    const UndercutMap ridge = measured(groove(thin));
+    EXPECT_DOUBLE_EQ(ridge.area_mm2, 0.0) << thin;
+    EXPECT_TRUE(ridge.voxels.empty()) << thin;
+  }
+  const UndercutMap three = measured(groove(3));
+  EXPECT_NEAR(three.area_mm2, 30 * kVoxelMm * kVoxelMm, 1e-12);
+  EXPECT_NEAR(three.wall_area_mm2[size_t(AxialWall::Mesial)], three.area_mm2, 1e-12);
 }
 
 TEST(CrownPrepUndercut, ErrorsNameTheirCause) {

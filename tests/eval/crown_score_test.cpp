@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -153,6 +155,40 @@ TEST(CrownScore, GrainsABurLeavesAreNotTooth) {
   EXPECT_DOUBLE_EQ(s.total, 100.0);
 }
 
+// A bur that passes inside a proximal wall it cannot reach (at a contact) leaves the wall's outer
+// shell standing free: here the original's outer 0.3 mm on the mesial (-x) side, 2 mm across, from
+// z = 4 to 5.5 mm (below the bevel, where the original is round), joined to nothing. It falls away in the mouth; read as tooth it would be an
+// unprepared wall and an undercut. The score drops it and reads the clean preparation's 100.
+TEST(CrownScore, AShellCutFreeOfTheWallIsMeasuredAsGone) {
+  const Prep prep;
+  ToothVolume shelled = tooth(&prep);
+  const ToothVolume& o = original();
+  uint64_t shell = 0;
+  for (uint32_t z = 0; z < 128; ++z)
+    for (uint32_t y = 0; y < 128; ++y)
+      for (uint32_t x = 0; x < 128; ++x) {
+        const double px = (x + 0.5) * kVoxelMm - kCentreMm, py = (y + 0.5) * kVoxelMm - kCentreMm, pz = (z + 0.5) * kVoxelMm;
+        const double d = std::hypot(px, py);
+        if (pz > 4.0 && pz < 5.5 && px < 0 && std::abs(py) < 1.0 && d > kRadiusMm - 0.3 && d <= kRadiusMm) {
+          shelled.voxels.setVoxel(x, y, z, o.voxels.voxel(x, y, z));
+          ++shell;
+        }
+      }
+  ASSERT_GT(shell, 1000u);
+  const CrownScore s = scored(o, shelled);
+  EXPECT_EQ(s.loose.pieces, 1u);
+  EXPECT_EQ(s.loose.voxels, shell);
+  EXPECT_NEAR(s.loose_mm3, double(shell) * kVoxelMm * kVoxelMm * kVoxelMm, 1e-9);
+  expectWithinBut(s, std::nullopt);
+  EXPECT_DOUBLE_EQ(s.total, 100.0);
+  ASSERT_TRUE(s.undercut.has_value());
+  EXPECT_LE(s.undercut->area_mm2, 0.1);
+  // Read as tooth, the shell would hang over the margin below it: about its 2 x 0.3 mm footprint.
+  auto raw = measureUndercut(shelled.voxels, kVoxelMm, {0, 0, 1}, {-1, 0, 0}, s.margin_height_mm);
+  ASSERT_TRUE(raw) << raw.message();
+  EXPECT_GT(raw->area_mm2, 0.3);
+}
+
 // Nothing prepared: no finish line, every criterion outside and unmeasured, nothing earned.
 TEST(CrownScore, AnUntouchedToothEarnsNothing) {
   const CrownScore s = scored(original(), original());
@@ -230,6 +266,9 @@ TEST(CrownScore, AnUndercutCapsTheTotal) {
   const CrownScore s = scored(original(), tooth(&prep));
   ASSERT_TRUE(s.undercut.has_value());
   EXPECT_GT(s.undercut->area_mm2, crownTask().crown.undercut_tolerance_mm2);
+  // The ledge is 2 mm across and 0.6 mm out: a shadow of 1.2 mm^2 by hand, within 10 %.
+  EXPECT_NEAR(s.undercut->area_mm2, 1.2, 0.12);
+  std::printf("ledge: shadow %.3f mm2 (distal %.3f)\n", s.undercut->area_mm2, s.undercut->wall_area_mm2[size_t(AxialWall::Distal)]);
   EXPECT_EQ(at(s, CrownCriterionId::Undercut).verdict, CrownVerdict::Outside);
   EXPECT_TRUE(s.undercut_failed);
   EXPECT_TRUE(s.undercut_cap_applied);
