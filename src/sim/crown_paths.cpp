@@ -217,14 +217,20 @@ Result<CrownPrepPath> crownPrepPath(const BrickVolume& volume, const VolumeFrame
       ++count;
     }
     const double foot = count > 0 ? sum / count - s.axial_reduction_mm : *r_f - s.axial_reduction_mm;
-    out.surface_r[i] = *r_f;
-    out.foot_r[i] = *r_f - std::clamp(*r_f - foot, s.margin_width_lo_mm, s.margin_width_hi_mm);
+    // The chamfer's width as an examiner (and eval/crown_prep_margin.h) reads it: from the original
+    // surface at the finish line's own height, narrower than higher up on a crown that bulges.
+    const double r_m = outline.at(i, out.margin_h[i]).value_or(*r_f);
+    out.surface_r[i] = r_m;
+    out.foot_r[i] = r_m - std::clamp(r_m - foot, s.margin_width_lo_mm, s.margin_width_hi_mm);
   }
   out.foot_r = smoothed(out.foot_r, 2);
   out.margin_h = smoothed(out.margin_h, 1);
 
-  // The bur on the finish line in direction theta (continuous), stepped out by `offset` and lifted
-  // by as much (up to the end's radius, so the outer laps stay above the chamfer's curve).
+  // The bur on the finish line in direction theta (continuous), stepped out by `offset` at the same
+  // height: the outer laps cut the floor flat at the finish line's height out to the crown's
+  // surface, so a finish line wider than the bur's end (a heavy chamfer, which all-ceramic crowns
+  // ask) is a rounded inner angle and a floor, with no lip of uncut enamel left outside the groove
+  // the last lap's round end makes.
   auto interp = [&](const std::vector<double>& x, double theta) {
     const double f = theta / (2.0 * std::numbers::pi) * double(n);
     const double fl = std::floor(f);
@@ -247,7 +253,7 @@ Result<CrownPrepPath> crownPrepPath(const BrickVolume& volume, const VolumeFrame
     const Vec3 foot = footPoint(theta);
     BurPose p;
     p.dir = a * cos_l - normal * sin_l;
-    p.tip = foot + normal * (bur.end_r * (1.0 + sin_l) + offset) + a * (-bur.end_r + std::min(offset, bur.end_r) + lift);
+    p.tip = foot + normal * (bur.end_r * (1.0 + sin_l) + offset) + a * (-bur.end_r + lift);
     return p;
   };
 
@@ -338,14 +344,17 @@ Result<CrownPrepPath> crownPrepPath(const BrickVolume& volume, const VolumeFrame
     if (most == -HUGE_VAL) return std::nullopt;
     return most;
   };
-  // Inside the walls: the bur's side (at its radius a little above the tip) within the wall line.
-  auto insideWalls = [&](double u, double v, double tip_h) {
+  // Inside the walls: the bur's side within the wall line from its tip up to reach_h, the highest
+  // tissue it meets there. The walls converge upward and the bur widens, so the test is at the top:
+  // a layer high on a cusp stays farther from the wall than the floor under it.
+  auto insideWalls = [&](double u, double v, double tip_h, double reach_h) {
     const double rho = std::hypot(u, v);
     double theta = std::atan2(v, u);
     if (theta < 0) theta += 2.0 * std::numbers::pi;
     const double h_f = interp(out.margin_h, theta) + bur.end_r;
-    const double wall = interp(out.foot_r, theta) - std::max(0.0, tip_h - h_f) * tan_c;
-    return rho + bur.at(bur.end_r) + 0.05 <= wall;
+    const double top = std::max(tip_h, reach_h);
+    const double wall = interp(out.foot_r, theta) - std::max(0.0, top - h_f) * tan_c;
+    return rho + bur.at(std::max(bur.end_r, top - tip_h)) + 0.05 <= wall;
   };
 
   PenPath& path = out.path;
@@ -390,7 +399,7 @@ Result<CrownPrepPath> crownPrepPath(const BrickVolume& volume, const VolumeFrame
     for (int64_t ju = -nr; ju <= nr; ++ju) {
       const double u = double(ju) * rs, v = double(jv) * rs;
       const std::optional<double> f = finalTip(u, v);
-      if (!f || !insideWalls(u, v, *f)) continue;
+      if (!f || !insideWalls(u, v, *f, *f)) continue;
       const double top = surfAt(std::lround(u / g), std::lround(v / g));
       row.push_back({u, v, *f, std::isnan(top) ? *f : top});
     }
@@ -501,6 +510,7 @@ Result<CrownPrepPath> crownPrepPath(const BrickVolume& volume, const VolumeFrame
       const std::vector<RasterPoint>& row = rows[backward ? rows.size() - 1 - ri : ri];
       for (size_t pi = 0; pi < row.size(); ++pi) {
         const RasterPoint& p = row[backward ? row.size() - 1 - pi : pi];
+        if (!insideWalls(p.u, p.v, p.final_h + above, std::min(p.top_h, p.final_h + layer_top))) continue;
         const Vec3 tip = tipAt(p, above);
         // What this layer takes under the point: the tissue between its top and its floor.
         const double thick = std::clamp(p.top_h - (p.final_h + above), 0.0, layer_top - above + s.occlusal_reduction_mm);

@@ -6,16 +6,20 @@
 //      height by height, and where the enamel ends on each (the CEJ);
 //   2. the finish line: in each direction the wall's foot, placed so that the wall's mean reduction
 //      is axial_reduction_mm with the wall converging wall_convergence_deg to the axis, its chamfer
-//      between margin_width_lo_mm and margin_width_hi_mm wide, margin_above_cej_mm over the CEJ;
+//      between margin_width_lo_mm and margin_width_hi_mm wide from the original surface at the
+//      finish line's own height (as eval/crown_prep_margin.h reads it), margin_above_cej_mm over the CEJ;
 //      beside a neighbour (Material::Neighbour voxels) the foot moves in until the bur keeps
 //      neighbour_clearance_mm from it on every lap: there the wall is reduced more, not less, since
 //      the bur is wider than the contact's gap and must pass inside the molar's own surface;
 //   3. the axial laps: the bur's top leaning toward the axis by (wall convergence - the bur's taper),
 //      so its side cuts the converging wall, laps stepping in by lap_step_mm from outside to the
-//      finish line, the last repeated to finish. They come first, while the whole crown stands
+//      finish line, the last repeated to finish; every lap's tip at the finish line's height, so the
+//      outer laps cut a floor out to the crown's surface and the last lap's round end leaves a heavy
+//      chamfer with no lip outside it. They come first, while the whole crown stands
 //      above them: the wall then bears on the bur's whole side; with the occlusal table already
 //      lowered, the bur's top has nothing to lean on and a lap tips it into the table;
-//   4. the occlusal reduction: the bur held along the axis, rasters over the crown inside the walls,
+//   4. the occlusal reduction: the bur held along the axis, rasters over the crown inside the walls
+//      (each layer's point only where the bur's side clears the wall up to the layer's top),
 //      the tip at the original surface less occlusal_reduction_mm (higher over a slope, where the
 //      ball end would otherwise gouge the cusp beside it), in depth layers of occlusal_layer_mm.
 // Every move is paced from the tissue it adds to the cut at the parameter set's removal rate for the
@@ -41,13 +45,16 @@ namespace dentsim {
 struct CrownPrepSettings {
   // The occlusal surface lowered this far along the axis [mm]: a gauge held square to a cusp's slope
   // reads less, and the ball end rides high over the slopes, so the plan asks for more than 1.75
-  // (1.75 read 1.32 at level 8).
-  double occlusal_reduction_mm = 2.0;
+  // (1.75 read 1.32 at level 8; 2.2 reads 1.8-1.9 at level 9).
+  double occlusal_reduction_mm = 2.2;
   double axial_reduction_mm = 1.2;       // each wall's mean reduction [mm]
   double wall_convergence_deg = 6.0;     // each wall to the insertion axis [deg] (TOC twice this)
-  double margin_above_cej_mm = 0.7;      // the chamfer's floor (the finish line) over the CEJ [mm]
-  double margin_width_lo_mm = 0.95;      // the original surface a bur's end above the finish line less the wall's foot, in this band [mm]
-  double margin_width_hi_mm = 1.25;
+  double margin_above_cej_mm = 0.8;      // the chamfer's floor (the finish line) over the CEJ [mm]
+  // The original surface at the finish line's height less the wall's foot, in this band [mm]. The
+  // cut wall stands 0.1-0.3 mm short of the plan and the width varies round the tooth by as much,
+  // so the plan asks 1.45-1.7 for a width that reads 0.85-1.4 (mean 1.1; the band is 0.8-1.5).
+  double margin_width_lo_mm = 1.45;
+  double margin_width_hi_mm = 1.7;
   double neighbour_clearance_mm = 0.3;   // the bur keeps this far from a neighbour [mm]
   int sectors = 72;                      // directions around the axis
   double profile_step_mm = 0.1;          // between heights of the outline [mm]
@@ -79,7 +86,7 @@ struct CrownPrepPath {
   std::vector<double> cej_h;            // the CEJ's height in each direction [mm along the axis]
   std::vector<double> margin_h;         // the chamfer's floor (the bur's tip on the last lap) [mm]
   std::vector<double> foot_r;           // the wall's foot: its distance from the axis [mm]
-  std::vector<double> surface_r;        // the original surface at the foot's height [mm]
+  std::vector<double> surface_r;        // the original surface at the finish line's height [mm]
   std::vector<bool> beside_neighbour;   // a neighbour limits the laps: the foot moved in, or the outer laps held back
   double volume_planned_mm3 = 0.0;      // tissue the pacing expects to remove [mm^3]
 };

@@ -158,6 +158,33 @@ TEST(CrownPaths, ThePreparationIsPlannedTheSameEveryTime) {
   EXPECT_NEAR(a->lean_deg, 4.0, 0.05);  // 6 degrees of wall less the bur's 2 of taper
 }
 
+// The chamfer's width is planned from the original surface at the finish line's own height, as the
+// margin measure reads it: away from the neighbours (where the foot moves in further for the bur's
+// clearance) every sector's width lies in the settings' band, less what smoothing the foot over five
+// sectors moves it, and the mean in the band.
+TEST(CrownPaths, TheFinishLineIsPlannedWideFromTheSurfaceAtItsOwnHeight) {
+  const ToothVolume& tooth = molarBetweenNeighbours();
+  const CrownPrepSettings settings;
+  auto made = crownPrepPath(tooth.voxels, tooth.frame, defaultSimParams(), "chamfer_bur_016", {0, 0, 1}, settings);
+  ASSERT_TRUE(made) << made.message();
+  double sum = 0;
+  int n = 0;
+  for (size_t i = 0; i < made->sector_deg.size(); ++i) {
+    if (made->beside_neighbour[i]) continue;
+    const double width = made->surface_r[i] - made->foot_r[i];
+    EXPECT_GE(width, settings.margin_width_lo_mm - 0.1) << made->sector_deg[i];
+    EXPECT_LE(width, settings.margin_width_hi_mm + 0.1) << made->sector_deg[i];
+    sum += width;
+    ++n;
+  }
+  ASSERT_GT(n, 20);
+  EXPECT_GE(sum / n, settings.margin_width_lo_mm - 0.02);
+  EXPECT_LE(sum / n, settings.margin_width_hi_mm + 0.02);
+  // The finish line over the CEJ by the settings' height, every sector (smoothed over three).
+  for (size_t i = 0; i < made->sector_deg.size(); ++i)
+    EXPECT_NEAR(made->margin_h[i] - made->cej_h[i], settings.margin_above_cej_mm, 0.3) << made->sector_deg[i];
+}
+
 TEST(CrownPaths, TheBurStaysOverTheToothAndClearOfTheNeighbours) {
   const ToothVolume& tooth = molarBetweenNeighbours();
   const CrownPrepSettings settings;
