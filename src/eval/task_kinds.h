@@ -79,13 +79,12 @@ inline constexpr TaskKindRow kTaskKindTable[] = {
      "round_bur_014", 600, 0, true, "access_cavity", nullptr, "cavity", Material::Pulp, "has no chamber to open",
      "voxelize it with --pulp or --fill-enclosed pulp", PulpRule::MustOpen},
     // A crown is measured from the prepared shape itself (eval/crown_score.h); an ideal, when the task
-    // has one, is compared surface to surface and reported. No built-in task yet: its scripted expert
-    // does not pass `task validate` (docs/SCORING.md, "Crown preparation: scripted attempts").
+    // has one, is compared surface to surface and reported.
     {TaskKind::Crown, "crown", "a", "crown preparation", 2, "Prepare the tooth for a full crown",
      "Reduce the occlusal surface and every axial wall by the crown's thickness, with walls converging 10 to 20 "
      "degrees, no undercut, and an even, continuous finish line at the gingival margin, without touching the "
      "neighbouring teeth.",
-     "chamfer_bur_016", 900, 0, false, "crown_prep", nullptr, "crown", Material::Empty, "", "",
+     "chamfer_bur_016", 900, 0, false, "crown_prep", "crown_preparation", "crown", Material::Empty, "", "",
      PulpRule::ExposureCaps},
 };
 

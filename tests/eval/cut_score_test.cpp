@@ -96,7 +96,7 @@ TEST(CutScore, AKindsNameLoadsTheBuiltInTaskItsRowNames) {
     EXPECT_EQ(short_name->name, full_name->name);
     EXPECT_EQ(short_name->kind, row.kind);
   }
-  EXPECT_EQ(kindTaskNames(), "caries, cavity");
+  EXPECT_EQ(kindTaskNames(), "caries, cavity, crown");
 }
 
 }  // namespace
