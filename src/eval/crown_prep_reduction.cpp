@@ -6,6 +6,7 @@
 #include <limits>
 #include <string>
 
+#include "core/percentile.h"
 #include "volume/brick_layout.h"
 #include "volume/tissue_table.h"
 #include "volume/half_fill.h"
@@ -75,12 +76,14 @@ void sortUnique(std::vector<uint64_t>& keys) {
 struct Accum {
   int samples = 0, under = 0, over = 0;
   double sum = 0, min = std::numeric_limits<double>::infinity(), max = 0;
+  std::vector<double> readings;  // [mm], for the median
 
   ReductionStats stats() const {
     ReductionStats s;
     if (samples == 0) return s;
     s.samples = samples;
     s.mean_mm = sum / samples;
+    s.median_mm = percentile(readings, 50.0);
     s.min_mm = min;
     s.max_mm = max;
     s.under_share = double(under) / samples;
@@ -249,6 +252,7 @@ Result<CrownPrepReduction> measureReduction(const BrickVolume& original, const B
         const double mm = voxels * voxel_mm;
         ++acc->samples;
         acc->sum += mm;
+        acc->readings.push_back(mm);
         acc->min = std::min(acc->min, mm);
         acc->max = std::max(acc->max, mm);
         const uint64_t key = reductionVoxelKey(uint32_t(x), uint32_t(y), uint32_t(z));

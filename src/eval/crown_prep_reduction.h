@@ -50,6 +50,13 @@ struct ReductionBands {
 struct ReductionStats {
   int samples = 0;           // original surface voxels in the region whose ray met the preparation
   double mean_mm = 0;        // mean reduction [mm]
+  // The median reading (nearest rank, core/percentile.h) [mm]: what the score grades on the
+  // occlusal surface. A gauge ray from a cusp's outer slope at the rim points down and in, across the
+  // corner the walls' laps took off whole, and reads to the lowered table or the wall beyond: up to
+  // 7.7 mm on the scripted professional's preparation, whose occlusal mean (1.82) the rim pulls up
+  // 0.1 mm from its median (1.72), and a table left 1 mm high still read within by its mean. A wall's
+  // rays run across the axis to the wall itself, so its mean is its reading.
+  double median_mm = 0;
   double min_mm = 0;         // [mm]
   double max_mm = 0;         // [mm]
   double under_share = 0;    // share of samples below the band's lo [0..1]

@@ -119,7 +119,7 @@ void describe(CrownCriterion& k, const char* name, double max, std::string band,
 void describeAll(CrownScore& s, const CrownTask& c) {
   auto& k = s.criteria;
   describe(k[0], "occlusal_reduction", kOcclusalPoints, bandText(c.occlusal_lo_mm, c.occlusal_hi_mm) + " mm",
-           bandText(c.occlusal_lo_mm, c.occlusal_hi_mm) + " mm mean (near " +
+           bandText(c.occlusal_lo_mm, c.occlusal_hi_mm) + " mm median (near " +
                bandText(c.occlusal_lo_mm - kOcclusalNearMm, c.occlusal_hi_mm + kOcclusalNearMm) + ")",
            kSourceReduction);
   describe(k[1], "axial_reduction", kAxialPoints, bandText(c.axial_lo_mm, c.axial_hi_mm) + " mm",
@@ -207,11 +207,11 @@ void gradeOcclusal(CrownScore& s, const CrownTask& c) {
   if (!s.reduction) return notMeasured(k, s.reduction_error, std::nullopt);
   const ReductionStats& o = s.reduction->occlusal;
   if (o.samples == 0) return notMeasured(k, "no occlusal sample met the preparation", std::nullopt);
-  const double off = outside(o.mean_mm, c.occlusal_lo_mm, c.occlusal_hi_mm);
+  const double off = outside(o.median_mm, c.occlusal_lo_mm, c.occlusal_hi_mm);
   grade(k, off == 0.0 ? CrownVerdict::Within : std::abs(off) <= kOcclusalNearMm + kEps ? CrownVerdict::Near : CrownVerdict::Outside,
         std::nullopt);
-  k.value = fixed(o.mean_mm) + " mm";
-  k.why = off == 0.0 ? "the mean is in the band" : off < 0 ? "under-reduced by " + fixed(-off) + " mm" : "over-reduced by " + fixed(off) + " mm";
+  k.value = fixed(o.median_mm) + " mm";
+  k.why = off == 0.0 ? "the median is in the band" : off < 0 ? "under-reduced by " + fixed(-off) + " mm" : "over-reduced by " + fixed(off) + " mm";
 }
 
 // Each wall's verdict and how far out it lies; the worst wall decides.
@@ -438,7 +438,7 @@ Result<CrownScore> scoreCrownPreparation(const Task& task, const ToothVolume& in
 namespace {
 
 ojson statsJson(const ReductionStats& r) {
-  return {{"samples", r.samples}, {"mean_mm", r.mean_mm},         {"min_mm", r.min_mm},
+  return {{"samples", r.samples}, {"median_mm", r.median_mm}, {"mean_mm", r.mean_mm},         {"min_mm", r.min_mm},
           {"max_mm", r.max_mm},   {"under_share", r.under_share}, {"over_share", r.over_share}};
 }
 

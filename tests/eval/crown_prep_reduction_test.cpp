@@ -49,6 +49,22 @@ Result<CrownPrepReduction> measure(const BrickVolume& o, const BrickVolume& p, R
   return measureReduction(o, p, kVoxelMm, kAxis, kMesial, kMarginMm, bands);
 }
 
+// The median is the middle reading (nearest rank): a quarter of the top (x in [40, 50) of [40, 80))
+// cut 1.25 mm deeper than the rest reads 3.0 there: the mean is 0.75 x 1.75 + 0.25 x 3.0 = 2.0625,
+// the median 1.75.
+TEST(CrownPrepReductionTest, TheMedianIsTheMiddleReading) {
+  BrickVolume prepared = preparedTooth();
+  for (uint32_t z = kZ1 - 60; z < kZ1 - 35; ++z)
+    for (uint32_t y = kLo + 20; y < kHi - 20; ++y)
+      for (uint32_t x = kLo + 20; x < kLo + 30; ++x) prepared.setVoxel(x, y, z, makeVoxel(Material::Empty));
+  const auto r = measure(originalTooth(), prepared);
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_EQ(r->occlusal.samples, 40 * 40);
+  EXPECT_NEAR(r->occlusal.mean_mm, 0.75 * 1.75 + 0.25 * 3.0, kVoxelMm);
+  EXPECT_NEAR(r->occlusal.median_mm, 1.75, kVoxelMm);
+  EXPECT_NEAR(r->occlusal.max_mm, 3.0, kVoxelMm);
+}
+
 TEST(CrownPrepReductionTest, BoxPreparationMeasuresItsCuts) {
   const auto r = measure(originalTooth(), preparedTooth());
   ASSERT_TRUE(r.ok()) << r.message();
@@ -57,6 +73,7 @@ TEST(CrownPrepReductionTest, BoxPreparationMeasuresItsCuts) {
   // The wall above z = 74 and the top's rim were taken off whole: 78*78 - 1600 + 4 * (78*79 - 1800).
   EXPECT_EQ(r->occlusal.samples, 40 * 40);
   EXPECT_NEAR(r->occlusal.mean_mm, 1.75, kVoxelMm);
+  EXPECT_NEAR(r->occlusal.median_mm, 1.75, kVoxelMm);
   EXPECT_NEAR(r->occlusal.min_mm, 1.75, kVoxelMm);
   EXPECT_NEAR(r->occlusal.max_mm, 1.75, kVoxelMm);
   EXPECT_EQ(r->occlusal.under_share, 0.0);
