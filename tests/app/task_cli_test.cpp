@@ -367,15 +367,39 @@ TEST_F(TaskCli, SetIdealOnACrownSetsItsTargetAndKeepsItsTargets) {
 }
 
 // Every shipped task passes its own check, the class V's level buccal axis with it.
+// The shipped tasks but a crown preparation, whose check drills its ideal (the scripted professional
+// laps every wall for 2,271 s of loop time: 120 s here, past the sanitizer run's limit there); that
+// one is TheShippedCrownTaskPasses, which the sanitizer run leaves out with the course's drills
+// (CMakePresets.json).
+bool isCrownTask(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+  return j.is_object() && j.value("kind", std::string()) == "crown";
+}
+
 TEST(TaskCheck, EveryShippedTaskPasses) {
   const std::filesystem::path tasks = std::filesystem::path(DENTSIM_SOURCE_DIR) / "assets" / "tasks";
   for (const auto& entry : std::filesystem::directory_iterator(tasks)) {
-    if (entry.path().extension() != ".json") continue;
+    if (entry.path().extension() != ".json" || isCrownTask(entry.path())) continue;
     SCOPED_TRACE(entry.path().string());
     const auto r = runDentsim("task check " + entry.path().string());
     EXPECT_EQ(r.exit_code, 0) << r.output;
     EXPECT_NE(r.output.find(": ok: "), std::string::npos) << r.output;
   }
+}
+
+TEST(TaskCheck, TheShippedCrownTaskPasses) {
+  const std::filesystem::path tasks = std::filesystem::path(DENTSIM_SOURCE_DIR) / "assets" / "tasks";
+  int crowns = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(tasks)) {
+    if (entry.path().extension() != ".json" || !isCrownTask(entry.path())) continue;
+    SCOPED_TRACE(entry.path().string());
+    ++crowns;
+    const auto r = runDentsim("task check " + entry.path().string());
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find(": ok: crown task"), std::string::npos) << r.output;
+  }
+  EXPECT_GE(crowns, 1);  // crown_preparation
 }
 
 TEST_F(TaskCli, TaskCheckRefusesAClassIAxis60DegreesOff) {
