@@ -139,23 +139,33 @@ Result<UndercutMap> measureUndercut(const BrickVolume& prepared, double voxel_mm
       }
       shadow[column] = shadowed ? 1 : 0;
     }
-  // The opening: a column is kept when some k x k square of shadowed columns holds it.
+  // The opening: a column is kept when some k x k square of shadowed columns holds it. Both halves
+  // count squares with 2D prefix sums, so the cost does not grow with k: the erosion marks each
+  // square's corner when the square is all shadow, the dilation keeps a column when some marked
+  // corner lies within the k x k columns before it.
   const auto k = size_t(std::ceil(kMinUndercutMm / voxel_mm - 1e-9)) + 1;
-  std::vector<uint8_t> kept(ni * nj, 0);
-  if (ni >= k && nj >= k) {
-    std::vector<uint32_t> sum((ni + 1) * (nj + 1), 0);  // 2D prefix sums of the shadow
+  auto prefixSums = [&](const std::vector<uint8_t>& mask) {
+    std::vector<uint32_t> sum((ni + 1) * (nj + 1), 0);
     for (size_t cb = 0; cb < nj; ++cb)
       for (size_t ca = 0; ca < ni; ++ca)
-        sum[(ca + 1) + (ni + 1) * (cb + 1)] = uint32_t(shadow[ca + ni * cb] ? 1 : 0) + sum[ca + (ni + 1) * (cb + 1)] +
+        sum[(ca + 1) + (ni + 1) * (cb + 1)] = uint32_t(mask[ca + ni * cb] ? 1 : 0) + sum[ca + (ni + 1) * (cb + 1)] +
                                               sum[(ca + 1) + (ni + 1) * cb] - sum[ca + (ni + 1) * cb];
+    return sum;
+  };
+  // The count in columns [a0, a1) x [b0, b1).
+  auto boxCount = [&](const std::vector<uint32_t>& sum, size_t a0, size_t b0, size_t a1, size_t b1) {
+    return sum[a1 + (ni + 1) * b1] - sum[a0 + (ni + 1) * b1] - sum[a1 + (ni + 1) * b0] + sum[a0 + (ni + 1) * b0];
+  };
+  std::vector<uint8_t> corner(ni * nj, 0), kept(ni * nj, 0);
+  if (ni >= k && nj >= k) {
+    const std::vector<uint32_t> shadow_sum = prefixSums(shadow);
     for (size_t cb = 0; cb + k <= nj; ++cb)
-      for (size_t ca = 0; ca + k <= ni; ++ca) {
-        const uint32_t in = sum[(ca + k) + (ni + 1) * (cb + k)] - sum[ca + (ni + 1) * (cb + k)] - sum[(ca + k) + (ni + 1) * cb] +
-                            sum[ca + (ni + 1) * cb];
-        if (in != k * k) continue;
-        for (size_t db = 0; db < k; ++db)
-          for (size_t da = 0; da < k; ++da) kept[(ca + da) + ni * (cb + db)] = 1;
-      }
+      for (size_t ca = 0; ca + k <= ni; ++ca)
+        corner[ca + ni * cb] = boxCount(shadow_sum, ca, cb, ca + k, cb + k) == k * k ? 1 : 0;
+    const std::vector<uint32_t> corner_sum = prefixSums(corner);
+    for (size_t cb = 0; cb < nj; ++cb)
+      for (size_t ca = 0; ca < ni; ++ca)
+        kept[ca + ni * cb] = boxCount(corner_sum, ca + 1 >= k ? ca + 1 - k : 0, cb + 1 >= k ? cb + 1 - k : 0, ca + 1, cb + 1) > 0;
   }
   for (int32_t j = j0; j <= j1; ++j)
     for (int32_t i = i0; i <= i1; ++i) {
