@@ -15,6 +15,7 @@
 #include <unordered_map>
 
 #include "eval/score_image.h"
+#include "io/input_budget.h"
 #include "volume/tissue_table.h"
 
 namespace dentsim {
@@ -372,6 +373,22 @@ Result<CrownScore> scoreCrownPreparation(const Task& task, const ToothVolume& in
   if (norm(mesial - axis * dot(mesial, axis)) < 1e-6)
     return makeError(where, "the tooth's mesial direction lies along the insertion axis: the walls cannot be named");
 
+  // The measures copy the teeth over their tissue's box, about two bytes a voxel at their peak (the
+  // byte box of the margin, undercut and reduction measures, the bits of the loose-piece flood): a
+  // box past the memory budget (a hostile or mislabelled .dvol) is refused before any is taken.
+  const BrickBox bi = tissueBricks(initial.voxels), bf = tissueBricks(final_.voxels);
+  if (!bi.empty() && !bf.empty()) {
+    auto side = [](uint32_t lo0, uint32_t lo1, uint32_t hi0, uint32_t hi1) {
+      return uint64_t(std::max(hi0, hi1) - std::min(lo0, lo1) + 1) * DS_BRICK_DIM;
+    };
+    const uint64_t voxels = side(bi.lo.x, bf.lo.x, bi.hi.x, bf.hi.x) * side(bi.lo.y, bf.lo.y, bi.hi.y, bf.hi.y) *
+                            side(bi.lo.z, bf.lo.z, bi.hi.z, bf.hi.z);
+    const uint64_t budget = memoryBudgetBytes();
+    if (budget > 0 && 2 * voxels > budget)
+      return makeError(where, "the teeth's tissue spans " + std::to_string(voxels) + " voxels: measuring it takes about " +
+                                  gigabytesText(2 * voxels) + ", over the memory budget of " + gigabytesText(budget) + " (" +
+                                  memoryBudgetOrigin() + ")");
+  }
   CrownScore s;
   describeAll(s, c);
   // The measures read the teeth at half fill (volume/half_fill.h): the grains a bur leaves are not

@@ -1,5 +1,6 @@
 // Tests of the crown preparation's score: a round tooth prepared well, untouched, short occlusally, with parallel or over-tapered walls and with a ledge, each criterion's verdict and points against the rules counted by hand.
 #include "eval/crown_score.h"
+#include "io/input_budget.h"
 
 #include <gtest/gtest.h>
 
@@ -187,6 +188,23 @@ TEST(CrownScore, AShellCutFreeOfTheWallIsMeasuredAsGone) {
   auto raw = measureUndercut(shelled.voxels, kVoxelMm, {0, 0, 1}, {-1, 0, 0}, s.margin_height_mm);
   ASSERT_TRUE(raw) << raw.message();
   EXPECT_GT(raw->area_mm2, 0.3);
+}
+
+// The measures copy the teeth over their tissue's box (about two bytes a voxel): past the memory
+// budget the score is refused in one line naming the size and the budget, before anything is taken.
+// Here the box is 96 x 96 x 128 voxels (the crown's 12 x 12 x 16 bricks), about 2.4 MB, against 1 MiB.
+TEST(CrownScore, ATissueBoxPastTheMemoryBudgetIsRefused) {
+  const Prep prep;
+  const ToothVolume prepared = tooth(&prep);
+  auto diff = compareTeeth(original(), prepared, nullptr, ZoneOptions{crownTask().leeway_mm, crownTask().insertion_axis});
+  ASSERT_TRUE(diff.ok()) << diff.message();
+  setMemoryBudget(1 << 20);
+  const auto refused = scoreCrownPreparation(crownTask(), original(), prepared, *diff);
+  setMemoryBudget(0);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.message().find("over the memory budget"), std::string::npos) << refused.message();
+  EXPECT_NE(refused.message().find("voxels"), std::string::npos) << refused.message();
+  EXPECT_TRUE(scoreCrownPreparation(crownTask(), original(), prepared, *diff).ok());  // the default budget
 }
 
 // Nothing prepared: no finish line, every criterion outside and unmeasured, nothing earned.
