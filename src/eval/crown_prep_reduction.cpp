@@ -67,6 +67,18 @@ double rayReduction(const Masks& m, int32_t x, int32_t y, int32_t z, const Vec3&
   }
 }
 
+// A surface voxel's outward normal: the sum of the offsets of its 26 neighbours that are not
+// `inside`, normalized; zero for a sheet one voxel thin, which has no outward side.
+template <class Inside>
+Vec3 outwardNormal(const Inside& inside, int32_t x, int32_t y, int32_t z) {
+  Vec3 sum;
+  for (int dz = -1; dz <= 1; ++dz)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx)
+        if (!inside(x + dx, y + dy, z + dz)) sum += Vec3(dx, dy, dz);
+  return norm(sum) == 0 ? Vec3{} : normalized(sum);
+}
+
 // Sorts a key list (so z, y, x order) and drops repeats.
 void sortUnique(std::vector<uint64_t>& keys) {
   std::sort(keys.begin(), keys.end());
@@ -220,12 +232,7 @@ Result<CrownPrepReduction> measureReduction(const BrickVolume& original, const B
         if (box.faceNeighboursAnd(x, y, z) & kOriginal) continue;  // inside: not a sample
         if (centreHeight(x, y, z, axis) <= margin_voxels) continue;
         any_above = true;
-        Vec3 sum;
-        for (int dz = -1; dz <= 1; ++dz)
-          for (int dy = -1; dy <= 1; ++dy)
-            for (int dx = -1; dx <= 1; ++dx)
-              if (!m.orig(x + dx, y + dy, z + dz)) sum += Vec3(dx, dy, dz);
-        const Vec3 normal = normalized(sum);
+        const Vec3 normal = outwardNormal([&](int32_t a, int32_t b, int32_t c) { return m.orig(a, b, c); }, x, y, z);
         if (norm(normal) == 0) continue;  // a sheet one voxel thin: no side is outward
 
         Accum* acc = nullptr;
@@ -245,7 +252,16 @@ Result<CrownPrepReduction> measureReduction(const BrickVolume& original, const B
         if (acc == nullptr) continue;
         std::array<int32_t, 3> hit;
         const double voxels = rayReduction(m, x, y, z, -normal, axis, margin_voxels, hit);
-        if (voxels < 0) {
+        // An occlusal gauge must land on the table: a ray that meets the preparation on an axial
+        // wall (the hit's normal in a wall's region, by the rule the samples are sorted by) crossed
+        // the occlusal-axial corner that the walls took off whole, and reads the wall.
+        bool on_wall = false;
+        if (acc == &occlusal && voxels > 0) {
+          const Vec3 hit_normal =
+              outwardNormal([&](int32_t a, int32_t b, int32_t c) { return m.prep(a, b, c); }, hit[0], hit[1], hit[2]);
+          for (const Vec3& d : wall_dirs) on_wall = on_wall || dot(hit_normal, d) > kCos45;
+        }
+        if (voxels < 0 || on_wall) {
           ++out.unreached;
           continue;
         }

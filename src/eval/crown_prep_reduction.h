@@ -13,8 +13,12 @@
 // voxel's outer face on that ray [mm] (to 1/8 voxel). A ray that leaves the original tooth, or goes
 // down to the margin height, without meeting the preparation crosses a part taken off whole (an
 // occlusal-axial corner, the rim above the shoulder): it has no wall to measure and is counted as
-// `unreached`, in no region. A cusp cut away whole above the margin still shows, as the occlusal
-// samples above it reach far down.
+// `unreached`, in no region. So is an occlusal sample whose ray meets the preparation on an axial
+// wall (the prepared voxel's normal, worked out the same way, in a wall's region): a gauge from a
+// cusp's outer slope at the rim points down and in across that corner and reads the wall, which an
+// examiner's occlusal reading does not (an over-tapered wall would otherwise read as occlusal
+// over-reduction). A cusp cut away whole above the margin still shows, as the occlusal samples above
+// it reach far down to the table.
 //
 // Heights are along the insertion axis from the grid origin, voxel centres at (i + 0.5) * voxel_mm
 // on each grid axis (as eval/crown_prep_taper.h): a voxel is above the margin when its centre's
@@ -52,10 +56,9 @@ struct ReductionStats {
   double mean_mm = 0;        // mean reduction [mm]
   // The median reading (nearest rank, core/percentile.h) [mm]: what the score grades on the
   // occlusal surface. A gauge ray from a cusp's outer slope at the rim points down and in, across the
-  // corner the walls' laps took off whole, and reads to the lowered table or the wall beyond: up to
-  // 7.7 mm on the scripted professional's preparation, whose occlusal mean (1.82) the rim pulls up
-  // 0.1 mm from its median (1.72), and a table left 1 mm high still read within by its mean. A wall's
-  // rays run across the axis to the wall itself, so its mean is its reading.
+  // corner the walls' laps took off whole, and may still reach the lowered table far in: up to 7.7
+  // mm on the scripted professional's preparation, and a table left 1 mm high read within by its
+  // mean. A wall's rays run across the axis to the wall itself, so its mean is its reading.
   double median_mm = 0;
   double min_mm = 0;         // [mm]
   double max_mm = 0;         // [mm]

@@ -18,6 +18,12 @@
 // grid axis). A real undercut is deeper than that; a column along a grid axis needs no such test. Every such re-entry's voxel is hidden
 // surface.
 //
+// Flakes. The tooth above a gap must be at least kMinUndercutMm thick along the column: a run
+// thinner than that is a grain the cutter left at half fill over the voxel it cut away under it (a
+// level-9 preparation's finished walls carry 100-200 of them, one voxel thick, 0.056 mm, over an
+// empty voxel), enamel with nothing under it that a seating crown crushes; a step of the wall is
+// tooth all the way up.
+//
 // Patches. A crown seats over an overhang narrower than its cement space: a shadow counts only
 // where it is at least kMinUndercutMm across, that is, where a square of k x k shadowed columns
 // holds the column (a morphological opening of the shadow), k = ceil(kMinUndercutMm / voxel_mm) + 1:
@@ -108,27 +114,33 @@ Result<UndercutMap> measureUndercut(const BrickVolume& prepared, double voxel_mm
   const int32_t i0 = int32_t(std::floor(u_lo)), i1 = int32_t(std::ceil(u_hi));
   const int32_t j0 = int32_t(std::floor(v_lo)), j1 = int32_t(std::ceil(v_hi));
   const auto ni = size_t(i1 - i0 + 1), nj = size_t(j1 - j0 + 1);
+  // Samples of tooth, one after the other, that make an overhang at least kMinUndercutMm thick.
+  const auto min_run = int(std::ceil(kMinUndercutMm / voxel_mm / kStep - 1e-9));
   std::vector<uint8_t> shadow(ni * nj, 0);                 // per lattice column
   std::vector<std::pair<size_t, uint64_t>> hidden;         // (column, voxel key)
   for (int32_t j = j0; j <= j1; ++j)
     for (int32_t i = i0; i <= i1; ++i) {
       const size_t column = size_t(i - i0) + ni * size_t(j - j0);
       const Vec3 foot = origin + double(i) * m + double(j) * b;
-      bool seen = false, inside = false, gap_above = false, gap_deep = false, shadowed = false;
-      int gap = 0;
+      bool seen = false, inside = false, gap_above = false, gap_deep = false, thick_above = false, shadowed = false;
+      int gap = 0, run = 0;
       for (double t = t_top; t >= t_end; t -= kStep) {
         const Vec3 p = foot + t * a;
         const int32_t x = int32_t(std::floor(p.x)), y = int32_t(std::floor(p.y)), z = int32_t(std::floor(p.z));
         const double centre = dot(Vec3(x + 0.5, y + 0.5, z + 0.5), a);
         if (box.at(x, y, z) & kTooth) {
-          if (seen && !inside && gap_above && gap_deep && gap >= kMinGapSamples && centre > margin - 1.0) {
+          if (seen && !inside && gap_above && gap_deep && thick_above && gap >= kMinGapSamples && centre > margin - 1.0) {
             shadowed = true;
             hidden.emplace_back(column, reductionVoxelKey(uint32_t(x), uint32_t(y), uint32_t(z)));
           }
+          run = inside ? run + 1 : 1;
           seen = inside = true;
           gap = 0;
         } else {
-          if (inside) gap_above = centre > margin, gap_deep = !drifts;  // where the column leaves the tooth
+          if (inside) {  // where the column leaves the tooth
+            gap_above = centre > margin, gap_deep = !drifts;
+            thick_above = run >= min_run;
+          }
           inside = false;
           ++gap;
           if (!gap_deep) {

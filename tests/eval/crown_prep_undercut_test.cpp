@@ -154,6 +154,23 @@ TEST(CrownPrepUndercut, AShadowNarrowerThanTheCementSpaceDoesNotCount) {
   EXPECT_NEAR(three.wall_area_mm2[size_t(AxialWall::Mesial)], three.area_mm2, 1e-12);
 }
 
+// A ledge 0.3 mm out from the radius-3 wall within 45 degrees of mesial, `thick` mm along the axis
+// from z = 3 mm: two voxels (0.1 mm) thick, it hides the quarter ring under it, pi (3.3^2 - 3^2) / 4
+// = 1.484 mm^2; one voxel thick, it is a flake of the kind the cutter leaves at half fill over the
+// voxel it cut under it, and hides nothing.
+TEST(CrownPrepUndercut, AFlakeThinnerThanTheCementSpaceHidesNothing) {
+  auto ledge = [](double thick) {
+    return tooth([thick](double phi, double z) { return z >= 3.0 && z < 3.0 + thick && std::abs(phi) < kPi / 4 ? 3.3 : 3.0; });
+  };
+  const UndercutMap flake = measured(ledge(kVoxelMm));
+  EXPECT_DOUBLE_EQ(flake.area_mm2, 0.0);
+  EXPECT_TRUE(flake.voxels.empty());
+  const UndercutMap step = measured(ledge(2 * kVoxelMm));
+  const double ring = kPi * (3.3 * 3.3 - 3.0 * 3.0) / 4;
+  EXPECT_NEAR(step.area_mm2, ring, 0.1 * ring);
+  EXPECT_NEAR(step.wall_area_mm2[size_t(AxialWall::Mesial)], step.area_mm2, 4 * kVoxelMm * kVoxelMm);  // the 45-degree edges
+}
+
 TEST(CrownPrepUndercut, ErrorsNameTheirCause) {
   const auto none = measureUndercut(BrickVolume(kLevel), kVoxelMm, kAxis, kMesial, kMarginMm);
   ASSERT_FALSE(none.ok());
