@@ -127,10 +127,11 @@ Result<CrownPrepPath> crownPrepPath(const BrickVolume& volume, const VolumeFrame
       s.wall_convergence_deg >= 30 || s.margin_above_cej_mm < 0 || !(s.margin_width_lo_mm > 0) ||
       s.margin_width_hi_mm < s.margin_width_lo_mm || s.neighbour_clearance_mm < 0 || s.sectors < 8 ||
       !(s.profile_step_mm > 0) || !(s.occlusal_layer_mm > 0) || !(s.raster_step_mm > 0) || !(s.lap_step_mm > 0) ||
-      !(s.pace_margin > 0) || !(s.max_speed_mm_s > 0) || !(s.sample_mm > 0) || s.approach_mm < 0 || !finite(insertion_axis) ||
+      !(s.pace_margin > 0) || s.finish_laps < 1 || s.finish_laps > 8 || !(s.finish_area_mm2 >= 0) ||
+      !(s.max_speed_mm_s > 0) || !(s.sample_mm > 0) || s.approach_mm < 0 || !finite(insertion_axis) ||
       !(norm(insertion_axis) > 0))
     return makeError(where, "reductions, convergence (under 30 degrees), widths, steps, pace and speed must be > 0, "
-                            "8 sectors at least, the axis not zero");
+                            "1-8 finishing laps, 8 sectors at least, the axis not zero");
   BurProfile bur;
   bur.spec = findTool(bur_name);
   if (!bur.spec || !isBur(bur.spec->kind)) return makeError(where, bur_name + " is not a bur of the tool catalog");
@@ -199,6 +200,7 @@ Result<CrownPrepPath> crownPrepPath(const BrickVolume& volume, const VolumeFrame
   out.margin_h.resize(n);
   out.foot_r.resize(n);
   out.surface_r.resize(n);
+  out.width_scale.resize(n);
   out.beside_neighbour.assign(n, false);
   for (size_t i = 0; i < n; ++i) {
     out.margin_h[i] = cej[i] + s.margin_above_cej_mm;
@@ -221,7 +223,14 @@ Result<CrownPrepPath> crownPrepPath(const BrickVolume& volume, const VolumeFrame
     // surface at the finish line's own height, narrower than higher up on a crown that bulges.
     const double r_m = outline.at(i, out.margin_h[i]).value_or(*r_f);
     out.surface_r[i] = r_m;
-    out.foot_r[i] = r_m - std::clamp(r_m - foot, s.margin_width_lo_mm, s.margin_width_hi_mm);
+    // The width is read square to the finish line; where the outline runs obliquely to this
+    // direction (a line angle), a radial step of w is w cos(alpha) wide across the line.
+    const double r_prev = outline.at((i + n - 1) % n, out.margin_h[i]).value_or(r_m);
+    const double r_next = outline.at((i + 1) % n, out.margin_h[i]).value_or(r_m);
+    const double slope = (r_next - r_prev) / (2.0 * 2.0 * std::numbers::pi / double(n)) / r_m;  // tan(alpha)
+    const double obliquity = std::sqrt(1.0 + std::min(slope * slope, 1.0));                     // 1 / cos(alpha), alpha <= 45 deg
+    out.width_scale[i] = obliquity;
+    out.foot_r[i] = r_m - std::clamp(r_m - foot, s.margin_width_lo_mm * obliquity, s.margin_width_hi_mm * obliquity);
   }
   out.foot_r = smoothed(out.foot_r, 2);
   out.margin_h = smoothed(out.margin_h, 1);
@@ -465,7 +474,7 @@ Result<CrownPrepPath> crownPrepPath(const BrickVolume& volume, const VolumeFrame
   // wall's bulge in one lap, a bur held in is lifted by proximal_lift times what it is held in, so
   // the laps there go down the wall in steps.
   std::vector<double> cut_to(n, 10.0), cut_low(n, -HUGE_VAL);
-  for (int64_t k = laps; k >= -1; --k) {
+  for (int64_t k = laps; k >= -int64_t(s.finish_laps); --k) {
     const bool finishing = k < 0;
     const double wanted = double(std::max<int64_t>(k, 0)) * s.lap_step_mm;
     auto liftFor = [&](double offset) { return s.proximal_lift * std::max(0.0, wanted - offset); };
@@ -476,7 +485,7 @@ Result<CrownPrepPath> crownPrepPath(const BrickVolume& volume, const VolumeFrame
       const double lift = liftFor(offset);
       const BurPose p = lapPose(th, offset, lift);
       const auto i = size_t(std::lround(th / (2.0 * std::numbers::pi) * double(n))) % n;
-      const double area = std::max(finishing ? 0.3 : 0.0, lapArea(i, offset, lift, cut_to[i], cut_low[i]));
+      const double area = std::max(finishing ? s.finish_area_mm2 : 0.0, lapArea(i, offset, lift, cut_to[i], cut_low[i]));
       const double length = norm(p.tip - at_tip);
       move(p.tip, p.dir, paced(length, area, s.lap_pace_margin), 1.0);
       out.volume_planned_mm3 += length * area;

@@ -13,7 +13,8 @@
 //      the bur is wider than the contact's gap and must pass inside the molar's own surface;
 //   3. the axial laps: the bur's top leaning toward the axis by (wall convergence - the bur's taper),
 //      so its side cuts the converging wall, laps stepping in by lap_step_mm from outside to the
-//      finish line, the last repeated to finish; every lap's tip at the finish line's height, so the
+//      finish line, the last gone round finish_laps more times, slowly (the wall then stands where it
+//      is planned, whatever the hand's pace); every lap's tip at the finish line's height, so the
 //      outer laps cut a floor out to the crown's surface and the last lap's round end leaves a heavy
 //      chamfer with no lip outside it. They come first, while the whole crown stands
 //      above them: the wall then bears on the bur's whole side; with the occlusal table already
@@ -45,16 +46,20 @@ namespace dentsim {
 struct CrownPrepSettings {
   // The occlusal surface lowered this far along the axis [mm]: a gauge held square to a cusp's slope
   // reads less, and the ball end rides high over the slopes, so the plan asks for more than 1.75
-  // (1.75 read 1.32 at level 8; 2.2 reads 1.8-1.9 at level 9).
-  double occlusal_reduction_mm = 2.2;
+  // (1.75 read 1.32 at level 8; 2.2 read a median of 1.9-2.0 at level 9).
+  double occlusal_reduction_mm = 2.1;
   double axial_reduction_mm = 1.2;       // each wall's mean reduction [mm]
-  double wall_convergence_deg = 6.0;     // each wall to the insertion axis [deg] (TOC twice this)
+  double wall_convergence_deg = 7.0;     // each wall to the insertion axis [deg] (TOC twice this)
   double margin_above_cej_mm = 0.8;      // the chamfer's floor (the finish line) over the CEJ [mm]
-  // The original surface at the finish line's height less the wall's foot, in this band [mm]. The
-  // cut wall stands 0.1-0.3 mm short of the plan and the width varies round the tooth by as much,
-  // so the plan asks 1.45-1.7 for a width that reads 0.85-1.4 (mean 1.1; the band is 0.8-1.5).
-  double margin_width_lo_mm = 1.45;
-  double margin_width_hi_mm = 1.7;
+  // The original surface at the finish line's height less the wall's foot, in this band [mm]
+  // (widened where the outline runs obliquely, so that the width square to the line is in it). The
+  // finished wall stands within 0.1 mm of the plan, and the margin measure, which extrapolates the
+  // wall 1.5-2.5 mm up down to the line, reads 0.1-0.25 less: 1.15-1.4 reads 0.9-1.2 at level 9
+  // (the band is 0.8-1.5). A wider chamfer costs the walls as much: this molar bulges 0.5-0.9 mm
+  // between the finish line and its height of contour, so its walls read 1.85-1.95 (near; the band
+  // is 1.0-1.5) with a margin of 0.9-1.0.
+  double margin_width_lo_mm = 1.15;
+  double margin_width_hi_mm = 1.4;
   double neighbour_clearance_mm = 0.3;   // the bur keeps this far from a neighbour [mm]
   int sectors = 72;                      // directions around the axis
   double profile_step_mm = 0.1;          // between heights of the outline [mm]
@@ -65,6 +70,11 @@ struct CrownPrepSettings {
   // and each lap's: the bur's side meets the wall along its length, the cut's front is a thin
   // sliver, and a bur that falls behind rides up the wall and over the occlusal table
   double lap_pace_margin = 1.5;
+  // The last lap is gone round this many more times, each paced as if it took finish_area_mm2 of
+  // wall: the bur falls behind on the laps before it, and a wall left short by the pace would be
+  // reached by a slower hand; finished, the wall stands where the plan puts it, whatever the pace.
+  int finish_laps = 3;
+  double finish_area_mm2 = 0.5;
   // Beside a neighbour, a lap held in from where it would go is lifted this many mm per mm held in,
   // so the proximal wall is taken down in steps rather than all its depth in one lap [mm/mm].
   double proximal_lift = 3.0;
@@ -87,6 +97,7 @@ struct CrownPrepPath {
   std::vector<double> margin_h;         // the chamfer's floor (the bur's tip on the last lap) [mm]
   std::vector<double> foot_r;           // the wall's foot: its distance from the axis [mm]
   std::vector<double> surface_r;        // the original surface at the finish line's height [mm]
+  std::vector<double> width_scale;      // 1 / cos of the outline's obliquity to the radius there (<= sqrt 2): the band's widening
   std::vector<bool> beside_neighbour;   // a neighbour limits the laps: the foot moved in, or the outer laps held back
   double volume_planned_mm3 = 0.0;      // tissue the pacing expects to remove [mm^3]
 };

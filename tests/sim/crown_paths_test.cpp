@@ -70,12 +70,14 @@ TEST(CrownPaths, TheOvertaperedHandLeansEveryLapNineDegreesFurtherAboutItsTip) {
   }
 }
 
-TEST(CrownPaths, TheShallowHandLiftsOnlyTheOcclusalSamplesOneMillimetre) {
+TEST(CrownPaths, TheShallowHandLiftsOnlyTheOcclusalSamples) {
   const ProfessionalPath pro = miniatureCrown();
-  const PenPath shallow = derivedAttemptPath(pro, Attempt::Shallow, {0, 0, 1}, kAxes);
+  const DerivedAttemptSettings s;
+  ASSERT_DOUBLE_EQ(s.shallow_mm, 1.3);
+  const PenPath shallow = derivedAttemptPath(pro, Attempt::Shallow, {0, 0, 1}, kAxes, s);
   for (size_t k = 0; k < shallow.samples.size(); ++k) {
     const Vec3 moved = shallow.samples[k].pose.position - pro.path.samples[k].pose.position;
-    EXPECT_NEAR(norm(moved - (k < 10 ? Vec3{0, 0, 1.0} : Vec3{})), 0.0, 1e-12) << k;
+    EXPECT_NEAR(norm(moved - (k < 10 ? Vec3{0, 0, 1.3} : Vec3{})), 0.0, 1e-12) << k;
     EXPECT_EQ(shallow.samples[k].pose.rotation, pro.path.samples[k].pose.rotation);
   }
 }
@@ -155,7 +157,32 @@ TEST(CrownPaths, ThePreparationIsPlannedTheSameEveryTime) {
   for (size_t k = 0; k < a->path.samples.size(); ++k) ASSERT_EQ(a->path.samples[k], b->path.samples[k]) << k;
   EXPECT_GT(a->laps_end_s, a->cut_start_s);
   EXPECT_GT(a->cut_end_s, a->laps_end_s);
-  EXPECT_NEAR(a->lean_deg, 4.0, 0.05);  // 6 degrees of wall less the bur's 2 of taper
+  EXPECT_NEAR(a->lean_deg, 5.0, 0.05);  // 7 degrees of wall less the bur's 2 of taper
+}
+
+// The finished wall is gone round finish_laps times after the last lap that steps in: every lap
+// starts and ends where the laps begin (on the buccal), so the final lap's start, at the wall's
+// foot, is visited once on arriving and once at the end of each of the 1 + finish_laps laps there.
+TEST(CrownPaths, TheLastLapIsGoneRoundAgainToFinishTheWall) {
+  const ToothVolume& tooth = molarBetweenNeighbours();
+  for (int finish : {1, 3}) {
+    CrownPrepSettings settings;
+    settings.finish_laps = finish;
+    auto made = crownPrepPath(tooth.voxels, tooth.frame, defaultSimParams(), "chamfer_bur_016", {0, 0, 1}, settings);
+    ASSERT_TRUE(made) << made.message();
+    const auto end = std::find_if(made->path.samples.begin(), made->path.samples.end(),
+                                  [&](const PenSample& p) { return p.t_s >= made->laps_end_s - 1e-9; });
+    ASSERT_NE(end, made->path.samples.end());
+    const Vec3 foot = tipOf(*end);
+    int visits = 0;
+    bool at = false;
+    for (auto p = made->path.samples.begin(); p <= end; ++p) {
+      const bool here = norm(tipOf(*p) - foot) < 1e-6;
+      if (here && !at) ++visits;
+      at = here;
+    }
+    EXPECT_EQ(visits, 2 + finish) << finish;
+  }
 }
 
 // The chamfer's width is planned from the original surface at the finish line's own height, as the
@@ -171,7 +198,10 @@ TEST(CrownPaths, TheFinishLineIsPlannedWideFromTheSurfaceAtItsOwnHeight) {
   int n = 0;
   for (size_t i = 0; i < made->sector_deg.size(); ++i) {
     if (made->beside_neighbour[i]) continue;
-    const double width = made->surface_r[i] - made->foot_r[i];
+    // Square to the line: the radial step times the cosine of the outline's obliquity.
+    EXPECT_GE(made->width_scale[i], 1.0);
+    EXPECT_LE(made->width_scale[i], std::sqrt(2.0) + 1e-12);
+    const double width = (made->surface_r[i] - made->foot_r[i]) / made->width_scale[i];
     EXPECT_GE(width, settings.margin_width_lo_mm - 0.1) << made->sector_deg[i];
     EXPECT_LE(width, settings.margin_width_hi_mm + 0.1) << made->sector_deg[i];
     sum += width;
