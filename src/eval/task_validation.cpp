@@ -255,7 +255,7 @@ void check(TaskValidation& v, const ValidationSettings& s) {
     v.faults.push_back(c);
     const std::string name = attemptName(c.attempt);
     const std::string own = joined(faultParts(v.task.kind, c.attempt), " and ");
-    const double min_gap = v.task.kind == TaskKind::Crown ? s.crown_min_gap : s.min_gap;
+    const double min_gap = v.min_gap;
     if (c.gap < min_gap)
       v.failures.push_back(name + ": loses " + fixed(c.gap) + " points against the expert, not " + fixed(min_gap, 0) +
                            " (" + own + " lost " + fixed(c.lost_in_fault) + ")");
@@ -282,6 +282,8 @@ Result<TaskValidation> validateTask(const Task& task, const ToothVolume& tooth, 
   TaskValidation v;
   v.task = task;
   v.pass_mark = task.pass_mark.value_or(settings.default_pass_mark);
+  v.expert_floor = settings.expert_floor;
+  v.min_gap = task.kind == TaskKind::Crown ? settings.crown_min_gap : settings.min_gap;
   const std::string where = "task " + task.name;
   if (progress) progress(task.name + ": the professional");
   auto pro_session = professionalSession(task, tooth, settings.work_dir, &v.professional);
@@ -473,7 +475,8 @@ std::string validationMarkdown(const TaskValidation& v) {
   o << "\n";
   for (const std::string& s : v.skipped) o << "- not run: " << s << "\n";
   if (v.valid())
-    o << "**valid**: the expert clears 85, every fault loses at least 20 points, most in its own part, and no unfinished or misplaced attempt passes.\n";
+    o << "**valid**: the expert clears " << fixed(v.expert_floor, 0) << ", every fault loses at least " << fixed(v.min_gap, 0)
+      << " points, most in its own part, and no unfinished or misplaced attempt passes.\n";
   else
     for (const std::string& f : v.failures) o << "- **fails**: " << f << "\n";
   o << "\n";

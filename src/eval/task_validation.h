@@ -86,6 +86,8 @@ struct TaskValidation {
   std::string professional;     // where the professional's session came from
   double professional_s = 0.0;  // its length [s]
   double pass_mark = 70.0;
+  double expert_floor = 85.0;   // the checks' figures, as the settings and the kind set them [points]
+  double min_gap = 20.0;
   std::vector<ValidatedAttempt> attempts;  // the expert first, then the settings' order
   std::vector<FaultCheck> faults;          // each attempt but the expert
   std::vector<std::string> skipped;        // attempts not run, each with why

@@ -48,8 +48,8 @@ const char* attemptFault(Attempt a) {
     case Attempt::Trench: return "wrong place: a trench";
     case Attempt::Tilted: return "tilted: 15 degrees off the axis";
     case Attempt::Token: return "a token cut: touches and stops";
-    case Attempt::Overtaper: return "over-tapered: walls at 15 degrees";
-    case Attempt::Shallow: return "under-reduced occlusally by 1 mm";
+    case Attempt::Overtaper: return "over-tapered: walls 9 degrees steeper";
+    case Attempt::Shallow: return "under-reduced occlusally by 1.3 mm";
     case Attempt::WallUndercut: return "an undercut left on the buccal wall";
     case Attempt::ThinMargin: return "a thin margin on the lingual";
     case Attempt::Nick: return "the mesial neighbour nicked";

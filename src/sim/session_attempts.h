@@ -28,7 +28,7 @@
 // lingual = -buccal, mesial; each across the insertion axis) is that wall's, fading to untouched over
 // the next crown_fade_deg, so that an edit does not jerk the bur:
 //   overtaper      every lapping sample turned about the tip by overtaper_deg further toward the axis
-//                  (a 2-degree-tapered bur leaning 4 degrees cuts walls of 6; 9 more make 15, TOC 30)
+//                  (a 2-degree-tapered bur leaning 5 degrees cuts walls of 7; 9 more make 16, TOC 32)
 //   shallow        every other drill sample lifted shallow_mm along the axis: the occlusal surface
 //                  lowered that much less
 //   wall_undercut  on the buccal wall the lapping bur turned about its tip by undercut_turn_deg away
@@ -37,8 +37,9 @@
 //                  axis: the chamfer there narrower by as much (and the wall reduced as much less)
 //   nick           at the last lapping sample facing the mesial (within 3 degrees), the lap stops and
 //                  the bur swings nick_mm toward the mesial and back over nick_s, the rest of the
-//                  session following later by nick_s: on the built-in molar, whose mesial wall the
-//                  professional cuts with the bur about 0.3 mm from the premolar, about 0.5 mm into it
+//                  session following later by nick_s: on the built-in molar, where the finishing
+//                  lap's bur passes 1.0-1.1 mm from the premolar (its 0.3 mm clearance holds at the
+//                  contact, off the mesial direction), about 0.4 mm into it
 // "The cavity's axis" is the line along the insertion axis through the mean tip position while
 // cutting. "Cutting" is a step with the drill in contact and the pedal down.
 #pragma once
@@ -76,10 +77,10 @@ struct DerivedAttemptSettings {
   double crown_side_deg = 45.0;      // a wall's samples: their side within this of its direction [deg]
   double crown_fade_deg = 15.0;      // and fading out over this much further [deg]
   double overtaper_deg = 9.0;        // further toward the axis [deg]
-  double shallow_mm = 1.0;           // the occlusal surface lowered this much less [mm]
+  double shallow_mm = 1.3;           // the occlusal surface lowered this much less [mm]
   double undercut_turn_deg = 12.0;   // the buccal wall's bur turned away from the axis [deg]
   double thin_margin_mm = 0.6;       // the lingual wall's bur held out [mm]
-  double nick_mm = 0.9;              // the swing toward the mesial neighbour [mm]
+  double nick_mm = 1.5;              // the swing toward the mesial neighbour [mm]
   double nick_s = 1.0;               // out, held and back [s]
 };
 
