@@ -240,14 +240,14 @@ std::string joined(const std::vector<std::string>& parts, const char* sep) {
 }
 
 // Each check that fails, one line naming the attempt and the part.
-void check(TaskValidation& v, const ValidationSettings& s) {
+void check(TaskValidation& v) {
   const ValidatedAttempt& expert = v.attempts.front();
-  if (expert.total < s.expert_floor * expert.total_max / 100.0) {
+  if (expert.total < v.expert_floor * expert.total_max / 100.0) {
     std::string weakest;
     double lowest = 1e9;
     for (const auto& [n, p] : expert.parts)
       if (p < lowest) lowest = p, weakest = n;
-    v.failures.push_back("expert: scores " + fixed(expert.total) + ", below " + fixed(s.expert_floor, 0) +
+    v.failures.push_back("expert: scores " + fixed(expert.total) + ", below " + fixed(v.expert_floor, 0) +
                          " (its weakest part: " + weakest + " " + fixed(lowest) + ")");
   }
   for (size_t i = 1; i < v.attempts.size(); ++i) {
@@ -255,9 +255,8 @@ void check(TaskValidation& v, const ValidationSettings& s) {
     v.faults.push_back(c);
     const std::string name = attemptName(c.attempt);
     const std::string own = joined(faultParts(v.task.kind, c.attempt), " and ");
-    const double min_gap = v.min_gap;
-    if (c.gap < min_gap)
-      v.failures.push_back(name + ": loses " + fixed(c.gap) + " points against the expert, not " + fixed(min_gap, 0) +
+    if (c.gap < v.min_gap)
+      v.failures.push_back(name + ": loses " + fixed(c.gap) + " points against the expert, not " + fixed(v.min_gap, 0) +
                            " (" + own + " lost " + fixed(c.lost_in_fault) + ")");
     if (!c.mostInOwnPart())
       v.failures.push_back(name + ": loses most in " + (c.most_lost_part.empty() ? "no part" : c.most_lost_part) + " (" +
@@ -367,7 +366,7 @@ Result<TaskValidation> validateTask(const Task& task, const ToothVolume& tooth, 
     }
     v.attempts.push_back(attemptOf(a, *scored, cut));
   }
-  check(v, settings);
+  check(v);
   return v;
 }
 
