@@ -6,6 +6,7 @@
 
 #include "app/cli_checks.h"
 #include "app/commands.h"
+#include "app/data_folder.h"
 #include "app/learning_cli.h"
 #include "app/simulator.h"
 #include "sim/novice_paths.h"
@@ -104,7 +105,8 @@ void addRunCommand(CLI::App& root, Action& action) {
       ->capture_default_str();
   cmd->add_option("--course", o->course,
                   "Course folder: its .dvol teeth and .json tasks join the built-in ones in the panel's pickers "
-                  "(default: assets/tasks under the current folder, when it exists)");
+                  "(default: assets/tasks under the current folder, when it exists, else the installed course, "
+                  "share/dentsim/tasks beside the binary's bin/)");
   cmd->add_flag("--teacher", o->teacher,
                 "Teacher mode: the panel's Record as ideal makes a segment the task file's ideal "
                 "(sessions go to a temporary folder without --out)");
@@ -196,6 +198,8 @@ void addRunCommand(CLI::App& root, Action& action) {
     if (cmd->count("--course") == 0) {
       std::error_code ec;
       o->course = ui::defaultCourseFolder(std::filesystem::current_path(ec).string());
+      // Outside a source tree: the course an installed dentsim brings (share/dentsim/tasks).
+      if (o->course.empty()) o->course = installedCourseFolder(executableFolder());
     }
     if (o->record_ideal_at_end && !o->teacher) throw CLI::ValidationError("--record-ideal-at-end", "needs --teacher");
     const Status usable = checkRunOptions(*o, *cmd);

@@ -8,6 +8,7 @@
 
 #include "app/cli_checks.h"
 #include "app/commands.h"
+#include "app/data_folder.h"
 #include "core/text_escape.h"
 #include "io/input_budget.h"
 
@@ -45,7 +46,8 @@ int main(int argc, char** argv) {
   using namespace dentsim::app;
   CLI::App root{"dentsim: dental surgery simulator (voxel tooth, haptic drilling, automatic scoring)"};
   root.require_subcommand(1);
-  root.set_version_flag("--version", std::string("dentsim ") + DENTSIM_VERSION);
+  // The version and the data folder this binary found, which says where an installed copy reads from.
+  root.set_version_flag("--version", versionText(executableFolder()));
   failInOneLine(root);  // a rejected option or number is one "dentsim: ..." line, as every other error
   // One budget for every input a command reads (io/input_budget.h); raised for real large data.
   uint64_t max_input_mb = dentsim::kDefaultInputBudgetBytes >> 20;
