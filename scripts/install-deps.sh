@@ -19,6 +19,7 @@ packages=(
   python3-pydicom python3-numpy          # an independent DICOM reader, and its sample files, for the tests
   libcli11-dev libstb-dev nlohmann-json3-dev libmeshoptimizer-dev
   chromium libcurl4-openssl-dev uuid-dev python3
+  dpkg-dev  # dpkg-shlibdeps: cpack -G DEB finds the lab package's Depends (cmake/Packaging.cmake)
 )
 # The learning-record tests' validator runs on Node (tests/xapi); a Node already on the PATH is kept.
 if ! command -v node >/dev/null || ! command -v npm >/dev/null; then
