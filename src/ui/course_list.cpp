@@ -2,6 +2,7 @@
 #include "ui/course_list.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <system_error>
 
@@ -27,6 +28,8 @@ TaskChoice taskChoice(const std::string& source, const std::string& label, bool 
   }
   c.title = task->title;
   c.instructions = task->instructions;
+  c.name = task->name;
+  c.pass_mark = task->pass_mark;
   return c;
 }
 
@@ -50,14 +53,18 @@ CourseList listCourse(const std::string& folder) {
   list.folder = folder;
   for (int level = kMinLevel; level <= kMaxLevel; ++level)
     list.teeth.push_back({"built-in molar, level " + std::to_string(level), "", level});
-  // Every embedded task file, by the name builtinTask knows it by (its stem).
+  // Every embedded task file, by the name builtinTask knows it by (its stem); after the course's own.
+  std::vector<TaskChoice> builtins;
   for (const std::string& asset : builtinAssetPaths()) {
     const fs::path p(asset);
     if (p.parent_path() != "tasks" || p.extension() != ".json") continue;
     const std::string name = p.stem().string();
-    list.tasks.push_back(taskChoice(name, name, true));  // a file shows as "name.json"
+    builtins.push_back(taskChoice(name, name, true));  // a file shows as "name.json"
   }
-  if (folder.empty()) return list;
+  if (folder.empty()) {
+    list.tasks = std::move(builtins);
+    return list;
+  }
   // A tooth whose layers were synthesized from one surface says so where it is picked: its enamel
   // and pulp are a model's, and a student drilling it should know. Only the header is read; a file
   // that does not load keeps its plain name and fails, with its reason, when picked.
@@ -69,7 +76,25 @@ CourseList listCourse(const std::string& folder) {
   std::string ignored;  // the same folder: its error is already kept
   for (const fs::path& f : filesWithExtension(folder, ".json", &ignored))
     list.tasks.push_back(taskChoice(f.string(), f.filename().string(), false));
+  // The course first: a student opens the picker on the exercises set, not on the built-in ones.
+  for (TaskChoice& t : builtins) list.tasks.push_back(std::move(t));
   return list;
+}
+
+std::string firstCourseTask(const CourseList& list) {
+  for (const TaskChoice& t : list.tasks)
+    if (!t.builtin && t.error.empty()) return t.source;
+  return "";
+}
+
+std::string taskPickerLine(const TaskChoice& t) {
+  if (!t.error.empty()) return t.label + " (does not load)";
+  if (t.attempts == 0) return t.label;
+  char best[32];
+  std::snprintf(best, sizeof best, "%.0f", t.best.value_or(0.0));
+  std::string line = t.label + "  best " + best + " of " + std::to_string(t.attempts);
+  if (t.passed) line += ", passed";
+  return line;
 }
 
 std::string defaultCourseFolder(const std::string& cwd) {

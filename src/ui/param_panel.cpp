@@ -16,6 +16,7 @@
 
 #include "model/tool_generator.h"
 #include "ui/panel_widgets.h"
+#include "ui/review_panel.h"
 #include "ui/task_page.h"
 #include "volume/tissue_table.h"
 
@@ -370,6 +371,7 @@ void scorePage(const Frame& f) {
   ImGui::TextColored(ImVec4(0.95f, 0.25f, 0.20f, 1.0f), "red: over-cut");
   ImGui::SameLine();
   ImGui::TextColored(ImVec4(0.30f, 0.50f, 1.00f, 1.0f), "blue: under-cut");
+  reviewSection(f);  // review_panel.cpp
 }
 
 // ---- 3. windows ----------------------------------------------------------------------------------------
@@ -503,6 +505,7 @@ PanelActions drawParamPanel(UiState& state, WidgetRects* rects) {
     ImGui::Separator();
     ImGui::TextWrapped("%s", state.status.c_str());
   }
+  studentPrompt(f);  // the first run's name, over everything (review_panel.cpp)
   // Where the window is, collapsed or not: the scene centres itself in what the panel leaves free.
   const ImVec2 panel_pos = ImGui::GetWindowPos(), panel_size = ImGui::GetWindowSize();
   actions.panel_rect = {int(panel_pos.x), int(panel_pos.y), int(panel_size.x), int(panel_size.y)};

@@ -40,6 +40,7 @@
 #include "sim/sim_params.h"
 #include "ui/course_list.h"
 #include "ui/preset_store.h"
+#include "ui/review_state.h"
 
 namespace dentsim::ui {
 
@@ -135,6 +136,8 @@ struct UiState {
   float ghost_opacity = 0.4f;              // [0.1, 0.9]
   std::string ghost_source;                // set by the app: the session the ghost shows, or why none
   ReductionMapView reduction;              // the crown preparation's live reduction map
+  StudentView student;                     // the student named, or the first-run prompt (ui/review_panel.h)
+  ReviewView review;                       // the Score page's review: replay, ghost, guided retry, last attempts
 };
 
 // ---- 2. actions --------------------------------------------------------------------------------------
@@ -155,6 +158,7 @@ struct PanelActions {
   std::string save_preset;           // save params under this name; empty: none
   PixelRect score_image_rect;        // where the renderer draws the score's picture or the reduction map; empty: nowhere
   PixelRect panel_rect;              // where the "Parameters" window is this frame
+  ReviewActions review;              // the Score page's review buttons and the name prompt (ui/review_state.h)
 };
 
 // ---- 3. entry points ---------------------------------------------------------------------------------

@@ -1,6 +1,7 @@
 // The Task page: pickers over UiState::course, the task in use, teacher mode.
 #include "ui/task_page.h"
 
+#include <cstdio>
 #include <string>
 
 namespace dentsim::ui::panel {
@@ -19,6 +20,23 @@ std::string taskLabel(const UiState& s) {
   for (const TaskChoice& t : s.course.tasks)
     if (t.source == s.task) return t.label;
   return s.task;
+}
+
+// The student's record at the task in use, under the picker: what the list shows for it, said in full.
+void taskRecordLine(const UiState& s) {
+  for (const TaskChoice& t : s.course.tasks) {
+    if (t.source != s.task || t.attempts == 0) continue;
+    char text[160];
+    std::snprintf(text, sizeof text, "your best %.1f in %d attempt%s", t.best.value_or(0.0), t.attempts,
+                  t.attempts == 1 ? "" : "s");
+    std::string line = text;
+    if (t.pass_mark) {
+      std::snprintf(text, sizeof text, "; pass mark %.0f: %s", *t.pass_mark, t.passed ? "passed" : "not yet passed");
+      line += text;
+    }
+    ImGui::TextUnformatted(line.c_str());
+    return;
+  }
 }
 
 // The tooth: the built-in molar at its levels, the course folder's teeth, or any .dvol by its path.
@@ -71,7 +89,7 @@ void taskPicker(const Frame& f) {
   if (opened) {
     for (size_t i = 0; i < s.course.tasks.size(); ++i) {
       const TaskChoice& t = s.course.tasks[i];
-      const std::string line = t.error.empty() ? t.label : t.label + " (does not load)";
+      const std::string line = taskPickerLine(t);  // with the student's best, attempts and passed
       if (ImGui::Selectable(line.c_str(), t.source == s.task)) {
         if (!t.error.empty()) {
           s.task_error = t.error;
@@ -85,6 +103,7 @@ void taskPicker(const Frame& f) {
     }
     ImGui::EndCombo();
   }
+  taskRecordLine(s);
   if (!s.task_title.empty()) ImGui::TextWrapped("%s", s.task_title.c_str());
   if (!s.task_instructions.empty()) {
     ImGui::PushStyleColor(ImGuiCol_Text, ImGui::GetStyleColorVec4(ImGuiCol_TextDisabled));

@@ -82,10 +82,31 @@ TEST(CourseList, AFoldersTeethAndTasksWithTitlesInstructionsAndErrors) {
   EXPECT_FALSE(broken->error.empty());
   EXPECT_NE(broken->error.find("broken.json"), std::string::npos) << "the error names the file: " << broken->error;
   EXPECT_TRUE(broken->title.empty());
-  // The folder's files come after the built-in tasks, sorted by name.
-  EXPECT_TRUE(list.tasks.front().builtin);
-  EXPECT_EQ(list.tasks[list.tasks.size() - 2].label, "broken.json");
-  EXPECT_EQ(list.tasks.back().label, "occlusal.json");
+  // The folder's files come first, sorted by name, then the built-in tasks.
+  ASSERT_GT(list.tasks.size(), 2u);
+  EXPECT_EQ(list.tasks[0].label, "broken.json");
+  EXPECT_EQ(list.tasks[1].label, "occlusal.json");
+  EXPECT_TRUE(list.tasks[2].builtin);
+  EXPECT_TRUE(list.tasks.back().builtin);
+  // A student starts on the first task that loads: the broken one comes first by name, but is passed over.
+  EXPECT_EQ(firstCourseTask(list), dir.file("occlusal.json"));
+  EXPECT_EQ(good->name, "occlusal");
+}
+
+TEST(CourseList, WithoutAFolderThereIsNoFirstCourseTask) { EXPECT_EQ(firstCourseTask(listCourse("")), ""); }
+
+// The picker's line carries the student's record: best of how many, and passed.
+TEST(CourseList, APickerLineShowsTheBestTheAttemptsAndPassed) {
+  TaskChoice t;
+  t.label = "class1.json";
+  EXPECT_EQ(taskPickerLine(t), "class1.json");  // never tried
+  t.attempts = 3;
+  t.best = 81.6;
+  EXPECT_EQ(taskPickerLine(t), "class1.json  best 82 of 3");
+  t.passed = true;
+  EXPECT_EQ(taskPickerLine(t), "class1.json  best 82 of 3, passed");
+  t.error = "bad";
+  EXPECT_EQ(taskPickerLine(t), "class1.json (does not load)");
 }
 
 // A tooth whose layers were synthesized from one surface says so in the picker; a measured one
