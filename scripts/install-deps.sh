@@ -47,4 +47,8 @@ fi
 
 # Test tools from npm, pinned by tests/xapi/package-lock.json: the independent xAPI validator.
 (cd "$(dirname "$0")/../tests/xapi" && npm ci --no-audit --no-fund --silent)
+# The real LRS the learning-record tests send to and read back from (tests/lrs, pinned by its
+# package-lock.json): Learning Locker's statement service, a GPL-3 server the tests run beside
+# dentsim, never linked into it. No package's install scripts run.
+(cd "$(dirname "$0")/../tests/lrs" && npm ci --ignore-scripts --omit=dev --no-audit --no-fund --silent)
 echo "install-deps: done"
