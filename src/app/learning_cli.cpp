@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "app/commands.h"
+#include "core/text_escape.h"
 #include "eval/learning_record.h"
 #include "io/file_hash.h"
 #include "io/learning_config.h"
@@ -264,6 +265,15 @@ void addOutboxCommand(CLI::App& root, Action& action) {
       auto pending = pendingStatements(settings->outbox);
       if (!pending) return fail(pending.message());
       std::printf("%s: %zu statement(s), %zu pending\n", settings->outbox.c_str(), all->size(), pending->size());
+      // Why the LRS refused those still pending, in its own words: escaped, an argument, never a format.
+      auto refusals = readRefusals(settings->outbox);
+      if (!refusals) return fail(refusals.message());
+      for (const nlohmann::ordered_json& statement : *pending) {
+        const auto it = refusals->find(statement["id"].get<std::string>());
+        if (it == refusals->end()) continue;
+        std::printf("  %s refused by the LRS (HTTP %ld): %s\n", escapeControl(it->first).c_str(), it->second.http_status,
+                    escapeControl(it->second.reason, 1000).c_str());
+      }
       return 0;
     };
   });

@@ -1,7 +1,8 @@
-// The HTTP side of the learning records: one xAPI statement POSTed to a school's LRS through libcurl, with short timeouts and Basic credentials.
+// The HTTP side of the learning records: one xAPI statement POSTed to a school's LRS, or one page of statements read from it, through libcurl, with short timeouts and Basic credentials.
 //
 // The caller decides what a failure means for its outbox (io/outbox_sender.h): delivered
-// statements are marked sent; refused or unreachable ones stay pending for the next run.
+// statements are marked sent; refused or unreachable ones stay pending for the next run. Reading
+// a class's statements page by page is io/lrs_query.h's.
 #pragma once
 
 #include <string>
@@ -25,6 +26,20 @@ struct PostOutcome {
   Delivery delivery = Delivery::Unreachable;
   long http_status = 0;  // 0 without an answer
   std::string detail;    // one line: "HTTP 401", "Connection refused", ...
+  std::string reason;    // a refusal's reason as the LRS gave it (lrsReason); raw data from outside, never a format
+};
+
+// What an LRS said about a refused request, from its answer's body: the "warnings" strings (joined
+// by "; ") when the body is a JSON object that has them, else its "message" string, else empty.
+// Raw text from the LRS, cut to 1,000 bytes: the caller escapes it wherever it shows it.
+std::string lrsReason(const std::string& body);
+
+// One GET's answer.
+struct GetOutcome {
+  bool answered = false;  // false: no answer at all (down, no route, timeout, too long a body)
+  long http_status = 0;   // 0 without an answer
+  std::string body;       // the answer's body, at most max_body_bytes
+  std::string detail;     // one line: "HTTP 401", "Connection refused", ...
 };
 
 // "<url>/statements" with exactly one '/' between, before the URL's query if it has one.
@@ -40,5 +55,10 @@ std::string urlForMessage(const std::string& url);
 // POSTs one statement (its JSON text) with "X-Experience-API-Version: 1.0.3" and
 // "Content-Type: application/json".
 PostOutcome postStatement(const LrsEndpoint& lrs, const std::string& statement_json);
+
+// GETs `url` (a whole URL: the caller builds it, io/lrs_query.h) with "X-Experience-API-Version:
+// 1.0.3", "Accept: application/json" and the endpoint's credentials and timeouts. An answer longer
+// than max_body_bytes is no answer (detail says so).
+GetOutcome getFromLrs(const LrsEndpoint& lrs, const std::string& url, size_t max_body_bytes);
 
 }  // namespace dentsim

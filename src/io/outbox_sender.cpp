@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/text_escape.h"
+
 namespace dentsim {
 
 Result<OutboxSendResult> sendOutbox(const std::string& outbox, const LrsEndpoint& lrs, long limit_ms, bool wait) {
@@ -48,7 +50,15 @@ Result<OutboxSendResult> sendOutbox(const std::string& outbox, const LrsEndpoint
       ++sum.delivered;
       continue;
     }
-    if (sum.problem.empty()) sum.problem = cut && out.delivery == Delivery::Unreachable ? out_of_time : out.detail;
+    // Kept for `outbox status`: the LRS's reason is the one thing that tells the school what to fix.
+    if (out.delivery == Delivery::Refused && out.http_status == 400) {
+      if (Status st = recordRefusal(outbox, statement["id"].get<std::string>(), Refusal{out.http_status, out.reason}); !st)
+        return st.error();
+      ++sum.refused;
+    }
+    // The reason is the LRS's text: escaped to one line of no control bytes before it joins a message.
+    const std::string detail = out.reason.empty() ? out.detail : out.detail + " (" + escapeControl(out.reason, 300) + ")";
+    if (sum.problem.empty()) sum.problem = cut && out.delivery == Delivery::Unreachable ? out_of_time : detail;
     if (out.delivery == Delivery::Unreachable) break;
   }
   sum.pending = pending->size() - sum.delivered;

@@ -17,7 +17,8 @@ namespace dentsim {
 struct OutboxSendResult {
   size_t delivered = 0;      // statements the LRS took in this call, now in the sent log
   size_t pending = 0;        // statements still waiting after it
-  std::string problem;       // why some wait: the first failure's one line; empty when none failed
+  std::string problem;       // why some wait: the first failure's one line, the LRS's reason escaped in it; empty when none failed
+  size_t refused = 0;        // statements the LRS refused as malformed (HTTP 400) in this call, their reasons in the refusal log
   bool busy = false;         // another process was sending this outbox: nothing was tried
   SetAsideLines set_aside;   // damaged outbox lines moved to "<outbox>.bad" first; the caller warns
 };
@@ -27,6 +28,8 @@ struct OutboxSendResult {
 // what is left, so the limit holds however slow the answer. An unreachable LRS ends the sending at
 // its first statement: the rest would only wait for the same timeout. One sender at a time: `wait`
 // waits for another to finish; without it, another sender at work means nothing is sent (busy).
+// A statement refused with HTTP 400 (malformed, in the LRS's eyes) stays pending, and its reason
+// goes to the refusal log (io/xapi_outbox.h's recordRefusal), so that `outbox status` can say why.
 // Errors: the outbox or its lock cannot be read or written.
 Result<OutboxSendResult> sendOutbox(const std::string& outbox, const LrsEndpoint& lrs, long limit_ms, bool wait);
 

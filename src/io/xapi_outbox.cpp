@@ -133,6 +133,38 @@ std::string sentLogPath(const std::string& outbox) { return outbox + ".sent"; }
 
 std::string badLinesPath(const std::string& outbox) { return outbox + ".bad"; }
 
+std::string refusalLogPath(const std::string& outbox) { return outbox + ".refused"; }
+
+Status recordRefusal(const std::string& outbox, const std::string& id, const Refusal& refusal) {
+  OutboxLock lock(outbox);
+  if (!lock.error().empty()) return Error{lock.error()};
+  ojson line = ojson::object();
+  line["id"] = id;
+  line["http_status"] = refusal.http_status;
+  // The LRS's words are data: dump escapes them, so no byte of them can end the line.
+  line["reason"] = refusal.reason;
+  return appendDurably(refusalLogPath(outbox), line.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n");
+}
+
+Result<std::map<std::string, Refusal>> readRefusals(const std::string& outbox) {
+  std::error_code ec;
+  if (!std::filesystem::exists(refusalLogPath(outbox), ec)) return std::map<std::string, Refusal>{};
+  OutboxLock lock(outbox);
+  if (!lock.error().empty()) return Error{lock.error()};
+  auto lines = readLines(refusalLogPath(outbox));
+  if (!lines) return lines.error();
+  std::map<std::string, Refusal> latest;
+  for (const std::string& text : *lines) {
+    const ojson j = ojson::parse(text, nullptr, false);
+    if (!j.is_object() || !j.contains("id") || !j["id"].is_string()) continue;
+    Refusal r;
+    if (j.contains("http_status") && j["http_status"].is_number_integer()) r.http_status = j["http_status"].get<long>();
+    if (j.contains("reason") && j["reason"].is_string()) r.reason = j["reason"].get<std::string>();
+    latest[j["id"].get<std::string>()] = std::move(r);
+  }
+  return latest;
+}
+
 Result<SetAsideLines> setAsideBadLines(const std::string& outbox) {
   std::error_code ec;
   if (!std::filesystem::exists(outbox, ec)) return SetAsideLines{};

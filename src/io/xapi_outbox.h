@@ -8,9 +8,11 @@
 // the line being written, never lose an earlier one, and two dentsim at the same moment never lose a
 // line. A torn last line is ended before the next line is appended, so it costs only itself. Lines
 // that are not statements are moved to "<outbox>.bad", the one time the outbox is rewritten (temp
-// file, fsync, rename). docs/LEARNING_RECORDS.md.
+// file, fsync, rename). A statement the LRS refused as malformed stays pending, and
+// "<outbox>.refused" keeps why, as the LRS said it. docs/LEARNING_RECORDS.md.
 #pragma once
 
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
@@ -35,6 +37,21 @@ struct SetAsideLines {
 // before the outbox is rewritten without them), so that one damaged line (a hand edit, a disk
 // fault) costs only itself and never stops the next attempt being recorded. The caller warns.
 Result<SetAsideLines> setAsideBadLines(const std::string& outbox);
+
+// "<outbox>.refused": one JSON line per refusal of a statement by an LRS, appended, never rewritten:
+// {"id": the statement's id, "http_status": 400, "reason": what the LRS said}.
+std::string refusalLogPath(const std::string& outbox);
+
+// Why an LRS last refused a statement.
+struct Refusal {
+  long http_status = 0;  // the LRS's answer (400: the statement is malformed)
+  std::string reason;    // the LRS's own words (io/lrs_client.h's lrsReason), raw: escape it to show it
+};
+// Appends a refusal of the statement `id` to the refusal log (fsynced, under the outbox's lock).
+Status recordRefusal(const std::string& outbox, const std::string& id, const Refusal& refusal);
+// The latest refusal of each statement, by id; none when the log does not exist. Lines that are not
+// refusals (a torn write) are passed over: the log only explains, it decides nothing.
+Result<std::map<std::string, Refusal>> readRefusals(const std::string& outbox);
 
 // Every statement in the outbox, in order; none when the file does not exist. Errors name the file
 // and line ("outbox.jsonl:3: not a JSON object with a string \"id\"").
