@@ -1,4 +1,4 @@
-// `dentsim report SCORES_OR_OUTBOX... -o report.html`: one self-contained HTML page of a class's attempts (docs/CLASS_REPORT.md).
+// `dentsim report SCORES_OR_OUTBOX... -o report.html` and `dentsim report --lrs URL`: one self-contained HTML page of a class's attempts, read from files or from the school's LRS (docs/CLASS_REPORT.md).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,11 +11,14 @@
 
 #include "app/cli_checks.h"
 #include "app/commands.h"
+#include "app/learning_cli.h"
 #include "core/text_escape.h"
 #include "eval/attempt_reader.h"
 #include "eval/class_report.h"
 #include "eval/class_report_html.h"
 #include "io/atomic_file.h"
+#include "io/lrs_query.h"
+#include "io/strict_json.h"
 
 namespace dentsim::app {
 namespace {
@@ -27,6 +30,9 @@ struct ReportCliOptions {
   std::string output = "report.html";
   std::string student;                  // the student of every score report given
   std::vector<std::string> pass_marks;  // "50" for every task, or "TASK=50"
+  LearningCliOptions lrs;               // --lrs, --course, --config: the school's LRS, as `outbox send` reaches it
+  std::string since;                    // --since: only statements the LRS stored after this date and time
+  int lrs_page_size = 500;              // --lrs-page-size: statements per request to the LRS
 };
 
 // A score picture is a few hundred KiB; anything past this is not one.
@@ -109,7 +115,51 @@ ReportPictures loadPictures(const std::vector<ClassAttempt>& attempts, uint64_t 
 // At most this many warnings for one input's bad lines; a file of nothing else says so once.
 constexpr size_t kMaxLineWarningsPerFile = 10;
 
+// --since as the LRS wants it: a date ("2026-11-27", midnight UTC) or an ISO 8601 date and time.
+Result<std::string> sinceTimestamp(const std::string& text) {
+  const bool date_only = text.size() == 10 && text[4] == '-' && text[7] == '-';
+  const auto seconds = parseIsoTime(date_only ? text + "T00:00:00Z" : text);
+  if (!seconds) return Error{"--since " + quotedForMessage(text) + ": not a date (2026-11-27) or an ISO 8601 date and time"};
+  return xapiTimestamp(*seconds);
+}
+
+// The course's statements from the school's LRS (io/lrs_query.h), read as an outbox's lines are:
+// each one's source is "LRS <url>:<n>", the n-th statement read, oldest stored first.
+Status readFromLrs(const ReportCliOptions& o, std::vector<ClassAttempt>* attempts, int* skipped) {
+  auto settings = lrsForReading(o.lrs);
+  if (!settings) return settings.error();
+  StatementQuery query;
+  query.activity = settings->course_activity;
+  query.related_activities = true;  // a task's statement names its course as its parent, not as its object
+  query.page_limit = o.lrs_page_size;
+  if (!o.since.empty()) {
+    auto since = sinceTimestamp(o.since);
+    if (!since) return since.error();
+    query.since = *since;
+  }
+  auto fetched = fetchStatements(settings->lrs, query);
+  if (!fetched) return fetched.error();
+  // None: the caller's one error line says there is nothing to report.
+  if (fetched->statements.empty()) return Ok{};
+  const std::string where = "LRS " + urlForMessage(settings->lrs.url);
+  std::printf("read %zu statement(s) of course %s from %s in %d request(s)\n", fetched->statements.size(), settings->course.c_str(),
+              where.c_str(), fetched->requests);
+  // One statement a line, as an outbox holds them, so that both sources are read by the same rules.
+  std::string lines;
+  for (const nlohmann::ordered_json& statement : fetched->statements)
+    lines += statement.dump(-1, ' ', false, nlohmann::ordered_json::error_handler_t::replace) + "\n";
+  std::vector<std::string> warnings;
+  auto read = parseStatements(lines, where, ".", 0.0, skipped, &warnings);
+  if (!read) return read.error();
+  for (size_t i = 0; i < warnings.size() && i < kMaxLineWarningsPerFile; ++i) warn(warnings[i]);
+  if (warnings.size() > kMaxLineWarningsPerFile)
+    warn(where + ": " + std::to_string(warnings.size() - kMaxLineWarningsPerFile) + " more bad statements left out");
+  attempts->insert(attempts->end(), read->begin(), read->end());
+  return Ok{};
+}
+
 int runReport(const ReportCliOptions& o) {
+  if (o.inputs.empty() && o.lrs.lrs.empty()) return fail("report: give score reports, outboxes or folders, or --lrs URL");
   ClassReportOptions report_options;
   for (const std::string& p : o.pass_marks)
     if (Status st = parsePassMark(p, &report_options); !st) return fail(st.message());
@@ -140,7 +190,11 @@ int runReport(const ReportCliOptions& o) {
       warn(shownPath(f) + ": " + std::to_string(warnings.size() - kMaxLineWarningsPerFile) + " more bad lines left out");
     attempts.insert(attempts.end(), read->begin(), read->end());
   }
-  if (attempts.empty()) return fail("no scored attempt in " + std::to_string(files.size()) + " input files");
+  if (!o.lrs.lrs.empty())
+    if (Status st = readFromLrs(o, &attempts, &skipped); !st) return fail(st.message());
+  if (attempts.empty())
+    return fail(o.lrs.lrs.empty() ? "no scored attempt in " + std::to_string(files.size()) + " input files"
+                                  : "no scored attempt in the input files or the LRS's statements");
   const ClassReport report = buildClassReport(std::move(attempts), report_options);
   // The pictures the page embeds are inputs too: a page written over one would destroy it.
   std::vector<std::string> picture_files;
@@ -163,14 +217,22 @@ void addReportCommand(CLI::App& root, Action& action) {
   auto o = std::make_shared<ReportCliOptions>();
   CLI::App* cmd = root.add_subcommand("report", "A class's score reports and xAPI outboxes as one self-contained HTML page");
   cmd->add_option("inputs", o->inputs,
-                  "score.json files, outboxes of xAPI statements (JSON lines), or folders holding them (their score.json and *.jsonl)")
-      ->required();
+                  "score.json files, outboxes of xAPI statements (JSON lines), or folders holding them (their score.json and *.jsonl)");
   cmd->add_option("-o,--output", o->output, "Page to write (.html)")->capture_default_str();
   cmd->add_option("--student", o->student,
                   "The student of every score report given (default: the report's \"student\", else the folder two above it: STUDENT/ATTEMPT/score.json)");
   // One value per --pass-mark, so that the inputs after it stay inputs.
   cmd->add_option("--pass-mark", o->pass_marks, "A pass mark of 100 for every task (50), or for one task (class2_cavity=60); repeatable")
       ->allow_extra_args(false);
+  // The school's LRS as a source: the same settings and credentials as `outbox send`.
+  CLI::Option* lrs = cmd->add_option("--lrs", o->lrs.lrs, "Read the course's statements from this LRS's xAPI endpoint (credentials: config or DENTSIM_LRS_USERNAME/PASSWORD)");
+  cmd->add_option("--course", o->lrs.course, "With --lrs: the course id (default: the config's, else builtin)")->needs(lrs);
+  cmd->add_option("--config", o->lrs.config, "With --lrs: the learning-record config file (default: $DENTSIM_CONFIG, else ~/.config/dentsim/learning.json)")->needs(lrs);
+  cmd->add_option("--since", o->since, "With --lrs: only statements the LRS stored after this date (2026-11-27) or date and time (UTC unless a zone is given)")->needs(lrs);
+  cmd->add_option("--lrs-page-size", o->lrs_page_size, "With --lrs: statements per request")
+      ->check(CLI::Range(1, kMaxStatementPageLimit))
+      ->needs(lrs)
+      ->capture_default_str();
   cmd->callback([o, &action] { action = [o] { return runReport(*o); }; });
 }
 

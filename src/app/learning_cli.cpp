@@ -215,6 +215,20 @@ void recordAttemptOrWarn(const LearningCliOptions& o, const Task& task, nlohmann
   recordAttemptOrWarn(o, task, std::as_const(report), session_file, final_file);
 }
 
+Result<LrsReadSettings> lrsForReading(const LearningCliOptions& o) {
+  auto settings = resolveSettings(o);
+  if (!settings) return settings.error();
+  if (!settings->lrs) return Error{"no LRS (give --lrs or \"lrs\" in the config)"};
+  LrsReadSettings r;
+  r.lrs = *settings->lrs;
+  // A page of a few hundred statements is a few MB: more than a single statement's 6 s may be needed.
+  r.lrs.timeout_ms = 30000;
+  r.course = settings->learner.course;
+  if (!isPlainName(r.course)) return Error{"--course: " + quotedForMessage(r.course) + " is not a plain name (letters, digits, '_', '-', '.')"};
+  r.course_activity = courseActivityIri(settings->learner.activity_base, r.course);
+  return r;
+}
+
 Status sendPendingIfConfigured(const LearningCliOptions& o) {
   auto settings = resolveSettings(o);
   if (!settings) return settings.error();

@@ -16,6 +16,7 @@
 
 #include "core/result.h"
 #include "eval/task.h"
+#include "io/lrs_client.h"
 
 namespace dentsim::app {
 
@@ -57,6 +58,17 @@ void recordAttemptOrWarn(const LearningCliOptions& o, const Task& task, nlohmann
 // The same for a hook that hands a report it may not change: recorded, and the report not stamped.
 void recordAttemptOrWarn(const LearningCliOptions& o, const Task& task, const nlohmann::ordered_json& report,
                          const std::string& session_file, const std::string& final_file);
+
+// The school's LRS as `report --lrs` reads it: the endpoint with the credentials sending uses (the
+// config file's, or DENTSIM_LRS_USERNAME/PASSWORD; never the command line), and the activity IRI of
+// the course whose statements are wanted, as recordAttempt names it in each statement's context.
+struct LrsReadSettings {
+  LrsEndpoint lrs;              // o.lrs, else the config's; a page's answer may take up to 30 s
+  std::string course;           // o.course, else the config's, else "builtin"
+  std::string course_activity;  // the course's activity IRI under the config's activity base
+};
+// Errors: a malformed config, no LRS named, an LRS URL that is not http or https.
+Result<LrsReadSettings> lrsForReading(const LearningCliOptions& o);
 
 // Sends the outbox's pending statements when an LRS is named (--lrs or the config), for at most
 // 10 s in all and never while another dentsim is sending; prints what was delivered, or a one-line
