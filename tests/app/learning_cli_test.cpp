@@ -1,12 +1,14 @@
-// Learning records end to end: scored attempts by three students become ten xAPI statements that an independent validator accepts and a stand-in LRS receives exactly once each, also across a run with the LRS down; their score reports name them, so a class report counts each attempt once.
+// Learning records end to end: scored attempts by three students become ten xAPI statements that an independent validator accepts and a real LRS stores exactly once each, also across a run with the LRS down, and that read back from it equal what was sent; a malformed statement is refused by the LRS and kept with its reason; the credentials reach it; their score reports name them, so a class report counts each attempt once.
 //
-// No real LRS could run here (the packaged ones need a database server), so tests/xapi/lrs_recorder.py
-// stands in: it records each request's method, path, headers and body, answers 409 for an id it
-// has seen, and can refuse everything (503). "Down" is a localhost port where nobody listens.
+// The LRS is real: Learning Locker's statement service (npm xapi-statements, tests/real_lrs.h),
+// started by each test on a free port and stopped after it. The stand-in tests/xapi/lrs_recorder.py
+// remains only for the faults the real one cannot be made to show: an LRS that answers 503 to
+// everything, and one that takes a minute per answer. "Down" is a localhost port where nobody listens.
 #include <gtest/gtest.h>
 
 #include <signal.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -19,6 +21,7 @@
 #include <nlohmann/json.hpp>
 
 #include "free_port.h"
+#include "real_lrs.h"
 #include "test_json.h"
 #include "test_support.h"
 
@@ -33,7 +36,8 @@ using test::TempDir;
 
 const fs::path kToolsDir = fs::path(DENTSIM_SOURCE_DIR) / "tests" / "xapi";
 
-// The stand-in LRS, started on a free port and stopped at scope exit.
+// The stand-in LRS, started on a free port and stopped at scope exit: only for an LRS that refuses
+// everything (503) or answers slowly, which the real one (test::RealLrs) cannot be made to do.
 class Recorder {
  public:
   // `options`: more of lrs_recorder.py's options ("--slow-after 1 --delay 60").
@@ -67,6 +71,28 @@ class Recorder {
 };
 
 bool havePython() { return runCommand("python3 -c 'pass'").exit_code == 0; }
+
+// The fields of a statement that dentsim sent and the LRS changed or dropped, as "path: sent X, stored Y"
+// lines; none when every field sent is stored as sent. The LRS adds fields of its own (stored,
+// authority, an objectType where the sender left it implicit), and those are not dentsim's to compare.
+void differences(const nlohmann::json& sent, const nlohmann::json& stored, const std::string& path, std::vector<std::string>* out) {
+  if (sent.is_object() && stored.is_object()) {
+    for (const auto& [key, value] : sent.items()) {
+      if (!stored.contains(key)) {
+        out->push_back(path + "." + key + ": sent, not stored");
+        continue;
+      }
+      differences(value, stored[key], path + "." + key, out);
+    }
+    return;
+  }
+  if (sent.is_array() && stored.is_array() && sent.size() == stored.size()) {
+    for (size_t i = 0; i < sent.size(); ++i) differences(sent[i], stored[i], path + "[" + std::to_string(i) + "]", out);
+    return;
+  }
+  // Numbers compare by value: 1 sent may come back as 1.0.
+  if (sent != stored) out->push_back(path + ": sent " + sent.dump() + ", stored " + stored.dump());
+}
 
 
 // Four recorded attempts on the level-6 molar with a fast preset: the careful removal and three
@@ -103,7 +129,7 @@ class LearningCli : public ::testing::Test {
 };
 
 TEST_F(LearningCli, TenAttemptsByThreeStudentsReachTheLrsOnceEachAcrossADownedLrs) {
-  if (!havePython()) GTEST_SKIP() << "python3 is needed for the stand-in LRS";
+  if (const std::string why = test::RealLrs::missing(); !why.empty()) GTEST_SKIP() << why;
   const std::string down = "http://127.0.0.1:" + std::to_string(freePort()) + "/xapi";
   // Each demo records its own attempt as it scores it, with the LRS down: pending, a warning, success.
   // (The cheapest four of the scripted attempts: together about 7 s of CPU.)
@@ -134,14 +160,14 @@ TEST_F(LearningCli, TenAttemptsByThreeStudentsReachTheLrsOnceEachAcrossADownedLr
   EXPECT_FALSE(fs::exists(outbox_ + ".sent"));
 
   // The LRS comes up: the next run sends its own statement and the five that waited.
-  Recorder lrs(dir_, "lrs", false);
-  ASSERT_TRUE(lrs.up());
+  test::RealLrs lrs(dir_, "lrs", "lab", "s3cret pw");
+  ASSERT_TRUE(lrs.up()) << lrs.log();
   for (size_t k = 1; k < plan.size(); ++k) {
     const auto r = scoreAs(plan[k].first, plan[k].second, lrs.url());
     ASSERT_EQ(r.exit_code, 0) << r.output;
     EXPECT_EQ(r.output.find("warning"), std::string::npos) << r.output;
     if (k == 1) {
-      EXPECT_EQ(lrs.requests().size(), 6u) << r.output;
+      EXPECT_EQ(lrs.requests("POST", "/xAPI/statements", 200), 6) << r.output;
     }
   }
   // The first attempt scored again by its student: the same id, neither added nor sent again.
@@ -165,16 +191,24 @@ TEST_F(LearningCli, TenAttemptsByThreeStudentsReachTheLrsOnceEachAcrossADownedLr
   }
   EXPECT_EQ(ids.size(), 10u);
   EXPECT_EQ(per_student, (std::map<std::string, int>{{"s1001", 4}, {"s1002", 3}, {"s1003", 3}}));
-  const std::vector<nlohmann::json> requests = lrs.requests();
-  ASSERT_EQ(requests.size(), 10u);
+  // Ten POSTs reached the LRS, each taken (its access log), none refused: every statement once.
+  EXPECT_EQ(lrs.requests("POST", "/xAPI/statements", 200), 10);
+  EXPECT_EQ(lrs.requests("POST", "/xAPI/statements", 400) + lrs.requests("POST", "/xAPI/statements", 401), 0);
+  // Read back with GET (the tests' own reader, two a page), each equals the one in the outbox field
+  // by field, and carries as its authority the account of the credentials dentsim sent.
+  std::string read_error;
+  const std::vector<nlohmann::json> stored = lrs.statements(&read_error, 2);
+  ASSERT_EQ(stored.size(), 10u) << read_error;
   std::set<std::string> received;
-  for (const auto& q : requests) {
-    EXPECT_EQ(q["method"], "POST");
-    EXPECT_EQ(q["path"], "/xapi/statements");
-    EXPECT_EQ(q["headers"]["x-experience-api-version"], "1.0.3");
-    EXPECT_EQ(q["headers"]["content-type"], "application/json");
-    EXPECT_EQ(q["headers"]["authorization"], "Basic bGFiOnMzY3JldCBwdw==");  // base64 of "lab:s3cret pw"
-    received.insert(nlohmann::json::parse(q["body"].get<std::string>())["id"].get<std::string>());
+  for (const auto& back : stored) {
+    const std::string id = back["id"].get<std::string>();
+    received.insert(id);
+    const auto sent = std::find_if(statements.begin(), statements.end(), [&](const nlohmann::json& s) { return s["id"] == id; });
+    ASSERT_NE(sent, statements.end()) << id;
+    std::vector<std::string> changed;
+    differences(*sent, back, "statement", &changed);
+    EXPECT_TRUE(changed.empty()) << id << ": " << ::testing::PrintToString(changed);
+    EXPECT_EQ(back["authority"]["account"]["name"], "lab") << back.dump();
   }
   EXPECT_EQ(received, ids);
   // `score` names the statement in its report too: the last one scored is s1001's first attempt.
@@ -194,6 +228,7 @@ TEST_F(LearningCli, TenAttemptsByThreeStudentsReachTheLrsOnceEachAcrossADownedLr
   EXPECT_NE(valid.output.find("10 statements, 0 problems"), std::string::npos) << valid.output;
 }
 
+// An LRS that is up but answers 503 to everything (the stand-in: the real one cannot be made to).
 TEST_F(LearningCli, RefusedStatementsStayPendingUntilAnLrsTakesThem) {
   if (!havePython()) GTEST_SKIP() << "python3 is needed for the stand-in LRS";
   std::ofstream(outbox_) << R"({"id":"6f1c1a0e-0000-5000-8000-000000000001","verb":{"id":"x"}})" "\n"
@@ -217,10 +252,90 @@ TEST_F(LearningCli, RefusedStatementsStayPendingUntilAnLrsTakesThem) {
   EXPECT_NE(dentsim("outbox status --config " + config_).output.find("2 statement(s), 0 pending"), std::string::npos);
 }
 
+// A statement the real LRS can store: no score, so a class report passes over it.
+std::string validStatement(int n) {
+  return R"({"id":"6f1c1a0e-0000-5000-8000-00000000000)" + std::to_string(n) +
+         R"(","actor":{"objectType":"Agent","account":{"homePage":"https://school.example","name":"s1"}},)"
+         R"("verb":{"id":"http://adlnet.gov/expapi/verbs/completed"},"object":{"id":"https://school.example/xapi/courses/cons-101/tasks/t1"},)"
+         R"("version":"1.0.3"})";
+}
+
+// A statement the real LRS refuses as malformed (an mbox without "mailto:", its value holding printf
+// directives that would crash a format) stays pending in the outbox, and the LRS's reason is kept
+// beside it as data: the send names it, `outbox status` shows it, "<outbox>.refused" holds it. The
+// good statement before it is taken; the refused one is tried again, and refused again, next time.
+TEST_F(LearningCli, AStatementTheRealLrsRefusesStaysPendingWithTheLrsReason) {
+  if (const std::string why = test::RealLrs::missing(); !why.empty()) GTEST_SKIP() << why;
+  const std::string bad_id = "6f1c1a0e-0000-5000-8000-000000000002";
+  std::ofstream(outbox_) << validStatement(1) << "\n"
+                         << R"({"id":")" << bad_id
+                         << R"(","actor":{"mbox":"%s%n@example.org"},"verb":{"id":"http://adlnet.gov/expapi/verbs/completed"},)"
+                            R"("object":{"id":"https://school.example/xapi/courses/cons-101/tasks/t1"}})" "\n";
+  test::RealLrs lrs(dir_, "lrs", "lab", "s3cret pw");
+  ASSERT_TRUE(lrs.up()) << lrs.log();
+  // The LRS's own words, as it answered them (its "warnings").
+  const std::string reason = "Problem in 'statements.0.actor.mbox'. Received '\"%s%n@example.org\"'";
+  for (int round = 0; round < 2; ++round) {
+    const auto r = dentsim("outbox send --config " + config_ + " --lrs " + lrs.url());
+    EXPECT_EQ(r.exit_code, 1) << r.output;  // asked to send, and one could not be
+    if (round == 0) {
+      EXPECT_NE(r.output.find("learning records: 1 sent to " + lrs.url()), std::string::npos) << r.output;
+    }
+    EXPECT_NE(r.output.find("HTTP 400 (" + reason + "); 1 statement(s) stay pending"), std::string::npos) << r.output;
+  }
+  const auto status = dentsim("outbox status --config " + config_);
+  EXPECT_EQ(status.exit_code, 0) << status.output;
+  EXPECT_NE(status.output.find("2 statement(s), 1 pending"), std::string::npos) << status.output;
+  EXPECT_NE(status.output.find(bad_id + " refused by the LRS (HTTP 400): " + reason), std::string::npos) << status.output;
+  // Kept as data: one JSON line per refusal, the reason a string value.
+  const std::vector<nlohmann::json> refusals = readJsonLines(outbox_ + ".refused");
+  ASSERT_EQ(refusals.size(), 2u);
+  for (const auto& refusal : refusals) {
+    EXPECT_EQ(refusal["id"], bad_id);
+    EXPECT_EQ(refusal["http_status"], 400);
+    EXPECT_EQ(refusal["reason"], reason);
+  }
+  EXPECT_EQ(readJsonLines(outbox_).size(), 2u);  // nothing left the outbox
+  std::string read_error;
+  const std::vector<nlohmann::json> stored = lrs.statements(&read_error);
+  ASSERT_EQ(stored.size(), 1u) << read_error;
+  EXPECT_EQ(stored[0]["id"], "6f1c1a0e-0000-5000-8000-000000000001");
+}
+
+// The credentials: the config file's username and password, or DENTSIM_LRS_USERNAME/PASSWORD over
+// them. The real LRS refuses a request without the credentials it knows (401), and stamps the
+// account of those it took on each statement as its authority: a stored statement whose authority
+// names the config's user proves the config's credentials reached it, not merely that it was up.
+TEST_F(LearningCli, TheConfigsCredentialsReachTheRealLrs) {
+  if (const std::string why = test::RealLrs::missing(); !why.empty()) GTEST_SKIP() << why;
+  std::ofstream(outbox_) << validStatement(1) << "\n" << validStatement(2) << "\n";
+  const std::string with_credentials = dir_.file("credentials.json");
+  std::ofstream(with_credentials) << R"({"course": "cons-101", "outbox": "outbox.jsonl", "username": "teacher-7", "password": "pw of %s"})";
+  test::RealLrs lrs(dir_, "lrs", "teacher-7", "pw of %s");
+  ASSERT_TRUE(lrs.up()) << lrs.log();
+  // The environment's credentials (the fixture's "lab") win over the config's, and this LRS does not know them.
+  const auto refused = dentsim("outbox send --config " + with_credentials + " --lrs " + lrs.url());
+  EXPECT_EQ(refused.exit_code, 1) << refused.output;
+  EXPECT_NE(refused.output.find("HTTP 401 (Unauthorised); 2 statement(s) stay pending"), std::string::npos) << refused.output;
+  EXPECT_EQ(lrs.requests("POST", "/xAPI/statements", 401), 2);
+  // Without them, the config's: taken.
+  const auto taken = runCommand("DENTSIM_LRS_USERNAME= DENTSIM_LRS_PASSWORD= DENTSIM_CONFIG= XDG_CONFIG_HOME=" + dir_.file("xdg-config") +
+                                " " + std::string(DENTSIM_BINARY) + " outbox send --config " + with_credentials + " --lrs " + lrs.url());
+  EXPECT_EQ(taken.exit_code, 0) << taken.output;
+  EXPECT_NE(taken.output.find("learning records: 2 sent to " + lrs.url()), std::string::npos) << taken.output;
+  for (const auto& run : {refused, taken}) EXPECT_EQ(run.output.find("pw of"), std::string::npos) << run.output;
+  std::string read_error;
+  const std::vector<nlohmann::json> stored = lrs.statements(&read_error);
+  ASSERT_EQ(stored.size(), 2u) << read_error;
+  for (const auto& back : stored)
+    EXPECT_EQ(back["authority"], nlohmann::json::parse(R"({"objectType":"Agent","account":{"homePage":"https://lrs.test.invalid","name":"teacher-7"}})"));
+}
+
 // One demo's attempt scored again by another student, with everything against it: a damaged line in
 // the outbox, an LRS that answers once and then takes a minute per statement, and a password and a
-// token in the LRS's URL. The attempt is recorded, the bad line set aside, the command returns with
-// the rest pending (the sending limit made small for the test), and neither secret is printed.
+// token in the LRS's URL (the stand-in: the real LRS cannot be made slow). The attempt is recorded,
+// the bad line set aside, the command returns with the rest pending (the sending limit made small
+// for the test), and neither secret is printed.
 TEST_F(LearningCli, ABadOutboxLineASlowLrsAndCredentialsInItsUrlNeitherStopNorLeak) {
   if (!havePython()) GTEST_SKIP() << "python3 is needed for the stand-in LRS";
   const test::NoLeakCheckForGpuChild no_leak_check;  // the Vulkan loader looks for a device before the CPU path
@@ -265,7 +380,8 @@ TEST_F(LearningCli, ABadOutboxLineASlowLrsAndCredentialsInItsUrlNeitherStopNorLe
 }
 
 // `outbox send` with credentials in the URL against an LRS that is down, one that refuses, one that
-// takes them, and a URL with a wrong scheme: the secrets appear in none of their outputs.
+// takes them, and a URL with a wrong scheme: the secrets appear in none of their outputs. The
+// stand-in, for its 503 and for its log of the request's path, where the URL's query must arrive.
 TEST_F(LearningCli, AUrlsPasswordAppearsInNoOutputOfOutboxSend) {
   if (!havePython()) GTEST_SKIP() << "python3 is needed for the stand-in LRS";
   std::ofstream(outbox_) << R"({"id":"6f1c1a0e-0000-5000-8000-000000000001","verb":{"id":"x"}})" "\n";
@@ -312,7 +428,8 @@ TEST_F(LearningCli, StudentNamesAreCheckedBeforeTheWork) {
 }
 
 // `outbox send` killed with -9 while the LRS sits on its second statement: the first, already taken,
-// is marked sent and the next send posts only the other two.
+// is marked sent and the next send posts only the other two. The stand-in: the real LRS cannot be
+// made to hold an answer back.
 TEST_F(LearningCli, ASenderKilledMidSendPostsNothingTwice) {
   if (!havePython()) GTEST_SKIP() << "python3 is needed for the stand-in LRS";
   for (int i = 1; i <= 3; ++i)

@@ -7,7 +7,8 @@ and appends each request to --log as one JSON line: method, path, headers, body.
 <prefix>/statements answers 200 with the id, or 409 when that id came before (as an LRS does);
 --refuse answers every request 503, an LRS that is up but will not take statements. --slow-after N
 answers the first N POSTs at once and then waits --delay seconds before each answer, a slow LRS
-(the request is logged when it arrives, before the wait).
+(the request is logged when it arrives, before the wait). GET answers 405, or --get-status with
+--get-body: an LRS whose answer to a query is not JSON, which the real one never sends.
 """
 import argparse
 import json
@@ -24,6 +25,8 @@ def main():
     parser.add_argument("--refuse", action="store_true")
     parser.add_argument("--slow-after", type=int, default=-1)
     parser.add_argument("--delay", type=float, default=0.0)
+    parser.add_argument("--get-status", type=int, default=405)
+    parser.add_argument("--get-body", default="")
     args = parser.parse_args()
     seen = set()
     posts = [0]
@@ -67,7 +70,7 @@ def main():
 
         def do_GET(self):
             self.record(b"")
-            self.answer(405)
+            self.answer(args.get_status, args.get_body.encode())
 
     server = HTTPServer(("127.0.0.1", 0), Handler)
     # The port appears whole or not at all: written to a temporary name, then renamed.
