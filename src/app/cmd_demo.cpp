@@ -9,6 +9,7 @@
 #include "app/commands.h"
 #include "app/learning_cli.h"
 #include "app/mesh_output.h"
+#include "app/shared_options.h"
 #include "eval/task_tooth.h"
 #include "eval/cut_score.h"
 #include "app/simulator.h"
@@ -30,7 +31,7 @@ namespace {
 constexpr double kScoreScreenS = 4.0;  // how long the windowed demo shows its score before it closes [s]
 
 struct DemoOptions {
-  std::string out = "dentsim-demo";  // output folder
+  OutputOptions output;              // --out (default dentsim-demo), --overwrite, --shot (default: one at 1 s)
   int level = 9;                     // octree level of the molar
   bool headless = false;             // no window: frames offscreen (also when no display answers)
   bool realtime = false;             // headless without a Vulkan device: pace the loop at its rate
@@ -42,13 +43,13 @@ struct DemoOptions {
   bool sound = true;                 // the window plays it; headless, it goes to sound.wav
   std::string attempt = "expert";    // the careful removal, or one with a fault (sim/novice_paths.h)
   LearningCliOptions learning;       // the attempt's learning record, when a student is named
-  bool overwrite = false;            // replace a recording already in `out`
   float detail_pixels = 1.0f;        // screen-sized detail's largest error [px]; 0: full detail everywhere
   gpu::MesherKind mesher = gpu::MesherKind::Auto;  // who meshes the tooth
 };
 
 // Options that cannot apply together, each refused with the reason (checked after parsing).
 Status checkDemoOptions(const DemoOptions& o, const CLI::App& cmd) {
+  if (Status st = checkOutputOptions(o.output, cmd); !st) return st;
   if (Status st = refuseOption(o.stay && o.headless, "--stay", "keeps a window open; --headless opens none"); !st) return st;
   if (Status st = refuseOption(cmd.count("--exit-after") > 0 && o.stay, "--exit-after",
                                "closes the window at a loop time; --stay keeps it open until you close it");
@@ -75,11 +76,11 @@ int runCpuDemo(const DemoOptions& o);
 int runDemo(const DemoOptions& o) {
   namespace fs = std::filesystem;
   if (Status st = checkLearningOptions(o.learning); !st) return fail(st.message());
-  if (Status st = checkOutputsAreNotInputs({o.params}, recordingOutputs(o.out)); !st) return fail(st.message());
-  if (Status st = checkRecordingFolder(o.out, o.overwrite); !st) return fail(st.message());
+  if (Status st = checkOutputsAreNotInputs({o.params}, recordingOutputs(o.output.out)); !st) return fail(st.message());
+  if (Status st = checkRecordingFolder(o.output.out, o.output.overwrite); !st) return fail(st.message());
   std::error_code ec;
-  fs::create_directories(o.out, ec);
-  if (ec) return fail(o.out + ": cannot create the output folder: " + ec.message());
+  fs::create_directories(o.output.out, ec);
+  if (ec) return fail(o.output.out + ": cannot create the output folder: " + ec.message());
 
   // The simulator shows it: live in a window, or headless in lockstep, writing a few frames.
   SimulatorOptions so;
@@ -93,15 +94,16 @@ int runDemo(const DemoOptions& o) {
   so.frames.headless = o.headless;
   so.frames.detail_pixels = o.detail_pixels;
   so.frames.mesher = o.mesher;
-  so.out = o.out;
+  so.out = o.output.out;
   so.frames.width = o.width;
   so.frames.height = o.height;
   so.end.exit_after_s = o.exit_after_s;
   so.view = "buccal";
-  so.shots.shots_s = {1.0};
+  // Without --shot, one picture a second in: the bur at work beside the mirror.
+  so.shots.shots_s = o.output.shots_s.empty() ? std::vector<double>{1.0} : o.output.shots_s;
   so.sound.sound = o.sound;
   // Headless (asked for, or no display), the sound goes to a file beside the frames.
-  if (o.sound && (o.headless || !ui::whyNoDisplay().empty())) so.sound.audio_out = (fs::path(o.out) / "sound.wav").string();
+  if (o.sound && (o.headless || !ui::whyNoDisplay().empty())) so.sound.audio_out = (fs::path(o.output.out) / "sound.wav").string();
   so.shots.frame_every_s = 20.0;
   // The score screen stays up a few seconds, then the window closes by itself (unless --stay).
   so.end.linger_s = o.stay ? -1.0 : kScoreScreenS;
@@ -119,14 +121,14 @@ int runDemo(const DemoOptions& o) {
   else std::printf("not scored: %s\n", run->not_scored.c_str());
   // Only what the run wrote is named: a run cut short may have no score files.
   std::vector<std::string> written = run->written;
-  const std::string final_path = (fs::path(o.out) / "final.dvol").string();
+  const std::string final_path = (fs::path(o.output.out) / "final.dvol").string();
   if (std::find(written.begin(), written.end(), final_path) != written.end()) {
     auto final_tooth = loadTooth(final_path);
     if (!final_tooth) return fail(final_tooth.message());
-    if (int rc = writeFinalMesh(o.out, *final_tooth); rc != 0) return rc;
-    written.push_back((fs::path(o.out) / "final.ply").string());
+    if (int rc = writeFinalMesh(o.output.out, *final_tooth); rc != 0) return rc;
+    written.push_back((fs::path(o.output.out) / "final.ply").string());
   }
-  std::printf("wrote %s:", o.out.c_str());
+  std::printf("wrote %s:", o.output.out.c_str());
   for (const std::string& f : written) std::printf(" %s", fs::path(f).filename().c_str());
   std::printf("\n");
   if (Status st = sendPendingIfConfigured(o.learning); !st) return fail(st.message());
@@ -149,7 +151,7 @@ int runCpuDemo(const DemoOptions& o) {
   // The tooth, saved first: the session names it, and replay starts from it.
   auto tooth = builtinMolarTooth(o.level);
   if (!tooth) return fail(tooth.message());
-  const std::string initial_path = (fs::path(o.out) / "initial.dvol").string();
+  const std::string initial_path = (fs::path(o.output.out) / "initial.dvol").string();
   if (Status st = saveTooth(initial_path, *tooth); !st) return fail(st.message());
   const ToothVolume initial = *tooth;
   std::printf("tooth: built-in molar, level %d, %.4f mm voxels, hash %s\n", o.level, tooth->frame.voxel_mm,
@@ -172,29 +174,29 @@ int runCpuDemo(const DemoOptions& o) {
   so.mirror_tool = "";
   so.realtime = o.realtime;
   so.params_json = ui::presetJson(preset);
-  const std::string session_path = (fs::path(o.out) / "session.dses").string();
+  const std::string session_path = (fs::path(o.output.out) / "session.dses").string();
   auto run = recordScriptedSession(*tooth, params, *path, session_path, info, so);
   if (!run) return fail(run.message());
   std::printf("session: %s, %llu steps in %.1f s, removed %.4f mm^3, final volume %s\n", session_path.c_str(),
               static_cast<unsigned long long>(run->steps), run->wall_s, run->removed_mm3, run->final_hash.c_str());
   if (run->steps_lost > 0) return fail(session_path + ": the recorder lost " + std::to_string(run->steps_lost) + " steps");
 
-  const std::string final_path = (fs::path(o.out) / "final.dvol").string();
+  const std::string final_path = (fs::path(o.output.out) / "final.dvol").string();
   if (Status st = saveTooth(final_path, *tooth); !st) return fail(st.message());
-  if (int rc = writeFinalMesh(o.out, *tooth); rc != 0) return rc;
+  if (int rc = writeFinalMesh(o.output.out, *tooth); rc != 0) return rc;
 
   auto session = readSessionFile(session_path);
   if (!session) return fail(session.message());
   auto score = scoreCut(*task, initial, *tooth, nullptr, &*session, scoreFiles(initial_path, final_path, session_path));
   if (!score) return fail(score.message());
   for (const std::string& w : score->warnings) warn(w);
-  const std::string report_path = (fs::path(o.out) / "score.json").string();
+  const std::string report_path = (fs::path(o.output.out) / "score.json").string();
   recordAttemptOrWarn(o.learning, *task, score->report, session_path, final_path);
   if (Status st = writeScoreReport(report_path, score->report); !st) return fail(st.message());
-  const std::string png_path = (fs::path(o.out) / "score.png").string();
+  const std::string png_path = (fs::path(o.output.out) / "score.png").string();
   if (Status st = writeScoreImage(png_path, *task, initial, *tooth, *score, nullptr); !st) return fail(st.message());
   std::printf("%s\n", score->summary.c_str());
-  std::printf("wrote %s: initial.dvol session.dses final.dvol final.ply score.json score.png\n", o.out.c_str());
+  std::printf("wrote %s: initial.dvol session.dses final.dvol final.ply score.json score.png\n", o.output.out.c_str());
   if (Status st = sendPendingIfConfigured(o.learning); !st) return fail(st.message());
   return 0;
 }
@@ -204,8 +206,10 @@ int runCpuDemo(const DemoOptions& o) {
 void addDemoCommand(CLI::App& root, Action& action) {
   auto o = std::make_shared<DemoOptions>();
   CLI::App* cmd = root.add_subcommand("demo", "Remove the built-in molar's caries with the scripted pen, record the session and score it");
-  cmd->add_option("--out", o->out, "Output folder; one that already holds a recording needs --overwrite")->capture_default_str();
-  cmd->add_flag("--overwrite", o->overwrite, "Replace the recording (session and teeth) already in the --out folder");
+  addOutputOptions(*cmd, &o->output,
+                   {"the session, the teeth, the final mesh, the score, sound, screenshots (one at 1 s unless --shot) "
+                    "and frames",
+                    "dentsim-demo"});
   cmd->add_option("--level", o->level, "Octree level of the molar")->check(CLI::Range(6, 11))->capture_default_str();
   cmd->add_flag("--headless", o->headless, "No window: frames go offscreen to PNG (also when no display answers)");
   cmd->add_flag("--realtime", o->realtime, "Without a Vulkan device: run the haptic loop at its rate on its real-time thread");

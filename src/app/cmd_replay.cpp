@@ -1,4 +1,4 @@
-// `dentsim replay SESSION [--headless] [--speed X] [--tooth X.dvol] [-o final.dvol] [--audio-out S.wav]`: replays a recorded session step for step, in a window where a display answers, checks it ends where the recording did, and can write its sound.
+// `dentsim replay SESSION [--headless] [--speed X] [--tooth X.dvol] [--out DIR] [--shot T] [--audio-out S.wav]`: replays a recorded session step for step, in a window where a display answers, checks it ends where the recording did, and can write its sound.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -11,6 +11,7 @@
 #include "app/cli_checks.h"
 #include "app/commands.h"
 #include "app/replay_viewer.h"
+#include "app/shared_options.h"
 #include "eval/beside_file.h"
 #include "eval/task_kinds.h"
 #include "eval/task_tooth.h"
@@ -29,12 +30,11 @@
 namespace dentsim::app {
 namespace {
 
-constexpr double kMaxReplayS = 24.0 * 3600.0;  // the latest loop time a seek or a shot may name [s]
-
 struct ReplayCliOptions {
   std::string session;     // the .dses file
   std::string tooth;       // the starting volume; default: the session's own tooth file
-  std::string output;      // final volume to write (.dvol)
+  OutputOptions output;    // --out DIR (final.dvol, screenshots), --overwrite, --shot (the window's)
+  std::string final_file;  // the deprecated -o/--output: the final volume's own path (.dvol)
   std::string report;      // score report to write (.json), when the session names a task
   std::string png;         // score picture to write (.png), when the session names a task
   std::string task;        // score against this task instead of the session's
@@ -46,10 +46,17 @@ struct ReplayCliOptions {
   double speed = 1.0;      // loop time per wall-clock second: one of ui::kReplaySpeeds
   bool exit_at_end = false;
   std::vector<double> seek_at;         // FROM_S TO_S: one scripted seek
-  std::vector<std::string> shot_at;    // SECONDS FILE.png: one screenshot
+  std::vector<std::string> shot_at;    // the deprecated --shot-at SECONDS FILE.png: one screenshot
   int width = 1280, height = 800;
   std::string device;
 };
+
+// Where the final volume goes: final.dvol in --out, as run and demo name it, else the deprecated
+// -o FILE; empty: nowhere.
+std::string finalFile(const ReplayCliOptions& o) {
+  if (!o.output.out.empty()) return (std::filesystem::path(o.output.out) / "final.dvol").string();
+  return o.final_file;
+}
 
 // The sound of the replay: the engine follows the loop 100 times a second of loop time, heard from
 // where the simulator's first (buccal) view stands.
@@ -106,8 +113,9 @@ int finishReplay(const ReplayCliOptions& o, const SessionRecording& session, con
                  ToothVolume& tooth, const ReplayOutcome& outcome) {
   for (const std::string& w : outcome.warnings)
     if (w != session.truncation_warning) warn(o.session + ": " + w);
-  if (!o.output.empty())
-    if (Status st = saveTooth(o.output, tooth); !st) return fail(st.message());
+  const std::string final_file = finalFile(o);
+  if (!final_file.empty())
+    if (Status st = saveTooth(final_file, tooth); !st) return fail(st.message());
 
   nlohmann::json j;
   j["session"] = o.session;
@@ -135,7 +143,7 @@ int finishReplay(const ReplayCliOptions& o, const SessionRecording& session, con
     else warn(o.session + ": not scored: " + found.message());
   }
   if (task) {
-    auto s = scoreCut(*task, initial, tooth, nullptr, &session, scoreFiles("", o.output, o.session));
+    auto s = scoreCut(*task, initial, tooth, nullptr, &session, scoreFiles("", final_file, o.session));
     if (!s) return fail(o.session + ": " + s.message());
     score = std::move(*s);
     for (const std::string& w : score->warnings) warn(w);
@@ -192,6 +200,8 @@ int runReplayWindow(const ReplayCliOptions& o, const SessionRecording& session, 
   vo.force_threshold_n = forceThreshold(o, session);
   vo.allow_other_tooth = o.allow_other_tooth;
   vo.exit_at_end = o.exit_at_end;
+  vo.out = o.output.out;
+  vo.shots_s = o.output.shots_s;
   if (o.seek_at.size() == 2) vo.seek_at = ReplayViewerOptions::Seek{o.seek_at[0], o.seek_at[1]};
   if (o.shot_at.size() == 2) {
     try {
@@ -199,14 +209,14 @@ int runReplayWindow(const ReplayCliOptions& o, const SessionRecording& session, 
     } catch (const std::exception&) {
       return fail("--shot-at: \"" + o.shot_at[0] + "\" is not a number of seconds");
     }
-    if (!std::isfinite(vo.shot_at_s) || vo.shot_at_s < 0.0 || vo.shot_at_s > kMaxReplayS)
-      return fail("--shot-at: \"" + o.shot_at[0] + "\" is not a time in [0, " + formatNumber(kMaxReplayS) + "] s");
+    if (!std::isfinite(vo.shot_at_s) || vo.shot_at_s < 0.0 || vo.shot_at_s > kMaxLoopTimeS)
+      return fail("--shot-at: \"" + o.shot_at[0] + "\" is not a time in [0, " + formatNumber(kMaxLoopTimeS) + "] s");
     vo.shot_png = o.shot_at[1];
   }
   vo.at_end = [&](const ReplayOutcome& outcome, ToothVolume& final_tooth) {
     return finishReplay(o, session, initial, final_tooth, outcome);
   };
-  const bool outputs_pending = !o.output.empty() || !o.report.empty() || !o.png.empty();
+  const bool outputs_pending = !finalFile(o).empty() || !o.report.empty() || !o.png.empty();
   auto rc = runReplayViewer(session, tooth, vo, outputs_pending);
   if (!rc) return fail(o.session + ": " + rc.message());
   return *rc;
@@ -229,8 +239,23 @@ Status checkReplayFiles(const ReplayCliOptions& o, const SessionRecording& sessi
   std::string tooth = o.tooth;
   if (tooth.empty() && !session.info.tooth_file.empty())
     if (auto beside = resolveBeside(o.session, session.info.tooth_file, "tooth.file")) tooth = *beside;
-  const std::string shot = o.shot_at.size() == 2 ? o.shot_at[1] : "";
-  return checkOutputsAreNotInputs({o.session, tooth, o.task}, {o.output, o.report, o.png, o.audio_out, shot});
+  std::vector<std::string> outputs = {finalFile(o), o.report, o.png, o.audio_out, o.shot_at.size() == 2 ? o.shot_at[1] : ""};
+  // The window's screenshots in --out, named as run names them (ShotSchedule: shot-1 ... shot-N).
+  for (size_t i = 1; !o.output.out.empty() && i <= o.output.shots_s.size(); ++i)
+    for (const char* ext : {".png", ".json"})
+      outputs.push_back((std::filesystem::path(o.output.out) / ("shot-" + std::to_string(i) + ext)).string());
+  return checkOutputsAreNotInputs({o.session, tooth, o.task}, outputs);
+}
+
+// The --out folder, as run and demo keep theirs: one that holds a recording (a final.dvol among
+// them) is replaced only with --overwrite.
+Status prepareOutFolder(const ReplayCliOptions& o) {
+  if (o.output.out.empty()) return Ok{};
+  if (Status st = checkRecordingFolder(o.output.out, o.output.overwrite); !st) return st;
+  std::error_code ec;
+  std::filesystem::create_directories(o.output.out, ec);
+  if (ec) return makeError(o.output.out, "cannot create the output folder: " + ec.message());
+  return Ok{};
 }
 
 int runReplay(ReplayCliOptions o) {
@@ -249,6 +274,8 @@ int runReplay(ReplayCliOptions o) {
     if (!w.empty()) warn(w);
   auto tooth = resolveSessionTooth(*session, o.session, o.tooth);
   if (!tooth) return fail(tooth.message());
+  // The folder is made only for a replay that will run: a refused one leaves nothing behind.
+  if (Status st = prepareOutFolder(o); !st) return fail(st.message());
   // A window where a display answers; the sound is rendered offline, step for step, so it stays headless.
   if (!o.headless && o.audio_out.empty()) {
     if (std::string why = ui::whyNoDisplay(); why.empty()) return runReplayWindow(o, *session, *tooth);
@@ -285,7 +312,16 @@ void addReplayCommand(CLI::App& root, Action& action) {
   cmd->add_flag("--headless", o->headless, "No window: replay back to back and print the result (the default where no display answers)");
   cmd->add_option("--tooth", o->tooth, "Starting volume (.dvol); default: the tooth the session names");
   cmd->add_flag("--allow-other-tooth", o->allow_other_tooth, "Replay on a tooth whose hash differs from the session's");
-  cmd->add_option("-o,--output", o->output, "Write the final volume (.dvol)");
+  addOutputOptions(*cmd, &o->output, {"the final volume (final.dvol) and the window's screenshots (--shot)", ""});
+  // The old spellings, kept working; each says once what replaced it.
+  cmd->add_option_function<std::string>(
+         "-o,--output",
+         [o](const std::string& file) {
+           warnDeprecated("replay", "-o/--output FILE", "--out DIR (writes DIR/final.dvol)");
+           o->final_file = file;
+         },
+         "Deprecated: write the final volume to this file (.dvol); use --out DIR")
+      ->group("Deprecated");
   cmd->add_option("--report", o->report, "Write the score report (.json) when the session names a task");
   cmd->add_option("--png", o->png, "Write the score picture (.png) when the session names a task");
   cmd->add_option("--task", o->task, "Score against this task (" + kindTaskNames() + " or a task file) instead of the session's");
@@ -295,17 +331,27 @@ void addReplayCommand(CLI::App& root, Action& action) {
   cmd->add_flag("--exit-at-end", o->exit_at_end, "Close the window once the last step has played and the files are written");
   cmd->add_option("--seek-at", o->seek_at, "FROM TO: when the window's playhead first reaches FROM seconds, seek to TO seconds")
       ->expected(2)
-      ->check(finiteIn(0.0, kMaxReplayS, "s"));
-  cmd->add_option("--shot-at", o->shot_at, "SECONDS FILE.png: a screenshot of the window when the playhead reaches SECONDS")
-      ->expected(2);
+      ->check(finiteIn(0.0, kMaxLoopTimeS, "s"));
+  cmd->add_option_function<std::vector<std::string>>(
+         "--shot-at",
+         [o](const std::vector<std::string>& at) {
+           warnDeprecated("replay", "--shot-at SECONDS FILE", "--shot SECONDS (--out DIR)");
+           o->shot_at = at;
+         },
+         "Deprecated: SECONDS FILE.png, a screenshot of the window when the playhead reaches SECONDS; use --shot")
+      ->expected(2)
+      ->group("Deprecated");
   cmd->add_option("--width", o->width, "Window width [px]")->check(CLI::Range(320, 8192))->capture_default_str();
   cmd->add_option("--height", o->height, "Window height [px]")->check(CLI::Range(240, 8192))->capture_default_str();
   cmd->add_option("--device", o->device, "Vulkan device for the window (index or name part); default: the best");
   cmd->callback([o, cmd, &action] {
     // The window's own options, refused where no window opens.
-    Status usable = Ok{};
+    Status usable = checkOutputOptions(o->output, *cmd);
+    if (usable)
+      usable = refuseOption(cmd->count("--out") > 0 && cmd->count("--output") > 0, "--output",
+                            "names the final volume's file, --out its folder; give --out alone");
     const bool windowless = o->headless || !o->audio_out.empty();
-    for (const char* window_only : {"--speed", "--exit-at-end", "--seek-at", "--shot-at", "--width", "--height", "--device"})
+    for (const char* window_only : {"--speed", "--exit-at-end", "--seek-at", "--shot", "--shot-at", "--width", "--height", "--device"})
       if (usable)
         usable = refuseOption(windowless && cmd->count(window_only) > 0, window_only,
                               std::string("applies to the replay's window; ") +

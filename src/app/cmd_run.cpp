@@ -8,6 +8,7 @@
 #include "app/commands.h"
 #include "app/data_folder.h"
 #include "app/learning_cli.h"
+#include "app/shared_options.h"
 #include "app/simulator.h"
 #include "sim/novice_paths.h"
 #include "ui/course_list.h"
@@ -15,9 +16,8 @@
 namespace dentsim::app {
 namespace {
 
-// The ranges of the loop-time options: a run ends within a day of loop time, and a lockstep frame
-// holds between 1 ms and 1 s of it, so neither a frame nor the run can grow without bound.
-constexpr double kMaxLoopTimeS = 24.0 * 3600.0;  // [s]
+// The ranges of the loop-time options: a run ends within a day of loop time (kMaxLoopTimeS), and a
+// lockstep frame holds between 1 ms and 1 s of it, so neither a frame nor the run can grow without bound.
 constexpr double kMinFrameEveryS = 0.0;          // 0: no frame pictures [s]
 constexpr double kMinFps = 1.0, kMaxFps = 1000.0;  // [frames/s]
 
@@ -95,7 +95,7 @@ void printOutcome(const SimulatorOutcome& r) {
 void addRunCommand(CLI::App& root, Action& action) {
   auto o = std::make_shared<SimulatorOptions>();
   auto learning = std::make_shared<LearningCliOptions>();
-  auto overwrite = std::make_shared<bool>(false);
+  auto output = std::make_shared<OutputOptions>();
   CLI::App* cmd = root.add_subcommand("run", "The simulator: drill a tooth with the mouse (or a pen script) in a window, or headless to PNG frames");
   cmd->add_option("--tooth", o->tooth, "Tooth file (.dvol); default: the task's tooth (the built-in molar for the built-in tasks)");
   cmd->add_option("--level", o->level, "Octree level of the built-in molar; default: the task's (9 for the built-in tasks)")
@@ -151,12 +151,7 @@ void addRunCommand(CLI::App& root, Action& action) {
   cmd->add_flag("--headless", o->frames.headless, "No window: frames go offscreen, to PNG (also when no display answers)");
   cmd->add_option("--width", o->frames.width, "Window or frame width [px]")->check(CLI::Range(64, 8192))->capture_default_str();
   cmd->add_option("--height", o->frames.height, "Window or frame height [px]")->check(CLI::Range(64, 8192))->capture_default_str();
-  cmd->add_option("--out", o->out,
-                  "Folder for the session, the teeth, screenshots and frames; one that already holds a recording "
-                  "needs --overwrite");
-  cmd->add_flag("--overwrite", *overwrite, "Replace the recording (session and teeth) already in the --out folder");
-  cmd->add_option("--shot", o->shots.shots_s, "Loop time of a screenshot (shot-N.png with shot-N.json) [s]; repeatable")
-      ->check(finiteIn(0.0, kMaxLoopTimeS, "s"));
+  addOutputOptions(*cmd, output.get(), {"the session, the teeth, the score, screenshots and frames", ""});
   cmd->add_option("--frame-every", o->shots.frame_every_s, "Also write frame-N.png every so many seconds of loop time [s]")
       ->check(finiteIn(kMinFrameEveryS, kMaxLoopTimeS, "s"));
   cmd->add_option("--exit-after", o->end.exit_after_s, "Quit at this loop time, at most 24 h [s]")
@@ -194,7 +189,9 @@ void addRunCommand(CLI::App& root, Action& action) {
                 "green within the task's band, blue where more must come off, red where too much did");
   // --course is the folder the pickers list, so the learning records' course id is --course-id here.
   addLearningOptions(cmd, *learning, "--course-id");
-  cmd->callback([o, learning, overwrite, cmd, &action] {
+  cmd->callback([o, learning, output, cmd, &action] {
+    o->out = output->out;
+    o->shots.shots_s = output->shots_s;
     if (cmd->count("--course") == 0) {
       std::error_code ec;
       o->course = ui::defaultCourseFolder(std::filesystem::current_path(ec).string());
@@ -202,10 +199,11 @@ void addRunCommand(CLI::App& root, Action& action) {
       if (o->course.empty()) o->course = installedCourseFolder(executableFolder());
     }
     if (o->record_ideal_at_end && !o->teacher) throw CLI::ValidationError("--record-ideal-at-end", "needs --teacher");
-    const Status usable = checkRunOptions(*o, *cmd);
-    action = [o, learning, overwrite, usable] {
+    Status usable = checkOutputOptions(*output, *cmd);
+    if (usable) usable = checkRunOptions(*o, *cmd);
+    action = [o, learning, output, usable] {
       if (!usable) return fail(usable.message());
-      if (Status st = checkRunFiles(*o, *overwrite); !st) return fail(st.message());
+      if (Status st = checkRunFiles(*o, output->overwrite); !st) return fail(st.message());
       if (Status st = checkLearningOptions(*learning); !st) return fail(st.message());
       o->on_scored = [learning](const Task& task, nlohmann::ordered_json& report, const std::string& session,
                                 const std::string& final_file) { recordAttemptOrWarn(*learning, task, report, session, final_file); };

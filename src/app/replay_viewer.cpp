@@ -5,12 +5,14 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 #include <vector>
 
 #include "app/commands.h"
 #include "app/first_view.h"
 #include "app/frame_painter.h"
+#include "app/screenshots.h"
 #include "app/window_input.h"
 #include "io/png_file.h"
 #include "render/camera.h"
@@ -39,6 +41,7 @@ class ReplayViewer {
         tooth_(tooth),
         o_(options),
         box_(firstViewBox(tooth.voxels, tooth.frame)),
+        shots_(options.out.empty() ? std::vector<double>{} : options.shots_s, 0.0),
         input_(camera_, box_, WindowInput::Hooks{[](double) {}, [this] { quit_ = true; }}) {}
 
   Result<int> run(bool outputs_pending);
@@ -51,12 +54,14 @@ class ReplayViewer {
   void playUpTo(size_t target);
   void drainEdits();
   render::FrameState frameState(VkExtent2D extent) const;
+  Status writeScreenshot(const std::string& stem, const RgbImage& picture, const render::FrameState& drawn);
   void reachedEnd();  // the files written (at_end) the first time the last step has played
 
   const SessionRecording& session_;
   ToothVolume& tooth_;
   ReplayViewerOptions o_;
   TissueBox box_;
+  ShotSchedule shots_;                // --shot's pictures in o_.out, each the first time the playhead reaches it
   render::OrbitCamera camera_;
   WindowInput input_;
   EditChannel edits_;
@@ -206,13 +211,22 @@ Status ReplayViewer::frame() {
     panel_rect_ = actions.panel_rect;
   }
   const bool shot = !shot_done_ && o_.shot_at_s >= 0 && !o_.shot_png.empty() && cursor_->time() >= o_.shot_at_s - 1e-9;
-  auto picture = painter_->draw([&](VkExtent2D extent) { return frameState(extent); }, shot);
+  const ShotSchedule::Due due = shots_.at(cursor_->time());
+  render::FrameState drawn;
+  auto picture = painter_->draw(
+      [&](VkExtent2D extent) {
+        drawn = frameState(extent);
+        return drawn;
+      },
+      shot || !due.shot_stem.empty());
   if (!picture) return picture.error();
   if (shot && *picture) {
     shot_done_ = true;
     if (Status st = writePng(o_.shot_png, **picture); !st) return st;
     std::printf("wrote %s\n", o_.shot_png.c_str());
   }
+  if (!due.shot_stem.empty() && *picture)
+    if (Status st = writeScreenshot(due.shot_stem, **picture, drawn); !st) return st;
 
   // What the panel asked for.
   if (actions.speed_changed) std::printf("speed %gx\n", ui::kReplaySpeeds[size_t(panel_.speed_index)]);
@@ -221,6 +235,20 @@ Status ReplayViewer::frame() {
     if (panel_.playing && cursor_->atEnd()) seek(0.0);  // Play at the end plays it again
   }
   if (actions.seek_s) seek(*actions.seek_s);
+  return Ok{};
+}
+
+Status ReplayViewer::writeScreenshot(const std::string& stem, const RgbImage& picture, const render::FrameState& drawn) {
+  ShotFacts facts;
+  facts.loop_time_s = cursor_->time();
+  facts.windowed = true;
+  facts.tooth_centre = box_.centre();
+  facts.panel_shown = painter_->panel() != nullptr;
+  facts.panel_rect = panel_rect_;
+  facts.tooth_top_mm = box_.hi.z;
+  const std::string path = (std::filesystem::path(o_.out) / stem).string();
+  if (Status st = writeShot(path, picture, camera_, drawn, facts); !st) return st;
+  std::printf("wrote %s.png\n", path.c_str());
   return Ok{};
 }
 

@@ -12,6 +12,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/result.h"
 #include "io/session_file.h"
@@ -33,7 +34,11 @@ struct ReplayViewerOptions {
     double from_s = 0.0, to_s = 0.0;
   };
   std::optional<Seek> seek_at;
-  // A screenshot of the window when the playhead first reaches `shot_at_s`, written to shot_png.
+  // Screenshots of the window when the playhead first reaches each of `shots_s`, written into `out`
+  // as `dentsim run` writes its own (shot-N.png with shot-N.json; app/screenshots.h).
+  std::vector<double> shots_s;     // [s of loop time]
+  std::string out;                 // the folder; empty: no screenshots
+  // The deprecated --shot-at: one screenshot when the playhead first reaches `shot_at_s`, written to shot_png alone.
   double shot_at_s = -1.0;
   std::string shot_png;
   // Runs once, the first time the playhead reaches the last step, with the replay's outcome and the

@@ -1,4 +1,4 @@
-// `dentsim replay` in a window: under Xvfb on lavapipe it plays a short recorded session to the end (and through a seek back) and writes the same final volume and score as the headless replay.
+// `dentsim replay` in a window: under Xvfb on lavapipe it plays a short recorded session to the end (and through a seek back) and writes the same final volume and score as the headless replay, and the screenshots --shot asks for (the old --shot-at's too).
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -40,7 +40,7 @@ class ReplayWindowCli : public ::testing::Test {
     demo_ = new test::CommandResult(
         runDentsim("run --headless --level 7 --mirror none --no-sound --demo-script --exit-after 4 --params " + preset +
                    " --out " + dir_->file("demo")));
-    headless_ = new test::CommandResult(runDentsim("replay " + session() + " --headless -o " + dir_->file("head.dvol") +
+    headless_ = new test::CommandResult(runDentsim("replay " + session() + " --headless --out " + dir_->file("head") +
                                                    " --report " + dir_->file("head.json")));
   }
   static void TearDownTestSuite() {
@@ -65,18 +65,23 @@ test::CommandResult* ReplayWindowCli::demo_ = nullptr;
 test::CommandResult* ReplayWindowCli::headless_ = nullptr;
 
 TEST_F(ReplayWindowCli, PlayedToTheEndInTheWindowItWritesTheHeadlessReplaysVolumeAndScore) {
-  const auto r = test::runDentsimInXvfb("replay " + session() + " --speed 8 --exit-at-end --width 960 --height 600 -o " +
-                                        file("win.dvol") + " --report " + file("win.json") + " --shot-at 0.3 " +
-                                        file("win.png"));
+  const auto r = test::runDentsimInXvfb("replay " + session() + " --speed 8 --exit-at-end --width 960 --height 600 --out " +
+                                        file("win") + " --report " + file("win.json") + " --shot 0.3");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("in a window"), std::string::npos) << "the replay fell back to headless: " << r.output;
   EXPECT_NE(r.output.find("(the recording's)"), std::string::npos) << r.output;
-  const std::vector<uint8_t> window = readBytes(file("win.dvol")), headless = readBytes(file("head.dvol"));
+  const std::vector<uint8_t> window = readBytes(file("win") + "/final.dvol"), headless = readBytes(file("head") + "/final.dvol");
   ASSERT_FALSE(headless.empty());
   EXPECT_EQ(window, headless) << "the window's final volume is not the headless replay's";
   EXPECT_EQ(reportTotal(file("win.json")), reportTotal(file("head.json")));
   EXPECT_GE(reportTotal(file("head.json")), 0.0);
-  auto shot = readPng(file("win.png"));
+  // The screenshot as `run --shot` names it: shot-1.png with shot-1.json beside it.
+  std::ifstream facts_file(file("win") + "/shot-1.json");
+  const nlohmann::json facts = nlohmann::json::parse(facts_file, nullptr, false);
+  ASSERT_FALSE(facts.is_discarded());
+  EXPECT_GE(facts["loop_time_s"].get<double>(), 0.3);
+  EXPECT_TRUE(facts["windowed"].get<bool>());
+  auto shot = readPng(file("win") + "/shot-1.png");
   ASSERT_TRUE(shot.ok()) << shot.message();
   EXPECT_EQ(shot->width, 960);
   EXPECT_EQ(shot->height, 600);
@@ -100,15 +105,32 @@ TEST_F(ReplayWindowCli, ASeekBackReCutsFromTheStartAndStillEndsOnTheSameVolume) 
   ASSERT_GT(duration, 3.0);
   const std::string from = std::to_string(0.8 * duration), to = std::to_string(0.25 * duration);
   const auto r = test::runDentsimInXvfb("replay " + session() + " --speed 8 --exit-at-end --width 960 --height 600 --seek-at " +
-                                        from + " " + to + " -o " + file("seek.dvol"));
+                                        from + " " + to + " --out " + file("seek"));
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("seek from"), std::string::npos) << "the seek never happened: " << r.output;
-  EXPECT_EQ(readBytes(file("seek.dvol")), readBytes(file("head.dvol")));
+  EXPECT_EQ(readBytes(file("seek") + "/final.dvol"), readBytes(file("head") + "/final.dvol"));
+}
+
+// The old spellings still work in the window: --shot-at writes its one picture where it says, -o the
+// final volume, each with one line on stderr saying what replaced it.
+TEST_F(ReplayWindowCli, TheOldShotAtAndOutputStillWorkAndSayTheyAreDeprecated) {
+  const auto r = test::runDentsimInXvfb("replay " + session() + " --speed 8 --exit-at-end --width 960 --height 600 -o " +
+                                        file("old.dvol") + " --shot-at 0.3 " + file("old.png"));
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("dentsim replay: --shot-at SECONDS FILE is deprecated; use --shot SECONDS (--out DIR)\n"),
+            std::string::npos)
+      << r.output;
+  EXPECT_NE(r.output.find("dentsim replay: -o/--output FILE is deprecated; use --out DIR"), std::string::npos) << r.output;
+  EXPECT_EQ(readBytes(file("old.dvol")), readBytes(file("head") + "/final.dvol"));
+  auto shot = readPng(file("old.png"));
+  ASSERT_TRUE(shot.ok()) << shot.message();
+  EXPECT_EQ(shot->width, 960);
+  EXPECT_EQ(shot->height, 600);
 }
 
 TEST_F(ReplayWindowCli, ASpeedThatIsNotOnTheTransportIsRefused) {
-  test::expectCleanFailure(runDentsim("replay " + session() + " --speed 3 -o " + file("no.dvol")), "--speed", "0.25, 0.5",
-                           file("no.dvol"));
+  test::expectCleanFailure(runDentsim("replay " + session() + " --speed 3 --out " + file("no")), "--speed", "0.25, 0.5",
+                           file("no"));
 }
 
 }  // namespace

@@ -88,9 +88,10 @@ TEST_F(SessionCli, ReplayReproducesTheFinalVolumeByteForByteAndTheScore) {
   auto session = readSessionFile(file("session.dses"));
   ASSERT_TRUE(session.ok()) << session.message();
   for (int run = 0; run < 2; ++run) {
-    const std::string out = dir_->file("replayed" + std::to_string(run) + ".dvol");
+    const std::string out = dir_->file("replayed" + std::to_string(run)) + "/final.dvol";
     const std::string png = dir_->file("replayed" + std::to_string(run) + ".png");
-    const test::CommandResult r = runDentsim("replay " + file("session.dses") + " --headless --json -o " + out + " --png " + png);
+    const test::CommandResult r = runDentsim("replay " + file("session.dses") + " --headless --json --out " +
+                                             dir_->file("replayed" + std::to_string(run)) + " --png " + png);
     ASSERT_EQ(r.exit_code, 0) << r.output;
     const nlohmann::json j = printedJson(r.output);
     ASSERT_FALSE(j.is_discarded()) << r.output;
@@ -303,9 +304,9 @@ TEST_F(SessionCli, ReplayScoresAnotherTaskOnRequestAndWarnsOfAnUnknownOne) {
   ASSERT_EQ(cavity.exit_code, 0) << cavity.output;
   EXPECT_NE(cavity.output.find("cavity preparation score"), std::string::npos) << cavity.output;
   // The replay stands without a score: an unknown task is a warning, not a failure.
-  const std::string out = dir_->file("unscored.dvol");
+  const std::string out = dir_->file("unscored") + "/final.dvol";
   const test::CommandResult unknown =
-      runDentsim("replay " + file("session.dses") + " --headless --task no_such_task -o " + out);
+      runDentsim("replay " + file("session.dses") + " --headless --task no_such_task --out " + dir_->file("unscored"));
   ASSERT_EQ(unknown.exit_code, 0) << unknown.output;
   EXPECT_NE(unknown.output.find("dentsim: warning: " + file("session.dses") + ": not scored: no_such_task"),
             std::string::npos)
@@ -332,15 +333,15 @@ TEST_F(SessionCli, CorruptForeignAndWrongToothSessionsFailWithOneLine) {
   bytes[bytes.size() / 2] ^= 0x40;
   const std::string corrupt = dir_->file("corrupt.dses");
   writeBytes(corrupt, bytes);
-  const std::string out = dir_->file("never.dvol");
-  test::expectCleanFailure(runDentsim("replay " + corrupt + " --headless --tooth " + file("initial.dvol") + " -o " + out),
+  const std::string never = dir_->file("never"), out = never + "/final.dvol";
+  test::expectCleanFailure(runDentsim("replay " + corrupt + " --headless --tooth " + file("initial.dvol") + " --out " + never),
                            corrupt, "record", out);
   // A volume handed over as a session.
-  test::expectCleanFailure(runDentsim("replay " + file("final.dvol") + " --headless -o " + out), file("final.dvol"),
+  test::expectCleanFailure(runDentsim("replay " + file("final.dvol") + " --headless --out " + never), file("final.dvol"),
                            "not a dentsim session file", out);
   // The right session on the wrong tooth: the cut one.
   test::expectCleanFailure(runDentsim("replay " + file("session.dses") + " --headless --tooth " + file("final.dvol") +
-                                      " -o " + out),
+                                      " --out " + never),
                            "hash", "recorded on", out);
   // A session that is not there.
   test::expectCleanFailure(runDentsim("replay " + dir_->file("missing.dses") + " --headless"), "missing.dses", "");
@@ -398,12 +399,25 @@ TEST_F(SessionCli, ReplayNeverWritesOverItsSessionOrItsTooth) {
   const std::string folder = copyRecording(*dir_, out(), "kept");
   const std::string session = folder + "/session.dses", tooth = folder + "/initial.dvol";
   const std::vector<uint8_t> session_bytes = readBytes(session), tooth_bytes = readBytes(tooth);
-  for (const std::string& outputs : {"-o " + session, "-o " + tooth, "--report " + tooth, "--png " + session,
-                                     "--audio-out " + tooth}) {
+  for (const std::string& outputs : {"--report " + tooth, "--png " + session, "--audio-out " + tooth}) {
     SCOPED_TRACE(outputs);
     const std::string target = outputs.substr(outputs.find(' ') + 1);
     test::expectCleanFailure(runDentsim("replay " + session + " --headless " + outputs), target + ": is the same file",
                              "as the input");
+  }
+  // --out's final.dvol is the tooth given, even with --overwrite.
+  const std::string other = dir_->file("kept-tooth");
+  std::filesystem::create_directories(other);
+  std::filesystem::copy_file(tooth, other + "/final.dvol", std::filesystem::copy_options::overwrite_existing);
+  test::expectCleanFailure(runDentsim("replay " + session + " --headless --tooth " + other + "/final.dvol --overwrite --out " + other),
+                           other + "/final.dvol: is the same file", "as the input");
+  EXPECT_EQ(readBytes(other + "/final.dvol"), tooth_bytes);
+  // The old -o is refused alike, after its deprecation line.
+  for (const std::string& input : {session, tooth}) {
+    const test::CommandResult r = runDentsim("replay " + session + " --headless -o " + input);
+    EXPECT_NE(r.exit_code, 0) << r.output;
+    EXPECT_NE(r.output.find("-o/--output FILE is deprecated"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("dentsim: " + input + ": is the same file"), std::string::npos) << r.output;
   }
   EXPECT_EQ(readBytes(session), session_bytes);
   EXPECT_EQ(readBytes(tooth), tooth_bytes);
@@ -415,15 +429,15 @@ TEST_F(SessionCli, ReplayNeverWritesOverItsSessionOrItsTooth) {
 // folder is refused unread, and a task that does is refused without a byte of the file shown.
 TEST_F(SessionCli, ASessionNamesFilesOnlyBesideItself) {
   ASSERT_EQ(demo_->exit_code, 0) << demo_->output;
-  const std::string out_file = dir_->file("escaped.dvol");
+  const std::string out_file = dir_->file("escaped") + "/final.dvol";
   const std::string absolute =
       copyRecording(*dir_, out(), "absolute", [](SessionRecording& s) { s.info.tooth_file = "/etc/passwd"; });
-  test::expectCleanFailure(runDentsim("replay " + absolute + "/session.dses --headless -o " + out_file),
+  test::expectCleanFailure(runDentsim("replay " + absolute + "/session.dses --headless --out " + dir_->file("escaped")),
                            "tooth.file names \"/etc/passwd\"", "absolute path", out_file);
   const std::string climbing =
       copyRecording(*dir_, out(), "climbing", [](SessionRecording& s) { s.info.tooth_file = "../climbing/../initial.dvol"; });
   std::filesystem::copy_file(out() + "/initial.dvol", dir_->file("initial.dvol"), std::filesystem::copy_options::overwrite_existing);
-  test::expectCleanFailure(runDentsim("replay " + climbing + "/session.dses --headless -o " + out_file), "tooth.file",
+  test::expectCleanFailure(runDentsim("replay " + climbing + "/session.dses --headless --out " + dir_->file("escaped")), "tooth.file",
                            "lies outside it", out_file);
   // The task: a secret beside the folder, whose first byte an earlier build echoed in a warning.
   std::ofstream(dir_->file("secret.json")) << "Zebra-secret";

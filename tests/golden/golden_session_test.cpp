@@ -61,7 +61,7 @@ class GoldenSession : public ::testing::Test {
     dir_ = new TempDir();
     unpacked_ = unpackSession(dir_->file("session.dses"));
     if (unpacked_)
-      replay_ = new test::CommandResult(runDentsim("replay " + dir_->file("session.dses") + " --headless -o " + dir_->file("final.dvol") +
+      replay_ = new test::CommandResult(runDentsim("replay " + dir_->file("session.dses") + " --headless --out " + dir_->file("replayed") +
                                                    " --report " + dir_->file("score.json")));
   }
   static void TearDownTestSuite() {
@@ -87,7 +87,7 @@ TEST_F(GoldenSession, ReplaysToTheRecordedFinalVolumeWordForWord) {
   // payload must still be the same, and the replay's file carries the molar's given frame.
   EXPECT_NE(replay_->output.find("(the recording's)"), std::string::npos) << replay_->output;
   auto expected = readVolumeFile((kFixture / "final.dvol").string());
-  auto got = readVolumeFile(dir_->file("final.dvol"));
+  auto got = readVolumeFile(dir_->file("replayed") + "/final.dvol");
   ASSERT_TRUE(expected.ok()) << expected.message();
   ASSERT_TRUE(got.ok()) << got.message();
   EXPECT_EQ(got->frame.level, expected->frame.level);
