@@ -39,37 +39,44 @@ std::string withoutSources(const std::string& html) {
   return std::regex_replace(html, from_cell, "<td class=\"from\"></td>");
 }
 
-// Two recorded attempts (the careful removal and an undercut) scored for three students of course
-// cons-101, two each, into one outbox per student, plus one for a student of another course: made
-// once for the suite, since only the LRS differs between the tests. The demos drill on the CPU
-// without frames (VK_ICD_FILENAMES points nowhere), about a second each.
+// One recorded attempt (the careful removal) scored twice for each of three students of course
+// cons-101, once with its session and once without (the final tooth then names the attempt, so the
+// two are two statements), into one outbox per student, plus the same for a student of another
+// course. Made once for the suite, and only by the tests that need them (ctest runs each test in a
+// process of its own): the demo drills on the CPU without frames (VK_ICD_FILENAMES points nowhere).
 class ReportLrs : public ::testing::Test {
  protected:
+  // The learning-record config every run of the suite reads (DENTSIM_CONFIG): the course and its IRIs.
   static void SetUpTestSuite() {
     suite_dir_ = std::make_unique<TempDir>();
-    const TempDir& d = *suite_dir_;
-    std::ofstream(d.file("fast.json")) << R"({"format":"dentsim-params","version":1,"cutting":{"removal_rate_mm3_per_s":40},)"
-                                          R"("point_shell":{"head_spacing_mm":0.1,"shank_spacing_mm":0.2}})";
-    std::ofstream(d.file("learning.json")) << R"({"course": "cons-101", "activity_base": "https://school.example/xapi"})";
-    const test::NoLeakCheckForGpuChild no_leak_check;  // the Vulkan loader looks for a device before the CPU path
-    const char* attempts[] = {"expert", "undercut"};
-    for (int i = 0; i < 2; ++i) {
-      const auto r = runCommand("VK_ICD_FILENAMES=/nonexistent.json DENTSIM_CONFIG= XDG_CONFIG_HOME=" + d.file("xdg") + " " +
-                                std::string(DENTSIM_BINARY) + " demo --headless --level 6 --mirror none --no-sound --attempt " +
-                                attempts[i] + " --params " + d.file("fast.json") + " --out " + d.file("demo" + std::to_string(i)));
-      ASSERT_EQ(r.exit_code, 0) << r.output;
-    }
-    const char* students[] = {"s2001", "s2002", "s2003", "s9009"};
-    for (int s = 0; s < 4; ++s)
-      for (int i = 0; i < 2; ++i) {
-        const std::string demo = d.file("demo" + std::to_string(i));
-        const auto r = dentsim("score --task caries --initial " + demo + "/initial.dvol --final " + demo + "/final.dvol --session " + demo +
-                               "/session.dses -o " + d.file("s.json") + " --student " + students[s] + " --outbox " + outbox(s) +
-                               (s == 3 ? " --course other-course" : ""));
-        ASSERT_EQ(r.exit_code, 0) << r.output;
-      }
+    std::ofstream(suite_dir_->file("learning.json")) << R"({"course": "cons-101", "activity_base": "https://school.example/xapi"})";
   }
   static void TearDownTestSuite() { suite_dir_.reset(); }
+
+  // Makes the four outboxes the first time; empty when they are there, else what went wrong.
+  static std::string makeOutboxes() {
+    static std::string problem = [] {
+      const TempDir& d = *suite_dir_;
+      std::ofstream(d.file("fast.json")) << R"({"format":"dentsim-params","version":1,"cutting":{"removal_rate_mm3_per_s":40},)"
+                                            R"("point_shell":{"head_spacing_mm":0.1,"shank_spacing_mm":0.2}})";
+      const test::NoLeakCheckForGpuChild no_leak_check;  // the Vulkan loader looks for a device before the CPU path
+      const std::string demo = d.file("demo");
+      const auto r = runCommand("VK_ICD_FILENAMES=/nonexistent.json DENTSIM_CONFIG= XDG_CONFIG_HOME=" + d.file("xdg") + " " +
+                                std::string(DENTSIM_BINARY) + " demo --headless --level 6 --mirror none --no-sound --attempt expert --params " +
+                                d.file("fast.json") + " --out " + demo);
+      if (r.exit_code != 0) return r.output;
+      const char* students[] = {"s2001", "s2002", "s2003", "s9009"};
+      for (int s = 0; s < 4; ++s)
+        for (const std::string& session : {" --session " + demo + "/session.dses", std::string()}) {
+          const auto scored = dentsim("score --task caries --initial " + demo + "/initial.dvol --final " + demo + "/final.dvol" + session +
+                                      " -o " + d.file("s.json") + " --student " + students[s] + " --outbox " + outbox(s) +
+                                      (s == 3 ? " --course other-course" : ""));
+          if (scored.exit_code != 0) return scored.output;
+        }
+      return std::string();
+    }();
+    return problem;
+  }
 
   // Student k's outbox (k = 3: the other course's student).
   static std::string outbox(int k) { return suite_dir_->file("outbox" + std::to_string(k) + "/outbox.jsonl"); }
@@ -91,13 +98,14 @@ class ReportLrs : public ::testing::Test {
   }
 
   TempDir dir_;
-  static std::unique_ptr<TempDir> suite_dir_;
+  static std::unique_ptr<TempDir> suite_dir_;  // the outboxes, shared by the suite's tests
 };
 
 std::unique_ptr<TempDir> ReportLrs::suite_dir_;
 
 TEST_F(ReportLrs, TheLrsGivesTheSamePageAsTheThreeOutboxesInOnePageOrTwoStatementsAtATime) {
   if (const std::string why = test::RealLrs::missing(); !why.empty()) GTEST_SKIP() << why;
+  ASSERT_EQ(makeOutboxes(), "");
   test::RealLrs lrs(dir_, "lrs", "lab", "s3cret pw");
   ASSERT_TRUE(lrs.up()) << lrs.log();
   send(lrs, {0, 1, 2, 3});
@@ -129,6 +137,7 @@ TEST_F(ReportLrs, TheLrsGivesTheSamePageAsTheThreeOutboxesInOnePageOrTwoStatemen
 
 TEST_F(ReportLrs, SinceLeavesOutWhatTheLrsStoredBefore) {
   if (const std::string why = test::RealLrs::missing(); !why.empty()) GTEST_SKIP() << why;
+  ASSERT_EQ(makeOutboxes(), "");
   test::RealLrs lrs(dir_, "lrs", "lab", "s3cret pw");
   ASSERT_TRUE(lrs.up()) << lrs.log();
   send(lrs, {0});
@@ -181,7 +190,7 @@ TEST_F(ReportLrs, AnLrsThatCannotBeReadIsOneLine) {
   }
   // Nothing to read from, and an LRS option without --lrs.
   test::expectCleanFailure(dentsim("report -o " + page), "report", "--lrs", page);
-  const auto since_alone = dentsim("report " + outbox(0) + " --since 2000-01-01 -o " + page);
+  const auto since_alone = dentsim("report " + dir_.file("outbox.jsonl") + " --since 2000-01-01 -o " + page);
   EXPECT_NE(since_alone.exit_code, 0) << since_alone.output;
   EXPECT_NE(since_alone.output.find("--lrs"), std::string::npos) << since_alone.output;
 }
