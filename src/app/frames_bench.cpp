@@ -1,6 +1,8 @@
-// The frame-time benchmark: the demo's caries removal drawn frame by frame, full detail against screen-sized detail in one run; the same frames and five views compared pixel by pixel; the demo's first frame.
+// The frame-time benchmark: the demo's caries removal drawn frame by frame, full detail against screen-sized detail in one run; the same frames and five views compared pixel by pixel; the mirror's cost drawn at its shown size against the old fixed image; the demo's first frame.
 #include "app/frames_bench.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdarg>
 #include <cstdio>
@@ -13,6 +15,7 @@
 #include "app/simulator.h"
 #include "bench/svg_plot.h"
 #include "core/text_format.h"
+#include "gpu/compute.h"
 #include "gpu/context.h"
 #include "io/atomic_file.h"
 #include "render/camera.h"
@@ -22,6 +25,7 @@
 #include "render/scene_renderer.h"
 #include "render/tooth_surfaces.h"
 #include "sim/builtin_tooth.h"
+#include "sim/surface_probe.h"
 
 namespace dentsim::app {
 namespace {
@@ -40,6 +44,18 @@ struct ViewRow {
   std::string view;
   uint64_t full_triangles = 0, triangles = 0;
   render::FrameDifference diff;
+};
+
+// The molar seen from above with the mirror beside it, drawn by three renderers' ways in turn: no
+// mirror, the mirror pass at the glass's shown size (pixel for pixel, the default), and the old fixed
+// 512 x 512 image of the whole view. Each frame is recorded, submitted and waited for [ms, median].
+struct MirrorRow {
+  int level = 0;
+  PixelRect glass;                  // the mirror pass's rectangle on the frame (shown size) [px]
+  uint32_t fixed_side = 512;        // the old image's side [px]
+  int frames = 0;                   // per way
+  double none_ms = 0.0, shown_ms = 0.0, fixed_ms = 0.0;
+  uint64_t shown_triangles = 0, fixed_triangles = 0;  // of the tooth, in the mirror pass
 };
 
 struct FirstFrameRow {
@@ -134,6 +150,85 @@ Status compareViews(const FramesBenchOptions& o, int level, std::vector<ViewRow>
   return ctx->waitIdle();
 }
 
+// The median wall time of `frames` offscreen frames of each way, the ways taking turns frame by frame
+// so that a machine's drift (another job, the clock) falls on all of them alike.
+Status mirrorCost(const FramesBenchOptions& o, int level, std::vector<MirrorRow>& rows) {
+  gpu::ContextOptions co;
+  co.graphics = true;
+  co.device_override = o.device;
+  auto ctx = gpu::Context::create(gpu::withEnvironment(co));
+  if (!ctx) return ctx.error();
+  auto tooth = builtinMolarTooth(level);
+  if (!tooth) return tooth.error();
+  auto surfaces = render::ToothSurfaces::create(*ctx, NormalMode::Box216, render::kDefaultCoarseCopies, o.mesher);
+  if (!surfaces) return surfaces.error();
+  if (Status st = surfaces->build(tooth->voxels); !st) return st;
+  MirrorRow row;
+  row.level = level;
+  row.frames = std::max(5, std::min(o.frames, 40));
+  render::SceneRendererOptions fixed_options;
+  fixed_options.mirror_resolution = row.fixed_side;
+  auto shown = render::SceneRenderer::create(*ctx, render::kDefaultColourFormat, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+  if (!shown) return shown.error();
+  auto fixed = render::SceneRenderer::create(*ctx, render::kDefaultColourFormat, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL,
+                                             fixed_options);
+  if (!fixed) return fixed.error();
+  auto target = render::OffscreenTarget::create(*ctx, uint32_t(o.width), uint32_t(o.height));
+  if (!target) return target.error();
+
+  // From above, the mirror beside the tooth tilted 45 degrees toward it: the eye sees the lingual
+  // side in the glass (as the renderer's tests place it).
+  const TissueBox box = tissueBox(tooth->voxels, tooth->frame);
+  const glm::vec3 centre = render::toGlm(box.centre());
+  const float radius = float(0.5 * norm(box.hi - box.lo));
+  render::OrbitCamera camera;
+  camera.setView(render::ViewPreset::Occlusal, centre, radius);
+  camera.setDistance(camera.distance() * 1.6f);
+  camera.setTarget(centre + glm::vec3(0.0f, radius * 0.6f, 0.0f));
+  render::FrameState fs;
+  fs.view = camera.view();
+  fs.projection = camera.projection(float(o.width) / float(o.height));
+  fs.eye = camera.eye();
+  fs.light_dir = glm::normalize(camera.eye() - centre);
+  fs.tooth_frame = tooth->frame;
+  fs.looks = defaultLookParams().looks;
+  fs.drill_shown = false;
+  fs.lod.pixel_error = o.detail_pixels;
+  fs.mirror.position = render::fromGlm(centre + glm::vec3(0.0f, radius * 1.25f, radius * 0.3f));
+  fs.mirror.rotation = Quat::fromAxisAngle({1.0, 0.0, 0.0}, 3.14159265358979 / 4.0);
+
+  std::array<std::vector<double>, 3> ms;  // no mirror, shown size, fixed
+  for (int f = 0; f < row.frames + 1; ++f)
+    for (int way = 0; way < 3; ++way) {
+      render::SceneRenderer& r = way == 2 ? *fixed : *shown;
+      fs.mirror_shown = way != 0;
+      const auto t0 = std::chrono::steady_clock::now();
+      Status st = gpu::submitAndWait(*ctx, "mirror bench frame", [&](gpu::Commands& cmds) -> Status {
+        r.markSubmitted(cmds.serial());
+        return r.recordFrame(cmds.cmd(), target->image(), *surfaces, fs);
+      });
+      if (!st) return st;
+      if (way != 0 && !r.mirrorDrawn()) return makeError("bench frames", "the mirror pass did not run");
+      if (way == 1) row.glass = r.mirrorRect();
+      // The shown size picks finer copies of the tooth: its pixels are the main view's, not 2.5 wide.
+      if (way == 1) row.shown_triangles = r.toothDrawStats().mirror_triangles;
+      if (way == 2) row.fixed_triangles = r.toothDrawStats().mirror_triangles;
+      // The first round makes the targets (and the shown-size image): left out.
+      if (f > 0) ms[size_t(way)].push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+  const auto median = [](std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    return v[v.size() / 2];
+  };
+  row.none_ms = median(ms[0]);
+  row.shown_ms = median(ms[1]);
+  row.fixed_ms = median(ms[2]);
+  shown->forgetTargets();
+  fixed->forgetTargets();
+  rows.push_back(row);
+  return ctx->waitIdle();
+}
+
 }  // namespace
 
 int runFramesBench(const FramesBenchOptions& o) {
@@ -148,6 +243,7 @@ int runFramesBench(const FramesBenchOptions& o) {
   std::vector<render::FrameDifference> shot_diffs;
   std::vector<ViewRow> views;
   std::vector<FirstFrameRow> firsts;
+  std::vector<MirrorRow> mirrors;
   for (int level : o.levels) {
     std::array<std::string, 2> shots;
     for (int path = 0; path < 2; ++path) {
@@ -175,6 +271,7 @@ int runFramesBench(const FramesBenchOptions& o) {
       return fail(shots[1] + ": not the size of " + shots[0]);
     shot_diffs.push_back(render::compareFrames(*full, *screen, backgroundRgb()));
     if (Status st = compareViews(o, level, views); !st) return fail(st.message());
+    if (Status st = mirrorCost(o, level, mirrors); !st) return fail(st.message());
     if (o.first_frame) {
       for (bool parts : {false, true}) {
         SimulatorOptions so = demoRun(o, level);
@@ -196,7 +293,9 @@ int runFramesBench(const FramesBenchOptions& o) {
   j["what"] = "the built-in molar's scripted caries removal from loop time from_s on, one frame per 1/30 s of loop "
               "time, each frame re-meshing the bricks the bur changed, then drawing tooth, tools and mirror pass "
               "(no panel), once at full detail and once with screen-sized detail; the frame at shot_s of both "
-              "compared; five views of the uncut molar (tooth only) drawn both ways; the demo's first frame";
+              "compared; five views of the uncut molar (tooth only) drawn both ways; the mirror's cost (the molar from "
+              "above with the mirror beside it: no mirror, the mirror pass at the glass's shown size, the old fixed "
+              "512 x 512 image; median offscreen frame, recorded, submitted and waited for); the demo's first frame";
   j["from_s"] = o.from_s;
   j["shot_s"] = shot_s;
   j["width"] = o.width;
@@ -257,6 +356,25 @@ int runFramesBench(const FramesBenchOptions& o) {
           std::to_string(v.full_triangles) + " | " + std::to_string(v.triangles) + " | " + formatted("%.2f", per_px) + " | " +
           formatted("%.2f", v.diff.mean_abs) + " | " + std::to_string(v.diff.differing) + " | " +
           std::to_string(v.diff.cracks) + " |\n";
+  }
+  md += "\n| level | glass on screen [px] | no mirror [ms] | mirror at shown size [ms] | mirror fixed 512 [ms] | "
+        "shown / fixed | shown / no mirror | mirror triangles shown / fixed |\n|---|---|---|---|---|---|---|---|\n";
+  for (const MirrorRow& m : mirrors) {
+    j["mirror"].push_back({{"level", m.level},
+                           {"glass_px", {m.glass.width, m.glass.height}},
+                           {"frames", m.frames},
+                           {"frame_ms_no_mirror", m.none_ms},
+                           {"frame_ms_shown_size", m.shown_ms},
+                           {"frame_ms_fixed", m.fixed_ms},
+                           {"fixed_side_px", m.fixed_side},
+                           {"shown_over_fixed", m.shown_ms / m.fixed_ms},
+                           {"shown_over_no_mirror", m.shown_ms / m.none_ms},
+                           {"mirror_triangles_shown_size", m.shown_triangles},
+                           {"mirror_triangles_fixed", m.fixed_triangles}});
+    md += "| " + std::to_string(m.level) + " | " + std::to_string(m.glass.width) + " x " + std::to_string(m.glass.height) +
+          " | " + formatted("%.1f", m.none_ms) + " | " + formatted("%.1f", m.shown_ms) + " | " + formatted("%.1f", m.fixed_ms) +
+          " | " + formatted("%.2f", m.shown_ms / m.fixed_ms) + " | " + formatted("%.2f", m.shown_ms / m.none_ms) + " | " +
+          std::to_string(m.shown_triangles) + " / " + std::to_string(m.fixed_triangles) + " |\n";
   }
   if (!firsts.empty()) {
     md += "\n| level | build | first frame [s] | full detail everywhere [s] |\n|---|---|---|---|\n";

@@ -16,7 +16,7 @@ struct vec4 {
 #define DS_RENDER_SET_FRAME 0    // binding 0: FrameUniforms (uniform buffer)
 #define DS_RENDER_SET_TEXTURE 1  // binding 0: the sampled image (mirror image or overlay)
 
-// What one pass shares: camera, light and clip plane.                                  size 192
+// What one pass shares: camera, light and clip plane.                                  size 208
 struct FrameUniforms {
   vec4 viewProj[4];        // offset   0: world [mm] to clip space, columns
   vec4 mirrorViewProj[4];  // offset  64: world to the mirror image's clip space (main pass), columns
@@ -24,6 +24,9 @@ struct FrameUniforms {
   vec4 lightDir;           // offset 144: unit direction toward the light, w = 0
   vec4 clipPlane;          // offset 160: fragments with dot(clipPlane, (x, 1)) < 0 are discarded
   vec4 mirrorTint;         // offset 176: rgb the mirror's reflectance, a unused
+  vec4 mirrorRect;         // offset 192: the mirror image's place on the target: x, y its top-left, z, w its
+                           //             size [px], texel (i, j) under pixel (x + i, y + j); z = 0: an image
+                           //             of its own size, looked up through mirrorViewProj (main pass)
 };
 
 // Per draw: object placement and Phong material (push constants).                      size 128
@@ -36,7 +39,7 @@ struct DrawConstants {
 };
 
 #ifdef __cplusplus
-static_assert(sizeof(FrameUniforms) == 192, "FrameUniforms layout is pinned for GLSL");
+static_assert(sizeof(FrameUniforms) == 208, "FrameUniforms layout is pinned for GLSL");
 static_assert(sizeof(DrawConstants) == 128, "DrawConstants layout is pinned for GLSL (128 B: the guaranteed push-constant size)");
 }  // namespace dentsim::render::layout
 #endif

@@ -3,12 +3,13 @@
 // Contents
 //   1. Small helpers: Vulkan errors, matrices to layout structs, looks to push constants
 //   2. State: every handle the renderer owns, and their release
-//   3. Creation: render passes, descriptor sets, pipelines, tool meshes, the mirror image
+//   3. Creation: render passes, descriptor sets, pipelines, tool meshes, the mirror image (and its growth)
 //   4. Targets: a depth buffer and framebuffer per colour view
 //   5. Recording: frame uniforms, the mirror pass, the main pass
 #include "render/scene_renderer.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <cstring>
 #include <map>
@@ -134,9 +135,11 @@ struct SceneRenderer::State {
   std::map<std::string, ToolMesh> tools;  // by catalog name
   ToolMesh glass;
 
-  std::optional<GpuImage> mirror_colour, mirror_depth;
+  std::optional<GpuImage> mirror_colour, mirror_depth;  // the capacity; a pass draws their top-left mirror_rect
   VkFramebuffer mirror_framebuffer = VK_NULL_HANDLE;
   bool mirror_drawn = false;
+  PixelRect mirror_rect;                      // the target's pixels the last mirror pass drew [px]
+  std::vector<glm::vec3> glass_corners;       // the glass disc's rim, tool frame [mm]: its rectangle on screen
 
   std::optional<GpuImage> overlay;
   ToothDrawStats tooth_stats;
@@ -154,7 +157,9 @@ struct SceneRenderer::State {
                                     bool flip, bool colour_write = true, bool yield_depth = false);
   Status createPipelines();
   Status createTools();
-  Status createMirrorTarget();
+  Status createMirrorTarget(VkExtent2D extent);
+  Status growMirrorTarget(VkExtent2D needed);
+  PixelRect glassRect(const FrameState& frame, VkExtent2D target) const;
   Result<Target*> target(const RenderImage& image);
 
   // Draws the opaque or the translucent tissues; with a choice, each copy's blocks where it says.
@@ -533,8 +538,7 @@ Status SceneRenderer::State::createTools() {
   return upload("mirror glass", discVertices(kMirrorGlassRadiusMm, kGlassLiftMm, kGlassSegments), glass);
 }
 
-Status SceneRenderer::State::createMirrorTarget() {
-  const VkExtent2D extent{options.mirror_resolution, options.mirror_resolution};
+Status SceneRenderer::State::createMirrorTarget(VkExtent2D extent) {
   auto colour = GpuImage::create(*ctx, extent, colour_format,
                                  VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_SAMPLED_BIT | VK_IMAGE_USAGE_TRANSFER_SRC_BIT,
                                  VK_IMAGE_ASPECT_COLOR_BIT, "mirror image");
@@ -565,6 +569,50 @@ Status SceneRenderer::State::createMirrorTarget() {
   return Ok{};
 }
 
+// The mirror's image drawn at the size it is shown at needs at most the target's size. It grows when a
+// larger target comes (the first frame, a larger window), never with the mirror's every move: growing
+// waits for the device, since frames in flight may still sample the image through the one set.
+Status SceneRenderer::State::growMirrorTarget(VkExtent2D needed) {
+  if (mirror_colour && mirror_colour->extent().width >= needed.width && mirror_colour->extent().height >= needed.height)
+    return Ok{};
+  const VkExtent2D extent{std::max(needed.width, mirror_colour ? mirror_colour->extent().width : 0u),
+                          std::max(needed.height, mirror_colour ? mirror_colour->extent().height : 0u)};
+  if (mirror_colour) {
+    DS_TRY_STATUS(ctx->waitIdle());
+    mirror_colour->markUsed(last_serial);
+    mirror_depth->markUsed(last_serial);
+    VkDevice device = core->device;
+    VkFramebuffer fb = mirror_framebuffer;
+    core->retired.retire(last_serial, [device, fb] { vkDestroyFramebuffer(device, fb, nullptr); });
+    mirror_framebuffer = VK_NULL_HANDLE;
+    mirror_colour.reset();
+    mirror_depth.reset();
+  }
+  return createMirrorTarget(extent);
+}
+
+// The glass disc's bounding rectangle on a `target`-sized frame, a pixel wider on every side (the
+// rim's edge pixels), clipped to the target; the whole target when a rim point lies behind the eye
+// (its projection would flip). Empty: the glass is off the frame.
+PixelRect SceneRenderer::State::glassRect(const FrameState& frame, VkExtent2D target) const {
+  const int w = int(target.width), h = int(target.height);
+  const glm::mat4 to_clip = frame.projection * frame.view * toGlm(frame.mirror);
+  float lo_x = 1e30f, lo_y = 1e30f, hi_x = -1e30f, hi_y = -1e30f;
+  for (const glm::vec3& corner : glass_corners) {
+    const glm::vec4 c = to_clip * glm::vec4(corner, 1.0f);
+    if (!(c.w > 1e-6f)) return PixelRect{0, 0, w, h};
+    const float x = (c.x / c.w + 1.0f) * 0.5f * float(w), y = (c.y / c.w + 1.0f) * 0.5f * float(h);
+    lo_x = std::min(lo_x, x);
+    hi_x = std::max(hi_x, x);
+    lo_y = std::min(lo_y, y);
+    hi_y = std::max(hi_y, y);
+  }
+  const auto clampTo = [](float v, int hi) { return int(std::clamp(v, 0.0f, float(hi))); };
+  const int x0 = clampTo(std::floor(lo_x) - 1.0f, w), x1 = clampTo(std::ceil(hi_x) + 1.0f, w);
+  const int y0 = clampTo(std::floor(lo_y) - 1.0f, h), y1 = clampTo(std::ceil(hi_y) + 1.0f, h);
+  return PixelRect{x0, y0, x1 - x0, y1 - y0};
+}
+
 Result<SceneRenderer> SceneRenderer::create(gpu::Context& ctx, VkFormat colour_format, VkImageLayout final_layout,
                                             const SceneRendererOptions& options) {
   auto s = std::make_unique<State>();
@@ -573,7 +621,6 @@ Result<SceneRenderer> SceneRenderer::create(gpu::Context& ctx, VkFormat colour_f
   s->options = options;
   s->colour_format = colour_format;
   s->final_layout = final_layout;
-  if (options.mirror_resolution == 0) return makeError(kWhere, "mirror_resolution must be positive");
 
   // The first depth format the device can attach.
   for (VkFormat f : {VK_FORMAT_D32_SFLOAT, VK_FORMAT_X8_D24_UNORM_PACK32, VK_FORMAT_D16_UNORM}) {
@@ -597,7 +644,11 @@ Result<SceneRenderer> SceneRenderer::create(gpu::Context& ctx, VkFormat colour_f
   DS_TRY_STATUS(s->createLayouts());
   DS_TRY_STATUS(s->createPipelines());
   DS_TRY_STATUS(s->createTools());
-  DS_TRY_STATUS(s->createMirrorTarget());
+  // A fixed-size mirror image is made now; one drawn at the size it is shown at, at its first pass.
+  if (options.mirror_resolution > 0)
+    DS_TRY_STATUS(s->createMirrorTarget({options.mirror_resolution, options.mirror_resolution}));
+  for (const ToolVertex& v : discVertices(kMirrorGlassRadiusMm, kGlassLiftMm, kGlassSegments))
+    if (v.px != 0.0f || v.py != 0.0f) s->glass_corners.emplace_back(v.px, v.py, v.pz);
   return SceneRenderer(std::move(s));
 }
 
@@ -613,8 +664,26 @@ bool SceneRenderer::mirrorDrawn() const { return state_->mirror_drawn; }
 void SceneRenderer::markSubmitted(uint64_t serial) { state_->last_serial = std::max(state_->last_serial, serial); }
 
 RenderImage SceneRenderer::mirrorImage() const {
+  if (!state_->mirror_colour) return {};
   const GpuImage& m = *state_->mirror_colour;
   return {m.image(), m.view(), m.format(), m.extent()};
+}
+
+PixelRect SceneRenderer::mirrorRect() const { return state_->mirror_rect; }
+
+glm::mat4 cropProjection(const glm::mat4& projection, const PixelRect& rect, VkExtent2D target) {
+  assert(!rect.empty());
+  // NDC x of the frame maps to x' = x * W / w + (W - 2 x0 - w) / w, so that pixel x0 lands on -1 and
+  // x0 + w on +1; the same for y (Vulkan's y runs down, as pixel rows do). In clip space the offset
+  // is scaled by w_clip, so the crop is one matrix before the division.
+  const float W = float(target.width), H = float(target.height);
+  const float w = float(rect.width), h = float(rect.height);
+  glm::mat4 crop(1.0f);
+  crop[0][0] = W / w;
+  crop[1][1] = H / h;
+  crop[3][0] = (W - 2.0f * float(rect.x) - w) / w;
+  crop[3][1] = (H - 2.0f * float(rect.y) - h) / h;
+  return crop * projection;
 }
 
 Status SceneRenderer::setOverlayImage(const RgbImage& image) {
@@ -841,9 +910,22 @@ Status SceneRenderer::recordFrame(VkCommandBuffer cmd, const RenderImage& target
     mirror_point = toGlm(frame.mirror.position);
     mirror_normal = glm::normalize(toGlm(frame.mirror.applyDirection(Vec3{0.0, 0.0, 1.0})));
   }
-  const bool mirror_pass = frame.mirror_shown && glm::dot(frame.eye - mirror_point, mirror_normal) > 0.0f;
+  bool mirror_pass = frame.mirror_shown && glm::dot(frame.eye - mirror_point, mirror_normal) > 0.0f;
   const glm::mat4 reflect = reflectionMatrix(mirror_point, mirror_normal);
   const glm::mat4 mirror_view = frame.view * reflect;
+  // Where the mirror pass draws: the glass's rectangle on the target, pixel for pixel (none when it is
+  // off the frame), or with a fixed resolution the whole view into its own square.
+  const bool shown_size = s.options.mirror_resolution == 0;
+  PixelRect rect{0, 0, int(target.extent.width), int(target.extent.height)};
+  if (mirror_pass && shown_size) {
+    rect = s.glassRect(frame, target.extent);
+    mirror_pass = !rect.empty();
+    if (mirror_pass) DS_TRY_STATUS(s.growMirrorTarget(target.extent));
+  }
+  const glm::mat4 mirror_projection = mirror_pass && shown_size ? cropProjection(frame.projection, rect, target.extent)
+                                                                : frame.projection;
+  const VkExtent2D mirror_extent = shown_size ? VkExtent2D{uint32_t(rect.width), uint32_t(rect.height)}
+                                              : VkExtent2D{s.options.mirror_resolution, s.options.mirror_resolution};
 
   // Frame uniforms of both passes, written in the command stream so that frames in flight keep theirs.
   layout::FrameUniforms main_u{};
@@ -853,8 +935,10 @@ Status SceneRenderer::recordFrame(VkCommandBuffer cmd, const RenderImage& target
   main_u.lightDir = {light.x, light.y, light.z, 0.0f};
   main_u.clipPlane = toVec4(frame.clip_plane);
   main_u.mirrorTint = {s.options.mirror_tint[0], s.options.mirror_tint[1], s.options.mirror_tint[2], 1.0f};
+  main_u.mirrorRect = shown_size ? layout::vec4{float(rect.x), float(rect.y), float(rect.width), float(rect.height)}
+                                 : layout::vec4{0.0f, 0.0f, 0.0f, 0.0f};
   layout::FrameUniforms mirror_u = main_u;
-  putMatrix(mirror_u.viewProj, frame.projection * mirror_view);
+  putMatrix(mirror_u.viewProj, mirror_projection * mirror_view);
   const glm::vec3 virtual_eye = glm::vec3(reflect * glm::vec4(frame.eye, 1.0f));
   mirror_u.eye = {virtual_eye.x, virtual_eye.y, virtual_eye.z, 1.0f};
   mirror_u.clipPlane = toVec4(planeEquation(mirror_point, mirror_normal));
@@ -895,13 +979,13 @@ Status SceneRenderer::recordFrame(VkCommandBuffer cmd, const RenderImage& target
                             0, nullptr);
   };
   const bool draw_tooth = frame.tooth_shown && tooth.built();
-  // Each pass chooses its own copies: the mirror's image is smaller and sees the tooth from elsewhere.
+  // Each pass chooses its own copies: the mirror pass draws a small part of the view and sees the tooth from elsewhere.
   const bool lod = draw_tooth && frame.lod.pixel_error > 0.0f;
   std::optional<glm::vec3> bur_tip;
   if (frame.drill_shown) bur_tip = toGlm(frame.drill.position);
-  const auto choose = [&](const glm::mat4& view, VkExtent2D extent) {
+  const auto choose = [&](const glm::mat4& view, const glm::mat4& projection, VkExtent2D extent) {
     return chooseLod(frame.tooth_frame, tooth.copies() - 1u,
-                     LodView{view, frame.projection, extent.width, extent.height, bur_tip}, frame.lod,
+                     LodView{view, projection, extent.width, extent.height, bur_tip}, frame.lod,
                      LodRegions{tooth.readyRegions(), tooth.laggingRegions(), tooth.copyErrors()});
   };
   s.tooth_stats = ToothDrawStats{};
@@ -909,9 +993,9 @@ Status SceneRenderer::recordFrame(VkCommandBuffer cmd, const RenderImage& target
   // 1. The mirror pass: everything but the mirror itself, seen in the mirror's plane.
   if (mirror_pass) {
     const bool flip = mirrored(mirror_view);
-    begin(s.mirror_pass, s.mirror_framebuffer, s.mirror_colour->extent(), s.mirror_frame_set);
+    begin(s.mirror_pass, s.mirror_framebuffer, mirror_extent, s.mirror_frame_set);
     std::optional<LodChoice> choice;
-    if (lod) choice = choose(mirror_view, s.mirror_colour->extent());
+    if (lod) choice = choose(mirror_view, mirror_projection, mirror_extent);
     const LodChoice* c = choice ? &*choice : nullptr;
     if (draw_tooth) s.drawTooth(cmd, tooth, frame, false, flip, c, s.tooth_stats.mirror_triangles);
     s.drawTools(cmd, frame, false, flip);
@@ -920,13 +1004,14 @@ Status SceneRenderer::recordFrame(VkCommandBuffer cmd, const RenderImage& target
     vkCmdEndRenderPass(cmd);
   }
   s.mirror_drawn = mirror_pass;
+  s.mirror_rect = mirror_pass ? rect : PixelRect{};
 
   // 2. The main pass.
   const bool flip = mirrored(frame.view);
   begin(s.main_pass, (*tgt)->framebuffer, target.extent, s.main_frame_set);
   std::optional<LodChoice> choice;
   if (lod) {
-    choice = choose(frame.view, target.extent);
+    choice = choose(frame.view, frame.projection, target.extent);
     for (uint8_t k : choice->copy)
       if (k < s.tooth_stats.main_regions.size()) ++s.tooth_stats.main_regions[k];
   }

@@ -8,9 +8,10 @@
 // Vulkan clip space (y down, depth 0..1), so camera.h's OrbitCamera feeds it directly.
 //
 // One frame records, in the caller's command buffer:
-//   1. the mirror pass (when the mirror is shown and its face turned to the eye): the scene seen
-//      from the eye reflected in the mirror's plane, into the renderer's own square image, with
-//      everything behind the glass discarded;
+//   1. the mirror pass (when the mirror is shown, on the target and its face turned to the eye): the
+//      scene seen from the eye reflected in the mirror's plane, with everything behind the glass
+//      discarded, into the renderer's own image: only the glass's rectangle on the target, pixel for
+//      pixel (mirrorRect), so that the reflection is exactly as sharp as the main view;
 //   2. the main pass into the target: opaque tissues and the tools (depth written), the mirror's
 //      face (the mirror image, projectively mapped), the translucent tissues (blended, depth
 //      tested, not written, back faces culled), the ghost tools (see below), the overlay picture,
@@ -109,7 +110,12 @@ struct ToothDrawStats {
 };
 
 struct SceneRendererOptions {
-  uint32_t mirror_resolution = 512;  // side of the mirror pass's square image [px]
+  // The mirror pass's image. 0: the glass's rectangle on the target, one texel a target pixel (a
+  // swapchain's pixels are the window's times the device pixel ratio, so it follows that too), with the
+  // main pass's sample count (the two passes share their pipelines, so they cannot differ). N > 0: the
+  // old way, a fixed N x N image of the whole view, resampled onto the glass (stair-stepped where it
+  // is magnified); kept so that `bench frames` can set the two side by side.
+  uint32_t mirror_resolution = 0;  // [px]
   // Steel of the bur and the handpiece, and the mirror's slightly blue rim (Phong, opaque).
   TissueLook steel{0.10, 0.10, 0.11, 0.50, 0.51, 0.53, 0.60, 0.60, 0.60, 1.0, 40.0};
   TissueLook mirror_rim{0.09, 0.10, 0.12, 0.44, 0.48, 0.56, 0.50, 0.50, 0.55, 1.0, 32.0};
@@ -151,10 +157,15 @@ class SceneRenderer {
   // idle first, as a frame in flight may still sample the old one. Error: an empty image.
   Status setOverlayImage(const RgbImage& image);
 
-  // The mirror pass's colour image (mirror_resolution square, colourFormat()); after a frame whose
-  // mirrorDrawn() is true it holds that pass in SHADER_READ_ONLY_OPTIMAL.
+  // The mirror pass's colour image (colourFormat()); after a frame whose mirrorDrawn() is true its
+  // top-left mirrorRect().width x height texels hold that pass, in SHADER_READ_ONLY_OPTIMAL. It grows to
+  // the largest target drawn (never shrinks); growing waits for the device to be idle, as frames in
+  // flight may still sample it. Empty before the first mirror pass.
   RenderImage mirrorImage() const;
   bool mirrorDrawn() const;  // the last recorded frame ran the mirror pass
+  // The part of the last target the mirror pass drew, texel (i, j) of mirrorImage() being pixel
+  // (x + i, y + j) of the target [px]; with a fixed mirror_resolution, the whole target (resampled).
+  PixelRect mirrorRect() const;
 
   // The renderer keeps a depth buffer and framebuffer per target view. Forget one before its image
   // is destroyed, or all of them when the swapchain is recreated, once the device is idle.
@@ -176,6 +187,11 @@ class SceneRenderer {
   explicit SceneRenderer(std::unique_ptr<State> state);
   std::unique_ptr<State> state_;
 };
+
+// The projection that draws only `rect` of a frame `target` pixels large that `projection` draws,
+// onto an image rect.width x rect.height large: pixel (i, j) of it is pixel (rect.x + i, rect.y + j)
+// of the frame. Depth is unchanged. Precondition: rect is not empty.
+glm::mat4 cropProjection(const glm::mat4& projection, const PixelRect& rect, VkExtent2D target);
 
 // The colour a Phong look gives a surface point: ambient + diffuse (N.L) + specular (R.V)^shininess
 // with one white light of intensity 1, each channel clamped to [0,1]; `normal`, `to_light` and

@@ -445,6 +445,127 @@ TEST_F(RenderTest, MirrorImageEqualsTheReflectedCamerasView) {
   EXPECT_GT(shows_tooth, inside / 4) << "the mirror's face shows the tooth's lingual side";
 }
 
+// The mirror pass draws the glass's rectangle on the target and nothing else, pixel for pixel: its
+// image there equals the reflected view drawn directly with the same crop of the frame's projection.
+TEST_F(RenderTest, MirrorPassDrawsTheGlassRectanglePixelForPixel) {
+  renderer();  // the default: the mirror at the size it is shown at
+  MirrorScene m = mirrorScene();
+  ASSERT_NO_FATAL_FAILURE(buildTooth(m.s.tooth.voxels));
+  render(m.s.frame);
+  ASSERT_TRUE(renderer().mirrorDrawn());
+  const PixelRect rect = renderer().mirrorRect();
+  ASSERT_FALSE(rect.empty());
+  EXPECT_GE(rect.x, 0);
+  EXPECT_GE(rect.y, 0);
+  EXPECT_LE(rect.x + rect.width, int(kW));
+  EXPECT_LE(rect.y + rect.height, int(kH));
+  EXPECT_LT(rect.width * rect.height, int(kW * kH)) << "the glass covers part of the view, and the pass only that";
+  auto mirror = readImage(ctx(), renderer().mirrorImage(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+  ASSERT_TRUE(mirror.ok()) << mirror.message();
+
+  FrameState direct = m.s.frame;
+  const glm::mat4 reflect = reflectionMatrix(m.point, m.normal);
+  direct.view = m.s.frame.view * reflect;
+  direct.eye = glm::vec3(reflect * glm::vec4(m.s.frame.eye, 1.0f));
+  direct.clip_plane = planeEquation(m.point, m.normal);
+  direct.projection = cropProjection(m.s.frame.projection, rect, VkExtent2D{kW, kH});
+  direct.mirror_shown = false;
+  const RgbImage want = render(direct, uint32_t(rect.width), uint32_t(rect.height));
+  int differ = 0, tooth_px = 0;
+  const auto bg = to255(m.s.frame.background);
+  for (int j = 0; j < rect.height; ++j)
+    for (int i = 0; i < rect.width; ++i) {
+      differ += maxChannelDiff(px(*mirror, i, j), px(want, i, j)) > 1 ? 1 : 0;
+      tooth_px += isBackground(want, i, j, bg) ? 0 : 1;
+    }
+  EXPECT_EQ(differ, 0);
+  EXPECT_GT(tooth_px, rect.width * rect.height / 40) << "the reflected view sees the tooth";
+
+  // A target twice as large (a larger window, a device pixel ratio of 2): the image grows to it, and
+  // the glass's rectangle doubles with the pixels it covers.
+  render(m.s.frame, 2 * kW, 2 * kH);
+  ASSERT_TRUE(renderer().mirrorDrawn());
+  const PixelRect twice = renderer().mirrorRect();
+  EXPECT_NEAR(twice.width, 2 * rect.width, 3);
+  EXPECT_NEAR(twice.height, 2 * rect.height, 3);
+  EXPECT_GE(renderer().mirrorImage().extent.width, uint32_t(twice.x + twice.width));
+  EXPECT_GE(renderer().mirrorImage().extent.height, uint32_t(twice.y + twice.height));
+}
+
+// Issue 44: the mirror's picture was stair-stepped at every silhouette while the main view beside it
+// was smooth. The old pass drew a fixed 512 x 512 image of the whole view and stretched it over a
+// 1280 x 800 frame, so each texel covered 2.5 x 1.6 pixels and every edge in the glass moved in steps
+// that wide. Measured against the reflection drawn directly at the frame's own resolution (what a
+// flat mirror shows, as sharp as the main view), on the glass where nothing stands in front of it:
+// drawn at its shown size the glass equals it; the fixed image differs along every edge.
+TEST_F(RenderTest, MirrorIsAsSharpAsTheMainView) {
+  constexpr uint32_t w = 1280, h = 800;
+  MirrorScene m = mirrorScene();
+  ASSERT_NO_FATAL_FAILURE(buildTooth(m.s.tooth.voxels));
+  m.s.frame.projection = m.s.camera.projection(float(w) / float(h));
+  // A white reflectance, so that the glass shows the mirror image's texels unchanged.
+  SceneRendererOptions options;
+  options.mirror_tint = {1.0f, 1.0f, 1.0f};
+  const auto glass = [&](uint32_t mirror_resolution) {
+    renderer_.reset();
+    options.mirror_resolution = mirror_resolution;
+    renderer(options);
+    RgbImage img = render(m.s.frame, w, h);
+    EXPECT_TRUE(renderer().mirrorDrawn());
+    return img;
+  };
+  const RgbImage sharp = glass(0);
+  const RgbImage old = glass(512);
+
+  // The reference: the reflected scene, clipped at the glass, drawn directly into the whole frame.
+  FrameState direct = m.s.frame;
+  const glm::mat4 reflect = reflectionMatrix(m.point, m.normal);
+  direct.view = m.s.frame.view * reflect;
+  direct.eye = glm::vec3(reflect * glm::vec4(m.s.frame.eye, 1.0f));
+  direct.clip_plane = planeEquation(m.point, m.normal);
+  direct.mirror_shown = false;
+  const RgbImage want = render(direct, w, h);
+  // The frame without the mirror: where it shows the tooth, the tooth may stand before the glass.
+  FrameState plain = m.s.frame;
+  plain.mirror_shown = false;
+  const RgbImage bare = render(plain, w, h);
+
+  // The glass's inner part (the disc tilted 45 degrees is an ellipse squeezed along y; the inner 0.6
+  // of its radius keeps off the rim), where the frame without the mirror shows background.
+  const glm::vec3 c = m.s.camera.project(m.point, int(w), int(h));
+  const float glass_px = 10.85f / m.s.camera.mmPerPixel(m.s.camera.depthOf(m.point), int(h));
+  const auto bg = to255(m.s.frame.background);
+  int inside = 0, edges = 0, sharp_differ = 0, old_differ = 0, sharp_edge_differ = 0, old_edge_differ = 0;
+  for (int j = 1; j + 1 < int(h); ++j)
+    for (int i = 1; i + 1 < int(w); ++i) {
+      const glm::vec2 d = glm::vec2(float(i) + 0.5f, float(j) + 0.5f) - glm::vec2(c);
+      if (d.x * d.x + 2.0f * d.y * d.y > 0.36f * glass_px * glass_px || !isBackground(bare, i, j, bg)) continue;
+      ++inside;
+      // An edge of the reflection: a neighbour more than 24 grey levels away (silhouettes, creases).
+      int contrast = 0;
+      for (const auto& [di, dj] : {std::pair{1, 0}, std::pair{-1, 0}, std::pair{0, 1}, std::pair{0, -1}})
+        contrast = std::max(contrast, maxChannelDiff(px(want, i, j), px(want, i + di, j + dj)));
+      const bool edge = contrast > 24;
+      edges += edge ? 1 : 0;
+      const bool s_off = maxChannelDiff(px(sharp, i, j), px(want, i, j)) > 2;
+      const bool o_off = maxChannelDiff(px(old, i, j), px(want, i, j)) > 2;
+      sharp_differ += s_off ? 1 : 0;
+      old_differ += o_off ? 1 : 0;
+      sharp_edge_differ += edge && s_off ? 1 : 0;
+      old_edge_differ += edge && o_off ? 1 : 0;
+    }
+  std::printf("glass: %d pixels, %d on edges; off the direct reflection: shown size %d (%d on edges), fixed 512 %d (%d on edges)\n",
+              inside, edges, sharp_differ, sharp_edge_differ, old_differ, old_edge_differ);
+  ASSERT_GT(inside, 5000) << "the glass shows on the frame";
+  ASSERT_GT(edges, 200) << "the reflection has silhouettes to measure";
+  // Drawn at its shown size, the glass is the direct reflection (a crop's last bit of rounding may
+  // move a pixel on an edge).
+  EXPECT_LE(sharp_edge_differ, edges / 100);
+  EXPECT_LE(sharp_differ, inside / 500);
+  // The old fixed image misses most edges: this is the stair-stepping the issue saw.
+  EXPECT_GT(old_edge_differ, edges / 3);
+}
+
 TEST_F(RenderTest, MirrorSeenFromBehindRunsNoPass) {
   MirrorScene m = mirrorScene();
   m.s.frame.mirror.rotation = Quat::fromAxisAngle({1.0, 0.0, 0.0}, 3.14159265358979 * 0.75);  // face away from the eye
@@ -482,6 +603,7 @@ TEST(RenderLayout, OffsetsArePinned) {
   EXPECT_EQ(offsetof(layout::FrameUniforms, lightDir), 144u);
   EXPECT_EQ(offsetof(layout::FrameUniforms, clipPlane), 160u);
   EXPECT_EQ(offsetof(layout::FrameUniforms, mirrorTint), 176u);
+  EXPECT_EQ(offsetof(layout::FrameUniforms, mirrorRect), 192u);
   EXPECT_EQ(offsetof(layout::DrawConstants, ambient), 64u);
   EXPECT_EQ(offsetof(layout::DrawConstants, diffuse), 80u);
   EXPECT_EQ(offsetof(layout::DrawConstants, specular), 96u);

@@ -393,8 +393,11 @@ TEST_F(ToothLodTest, TheMirrorPassChoosesAsTheReflectedCameraWould) {
   const glm::vec3 normal = glm::normalize(toGlm(fs.mirror.applyDirection(Vec3{0.0, 0.0, 1.0})));
   direct.view = fs.view * reflectionMatrix(point, normal);
   direct.mirror_shown = false;
-  const uint32_t side_px = SceneRendererOptions{}.mirror_resolution;
-  ASSERT_TRUE(renderOffscreen(*ctx_, renderer(), t, direct, side_px, side_px).ok());
+  // The mirror pass draws the glass's rectangle of the frame, pixel for pixel.
+  const PixelRect rect = renderer().mirrorRect();
+  ASSERT_FALSE(rect.empty());
+  direct.projection = cropProjection(fs.projection, rect, VkExtent2D{320, 240});
+  ASSERT_TRUE(renderOffscreen(*ctx_, renderer(), t, direct, uint32_t(rect.width), uint32_t(rect.height)).ok());
   EXPECT_GT(mirror, 0u);
   EXPECT_EQ(renderer().toothDrawStats().main_triangles, mirror);
 }
