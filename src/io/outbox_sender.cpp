@@ -25,6 +25,9 @@ Result<OutboxSendResult> sendOutbox(const std::string& outbox, const LrsEndpoint
   sum.set_aside = *moved;
   auto pending = pendingStatements(outbox);
   if (!pending) return pending.error();
+  // What the refusal log says already: a refusal repeated word for word on every run is not logged again.
+  auto refused_before = readRefusals(outbox);
+  if (!refused_before) return refused_before.error();
   const auto start = std::chrono::steady_clock::now();
   const auto elapsed_ms = [&] {
     return long(std::chrono::duration_cast<std::chrono::milliseconds>(std::chrono::steady_clock::now() - start).count());
@@ -52,8 +55,10 @@ Result<OutboxSendResult> sendOutbox(const std::string& outbox, const LrsEndpoint
     }
     // Kept for `outbox status`: the LRS's reason is the one thing that tells the school what to fix.
     if (out.delivery == Delivery::Refused && out.http_status == 400) {
-      if (Status st = recordRefusal(outbox, statement["id"].get<std::string>(), Refusal{out.http_status, out.reason}); !st)
-        return st.error();
+      const std::string id = statement["id"].get<std::string>();
+      const auto before = refused_before->find(id);
+      if (before == refused_before->end() || before->second.http_status != out.http_status || before->second.reason != out.reason)
+        if (Status st = recordRefusal(outbox, id, Refusal{out.http_status, out.reason}); !st) return st.error();
       ++sum.refused;
     }
     // The reason is the LRS's text: escaped to one line of no control bytes before it joins a message.

@@ -29,7 +29,8 @@ struct OutboxSendResult {
 // its first statement: the rest would only wait for the same timeout. One sender at a time: `wait`
 // waits for another to finish; without it, another sender at work means nothing is sent (busy).
 // A statement refused with HTTP 400 (malformed, in the LRS's eyes) stays pending, and its reason
-// goes to the refusal log (io/xapi_outbox.h's recordRefusal), so that `outbox status` can say why.
+// goes to the refusal log (io/xapi_outbox.h's recordRefusal), so that `outbox status` can say why;
+// the same refusal in the same words, met again on a later run, is not logged twice.
 // Errors: the outbox or its lock cannot be read or written.
 Result<OutboxSendResult> sendOutbox(const std::string& outbox, const LrsEndpoint& lrs, long limit_ms, bool wait);
 
