@@ -30,4 +30,6 @@ Result<uint64_t> fileHash(const std::string& path) {
   return XXH3_64bits_digest(state.get());
 }
 
+uint64_t bytesHash(const void* data, size_t size) { return XXH3_64bits(data, size); }
+
 }  // namespace dentsim

@@ -44,6 +44,35 @@ GuidePath guidePathFrom(const ProPath& pro, const GuideSettings& settings, const
   return g;
 }
 
+GuidePath guidePathFromScript(const PenPath& script, const GuideSettings& settings, const std::string& source,
+                              const std::string& task, const std::string& tooth_hash) {
+  GuidePath g;
+  g.settings = settings;
+  g.source = source;
+  g.source_task = task;
+  g.source_tooth_hash = tooth_hash;
+  g.spacing_s = ProPath::kSampleEveryS;
+  std::vector<const PenSample*> drill;
+  for (const PenSample& s : script.samples)
+    if (s.pen == PenRole::Drill) drill.push_back(&s);
+  if (!drill.empty()) {
+    size_t k = 0;
+    const double end = drill.back()->t_s;
+    for (size_t i = 0; double(i) * g.spacing_s <= end + 1e-12 && g.points.size() < kMaxGuidePoints; ++i) {
+      const double t = double(i) * g.spacing_s;
+      while (k + 1 < drill.size() && drill[k + 1]->t_s <= t) ++k;
+      Vec3 x = drill[k]->pose.position;
+      if (k + 1 < drill.size() && drill[k + 1]->t_s > drill[k]->t_s && t > drill[k]->t_s) {
+        const double a = (t - drill[k]->t_s) / (drill[k + 1]->t_s - drill[k]->t_s);
+        x = x + (drill[k + 1]->pose.position - x) * a;
+      }
+      g.points.push_back({roundTenthMicron(x.x), roundTenthMicron(x.y), roundTenthMicron(x.z)});
+    }
+  }
+  g.source_hash = hex16(bytesHash(g.points.data(), g.points.size() * sizeof(Vec3)));
+  return g;
+}
+
 Result<GuidePath> loadGuidePath(const std::string& path, const GuideSettings& settings) {
   auto session = readSessionFile(path);
   if (!session) return session.error();

@@ -20,6 +20,7 @@
 
 #include "core/result.h"
 #include "core/rigid.h"
+#include "io/pen_path_file.h"
 #include "sim/pro_path.h"
 
 namespace dentsim {
@@ -54,6 +55,13 @@ struct GuidePath {
 // back to the same numbers.
 GuidePath guidePathFrom(const ProPath& pro, const GuideSettings& settings, const std::string& source,
                         const std::string& source_hash);
+// The drill's path of a scripted preparation (the task's professional, sim/course_paths.h), its
+// grip sampled every ProPath::kSampleEveryS (linearly between the script's samples), for the
+// tasks with no recorded session: the guide on every shipped task. `source` names it ("the task's
+// scripted professional"), the hash is the points' own (XXH3), the task and tooth are the caller's.
+// Empty points when the path has no drill sample.
+GuidePath guidePathFromScript(const PenPath& script, const GuideSettings& settings, const std::string& source,
+                              const std::string& task, const std::string& tooth_hash);
 // Reads `path` (a session file) into a guide: one line naming the file when it does not read.
 Result<GuidePath> loadGuidePath(const std::string& path, const GuideSettings& settings);
 

@@ -62,6 +62,41 @@ TEST(GuideSpring, SearchesOnlyItsWindowAhead) {
   EXPECT_EQ(guide.cursor(), 20u);
 }
 
+// A scripted professional (no session) as a guide: its drill's grip every 10 ms, linear between the
+// script's samples, the mirror's samples left out, and a hash that is the points' own.
+TEST(GuideSpring, AScriptedProfessionalBecomesAGuideAHundredPointsASecond) {
+  PenPath script;
+  auto add = [&](double t, PenRole pen, Vec3 p) {
+    PenSample s;
+    s.t_s = t;
+    s.pen = pen;
+    s.pose.position = p;
+    script.samples.push_back(s);
+  };
+  add(0.0, PenRole::Drill, {0, 0, 0});
+  add(0.0, PenRole::Mirror, {50, 50, 50});
+  add(0.1, PenRole::Drill, {1, 0, -2});
+  add(0.1, PenRole::Mirror, {60, 50, 50});
+  const GuidePath g = guidePathFromScript(script, GuideSettings{}, "the task's scripted professional", "class1_cavity", "abc");
+  ASSERT_EQ(g.points.size(), 11u);
+  for (size_t i = 0; i < g.points.size(); ++i) {
+    EXPECT_NEAR(g.points[i].x, 0.1 * double(i), 1e-7) << i;
+    EXPECT_NEAR(g.points[i].z, -0.2 * double(i), 1e-7) << i;
+  }
+  EXPECT_EQ(g.source_task, "class1_cavity");
+  EXPECT_EQ(g.source_hash.size(), 16u);
+  // Through the header's JSON and back: the same guide a replay rebuilds.
+  auto back = parseGuideJson(guideJson(g), "test");
+  ASSERT_TRUE(back.ok()) << back.message();
+  EXPECT_EQ(back->points.size(), g.points.size());
+  script.samples[2].pose.position.x = 2;
+  EXPECT_NE(guidePathFromScript(script, GuideSettings{}, "s", "t", "abc").source_hash, g.source_hash);
+  script.samples.erase(script.samples.begin());
+  script.samples.erase(script.samples.begin() + 1);
+  for (PenSample& s : script.samples) s.pen = PenRole::Mirror;
+  EXPECT_TRUE(guidePathFromScript(script, GuideSettings{}, "s", "t", "abc").points.empty());
+}
+
 TEST(GuideSpring, HeaderJsonReadsBackToTheSameGuide) {
   GuidePath g = straightGuide();
   g.start_index = 7;
