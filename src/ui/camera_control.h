@@ -6,6 +6,8 @@
 // the lock.
 #pragma once
 
+#include <span>
+
 #include "core/rigid.h"
 #include "render/camera.h"
 
@@ -25,8 +27,16 @@ class CameraControl {
   bool pan(double dx_px, double dy_px, int viewport_h);
   // Alt + wheel: each notch up moves 10 % closer.
   bool zoom(double notches);
-  // Keys 1 to 5: the preset's view of a tooth centred at `centre` with `radius_mm`.
-  bool showPreset(render::ViewPreset preset, const Vec3& centre, float radius_mm);
+  // Keys 1 to 5: the preset's view of a tooth centred at `centre` with `radius_mm`, turned off the
+  // preset where a tool would hide the tooth: when a point of `tools` (points along the tools where
+  // they stand [mm]) outside the tooth's sphere stands in front of its centre and over its middle
+  // on screen (within half its radius), the eye is
+  // lowered (or turned aside), 5 degrees at a time up to kMaxDodgeRad, to the first view clear of
+  // them all. The top view over an upright drill looked down the handpiece.
+  bool showPreset(render::ViewPreset preset, const Vec3& centre, float radius_mm, std::span<const Vec3> tools = {});
+  // Whether a point of `tools` hides the tooth from the camera as it is.
+  bool toolsHideTooth(const Vec3& centre, float radius_mm, std::span<const Vec3> tools) const;
+  static constexpr double kMaxDodgeRad = 0.7854;  // 45 degrees
 
   static constexpr double kOrbitRadPerPx = 0.008;  // [rad/px]
 

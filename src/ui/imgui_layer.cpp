@@ -34,6 +34,11 @@ struct ImGuiLayer::State {
   bool glfw_ready = false;
   bool vulkan_ready = false;
   bool in_frame = false;
+  // A scripted mouse for the next frame (app/scripted_input.h): where it is and whether its left
+  // button is down, over whatever the backend polled.
+  bool scripted = false;
+  float scripted_x = 0, scripted_y = 0;
+  bool scripted_down = false;
 
   State() = default;
   State(const State&) = delete;
@@ -149,6 +154,11 @@ void ImGuiLayer::newFrame(int width, int height, double dt_s) {
       io.MousePos.y *= float(height) / float(wh);
     }
   }
+  if (s_->scripted) {
+    io.MousePos = ImVec2(s_->scripted_x, s_->scripted_y);
+    io.MouseDown[0] = s_->scripted_down;
+    s_->scripted = false;
+  }
   io.DisplaySize = ImVec2(float(width), float(height));
   io.DisplayFramebufferScale = ImVec2(1.0f, 1.0f);
   io.DeltaTime = dt_s > 0.0 ? float(dt_s) : kDefaultDt;
@@ -162,6 +172,13 @@ void ImGuiLayer::render(VkCommandBuffer cmd) {
   ImGui::Render();
   ImGui_ImplVulkan_RenderDrawData(ImGui::GetDrawData(), cmd);
   s_->in_frame = false;
+}
+
+void ImGuiLayer::scriptMouse(float x, float y, bool left_down) {
+  s_->scripted = true;
+  s_->scripted_x = x;
+  s_->scripted_y = y;
+  s_->scripted_down = left_down;
 }
 
 void ImGuiLayer::discardFrame() {

@@ -60,6 +60,9 @@ class ImGuiLayer {
   // Ends the frame and records its draws into `cmd`, which must be inside the render pass given to
   // create(), at its subpass.
   void render(VkCommandBuffer cmd);
+  // The next newFrame sees the mouse at (x, y) framebuffer pixels with its left button down or up,
+  // whatever the window's own mouse does: a scripted click is one frame down, the next up.
+  void scriptMouse(float x, float y, bool left_down);
   // Ends the frame without drawing (a minimised window).
   void discardFrame();
 

@@ -87,8 +87,17 @@ void errorLine(const std::string& text) {
 }
 
 // A tooltip for the last item, disabled or not.
+namespace {
+std::string g_shown_tooltip;  // one ImGui context is drawn at a time, from one thread
+}  // namespace
+
 void tooltip(const char* text) {
-  if (ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) ImGui::SetTooltip("%s", text);
+  if (!ImGui::IsItemHovered(ImGuiHoveredFlags_AllowWhenDisabled)) return;
+  ImGui::SetTooltip("%s", text);
+  g_shown_tooltip = text;
 }
+
+const std::string& shownTooltip() { return g_shown_tooltip; }
+void clearShownTooltip() { g_shown_tooltip.clear(); }
 
 }  // namespace dentsim::ui::panel

@@ -108,5 +108,9 @@ void errorLine(const std::string& text);
 
 // A tooltip for the last item, disabled or not.
 void tooltip(const char* text);
+// The text of the tooltip shown this frame (the last one tooltip() opened), for the tests; empty
+// when none. drawParamPanel clears it at the start of each frame.
+const std::string& shownTooltip();
+void clearShownTooltip();
 
 }  // namespace dentsim::ui::panel

@@ -15,6 +15,7 @@
 #include <imgui.h>
 
 #include "model/tool_generator.h"
+#include "ui/controls_help.h"
 #include "ui/panel_widgets.h"
 #include "ui/review_panel.h"
 #include "ui/task_page.h"
@@ -218,6 +219,7 @@ void viewPage(const Frame& f) {
     f.actions.level_changed = true;
   }
   ImGui::EndDisabled();
+  if (s.run_state == RunState::Running) tooltip("Stop first: a new level rebuilds the tooth.");
   ImGui::Text("%d voxels per side", 1 << std::clamp(s.level, kMinLevel, kMaxLevel));
 }
 
@@ -230,6 +232,9 @@ void ghostSection(const Frame& f) {
   ImGui::BeginDisabled(!s.ghost_available);
   ImGui::Checkbox("show the ghost", &s.ghost_shown);
   f.record("ghost");
+  if (!s.ghost_available)
+    tooltip(s.ghost_source.empty() ? "No professional's session: the task has no recorded ideal and --ghost was not given."
+                                   : s.ghost_source.c_str());
   ImGui::TextUnformatted("follows");
   ImGui::SameLine();
   if (ImGui::RadioButton("task time", !s.ghost_nearest)) s.ghost_nearest = false;
@@ -266,25 +271,38 @@ void reductionSection(const Frame& f) {
 void runButtons(const Frame& f) {
   UiState& s = f.state;
   const bool running = s.run_state == RunState::Running;
+  // Each disabled button says why in its tooltip: a greyed-out Score with no reason was the first
+  // thing a student asked about.
   ImGui::BeginDisabled(running);
   f.actions.start |= ImGui::Button("Start");
   f.record("start");
   ImGui::EndDisabled();
+  tooltip(running ? "Already running: the bur cuts while the turbine turns. Stop ends this segment."
+                  : "Starts a segment: the loop runs and the tools move.");
   ImGui::SameLine();
   ImGui::BeginDisabled(!running);
   f.actions.stop |= ImGui::Button("Stop");
   f.record("stop");
   ImGui::EndDisabled();
+  tooltip(running ? "Ends this segment; then Score scores the cut." : "Nothing is running: Start first.");
   ImGui::SameLine();
   ImGui::BeginDisabled(running);
   f.actions.reset |= ImGui::Button("Reset");
   f.record("reset");
   ImGui::EndDisabled();
+  tooltip(running ? "Stop first: Reset puts the uncut tooth back." : "Puts the uncut tooth back and starts again.");
   ImGui::SameLine();
   ImGui::BeginDisabled(s.run_state != RunState::Stopped);
   f.actions.score |= ImGui::Button("Score");
   f.record("score");
   ImGui::EndDisabled();
+  tooltip(running ? "Press Stop first: a cut is scored once its segment has ended."
+          : s.run_state == RunState::Idle ? "Nothing to score yet: press Start and drill, then Stop."
+                                          : "Scores the cut against the professional's.");
+  ImGui::SameLine();
+  if (ImGui::Button(s.help.shown ? "Hide help" : "Help")) s.help.shown = !s.help.shown;
+  f.record("help");
+  tooltip("The controls for the pen in use, the task and the bur (F1).");
   ImGui::SameLine();
   ImGui::Text("(%s)", runStateName(s.run_state));
 }
@@ -315,6 +333,7 @@ void presetSection(const Frame& f) {
   if (ImGui::Button("Save")) f.actions.save_preset = s.save_name;
   f.record("save");
   ImGui::EndDisabled();
+  if (s.save_name.empty()) tooltip("Type a name in \"save as\" first.");
 }
 
 // The rest of SimParams, folded away: the coupling, the device, the cutting and the point shells.
@@ -462,6 +481,7 @@ PanelActions drawParamPanel(UiState& state, WidgetRects* rects) {
   PanelActions actions;
   const Frame f{state, actions, rects};
   const ImVec2 display = ImGui::GetIO().DisplaySize;
+  clearShownTooltip();
   turbineKeys(f);
 
   ImGui::SetNextWindowPos(ImVec2(std::max(0.0f, display.x - kPanelWidth - kMargin), kMargin), ImGuiCond_FirstUseEver);
@@ -483,6 +503,7 @@ PanelActions drawParamPanel(UiState& state, WidgetRects* rects) {
       page(f, "tissues", "Tissues", [&] { tissuesPage(f); });
       page(f, "tools", "Tools", [&] {
         burSection(f);
+        guidanceSection(f);
         soundSection(f);
       });
       page(
@@ -505,12 +526,14 @@ PanelActions drawParamPanel(UiState& state, WidgetRects* rects) {
     ImGui::Separator();
     ImGui::TextWrapped("%s", state.status.c_str());
   }
-  studentPrompt(f);  // the first run's name, over everything (review_panel.cpp)
   // Where the window is, collapsed or not: the scene centres itself in what the panel leaves free.
   const ImVec2 panel_pos = ImGui::GetWindowPos(), panel_size = ImGui::GetWindowSize();
   actions.panel_rect = {int(panel_pos.x), int(panel_pos.y), int(panel_size.x), int(panel_size.y)};
   ImGui::End();
 
+  controlsWindow(f);
+
+  studentPrompt(f);  // the first run's name, below the view (review_panel.cpp)
   // One picture window: the reduction map while the app shows it, else the score's picture.
   const ReductionMapView& map = state.reduction;
   const float free_right = std::min(display.x, panel_pos.x) - kMargin;
@@ -542,6 +565,7 @@ void drawOverlay(const UiState& state) {
     ImGui::Text("turbine  %7.0f rpm%s", state.turbine_speed * state.params.turbine.max_rpm,
                 state.pedal_present ? "" : " (keys)");
     forceGauge(state.force, kGaugeWidth);
+    drawGuidePull(state.guidance);
   }
   ImGui::End();
 }

@@ -75,6 +75,32 @@ struct ReductionMapView {
   int image_height = 0;
 };
 
+// The controls overlay (ui/controls_help.h): what the student is told about the pen in use, the
+// task and the bur, on first use and from the Help button or F1.
+enum class DrillInput { Mouse, HapticPen, Script };
+struct ControlsHelp {
+  bool shown = false;            // on screen; the app sets it on first use, the panel's buttons and F1 toggle it
+  DrillInput input = DrillInput::Mouse;  // set by the app: what moves the drill
+  std::string device;            // set by the app: the drill's pen as the student knows it ("Touch (OpenHaptics)")
+  std::string bur;               // set by the app: the bur on the drill, and what it is ("round_bur_010: round, 1.0 mm")
+  bool bring_available = false;  // set by the app: the task has a professional's path for "bring to tooth"
+};
+
+// Haptic guidance on the panel (Tools page) and its pull on the overlay. A session records its
+// guide in its header, so the switch and the stiffness apply from the next segment on (Start or
+// Reset), never to the running one: a guided session replays to the same forces.
+struct GuidanceView {
+  bool available = false;        // set by the app: a professional's path to follow (--guide, else the task's ideal)
+  std::string source;            // set by the app: that path's session, or why there is none
+  bool on = false;               // the switch
+  double stiffness_n_per_mm = 1.0;  // the slider [N/mm]
+  bool active = false;           // set by the app: the running segment is guided
+  double pull_n = 0.0;           // set by the app: the guide's force this frame [N]
+  double max_n = 2.0;            // set by the app: the guide's cap [N]
+  float tip_px[2] = {0, 0};      // set by the app: the bur's tip on screen [px]
+  float pull_px[2] = {0, 0};     // set by the app: the pull's direction on screen, unit (0, 0: along the view)
+};
+
 // Measured by the app each frame; shown by drawOverlay.
 struct OverlayStats {
   double frame_ms = 0.0;        // last frame's CPU time [ms]
@@ -138,6 +164,8 @@ struct UiState {
   ReductionMapView reduction;              // the crown preparation's live reduction map
   StudentView student;                     // the student named, or the first-run prompt (ui/review_panel.h)
   ReviewView review;                       // the Score page's review: replay, ghost, guided retry, last attempts
+  ControlsHelp help;                       // the controls overlay
+  GuidanceView guidance;                   // haptic guidance's switch, slider and pull
 };
 
 // ---- 2. actions --------------------------------------------------------------------------------------
@@ -154,10 +182,14 @@ struct PanelActions {
   bool record_ideal = false;         // teacher mode: make the current segment the task's ideal
   bool sound_changed = false;        // UiState::sound volume or mute
   bool start = false, stop = false, reset = false, score = false;
+  bool help_closed = false;          // the student closed the controls overlay ("Got it"): not shown on its own again
+  bool bring_to_tooth = false;       // the overlay's "Bring the bur to the tooth" (as the B key)
+  bool guidance_changed = false;     // UiState::guidance on or stiffness: applies from the next segment
   std::string load_preset;           // a preset to load; empty: none
   std::string save_preset;           // save params under this name; empty: none
   PixelRect score_image_rect;        // where the renderer draws the score's picture or the reduction map; empty: nowhere
   PixelRect panel_rect;              // where the "Parameters" window is this frame
+  PixelRect help_rect;               // where the "Controls" window is this frame; empty: not shown
   ReviewActions review;              // the Score page's review buttons and the name prompt (ui/review_state.h)
 };
 
@@ -170,7 +202,8 @@ struct PanelActions {
 // "bur.cutting_ability", "turbine.speed", "turbine.max_rpm", "view.normal_neighbours.<8|64|216>",
 // "level", "tooth", "tooth_path", "open_tooth", "task", "teacher", "record_ideal", "start", "stop",
 // "reset", "score", "preset", "load", "save_name", "save", "ghost", "ghost.follow.<time|nearest>",
-// "ghost.opacity", "reduction_map", the pages' tabs "page.<task|tissues|tools|
+// "ghost.opacity", "reduction_map", "help" (the run buttons' Help), "help.close", "help.bring", "guidance",
+// "guidance.stiffness", the pages' tabs "page.<task|tissues|tools|
 // view|presets|score>", the advanced section's header "section.advanced", the pickers' open lists'
 // entries "tooth.item.<i>" and "task.item.<i>", and beside each slider its value, "value.<the
 // slider's key>".

@@ -44,6 +44,12 @@ void PenInput::wheel(float steps) {
   moveActive(pose);
 }
 
+void PenInput::alongTool(double mm) {
+  Pose pose = targets_[size_t(active_)];
+  pose.position += pose.rotation.rotate(Vec3{0, 0, 1}) * mm;
+  moveActive(pose);
+}
+
 void PenInput::rotate(double dyaw_rad, double dpitch_rad) {
   const render::CameraBasis b = camera_.basis();
   Pose pose = targets_[size_t(active_)];

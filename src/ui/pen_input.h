@@ -17,6 +17,7 @@ using devices::VirtualPen;
 struct PenInputParams {
   double wheel_mm_per_step = 0.5;     // pen travel along the view direction per wheel step [mm]
   double pedal_per_step = 0.05;       // pedal change per wheel step (with the modifier) [0..1]
+  double key_lift_mm = 0.1;           // travel along the tool's axis per lift or lower key press [mm]
 };
 
 // Turns window events into pen targets. GLFW-free: the window calls these from its callbacks. Both
@@ -37,6 +38,9 @@ class PenInput {
   void drag(float dpx, float dpy);
   // Moves the active pen along the view direction: positive steps push it away from the viewer.
   void wheel(float steps);
+  // Lifts (mm > 0) or lowers (mm < 0) the active tool along its own axis (the grip frame's +z,
+  // away from the bur's tip), whatever the view: the keys that bring a bur down onto the tooth.
+  void alongTool(double mm);
   // Tilts the active tool about its grip point: dyaw about the camera's up, dpitch about its right [rad].
   void rotate(double dyaw_rad, double dpitch_rad);
   // The drill's pedal (the mirror has none), clamped to [0, 1].
@@ -49,6 +53,7 @@ class PenInput {
   void reset(PenRole role, const Pose& pose);
 
   const Pose& target(PenRole role) const { return targets_[size_t(role)]; }
+  const PenInputParams& params() const { return params_; }
 
  private:
   VirtualPen* pen(PenRole role) const { return pens_[size_t(role)]; }

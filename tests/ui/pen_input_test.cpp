@@ -110,6 +110,22 @@ TEST(PenInput, RotateTiltsTheToolAboutItsGrip) {
   expectNear(drill.target().position, grip, 0.0);
 }
 
+TEST(PenInput, LiftAndLowerKeysMoveAlongTheToolsOwnAxisWhateverTheView) {
+  const render::OrbitCamera cam = buccalCamera();  // looking along +y: the wheel would move along y
+  const Vec3 grip{2.0, -1.0, 5.0};
+  const Quat tilt = Quat::fromAxisAngle({1, 0, 0}, 0.5);
+  VirtualPen drill(Pose{grip, tilt});
+  PenInput input(cam, &drill, nullptr);
+  const double step = input.params().key_lift_mm;
+  EXPECT_DOUBLE_EQ(step, 0.1);
+  for (int i = 0; i < 3; ++i) input.alongTool(-step);  // three presses of the lower key
+  // Down the tool's own axis, (0, -sin 0.5, cos 0.5) for a turn of 0.5 rad about x, by 0.3 mm.
+  expectNear(drill.target().position, grip - Vec3{0.0, -std::sin(0.5), std::cos(0.5)} * 0.3, 1e-12);
+  EXPECT_EQ(drill.target().rotation, tilt);
+  input.alongTool(step);  // and one lift
+  expectNear(drill.target().position, grip - Vec3{0.0, -std::sin(0.5), std::cos(0.5)} * 0.2, 1e-12);
+}
+
 TEST(PenInput, SwitchingPensLeavesTheOtherWhereItWas) {
   const render::OrbitCamera cam = buccalCamera();
   const Pose drill_start{{1, 2, 3}, Quat{}}, mirror_start{{-4, -2, 6}, Quat::fromAxisAngle({0, 1, 0}, 1.0)};
