@@ -1,8 +1,9 @@
-// The learning records' outbox: statements appended in order (earlier bytes never rewritten, a torn line costing only itself), each id once, a sent log that turns them from pending to sent, bad lines named and set aside, and one sender at a time.
+// The learning records' outbox: statements appended in order (earlier bytes never rewritten, a torn line costing only itself), each id once, a sent log that turns them from pending to sent, bad lines named and set aside, the LRS's refusals kept as data, and one sender at a time.
 #include <gtest/gtest.h>
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -173,6 +174,27 @@ TEST(XapiOutbox, OneSenderAtATimeHoldsTheSendersLock) {
   // Released with its holder (as it is when a sender is killed): the next one gets it.
   OutboxSenderLock next(outbox, false);
   EXPECT_TRUE(next.held());
+}
+
+// What an LRS said in refusing a statement is its text, kept byte for byte: a newline, an ESC or a
+// printf directive in it stays inside its JSON string, one line a refusal, and the latest per id wins.
+TEST(XapiOutbox, RefusalsAreKeptAsDataOneLineEachTheLatestWinning) {
+  test::TempDir dir;
+  const std::string outbox = dir.file("outbox.jsonl");
+  EXPECT_TRUE(readRefusals(outbox)->empty());
+  const std::string odd = "line one\nline two %s%n \x1b[2J";
+  ASSERT_TRUE(recordRefusal(outbox, "a", Refusal{400, "first"}).ok());
+  ASSERT_TRUE(recordRefusal(outbox, "b", Refusal{400, "other"}).ok());
+  ASSERT_TRUE(recordRefusal(outbox, "a", Refusal{400, odd}).ok());
+  std::ofstream(refusalLogPath(outbox), std::ios::app) << "{\"id\": \"c\", torn";  // a crash mid-write
+  const std::string text = readText(refusalLogPath(outbox));
+  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 3);  // three whole lines and the torn one
+  auto refusals = readRefusals(outbox);
+  ASSERT_TRUE(refusals.ok()) << refusals.message();
+  ASSERT_EQ(refusals->size(), 2u);
+  EXPECT_EQ(refusals->at("a").reason, odd);
+  EXPECT_EQ(refusals->at("a").http_status, 400);
+  EXPECT_EQ(refusals->at("b").reason, "other");
 }
 
 }  // namespace
