@@ -80,6 +80,11 @@ ReplayPanelActions drawReplayPanel(ReplayPanelState& s) {
   a.panel_rect = rectOf(ImGui::GetWindowPos(), ImVec2(ImGui::GetWindowPos().x + ImGui::GetWindowSize().x,
                                                       ImGui::GetWindowPos().y + ImGui::GetWindowSize().y));
 
+  // Back to the run, first, where a student reviewing an attempt looks for the way out.
+  if (s.back_shown) {
+    if (ImGui::Button("Back to the score")) a.back = true;
+    ImGui::SameLine(0.0f, 16.0f);
+  }
   // The transport: Play/Pause (Space), the speeds, the clock.
   if (ImGui::Button(s.playing ? "Pause" : "Play", ImVec2(64.0f, 0.0f))) a.toggle_play = true;
   if (!ImGui::GetIO().WantTextInput && ImGui::IsKeyPressed(ImGui::GetKeyIndex(ImGuiKey_Space), false))

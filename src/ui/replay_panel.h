@@ -47,12 +47,14 @@ struct ReplayPanelState {
   int columns_width = 0;
   float strip_top_n = 0.0f;         // the strip's full scale [N]
   std::optional<double> drag_s;     // where the playhead is being dragged [s]
+  bool back_shown = false;          // a Back button: the replay is a review inside `dentsim run`
 };
 
 struct ReplayPanelActions {
   bool toggle_play = false;         // the Play/Pause button or Space
   bool speed_changed = false;       // state.speed_index changed
   std::optional<double> seek_s;     // the playhead was dragged (and let go) or stepped here [s]
+  bool back = false;                // Back: the review ends, the run goes on
   std::optional<double> hover_s;    // where the pointer is over the strip [s]
   PixelRect panel_rect;             // the window, for the scene to keep clear of
   PixelRect strip_rect;             // the force strip

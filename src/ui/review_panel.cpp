@@ -142,36 +142,36 @@ void reviewSection(const Frame& f) {
 
 void studentPrompt(const Frame& f) {
   StudentView& s = f.state.student;
-  constexpr const char* kTitle = "Who is drilling?";
   if (!s.ask) return;
-  if (!ImGui::IsPopupOpen(kTitle)) ImGui::OpenPopup(kTitle);
+  // Not modal, and it takes no keyboard until clicked: the keys and the mouse still drill, so a
+  // student who ignores it loses nothing but the record. At the bottom of the view, where nothing
+  // else is drawn, beside the panel.
   const ImVec2 display = ImGui::GetIO().DisplaySize;
-  ImGui::SetNextWindowPos(ImVec2(display.x * 0.5f, display.y * 0.4f), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
-  const ImGuiWindowFlags flags = ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoMove;
-  if (!ImGui::BeginPopupModal(kTitle, nullptr, flags)) return;
-  ImGui::TextUnformatted("Your student number or login, so that your attempts are kept as yours:");
-  // A fixed buffer: Debian's libimgui has no std::string InputText.
-  char buf[kMaxStudentIdBytes + 1] = {};
-  s.typed.copy(buf, sizeof buf - 1);
-  ImGui::SetNextItemWidth(320.0f);
-  if (ImGui::IsWindowAppearing()) ImGui::SetKeyboardFocusHere();
-  const bool enter = ImGui::InputText("##student", buf, sizeof buf, ImGuiInputTextFlags_EnterReturnsTrue);
-  s.typed = buf;
-  f.record("student.name");
-  ImGui::BeginDisabled(s.typed.empty());
-  const bool ok = ImGui::Button("Start");
-  f.record("student.ok");
-  ImGui::EndDisabled();
-  if ((ok || enter) && !s.typed.empty()) {
-    f.actions.review.name_given = s.typed;
-    ImGui::CloseCurrentPopup();  // the app opens it again, with the reason, when the name is refused
+  ImGui::SetNextWindowPos(ImVec2(display.x * 0.5f - 190.0f, display.y - 10.0f), ImGuiCond_Always, ImVec2(0.5f, 1.0f));
+  const ImGuiWindowFlags flags = ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoSavedSettings |
+                                 ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoCollapse | ImGuiWindowFlags_NoFocusOnAppearing;
+  if (ImGui::Begin("Who is drilling?", nullptr, flags)) {
+    ImGui::TextUnformatted("Your student number or login, so that your attempts are kept as yours:");
+    // A fixed buffer: Debian's libimgui has no std::string InputText.
+    char buf[kMaxStudentIdBytes + 1] = {};
+    s.typed.copy(buf, sizeof buf - 1);
+    ImGui::SetNextItemWidth(260.0f);
+    const bool enter = ImGui::InputText("##student", buf, sizeof buf, ImGuiInputTextFlags_EnterReturnsTrue);
+    s.typed = buf;
+    f.record("student.name");
+    ImGui::SameLine();
+    ImGui::BeginDisabled(s.typed.empty());
+    const bool ok = ImGui::Button("Keep");
+    f.record("student.ok");
+    ImGui::EndDisabled();
+    if ((ok || enter) && !s.typed.empty()) f.actions.review.name_given = s.typed;
+    errorLine(s.error);
+    if (!s.where.empty()) {
+      const std::string where = "kept for the next runs in " + s.where;
+      ImGui::TextDisabled("%s", where.c_str());
+    }
   }
-  errorLine(s.error);
-  if (!s.where.empty()) {
-    const std::string where = "kept for the next run in " + s.where;
-    ImGui::TextDisabled("%s", where.c_str());
-  }
-  ImGui::EndPopup();
+  ImGui::End();
 }
 
 }  // namespace dentsim::ui::panel

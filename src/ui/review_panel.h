@@ -35,8 +35,8 @@ namespace dentsim::ui::panel {
 // The review buttons, each disabled with its reason as a tooltip, then the comparison table.
 void reviewSection(const Frame& f);
 
-// The modal that asks a student's name on the first run (UiState::student.ask); the name goes out
-// as PanelActions::review.name_given.
+// The small window that asks a student's name on the first run (UiState::student.ask), below the
+// view; the name goes out as PanelActions::review.name_given.
 void studentPrompt(const Frame& f);
 
 }  // namespace dentsim::ui::panel
