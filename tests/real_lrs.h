@@ -34,16 +34,21 @@ class RealLrs {
     if (!missing().empty()) return;
     std::filesystem::create_directories(folder_);
     const std::string ready = folder_ + "/ready";
-    port_ = freePort();
-    // In its own folder, where it keeps its access log; it watches this test's pid and ends with it.
-    const auto r = runCommand("cd '" + folder_ + "' && node " + (tools / "run_lrs.js").string() + " " + std::to_string(port_) + " '" +
-                              username + "' '" + password + "' " + std::to_string(::getpid()) + " " + ready +
-                              " >lrs.out 2>&1 & echo $!");
-    pid_ = std::atoi(r.output.c_str());
-    // Node's start takes about half a second; a loaded machine can stretch it: up to 60 s, which
-    // only an LRS that never comes up waits out.
-    for (int i = 0; i < 1200 && !std::filesystem::exists(ready); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    up_ = std::filesystem::exists(ready);
+    // A port free a moment ago may be taken by the time node binds it (a test beside this one):
+    // the server then exits at once, and another port is tried.
+    for (int attempt = 0; attempt < 3 && !up_; ++attempt) {
+      port_ = freePort();
+      // In its own folder, where it keeps its access log; `exec`, so that the pid is node's own.
+      // It watches this test's pid and ends with it.
+      const auto r = runCommand("(cd '" + folder_ + "' && exec node " + (tools / "run_lrs.js").string() + " " + std::to_string(port_) +
+                                " '" + username + "' '" + password + "' " + std::to_string(::getpid()) + " " + ready +
+                                ") >>'" + folder_ + "/lrs.out' 2>&1 & echo $!");
+      pid_ = std::atoi(r.output.c_str());
+      // Node's start takes about half a second; a loaded machine can stretch it: up to 60 s, which
+      // only an LRS that never comes up waits out.
+      for (int i = 0; i < 1200 && !std::filesystem::exists(ready) && alive(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+      up_ = std::filesystem::exists(ready);
+    }
   }
   ~RealLrs() {
     if (pid_ > 0) ::kill(pid_, SIGTERM);
@@ -95,6 +100,15 @@ class RealLrs {
   }
 
  private:
+  // Whether the server process is still there (a zombie reaped by no one counts as gone).
+  bool alive() const {
+    if (pid_ <= 0 || ::kill(pid_, 0) != 0) return false;
+    std::ifstream stat("/proc/" + std::to_string(pid_) + "/stat");
+    std::string pid, name, state;
+    stat >> pid >> name >> state;
+    return state != "Z";
+  }
+
   int countLines(const std::string& method, const std::string& path, int status) const {
     int n = 0;
     std::error_code ec;
