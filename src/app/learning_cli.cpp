@@ -194,6 +194,12 @@ Status stampStatementId(const LearningCliOptions& o, const Task& task, nlohmann:
   return Ok{};
 }
 
+Result<LearnerSettings> learnerSettings(const LearningCliOptions& o) {
+  auto settings = resolveSettings(o);
+  if (!settings) return settings.error();
+  return LearnerSettings{settings->learner, settings->outbox, o.config.empty() ? defaultLearningConfigPath() : o.config};
+}
+
 Status checkLearningOptions(const LearningCliOptions& o) {
   auto settings = resolveSettings(o);
   if (!settings) return settings.error();

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/result.h"
+#include "eval/learning_record.h"
 #include "eval/task.h"
 #include "io/lrs_client.h"
 
@@ -58,6 +59,17 @@ void recordAttemptOrWarn(const LearningCliOptions& o, const Task& task, nlohmann
 // The same for a hook that hands a report it may not change: recorded, and the report not stamped.
 void recordAttemptOrWarn(const LearningCliOptions& o, const Task& task, const nlohmann::ordered_json& report,
                          const std::string& session_file, const std::string& final_file);
+
+// Who the records are for and where they are kept, resolved as recordAttempt resolves them (the
+// flags, then the config file, then the defaults), for the simulator's student start: the task
+// picker's attempts and the Score page's last attempts (eval/student_records.h). `config_path` is
+// the config file read (or that would be read): a name typed at the first-run prompt is kept there.
+struct LearnerSettings {
+  LearnerContext learner;    // student (empty: none named), course id, activity base
+  std::string outbox;        // the outbox file
+  std::string config_path;   // --config, else $DENTSIM_CONFIG, else the default place
+};
+Result<LearnerSettings> learnerSettings(const LearningCliOptions& o);
 
 // The school's LRS as `report --lrs` reads it: the endpoint with the credentials sending uses (the
 // config file's, or DENTSIM_LRS_USERNAME/PASSWORD; never the command line), and the activity IRI of

@@ -96,14 +96,17 @@ void compareTable(const Frame& f) {
   const std::vector<CompareRow> rows = compareRows(*r.now, r.before);
   const int columns = 3 + int(r.before.size());
   if (!ImGui::BeginTable("review.compare", columns, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingFixedFit)) return;
-  ImGui::TableSetupColumn("part");
+  // Widths given, not measured: a table measures its columns a frame late, and a screenshot of the
+  // frame a score first shows would catch it at one character wide.
+  const float number = ImGui::CalcTextSize("-100.0").x + 8.0f;
+  ImGui::TableSetupColumn("part", ImGuiTableColumnFlags_WidthFixed, ImGui::CalcTextSize("pulp_exposure").x + 8.0f);
   for (size_t i = 0; i < r.before.size(); ++i) {
     // Counted back from this attempt: "-1" is the one just before it.
     const std::string head = std::to_string(-int(r.before.size() - i));
-    ImGui::TableSetupColumn(head.c_str());
+    ImGui::TableSetupColumn(head.c_str(), ImGuiTableColumnFlags_WidthFixed, number);
   }
-  ImGui::TableSetupColumn("now");
-  ImGui::TableSetupColumn("change");
+  ImGui::TableSetupColumn("now", ImGuiTableColumnFlags_WidthFixed, number);
+  ImGui::TableSetupColumn("change", ImGuiTableColumnFlags_WidthFixed, number);
   ImGui::TableHeadersRow();
   for (const CompareRow& row : rows) {
     ImGui::TableNextRow();
