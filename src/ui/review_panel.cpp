@@ -98,15 +98,16 @@ void compareTable(const Frame& f) {
   if (!ImGui::BeginTable("review.compare", columns, ImGuiTableFlags_RowBg | ImGuiTableFlags_SizingFixedFit)) return;
   // Widths given, not measured: a table measures its columns a frame late, and a screenshot of the
   // frame a score first shows would catch it at one character wide.
-  const float number = ImGui::CalcTextSize("-100.0").x + 8.0f;
-  ImGui::TableSetupColumn("part", ImGuiTableColumnFlags_WidthFixed, ImGui::CalcTextSize("pulp_exposure").x + 8.0f);
+  // Six columns in the panel's 380 px: a longer part name is cut, a number never.
+  const float number = ImGui::CalcTextSize("-100.0").x;
+  ImGui::TableSetupColumn("part", ImGuiTableColumnFlags_WidthFixed, ImGui::CalcTextSize("undercut_").x);
   for (size_t i = 0; i < r.before.size(); ++i) {
     // Counted back from this attempt: "-1" is the one just before it.
     const std::string head = std::to_string(-int(r.before.size() - i));
     ImGui::TableSetupColumn(head.c_str(), ImGuiTableColumnFlags_WidthFixed, number);
   }
   ImGui::TableSetupColumn("now", ImGuiTableColumnFlags_WidthFixed, number);
-  ImGui::TableSetupColumn("change", ImGuiTableColumnFlags_WidthFixed, number);
+  ImGui::TableSetupColumn("+/-", ImGuiTableColumnFlags_WidthFixed, number);
   ImGui::TableHeadersRow();
   for (const CompareRow& row : rows) {
     ImGui::TableNextRow();
