@@ -138,6 +138,12 @@ void addRunCommand(CLI::App& root, Action& action) {
       ->capture_default_str();
   cmd->add_option("--guide", o->guide,
                   "A professional's session (.dses): a spring pulls the drill toward its path (haptic guidance)");
+  cmd->add_option("--input", o->input,
+                  "Scripted window input T EVENT (repeatable): key:NAME, wheel:STEPS, drag:DX,DY or click:WIDGET "
+                  "at time T [s] (frames / fps in lockstep), through the same handlers as the mouse and keys (docs/SIMULATOR.md)");
+  cmd->add_option("--help-overlay", o->help, "The controls overlay at the start: auto (first use with the mouse), show or hide")
+      ->check(CLI::IsMember({"auto", "show", "hide"}))
+      ->capture_default_str();
   cmd->add_option("--guide-stiffness", o->guide_settings.stiffness_n_per_mm, "The guide's spring [N/mm]")
       ->check(finiteIn(0.01, 10.0, "N/mm"))
       ->capture_default_str();
@@ -187,9 +193,19 @@ void addRunCommand(CLI::App& root, Action& action) {
   cmd->add_flag("--reduction-map", o->reduction_map,
                 "A crown task: show the reduction map from the start (the View page's switch): the prepared surface "
                 "green within the task's band, blue where more must come off, red where too much did");
+  cmd->add_option("--after-score-click", o->review.presses,
+                  "After the score shows, click these panel widgets in turn, each once it is on screen (review.replay, "
+                  "review.ghost, review.guided; tests and demonstrations); repeatable")
+      ->check([](const std::string& w) { return w.empty() ? std::string("an empty widget key") : std::string(); });
+  cmd->add_option("--review-shot", o->review.shots_s,
+                  "A review's replay writes a screenshot at this replay time into <out>/review-N/ [s]; repeatable")
+      ->check(finiteIn(0.0, kMaxLoopTimeS, "s"));
   // --course is the folder the pickers list, so the learning records' course id is --course-id here.
   addLearningOptions(cmd, *learning, "--course-id");
   cmd->callback([o, learning, output, cmd, &action] {
+    // A student's start: a course named, no task: the course's first task, the student's records,
+    // and the name asked for when none is known (docs/SIMULATOR.md, "A student's start").
+    const bool student_start = cmd->count("--course") > 0 && cmd->count("--task") == 0;
     o->out = output->out;
     o->shots.shots_s = output->shots_s;
     if (cmd->count("--course") == 0) {
@@ -201,10 +217,20 @@ void addRunCommand(CLI::App& root, Action& action) {
     if (o->record_ideal_at_end && !o->teacher) throw CLI::ValidationError("--record-ideal-at-end", "needs --teacher");
     Status usable = checkOutputOptions(*output, *cmd);
     if (usable) usable = checkRunOptions(*o, *cmd);
-    action = [o, learning, output, usable] {
+    action = [o, learning, output, usable, student_start] {
       if (!usable) return fail(usable.message());
+      if (student_start)
+        if (const std::string first = ui::firstCourseTask(ui::listCourse(o->course)); !first.empty()) o->task = first;
       if (Status st = checkRunFiles(*o, output->overwrite); !st) return fail(st.message());
       if (Status st = checkLearningOptions(*learning); !st) return fail(st.message());
+      if (auto learner = learnerSettings(*learning)) {
+        o->student.id = learner->learner.student;
+        o->student.outbox = learner->outbox;
+        o->student.course_id = learner->learner.course;
+        o->student.activity_base = learner->learner.activity_base;
+        o->student.config_path = learner->config_path;
+        o->student.student_start = student_start;
+      }
       o->on_scored = [learning](const Task& task, nlohmann::ordered_json& report, const std::string& session,
                                 const std::string& final_file) { recordAttemptOrWarn(*learning, task, report, session, final_file); };
       auto r = runSimulator(*o);

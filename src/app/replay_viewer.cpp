@@ -7,11 +7,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "app/commands.h"
 #include "app/first_view.h"
 #include "app/frame_painter.h"
+#include "app/ghost.h"
 #include "app/screenshots.h"
 #include "app/window_input.h"
 #include "io/png_file.h"
@@ -42,7 +44,7 @@ class ReplayViewer {
         o_(options),
         box_(firstViewBox(tooth.voxels, tooth.frame)),
         shots_(options.out.empty() ? std::vector<double>{} : options.shots_s, 0.0),
-        input_(camera_, box_, WindowInput::Hooks{[](double) {}, [this] { quit_ = true; }}) {}
+        input_(camera_, box_, WindowInput::Hooks{[](double) {}, [this] { quit_ = true; }, {}, {}}) {}
 
   Result<int> run(bool outputs_pending);
 
@@ -66,7 +68,9 @@ class ReplayViewer {
   WindowInput input_;
   EditChannel edits_;
   std::unique_ptr<ReplayCursor> cursor_;
-  std::unique_ptr<FramePainter> painter_;
+  std::unique_ptr<FramePainter> own_painter_;  // the replay's own window; none inside a run (o_.host)
+  FramePainter* painter_ = nullptr;   // the one drawn with: its own, or the host run's
+  std::optional<GhostDriver> ghost_;  // the professional beside the replay (o_.ghost)
   ToothVolume window_tooth_;          // the window's copy of the tooth, fed by the edit channel
   std::vector<uint64_t> batch_;
   std::vector<BrickCoord> dirty_;     // bricks to re-mesh before the next frame is drawn
@@ -102,15 +106,31 @@ Status ReplayViewer::setUp() {
   first.mirror = !session_.info.mirror_tool.empty();
   placeFirstView(camera_, box_, first);
 
-  PainterOptions po;
-  po.width = o_.width;
-  po.height = o_.height;
-  po.device = o_.device;
-  auto painter = FramePainter::create(po, [this](ui::Window& w) { input_.attach(w); });
-  if (!painter) return painter.error();
-  painter_ = std::move(*painter);
-  input_.setPanel(painter_->panel());
+  if (o_.host) {
+    // Inside a run: its window, and the view as the student left it (its mouse keeps steering it).
+    painter_ = o_.host->painter;
+    camera_ = *o_.host->camera;
+    panel_.back_shown = true;
+  } else {
+    PainterOptions po;
+    po.width = o_.width;
+    po.height = o_.height;
+    po.device = o_.device;
+    auto painter = FramePainter::create(po, [this](ui::Window& w) { input_.attach(w); });
+    if (!painter) return painter.error();
+    own_painter_ = std::move(*painter);
+    painter_ = own_painter_.get();
+    input_.setPanel(painter_->panel());
+  }
   if (Status st = painter_->surfaces().build(window_tooth_.voxels); !st) return st;
+  if (!o_.ghost.empty()) {
+    auto params = parseSimParams(session_.info.params_json, "session parameters");
+    const PointShellParams spacing = params ? params->point_shell : defaultSimParams().point_shell;
+    auto ghost = GhostDriver::load(o_.ghost, spacing, window_tooth_);
+    if (!ghost) return ghost.error();
+    for (const std::string& w : ghost->warnings()) warn(w);
+    ghost_ = std::move(*ghost);
+  }
 
   panel_.title = o_.title;
   panel_.playing = true;
@@ -132,7 +152,8 @@ void ReplayViewer::drainEdits() {
 
 void ReplayViewer::playUpTo(size_t target) {
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(kStepBudgetS));
-  while (cursor_->position() < target && Clock::now() < deadline) {
+  // In lockstep every frame plays all the way to its playhead: its picture never depends on the machine.
+  while (cursor_->position() < target && (o_.lockstep || Clock::now() < deadline)) {
     cursor_->stepTo(target, kStepChunk);
     drainEdits();
   }
@@ -171,14 +192,20 @@ void ReplayViewer::reachedEnd() {
 
 render::FrameState ReplayViewer::frameState(VkExtent2D extent) const {
   // The panel covers the bottom: the view's centre moves up into the rest of the window.
-  return sceneFrameState(camera_, extent, 0.0f, 0.5f * float(panel_rect_.height), cursor_->loop().latest(), scene_);
+  render::FrameState fs = sceneFrameState(camera_, extent, 0.0f, 0.5f * float(panel_rect_.height), cursor_->loop().latest(), scene_);
+  if (ghost_) poseGhost(*ghost_, o_.ghost_opacity, fs);
+  return fs;
 }
 
 Status ReplayViewer::frame() {
   ui::Window::pollEvents();
   if (painter_->window()->closeRequested()) quit_ = true;
+  if (o_.host) {
+    if (o_.host->quit && o_.host->quit()) quit_ = true;
+    camera_ = *o_.host->camera;  // the run's mouse and keys turn the view
+  }
   const Clock::time_point now = Clock::now();
-  const double dt = std::min(0.1, std::chrono::duration<double>(now - last_frame_).count());
+  const double dt = o_.lockstep ? 1.0 / o_.fps : std::min(0.1, std::chrono::duration<double>(now - last_frame_).count());
   last_frame_ = now;
 
   // The playhead moves with the wall clock, but never more than a quarter second of wall time ahead
@@ -188,6 +215,7 @@ Status ReplayViewer::frame() {
   if (panel_.playing && !seeking_)
     playhead_s_ = std::min({playhead_s_ + dt * speed, cursor_->time() + 0.25 * speed, cursor_->duration()});
   playUpTo(goal());
+  if (ghost_) ghost_->followTime(cursor_->time());  // the professional at the same task time
   if (o_.seek_at && !seek_done_ && cursor_->time() >= o_.seek_at->from_s - 1e-9) {
     seek_done_ = true;
     std::printf("seek from %s to %s\n", ui::replayClock(cursor_->time()).c_str(), ui::replayClock(o_.seek_at->to_s).c_str());
@@ -235,6 +263,7 @@ Status ReplayViewer::frame() {
     if (panel_.playing && cursor_->atEnd()) seek(0.0);  // Play at the end plays it again
   }
   if (actions.seek_s) seek(*actions.seek_s);
+  if (actions.back) quit_ = true;  // inside a run: back to it
   return Ok{};
 }
 
@@ -261,7 +290,10 @@ Result<int> ReplayViewer::run(bool outputs_pending) {
   if (!result) return result.error();
   // With validation on (DENTSIM_VALIDATION=1, as in the tests), any error fails the replay.
   if (Status st = painter_->context().validationStatus(); !st) return st.error();
-  if (!ended_) {
+  if (!ended_ && o_.host) {
+    std::printf("review: back to the run at %s of %s\n", ui::replayClock(cursor_->time()).c_str(),
+                ui::replayClock(cursor_->duration()).c_str());
+  } else if (!ended_) {
     std::printf("the window closed at %s of %s, before the end\n", ui::replayClock(cursor_->time()).c_str(),
                 ui::replayClock(cursor_->duration()).c_str());
     if (outputs_pending) return makeError(o_.title, "the window closed before the replay's end: its files were not written");

@@ -14,12 +14,21 @@
 #include <string>
 #include <vector>
 
+#include "app/frame_painter.h"
 #include "core/result.h"
 #include "io/session_file.h"
 #include "sim/session_run.h"
 #include "volume/brick_volume.h"
 
 namespace dentsim::app {
+
+// The run whose window a review replays in: its painter (window, device, surfaces: the run builds
+// its tooth's surfaces again afterwards), the camera its mouse steers, and whether it was asked to end.
+struct ReplayHost {
+  FramePainter* painter = nullptr;
+  const render::OrbitCamera* camera = nullptr;  // copied into the replay's view each frame
+  std::function<bool()> quit;                   // Escape or Ctrl-C in the run: the review ends too
+};
 
 struct ReplayViewerOptions {
   std::string title;               // the session's name, in the window's title and the panel
@@ -45,6 +54,17 @@ struct ReplayViewerOptions {
   // cut tooth (a copy: saving compacts a volume, and the replay's own stays as its loop needs it):
   // it writes the files and prints what headless prints, and returns the exit code.
   std::function<int(const ReplayOutcome& outcome, ToothVolume& final_tooth)> at_end;
+  // The review after a score (app/simulator_review.cpp): the replay runs inside `dentsim run`'s
+  // window instead of one of its own, the panel offers Back, and closing the window or Back returns.
+  const ReplayHost* host = nullptr;
+  // A professional's session (.dses) whose tools are drawn translucent beside the replay's, posed at
+  // the replay's loop time (the run's ghost, app/ghost.h); empty: none. Never in the replay's loop.
+  std::string ghost;
+  float ghost_opacity = 0.4f;      // [0, 1]
+  // The playhead moves 1/fps of loop time (times the speed) each frame and the steps play up to it
+  // whatever they take, so that a picture at a replay time is the same on any machine (the run's --lockstep).
+  bool lockstep = false;
+  double fps = 30.0;               // [frames/s]
 };
 
 // Opens the window and plays `session` on `tooth` (its starting volume; afterwards as the replay

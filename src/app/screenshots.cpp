@@ -102,6 +102,12 @@ Status writeShot(const std::string& stem_path, const RgbImage& image, const rend
     const PixelRect& r = facts.panel_rect;
     j["panel_rect"] = {r.x, r.y, r.width, r.height};
   }
+  if (facts.help_rect.width > 0) {
+    const PixelRect& r = facts.help_rect;
+    j["help_rect"] = {r.x, r.y, r.width, r.height};
+  }
+  j["drill_contact"] = facts.drill_contact;
+  if (facts.guide_pull_n >= 0.0) j["guide_pull_n"] = facts.guide_pull_n;
   return writeFileAtomic(stem_path + ".json", j.dump(2) + "\n");
 }
 

@@ -50,6 +50,9 @@ struct ShotFacts {
   bool view_fixed = false;           // the task's view: the mouse and keys cannot move the camera
   double tooth_top_mm = 0.0;         // the tissue box's top (the occlusal surface's height) [mm]
   PixelRect tooth_rect;              // the tissue box's projection on screen; empty: not computed
+  PixelRect help_rect;               // the controls overlay's window; empty: not shown
+  bool drill_contact = false;        // the bur touches tissue (the force gauge's CONTACT)
+  double guide_pull_n = -1.0;        // the guide's pull on the overlay [N]; < 0: the segment is not guided
 };
 
 // Writes STEM.png and STEM.json (the projected bur tip and shank, the ghost bur's too when shown, the

@@ -55,6 +55,8 @@ class InterruptGuard {
 Status Simulator::frame() {
   const auto t0 = Clock::now();
   readInput();
+  if (Status st = feedScriptedInput(); !st) return st;
+  clickAfterScore();
   const FramePlan plan = stepHaptics();
   drainEdits();
   if (Status st = updateSurfaces(plan); !st) return st;
@@ -65,6 +67,7 @@ Status Simulator::frame() {
     state_.last_actions = actions;
     if (Status st = drawFrame(plan.due); !st) return st;
     if (Status st = handleActions(actions); !st) return st;
+    if (Status st = handleReview(actions.review); !st) return st;  // simulator_review.cpp
     timeFrame(t0, plan);
   }
   ++out_.frames;
@@ -136,6 +139,7 @@ void Simulator::showReadouts(const HapticState& state) {
   ui_.force.force_n = norm(drill.display.force);
   ui_.force.contact = drill.contacts > 0;
   ui_.force.max_force_n = ui_.params.device.max_force_n;
+  showGuidePull(state, painter_->extent());
   if (ui_.pedal_present) ui_.turbine_speed = state.pedal;
   if (rack_.service(segments_.running())) end_.stopQuietly();
   sound_.update(camera_, ui_.sound.volume, ui_.sound.mute, state);
@@ -163,7 +167,9 @@ ui::PanelActions Simulator::drawPanel(const FramePlan& plan) {
     // brings a page forward only from the next frame on: such a frame is laid out once unseen,
     // so that the one shot a headless run takes of it shows it whole. Its actions are dropped.
     panel->newFrame(int(e.width), int(e.height), dt_s);
-    state_.panel_rect = ui::drawParamPanel(ui_).panel_rect;  // where the scene's shift comes from
+    const ui::PanelActions laid = ui::drawParamPanel(ui_);
+    state_.panel_rect = laid.panel_rect;  // where the scene's shift comes from
+    state_.help_rect = laid.help_rect;
     ui::drawOverlay(ui_);
     panel->discardFrame();
     state_.panel_relayout = false;
@@ -171,9 +177,10 @@ ui::PanelActions Simulator::drawPanel(const FramePlan& plan) {
   // The tooth as this frame draws it, beside the panel (which stays where it was last frame).
   ui_.keep_clear = toothRect(e);
   panel->newFrame(int(e.width), int(e.height), dt_s);
-  actions = ui::drawParamPanel(ui_);
+  actions = ui::drawParamPanel(ui_, inputs_.empty() && o_.review.presses.empty() ? nullptr : &rects_);
   ui::drawOverlay(ui_);
   state_.panel_rect = actions.panel_rect;
+  state_.help_rect = actions.help_rect;
   if (pens_ && painter_->windowed()) pens_->setViewport(int(std::max(1u, e.width)), int(std::max(1u, e.height)));
   return actions;
 }
@@ -220,7 +227,8 @@ Result<SimulatorOutcome> Simulator::run() {
   }
   const InterruptGuard interrupt;
   Status result = Ok{};
-  while (result && !end_.quit()) result = frame();
+  // Scripted clicks after the score hold a quiet end (--exit-at-end) until they are done.
+  while (result && (!end_.quit() || reviewHolds())) result = frame();
   if (Status st = finishRun(result); !st) return st.error();
   fillOutcome();
   return out_;

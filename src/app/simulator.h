@@ -57,6 +57,28 @@ struct SimGhostOptions {
   std::string follow = "time";          // "time": the pose at the student's task time; "nearest": nearest the student's bur
 };
 
+// The student at the simulator (docs/SIMULATOR.md, "A student's start"): whose learning records the
+// task picker and the Score page show, read from which outbox, and where a name typed at the
+// first-run prompt is kept. The commands fill it from app/learning_cli.h's learnerSettings.
+struct SimStudentOptions {
+  std::string id;                       // the student's account name; empty: nobody named
+  std::string outbox;                   // the learning records' outbox read for the records; empty: none shown
+  std::string course_id = "builtin";    // the records' course id
+  std::string activity_base;            // the activity IRIs' base; empty: eval/learning_record.h's default
+  std::string config_path;              // the learning config file, where the prompt keeps the name
+  // A student's start (a course named, no task): the course's tasks with the records on the
+  // terminal, and the window asks the name when nobody is named.
+  bool student_start = false;
+};
+
+// The review after a score, scripted (tests and demonstrations; docs/SIMULATOR.md, "After the score").
+struct SimReviewOptions {
+  // Panel buttons pressed in turn by their widget keys (ui/param_panel.h WidgetRects: "score",
+  // "review.replay", "review.ghost", ...): each is clicked through ImGui once it is on screen.
+  std::vector<std::string> presses;
+  std::vector<double> shots_s;          // screenshots of a review's replay at these replay times, in <out>/review-N/ [s]
+};
+
 struct SimulatorOptions {
   std::string tooth;                    // a tooth file (.dvol); empty: the task's tooth
   int level = 0;                        // octree level of the built-in molar; 0: the task's
@@ -75,6 +97,8 @@ struct SimulatorOptions {
   double wander_mm = 0.0;               // the script's drill wanders sideways this far (sim/novice_paths.h wanderingPath) [mm]
   std::string guide;                    // a professional's session whose path a spring pulls the drill toward; empty: none
   GuideSettings guide_settings;         // that spring (sim/guide_spring.h)
+  std::vector<std::pair<double, std::string>> input;  // --input: window events at loop times (app/scripted_input.h)
+  std::string help = "auto";            // --help-overlay: the controls overlay "auto" (first use with the mouse), "show" or "hide"
   bool demo_script = false;             // the task's scripted preparation (caries removal or class I), the mirror held distally
   std::string attempt = "expert";       // with demo_script: the careful one, or one with a fault (sim/novice_paths.h)
   SimFrameOptions frames;               // window or offscreen, size, device, detail
@@ -95,6 +119,8 @@ struct SimulatorOptions {
       on_scored;
   SimGhostOptions ghost;                // the professional's ghost
   bool reduction_map = false;           // a crown task's reduction map shown from the start (the View page's switch)
+  SimStudentOptions student;            // the student's records and the first-run prompt
+  SimReviewOptions review;              // the review's scripted presses and screenshots
 };
 
 struct SimulatorOutcome {

@@ -7,6 +7,7 @@ namespace dentsim::app {
 
 Status Simulator::handleActions(ui::PanelActions& a) {
   ui::applyPresetActions(a, *presets_, ui_);
+  handleHelpActions(a);
   PanelAsks asks;
   asks.params_changed = a.params_changed;
   asks.normal_mode_changed = a.normal_mode_changed;
@@ -101,6 +102,8 @@ Status Simulator::scoreNow() {
     if (state_.final_saved && score->report.contains("statement_id"))
       if (Status st = writeScoreReport(outPath("score.json"), score->report); !st) return st;
   }
+  // After the record is added: the review's buttons, and this attempt against the last ones.
+  prepareReview(cut.session_file, cut.no_session_reason, score->report);
   return Ok{};
 }
 

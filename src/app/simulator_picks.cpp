@@ -22,6 +22,7 @@ Status Simulator::restartOnNewTooth(const std::string& reason) {
   ui_.score = {};
   reductionMapNewTooth(true);
   state_.tooth_first_segment = segments_.count() + 1;
+  helpNewTooth();
   if (pens_) {
     pens_->reset(PenRole::Drill, drillStartGrip(model_.box, 3.0));
     if (model_.mirror_tool) pens_->reset(PenRole::Mirror, mirrorGrip(model_.box, render::fromGlm(camera_.eye())));
@@ -110,6 +111,7 @@ Status Simulator::recordIdeal() {
   // The task file now names its new ideal: read it again, so that Score uses it.
   if (auto task = builtinTask(model_.task_source); task) model_.task = std::move(*task);
   ui_.course = ui::listCourse(o_.course);  // the folder's files may have changed with it
+  showRecords();                           // and the student's attempts beside them
   ui_.ideal_status = "ideal recorded in " + record->task_file + ": " + record->session_file + ", " + record->final_file;
   note(ui_.ideal_status);
   return Ok{};

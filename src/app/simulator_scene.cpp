@@ -75,6 +75,9 @@ Status Simulator::drawFrame(const ShotSchedule::Due& due) {
     facts.view_fixed = input_.viewFixed();
     facts.tooth_top_mm = model_.box.hi.z;
     facts.tooth_rect = toothRect(painter_->extent());
+    if (painter_->panel()) facts.help_rect = state_.last_actions.help_rect;
+    facts.drill_contact = ui_.force.contact;
+    if (ui_.guidance.active) facts.guide_pull_n = ui_.guidance.pull_n;
     if (Status st = writeShot(outPath(due.shot_stem), **picture, camera_, drawn, facts); !st) return st;
     out_.written.push_back(outPath(due.shot_stem + ".png"));
   }

@@ -17,7 +17,7 @@ Status Simulator::startSegment() {
   s.idle_latency_us = o_.idle_latency_us;
   s.lockstep = lockstep_;
   s.out = o_.out;
-  s.guide = model_.guide ? &*model_.guide : nullptr;
+  s.guide = segmentGuide();  // the panel's switch: --guide's path or the task's professional
   s.guide_goes_on = state_.tooth_first_segment <= segments_.count();  // not the first segment on this tooth
   if (Status st = segments_.start(state_.cut, s, &out_.written); !st) return st;
   restartGhost();

@@ -9,6 +9,7 @@
 #include "app/tool_placement.h"
 #include "core/text_escape.h"
 #include "eval/cut_score.h"
+#include "model/tool_generator.h"
 #include "sim/course_paths.h"
 #include "sim/novice_paths.h"
 #include "sim/session_attempts.h"
@@ -98,6 +99,23 @@ Status Simulator::loadDrill() {
   return Ok{};
 }
 
+// The task's own preparation as the careful dentist does it (or with one fault): derived from the
+// professional's recorded session as `task validate` derives it (sim/session_attempts.h) for a
+// teacher's task, else the task's exercise (course_paths.h) with the bur this run holds.
+Result<PenPath> Simulator::taskAttemptScript(Attempt attempt) const {
+  if (model_.task->ideal && model_.task->ideal->kind == IdealKind::Session) {
+    auto session = readSessionFile(model_.task->ideal->path);
+    if (!session) return session.error();
+    const DerivedAttemptSettings derive = derivedSettingsFor(model_.task->force_error_n);
+    auto pro = professionalPath(*session, model_.task->ideal->path, derive);
+    if (!pro) return pro.error();
+    return derivedAttemptPath(*pro, attempt, model_.task->insertion_axis, model_.initial.frame.tooth, derive);
+  }
+  Exercise exercise = exerciseOf(*model_.task);
+  exercise.bur = model_.drill_name;
+  return taskAttemptPath(exercise, attempt, model_.initial.voxels, model_.initial.frame, model_.params);
+}
+
 // The pen path both pens play: the task's own preparation (as the careful dentist does it, or with
 // one fault) or a script file; a mirror it does not move is held still where the demo holds it.
 Status Simulator::setUpScript(const Pose& mirror_start) {
@@ -105,23 +123,9 @@ Status Simulator::setUpScript(const Pose& mirror_start) {
   if (o_.demo_script) {
     const std::optional<Attempt> attempt = parseAttempt(o_.attempt);
     if (!attempt) return makeError("--attempt", "\"" + o_.attempt + "\" is not one of " + attemptNames());
-    if (model_.task->ideal && model_.task->ideal->kind == IdealKind::Session) {
-      // A teacher's task: every attempt is derived from the professional's recorded session, as
-      // `task validate` derives it (sim/session_attempts.h).
-      auto session = readSessionFile(model_.task->ideal->path);
-      if (!session) return session.error();
-      const DerivedAttemptSettings derive = derivedSettingsFor(model_.task->force_error_n);
-      auto pro = professionalPath(*session, model_.task->ideal->path, derive);
-      if (!pro) return pro.error();
-      model_.script = derivedAttemptPath(*pro, *attempt, model_.task->insertion_axis, model_.initial.frame.tooth, derive);
-    } else {
-      // The task's own exercise (course_paths.h), with the bur this run holds.
-      Exercise exercise = exerciseOf(*model_.task);
-      exercise.bur = model_.drill_name;
-      auto path = taskAttemptPath(exercise, *attempt, model_.initial.voxels, model_.initial.frame, model_.params);
-      if (!path) return path.error();
-      model_.script = std::move(*path);
-    }
+    auto path = taskAttemptScript(*attempt);
+    if (!path) return path.error();
+    model_.script = std::move(*path);
   } else {
     auto path = loadPenPath(o_.pen_script);
     if (!path) return path.error();
@@ -152,6 +156,7 @@ Status Simulator::setUp() {
   ui_.sound.output = *sound;
   if (Status st = setUpPainter(); !st) return st;
   setUpPanel();
+  if (Status st = setUpHelp(); !st) return st;
   if (o_.teacher)
     if (Status st = recordingFolder(); !st) return st;
   if (!o_.out.empty()) {
@@ -229,6 +234,8 @@ Status Simulator::setUpPens() {
     if (model_.mirror_tool) pens_->reset(PenRole::Mirror, at.mirror_start);
   }
   input_.setPens(pens_.get());
+  const ToolSpec* mirror_spec = model_.mirror_tool ? findTool(model_.mirror_name) : nullptr;
+  input_.setMirrorDiameter(mirror_spec ? mirror_spec->head_diameter_mm : 0.0);
   return Ok{};
 }
 
@@ -282,6 +289,7 @@ void Simulator::setUpPanel() {
   ui_.pedal_present = model_.script.has_value() || rack_.hasPedal();
   ui_.presets = presets_->list();
   ui_.force.max_force_n = model_.params.device.max_force_n;
+  setUpStudent();  // the student's records in the picker, or the first-run prompt (simulator_review.cpp)
 }
 
 }  // namespace dentsim::app

@@ -20,6 +20,7 @@
 #include "app/reduction_map.h"
 #include "app/run_sound.h"
 #include "app/screenshots.h"
+#include "app/scripted_input.h"
 #include "app/segments.h"
 #include "app/sim_end_rules.h"
 #include "app/sim_panel_driver.h"
@@ -30,6 +31,7 @@
 #include "eval/task.h"
 #include "eval/task_tooth.h"
 #include "render/camera.h"
+#include "sim/novice_paths.h"
 #include "sim/surface_probe.h"
 #include "sim/tool_proxy.h"
 #include "ui/param_panel.h"
@@ -68,8 +70,19 @@ struct SimRunState {
   ui::PanelActions last_actions;     // the panel's last drawn frame (where the score picture goes)
   bool panel_relayout = true;        // the panel's next frame is laid out once unseen first (new tabs)
   PixelRect panel_rect;              // the parameter window [px]
+  PixelRect help_rect;               // the controls overlay [px]; empty: not shown
   bool final_saved = false;          // final.dvol and the score's files hold the tooth as it is now
   RgbImage score_picture;            // the last score's picture, shown again when the reduction map goes off
+};
+
+// The scored attempt the Score page's review replays, and the scripted clicks after a score.
+struct SimReviewState {
+  std::string session;               // the scored attempt's session; empty: none
+  std::string statement_id;          // its learning record's id: left out of "your last attempts"
+  int reviews = 0;                   // replays opened; their screenshots go to <out>/review-N
+  size_t next_click = 0;             // into SimReviewOptions::presses
+  std::string clicking;              // the widget pressed last frame, let go this one
+  int waited_frames = 0;             // frames the next click has waited for its widget
 };
 
 // What the run measured, for its outcome; nothing the run decides reads it.
@@ -103,7 +116,9 @@ class Simulator : private PanelTarget {
   using Clock = SimClock;
   explicit Simulator(const SimulatorOptions& o)
       : o_(o), rack_(o.devices, [this](const std::string& text) { note(text); }),
-        input_(camera_, model_.box, {[this](double speed) { ui_.turbine_speed = speed; }, [this] { end_.stopQuietly(); }}),
+        input_(camera_, model_.box,
+               {[this](double speed) { ui_.turbine_speed = speed; }, [this] { end_.stopQuietly(); },
+                [this] { bringToTooth(); }, [this] { ui_.help.shown = !ui_.help.shown; }}),
         shots_(o.shots.shots_s, o.shots.frame_every_s), end_(o.end, false, std::nullopt) {
     ui_.reduction.shown = o.reduction_map;
   }
@@ -121,6 +136,7 @@ class Simulator : private PanelTarget {
   // it starts; a fixed task view locks the mouse and keys out.
   Status placeCamera();
   Status setUpScript(const Pose& mirror_start);
+  Result<PenPath> taskAttemptScript(Attempt attempt) const;  // the task's scripted preparation, careful or with a fault
   Status setUpPens();
   Status setUpPainter();
   void setUpPanel();
@@ -157,8 +173,13 @@ class Simulator : private PanelTarget {
   Status drawFrame(const ShotSchedule::Due& due);
   // Where the tooth is on screen, for the score picture to stay off it; empty when it is behind the eye.
   PixelRect toothRect(VkExtent2D extent) const;
-  // Pixels the scene moves left so that its centre is the middle of what the panel leaves free.
-  int sceneShiftPx() const { return painter_->panel() ? state_.panel_rect.width / 2 : 0; }
+  // Pixels the scene moves left so that its centre is the middle of what the panel (and the controls
+  // overlay on the left, while it shows) leave free: the tooth is never behind the overlay.
+  int sceneShiftPx() const {
+    if (!painter_->panel()) return 0;
+    const int help_right = state_.help_rect.width > 0 ? state_.help_rect.x + state_.help_rect.width : 0;
+    return (state_.panel_rect.width - help_right) / 2;
+  }
 
   // ---- the panel's actions and the score (simulator_panel.cpp); drivePanel orders the calls
   Status handleActions(ui::PanelActions& actions);
@@ -216,6 +237,42 @@ class Simulator : private PanelTarget {
   std::optional<GhostDriver> ghost_;
   std::string ghost_failed_;                 // a source that did not load (not tried again)
   double ghost_t0_ = 0.0;                    // loop time at the segment's start [s]
+
+  // ---- the student's help (simulator_help.cpp): the controls overlay, bring to tooth, guidance, scripted input
+  Status setUpHelp();                        // --input read; the overlay's facts and first use; the guidance's source
+  Status feedScriptedInput();                // the --input events due at this frame's time
+  double secondsSinceStart() const;          // wall time since the run began [s]
+  // The left button pressed (down) or let go in the middle of the panel widget `widget`, through
+  // ImGui's next frame (scripted clicks: --input and --after-score-click); false when the widget
+  // was not on the panel last frame.
+  bool scriptClick(const std::string& widget, bool down);
+  void bringToTooth();                       // B: the drill just over the professional's first contact
+  void handleHelpActions(const ui::PanelActions& actions);  // Got it, the overlay's Bring, the guidance switch
+  const GuidePath* segmentGuide();           // the guide the next segment starts with; null: unguided
+  void showGuidePull(const HapticState& state, VkExtent2D extent);  // the overlay's arrow and bar
+  const PenPath* professionalPenPath();      // the task's professional path, built on first use; null: none
+  void helpNewTooth();                       // a new tooth or task: the professional's path and guide built again
+  std::vector<ScriptedInput> inputs_;
+  size_t next_input_ = 0;
+  std::string click_widget_;                 // a scripted click's widget, let go next frame
+  ui::WidgetRects rects_;                    // where the panel's widgets were last frame (scripted clicks)
+  std::optional<PenPath> pro_pen_;
+  bool pro_pen_tried_ = false;
+  std::optional<GuidePath> panel_guide_;     // the panel's guide, from --guide or the professional's path
+  bool panel_guide_tried_ = false;
+
+  // ---- the student and the review after a score (simulator_review.cpp): records read, never written here
+  void setUpStudent();                         // the student named or asked for, the picker's records
+  void showRecords();                          // the outbox read again: the picker's attempts, the Score page's last ones
+  // After a score: the review's buttons (or why each is off) and this attempt's parts.
+  void prepareReview(const std::string& session_file, const std::string& no_session_reason,
+                     const nlohmann::ordered_json& report);
+  Status handleReview(const ui::ReviewActions& a);  // the Score page's buttons and the prompt's name
+  Status reviewReplay(bool with_ghost);        // this attempt replayed in this window until Back
+  Status retryGuided();                        // the uncut tooth again, the guide's spring on
+  void clickAfterScore();                      // --after-score-click: the next widget clicked once it shows
+  bool reviewHolds() const;                    // scripted clicks still to come: the run waits for them
+  SimReviewState review_;
 
   // ---- the crown's reduction map (simulator_reduction.cpp): computed off this thread, never in the haptic loop
   Status refreshReductionMap(const FramePlan& plan);  // the switch read, a finished map shown, a new one started

@@ -2,6 +2,8 @@
 #include "app/tool_placement.h"
 
 #include <algorithm>
+#include <cmath>
+#include <numbers>
 
 #include "sim/tool_library.h"
 
@@ -30,6 +32,27 @@ Pose mirrorGrip(const TissueBox& box, const Vec3& eye) {
   p.rotation = Quat::fromAxes(x, y, z);
   p.position = face + p.rotation.rotate(kMirrorGripLocal);
   return p;
+}
+
+std::vector<Vec3> toolSightPoints(const Pose& drill_grip, const Pose* mirror_grip, double mirror_diameter_mm) {
+  std::vector<Vec3> points;
+  auto along = [&](const Pose& grip, const Vec3& end_local, double beyond) {
+    const Vec3 end = grip.position - grip.rotation.rotate(end_local);
+    const Vec3 past = grip.position + (grip.position - end) * beyond;
+    for (int i = 0; i <= 10; ++i) points.push_back(end + (past - end) * (i / 10.0));
+  };
+  along(drill_grip, kBurGripLocal, 0.3);
+  if (mirror_grip) {
+    along(*mirror_grip, kMirrorGripLocal, 0.0);
+    const Vec3 face = mirror_grip->position - mirror_grip->rotation.rotate(kMirrorGripLocal);
+    const Vec3 u = mirror_grip->rotation.rotate(Vec3{1, 0, 0}), v = mirror_grip->rotation.rotate(Vec3{0, 1, 0});
+    for (double ring : {0.5, 1.0})
+      for (int k = 0; k < 12; ++k) {
+        const double a = k * std::numbers::pi / 6.0, r = ring * 0.5 * mirror_diameter_mm;
+        points.push_back(face + u * (r * std::cos(a)) + v * (r * std::sin(a)));
+      }
+  }
+  return points;
 }
 
 void addStillMirror(PenPath& path, const Pose& grip) {

@@ -54,21 +54,39 @@ void WindowInput::onCursor(double x, double y) {
 }
 
 void WindowInput::onScroll(double, double dy) {
-  if (panel_ && panel_->wantsMouse()) return;
   if (!window_) return;
   GLFWwindow* w = window_->handle();
-  const bool ctrl = glfwGetKey(w, GLFW_KEY_LEFT_CONTROL) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_RIGHT_CONTROL) == GLFW_PRESS;
-  const bool alt = glfwGetKey(w, GLFW_KEY_LEFT_ALT) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_RIGHT_ALT) == GLFW_PRESS;
-  const bool shift = glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS || glfwGetKey(w, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
-  if (alt) {
+  auto held = [&](int a, int b) { return glfwGetKey(w, a) == GLFW_PRESS || glfwGetKey(w, b) == GLFW_PRESS; };
+  const int mods = (held(GLFW_KEY_LEFT_CONTROL, GLFW_KEY_RIGHT_CONTROL) ? GLFW_MOD_CONTROL : 0) |
+                   (held(GLFW_KEY_LEFT_ALT, GLFW_KEY_RIGHT_ALT) ? GLFW_MOD_ALT : 0) |
+                   (held(GLFW_KEY_LEFT_SHIFT, GLFW_KEY_RIGHT_SHIFT) ? GLFW_MOD_SHIFT : 0);
+  scroll(dy, mods);
+}
+
+void WindowInput::scroll(double dy, int mods) {
+  if (panel_ && panel_->wantsMouse()) return;
+  if (mods & GLFW_MOD_ALT) {
     control_.zoom(dy);
-  } else if (ctrl && pens_) {
+  } else if ((mods & GLFW_MOD_CONTROL) && pens_) {
     pens_->wheelPedal(float(dy));
     hooks_.turbine_speed(pens_->pedal());
   } else if (pens_) {
-    pens_->setActive(shift ? PenRole::Mirror : PenRole::Drill);
+    pens_->setActive((mods & GLFW_MOD_SHIFT) ? PenRole::Mirror : PenRole::Drill);
     pens_->wheel(float(dy));
   }
+}
+
+void WindowInput::dragBy(double dx, double dy, int mods) {
+  const double x = cursor_x_, y = cursor_y_;
+  onMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_PRESS, mods);
+  onCursor(x + dx, y + dy);
+  onMouseButton(GLFW_MOUSE_BUTTON_LEFT, GLFW_RELEASE, mods);
+}
+
+std::vector<Vec3> WindowInput::toolPoints() const {
+  if (!pens_) return {};
+  const Pose mirror = pens_->target(PenRole::Mirror);
+  return toolSightPoints(pens_->target(PenRole::Drill), mirror_diameter_mm_ > 0 ? &mirror : nullptr, mirror_diameter_mm_);
 }
 
 void WindowInput::onKey(int key, int action, int mods) {
@@ -76,7 +94,8 @@ void WindowInput::onKey(int key, int action, int mods) {
   if (panel_ && panel_->wantsKeyboard()) return;
   const Vec3 c = box_.centre();
   const float radius = float(0.5 * norm(box_.hi - box_.lo) * 1.25);
-  auto view = [&](render::ViewPreset p) { control_.showPreset(p, c, radius); };
+  const std::vector<Vec3> tools = toolPoints();
+  auto view = [&](render::ViewPreset p) { control_.showPreset(p, c, radius, tools); };
   switch (key) {
     case GLFW_KEY_1: view(render::ViewPreset::Occlusal); break;
     case GLFW_KEY_2: view(render::ViewPreset::Buccal); break;
@@ -84,9 +103,17 @@ void WindowInput::onKey(int key, int action, int mods) {
     case GLFW_KEY_4: view(render::ViewPreset::Mesial); break;
     case GLFW_KEY_5: view(render::ViewPreset::Distal); break;
     case GLFW_KEY_ESCAPE: hooks_.quit(); break;
+    case GLFW_KEY_F1:
+      if (action == GLFW_PRESS && hooks_.toggle_help) hooks_.toggle_help();
+      return;
     default: break;
   }
   if (!pens_) return;
+  if (key == GLFW_KEY_B) {
+    // The drill only: the mirror hand has no target on the tooth.
+    if (action == GLFW_PRESS && hooks_.bring_to_tooth) hooks_.bring_to_tooth();
+    return;
+  }
   const PenRole role = (mods & GLFW_MOD_SHIFT) ? PenRole::Mirror : PenRole::Drill;
   pens_->setActive(role);
   constexpr double kStep = 3.0 * std::numbers::pi / 180.0;
@@ -98,6 +125,8 @@ void WindowInput::onKey(int key, int action, int mods) {
     case GLFW_KEY_RIGHT: pens_->rotate(kStep, 0); break;
     case GLFW_KEY_UP: pens_->rotate(0, kStep); break;
     case GLFW_KEY_DOWN: pens_->rotate(0, -kStep); break;
+    case GLFW_KEY_W: pens_->alongTool(pens_->params().key_lift_mm); break;
+    case GLFW_KEY_S: pens_->alongTool(-pens_->params().key_lift_mm); break;
     case GLFW_KEY_R:
       pens_->reset(PenRole::Drill, drillStartGrip(box_, 3.0));
       pens_->reset(PenRole::Mirror, mirrorGrip(box_, render::fromGlm(camera_.eye())));
