@@ -9,6 +9,7 @@
 #include <GLFW/glfw3.h>
 
 #include "app/simulator_state.h"
+#include "core/config_dir.h"
 #include "model/tool_generator.h"
 #include "sim/bring_to_tooth.h"
 #include "volume/volume_hash.h"
@@ -18,15 +19,11 @@ namespace {
 
 constexpr double kBringClearanceMm = 0.3;  // "just above": three presses of the lower key
 
-// Where the overlay's "seen" mark lives: the user's config folder, as the presets and the learning
-// config (XDG_CONFIG_HOME when absolute, else ~/.config). Empty: no home, so the overlay shows
-// every run (it cannot remember).
+// Where the overlay's "seen" mark lives: the user's config folder, beside the presets. Empty: no
+// home, so the overlay shows every run (it cannot remember).
 std::string controlsSeenPath() {
-  const char* xdg = std::getenv("XDG_CONFIG_HOME");
-  if (xdg && xdg[0] == '/') return std::string(xdg) + "/dentsim/controls-seen";
-  const char* home = std::getenv("HOME");
-  if (home && home[0] != '\0') return std::string(home) + "/.config/dentsim/controls-seen";
-  return "";
+  const std::string dir = userConfigDir();
+  return dir.empty() ? "" : dir + "/controls-seen";
 }
 
 std::string burLine(const std::string& name) {

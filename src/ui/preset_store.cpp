@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <system_error>
 
+#include "core/config_dir.h"
+
 namespace dentsim::ui {
 namespace {
 
@@ -27,12 +29,8 @@ Error badName(const std::string& name) {
 }  // namespace
 
 std::string defaultPresetDirectory() {
-  // XDG says a relative XDG_CONFIG_HOME is invalid and must be ignored.
-  const char* xdg = std::getenv("XDG_CONFIG_HOME");
-  if (xdg && xdg[0] == '/') return std::string(xdg) + "/dentsim/presets";
-  const char* home = std::getenv("HOME");
-  if (home && home[0] != '\0') return std::string(home) + "/.config/dentsim/presets";
-  return "";
+  const std::string dir = userConfigDir();
+  return dir.empty() ? "" : dir + "/presets";
 }
 
 bool isValidPresetName(const std::string& name) {
