@@ -421,13 +421,7 @@ Result<std::vector<ClassAttempt>> parseStatements(const std::string& text, const
   std::vector<ClassAttempt> attempts;
   std::string first_bad;  // the first bad line's "path:line: problem"
   bool any_good = false;  // a line that is a statement, scored or not
-  size_t begin = 0;
-  for (int line = 1; begin < text.size(); ++line) {
-    size_t end = text.find('\n', begin);
-    if (end == std::string::npos) end = text.size();
-    const std::string row = text.substr(begin, end - begin);
-    begin = end + 1;
-    if (row.find_first_not_of(" \t\r") == std::string::npos) continue;
+  forEachJsonLine(text, [&](int line, const std::string& row) {
     const std::string where = path + ":" + std::to_string(line);
     const json st = json::parse(row, nullptr, false);
     auto parsed = st.is_discarded() ? Result<std::optional<ClassAttempt>>(Error{"not a JSON statement (malformed JSON)"})
@@ -438,16 +432,16 @@ Result<std::vector<ClassAttempt>> parseStatements(const std::string& text, const
       const std::string problem = shownPath(where + ": " + parsed.message());
       if (first_bad.empty()) first_bad = problem;
       if (warnings) warnings->push_back(problem + "; line left out");
-      continue;
+      return;
     }
     any_good = true;
     if (!*parsed) {
       if (skipped) ++*skipped;
-      continue;
+      return;
     }
     (*parsed)->source = where;
     attempts.push_back(std::move(**parsed));
-  }
+  });
   // Not one statement in it: not an outbox at all (a damaged score report, a file given by mistake).
   if (!any_good && !first_bad.empty()) return Error{first_bad};
   return attempts;

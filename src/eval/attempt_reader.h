@@ -83,6 +83,20 @@ Result<std::vector<ClassAttempt>> readAttempts(const std::string& path, const At
 // no "timestamp"; `picture` the score.png beside it ("" when there is none).
 Result<ClassAttempt> parseScoreReport(const std::string& text, const std::string& path, double file_time_s,
                                  const std::string& picture, const AttemptReadOptions& options);
+// Calls row(line, text) for each line of `text` that is not blank (spaces, tabs, a CR), numbered
+// from 1: how the JSON-lines readers (an outbox, a student's records) walk a file.
+template <class Row>
+void forEachJsonLine(const std::string& text, Row row) {
+  size_t begin = 0;
+  for (int line = 1; begin < text.size(); ++line) {
+    size_t end = text.find('\n', begin);
+    if (end == std::string::npos) end = text.size();
+    const std::string one = text.substr(begin, end - begin);
+    begin = end + 1;
+    if (one.find_first_not_of(" \t\r") != std::string::npos) row(line, one);
+  }
+}
+
 // An outbox's text, line by line (blank lines are allowed). Relative picture paths are taken from
 // `folder`; `file_time_s` stands in for a statement's missing timestamp. A bad line is left out with
 // a warning (readAttempts); the error, when not one line is a statement, is the first bad line's.

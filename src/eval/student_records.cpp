@@ -43,19 +43,13 @@ StudentRecords parseStudentRecords(const std::string& text, const std::string& p
   StudentRecords r;
   r.student = student;
   if (student.empty()) return r;
-  size_t begin = 0;
-  for (int line = 1; begin < text.size(); ++line) {
-    size_t end = text.find('\n', begin);
-    if (end == std::string::npos) end = text.size();
-    const std::string row = text.substr(begin, end - begin);
-    begin = end + 1;
-    if (row.find_first_not_of(" \t\r") == std::string::npos) continue;
+  forEachJsonLine(text, [&](int line, const std::string& row) {
     // Another student's line is none of this one's business, even a damaged one: only lines that
     // parse and name this student are read further.
     const json st = json::parse(row, nullptr, false);
-    if (st.is_discarded() || !st.is_object() || accountName(st) != student) continue;
+    if (st.is_discarded() || !st.is_object() || accountName(st) != student) return;
     const std::string activity = objectId(st);
-    if (activity.empty()) continue;
+    if (activity.empty()) return;
     // The class report's own statement reader, so the two never read an attempt differently.
     // One row alone: a bad statement is the error (its problem after parseStatements' "path:1: ").
     auto parsed = parseStatements(row, path, ".", 0.0, nullptr);
@@ -64,13 +58,13 @@ StudentRecords parseStudentRecords(const std::string& text, const std::string& p
       const size_t at = why.find(": ", path.size());
       r.warnings.push_back(path + ":" + std::to_string(line) + (at == std::string::npos ? ": " + why : why.substr(at)) +
                            "; line left out");
-      continue;
+      return;
     }
     for (ClassAttempt& a : *parsed) {
       a.source = path + ":" + std::to_string(line);
       r.by_activity[activity].push_back(std::move(a));
     }
-  }
+  });
   // Oldest first by time; the outbox's order (stable) among equal times.
   for (auto& [activity, list] : r.by_activity)
     std::stable_sort(list.begin(), list.end(), [](const ClassAttempt& a, const ClassAttempt& b) { return a.time_s < b.time_s; });
