@@ -1,4 +1,4 @@
-// Tests of src/ui/param_panel.cpp, driven headless: a bare ImGui context, simulated mouse and keys, no backends and no GPU.
+// Tests of src/ui/param_panel.cpp and the student's help it draws (controls_help.cpp), driven headless: a bare ImGui context, simulated mouse and keys, no backends and no GPU.
 #include "ui/param_panel.h"
 
 #include <gtest/gtest.h>
@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <imgui.h>
+#include "ui/controls_help.h"
 #include "ui/panel_widgets.h"
 
 #include "test_support.h"
@@ -624,6 +625,127 @@ TEST(PresetActions, LoadAndSaveUpdateStateAndStatus) {
   EXPECT_FALSE(missing.params_changed);
   EXPECT_NE(state.status.find("nope.json"), std::string::npos) << state.status;
   EXPECT_TRUE(state.params == defaultSimParams());
+}
+
+// ---- the student's help: the controls overlay, the disabled buttons' reasons, guidance ----------------
+
+// At the window size a student has (1280 x 800), with a task shown.
+class HelpTest : public PanelTest {
+ protected:
+  float displayHeight() const override { return kSmallDisplayH; }
+  void SetUp() override {
+    state_.task_title = "Class I cavity";
+    state_.task_instructions = "Prepare the occlusal fissures of the lower first molar.";
+    PanelTest::SetUp();
+  }
+  // A click on a widget by its key: the actions of its press and its release frames together.
+  PanelActions press(const std::string& key) {
+    const Click c = click(centre(key));
+    PanelActions a = c.press;
+    a.score |= c.release.score;
+    a.help_closed |= c.release.help_closed;
+    a.bring_to_tooth |= c.release.bring_to_tooth;
+    a.guidance_changed |= c.release.guidance_changed;
+    return a;
+  }
+  // The tooltip over `key` after hovering it for a few frames.
+  std::string hoverTooltip(const std::string& key) {
+    const ImVec2 p = centre(key);
+    for (int i = 0; i < 3; ++i) mouse(p, false);
+    return panel::shownTooltip();
+  }
+};
+
+TEST(ControlLines, TheMouseIsToldEveryControlItNeedsAndAHapticPenItsStylusAndPedal) {
+  auto has = [](const std::vector<ControlLine>& lines, const std::string& control) {
+    return std::any_of(lines.begin(), lines.end(), [&](const ControlLine& l) { return l.control == control; });
+  };
+  const auto mouse = controlLines(DrillInput::Mouse, false);
+  // Move, lift and lower, tilt, the turbine, the mirror hand, bring to tooth, help: each named.
+  for (const char* c : {"left drag", "W / S", "wheel", "arrow keys", "turbine", "Shift + any", "B", "F1", "1 to 5"})
+    EXPECT_TRUE(has(mouse, c)) << c;
+  const auto pen = controlLines(DrillInput::HapticPen, true);
+  EXPECT_TRUE(has(pen, "the stylus"));
+  EXPECT_TRUE(has(pen, "stylus buttons"));
+  EXPECT_FALSE(has(pen, "W / S"));  // a haptic pen is not moved by keys
+  const auto it = std::find_if(pen.begin(), pen.end(), [](const ControlLine& l) { return l.control == "turbine"; });
+  ASSERT_NE(it, pen.end());
+  EXPECT_NE(it->action.find("foot pedal"), std::string::npos);
+  EXPECT_FALSE(has(controlLines(DrillInput::Script, false), "B"));
+}
+
+TEST_F(HelpTest, TheOverlayShowsTheTaskAndControlsAndGotItClosesItForGood) {
+  state_.help.shown = true;
+  state_.help.bur = "round_bur_010 (round bur, head 1.0 mm)";
+  state_.help.bring_available = true;
+  frame();  // a new window's table settles its columns in its first frame (the app lays a frame out unseen)
+  PanelActions a = frame();
+  for (const char* key : {"help.task", "help.instructions", "help.table", "help.bring", "help.close"})
+    EXPECT_TRUE(rects_.count(key)) << key;
+  EXPECT_GT(a.help_rect.width, 200);
+  // Beside the panel, not over it.
+  EXPECT_LE(a.help_rect.x + a.help_rect.width, a.panel_rect.x);
+  EXPECT_TRUE(press("help.bring").bring_to_tooth);
+  EXPECT_TRUE(state_.help.shown);
+  const PanelActions closed = press("help.close");
+  EXPECT_TRUE(closed.help_closed);
+  EXPECT_FALSE(state_.help.shown);
+  frame();
+  EXPECT_FALSE(rects_.count("help.table"));
+  // The Help button brings it back.
+  press("help");
+  frame();
+  frame();
+  EXPECT_TRUE(state_.help.shown);
+  EXPECT_TRUE(rects_.count("help.table"));
+}
+
+TEST_F(HelpTest, BringIsDisabledWithItsReasonWhenTheTaskHasNoPath) {
+  state_.help.shown = true;
+  state_.help.bring_available = false;
+  frame();
+  frame();
+  EXPECT_FALSE(press("help.bring").bring_to_tooth);
+  EXPECT_NE(hoverTooltip("help.bring").find("no professional's path"), std::string::npos);
+}
+
+TEST_F(HelpTest, EveryDisabledRunButtonSaysWhy) {
+  state_.run_state = RunState::Running;
+  frame();
+  EXPECT_NE(hoverTooltip("score").find("Press Stop first"), std::string::npos);
+  EXPECT_NE(hoverTooltip("start").find("Already running"), std::string::npos);
+  EXPECT_NE(hoverTooltip("reset").find("Stop first"), std::string::npos);
+  EXPECT_FALSE(press("score").score);
+  state_.run_state = RunState::Idle;
+  frame();
+  EXPECT_NE(hoverTooltip("score").find("Nothing to score yet"), std::string::npos);
+  EXPECT_NE(hoverTooltip("stop").find("Nothing is running"), std::string::npos);
+  state_.run_state = RunState::Stopped;
+  frame();
+  EXPECT_TRUE(press("score").score);
+}
+
+TEST_F(HelpTest, TheGuidanceSwitchAndSliderApplyFromTheNextSegmentAndSayWhyWhenThereIsNoPath) {
+  frame();
+  press("page.tools");
+  frame();
+  // No path: the switch is disabled and says why.
+  EXPECT_FALSE(press("guidance").guidance_changed);
+  EXPECT_FALSE(state_.guidance.on);
+  EXPECT_NE(hoverTooltip("guidance").find("No professional's path"), std::string::npos);
+  state_.guidance.available = true;
+  state_.guidance.source = "the task's scripted professional";
+  frame();
+  EXPECT_TRUE(press("guidance").guidance_changed);
+  EXPECT_TRUE(state_.guidance.on);
+  // The slider: a click at its left end sets its least stiffness.
+  const auto r = rects_.at("guidance.stiffness");
+  const ImVec2 left(r.min_x + 1.0f, 0.5f * (r.min_y + r.max_y));
+  mouse(left, false);
+  PanelActions a = mouse(left, true);
+  mouse(left, false);
+  EXPECT_TRUE(a.guidance_changed);
+  EXPECT_NEAR(state_.guidance.stiffness_n_per_mm, 0.1, 0.05);
 }
 
 }  // namespace
