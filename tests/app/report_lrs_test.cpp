@@ -10,6 +10,7 @@
 #include <memory>
 #include <regex>
 #include <sstream>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -49,13 +50,15 @@ class ReportLrs : public ::testing::Test {
   // The learning-record config every run of the suite reads (DENTSIM_CONFIG): the course and its IRIs.
   static void SetUpTestSuite() {
     suite_dir_ = std::make_unique<TempDir>();
+    outboxes_made_.reset();  // a new folder each time the suite runs (--gtest_repeat), so made again
     std::ofstream(suite_dir_->file("learning.json")) << R"({"course": "cons-101", "activity_base": "https://school.example/xapi"})";
   }
   static void TearDownTestSuite() { suite_dir_.reset(); }
 
-  // Makes the four outboxes the first time; empty when they are there, else what went wrong.
+  // Makes the four outboxes the first time in the suite's folder; empty when they are there, else
+  // what went wrong.
   static std::string makeOutboxes() {
-    static std::string problem = [] {
+    if (!outboxes_made_) outboxes_made_ = [] {
       const TempDir& d = *suite_dir_;
       std::ofstream(d.file("fast.json")) << R"({"format":"dentsim-params","version":1,"cutting":{"removal_rate_mm3_per_s":40},)"
                                             R"("point_shell":{"head_spacing_mm":0.1,"shank_spacing_mm":0.2}})";
@@ -75,7 +78,7 @@ class ReportLrs : public ::testing::Test {
         }
       return std::string();
     }();
-    return problem;
+    return *outboxes_made_;
   }
 
   // Student k's outbox (k = 3: the other course's student).
@@ -99,9 +102,11 @@ class ReportLrs : public ::testing::Test {
 
   TempDir dir_;
   static std::unique_ptr<TempDir> suite_dir_;  // the outboxes, shared by the suite's tests
+  static std::optional<std::string> outboxes_made_;  // makeOutboxes' answer for this folder
 };
 
 std::unique_ptr<TempDir> ReportLrs::suite_dir_;
+std::optional<std::string> ReportLrs::outboxes_made_;
 
 TEST_F(ReportLrs, TheLrsGivesTheSamePageAsTheThreeOutboxesInOnePageOrTwoStatementsAtATime) {
   if (const std::string why = test::RealLrs::missing(); !why.empty()) GTEST_SKIP() << why;
