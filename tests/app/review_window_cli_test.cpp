@@ -45,6 +45,7 @@ std::string records(const TempDir& dir, const std::string& student) {
 }
 
 TEST(StudentStart, ACourseOpensOnItsFirstTaskAndListsItsTasksWithTheAttemptsAndBest) {
+  const test::NoLeakCheckForGpuChild no_leak_check;  // headless runs still start the Vulkan driver
   TempDir dir;
   std::ofstream(dir.file("learning.json")) << "{}";
   // A course of two tasks: the class I cavity first by file name, then the caries removal.
@@ -92,6 +93,7 @@ class ReviewWindow : public ::testing::Test {
 };
 
 TEST_F(ReviewWindow, AfterTheScoreReplayAndGhostOpenTheAttemptsReplayWithTheGhostBesideIt) {
+  const test::NoLeakCheckForGpuChild no_leak_check;  // the professional's headless run starts the Vulkan driver
   std::ofstream(dir_.file("learning.json")) << "{}";
   const std::string preset = writeFastPreset(dir_);
   // The professional's pass goes mesially, the student's distally: the ghost stands apart.
