@@ -33,4 +33,22 @@ inline std::string escapeControl(std::string_view text, size_t max_shown = 200, 
 // A path as a message shows it: escaped, never shortened (the user must recognise the whole name).
 inline std::string shownPath(std::string_view path) { return escapeControl(path, path.size()); }
 
+// RFC 3986 percent-encoding: every byte but the unreserved ones (letters, digits, - . _ ~) and
+// those in `keep` as %XX. A URL's query value keeps none; a file: URL's path keeps '/'.
+inline std::string percentEncoded(std::string_view text, std::string_view keep = {}) {
+  std::string out;
+  for (unsigned char c : text) {
+    const bool unreserved = (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '-' ||
+                            c == '.' || c == '_' || c == '~';
+    if (unreserved || keep.find(char(c)) != std::string_view::npos) {
+      out += char(c);
+    } else {
+      char hex[4];
+      std::snprintf(hex, sizeof hex, "%%%02X", c);
+      out += hex;
+    }
+  }
+  return out;
+}
+
 }  // namespace dentsim

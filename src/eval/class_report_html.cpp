@@ -10,6 +10,7 @@
 #include <ctime>
 #include <filesystem>
 
+#include "core/text_escape.h"
 #include "eval/task_kinds.h"
 
 namespace dentsim {
@@ -459,17 +460,7 @@ void attemptsSection(std::string& html, const ClassReport& r) {
 std::string fileUrl(const std::string& path) {
   std::error_code ec;
   const std::string abs = std::filesystem::absolute(path, ec).lexically_normal().string();
-  std::string url = "file://";
-  for (unsigned char c : ec ? path : abs) {
-    if (std::isalnum(c) || c == '/' || c == '-' || c == '_' || c == '.' || c == '~') {
-      url += char(c);
-    } else {
-      char hex[4];
-      std::snprintf(hex, sizeof hex, "%%%02X", c);
-      url += hex;
-    }
-  }
-  return url;
+  return "file://" + percentEncoded(ec ? path : abs, "/");
 }
 
 void picturesSection(std::string& html, const ClassReport& r, const ReportPictures& pictures) {

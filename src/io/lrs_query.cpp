@@ -13,21 +13,6 @@
 namespace dentsim {
 namespace {
 
-// RFC 3986 percent-encoding of a query value: every byte but the unreserved ones.
-std::string percentEncoded(const std::string& text) {
-  std::string out;
-  for (unsigned char c : text) {
-    if (std::isalnum(c) || c == '-' || c == '.' || c == '_' || c == '~') {
-      out += char(c);
-    } else {
-      char hex[4];
-      std::snprintf(hex, sizeof hex, "%%%02X", c);
-      out += hex;
-    }
-  }
-  return out;
-}
-
 // "scheme://authority" of a URL, the scheme and host lower-cased; empty when it has no "://".
 std::string originOf(const std::string& url) {
   const size_t scheme_end = url.find("://");
