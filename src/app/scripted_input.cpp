@@ -11,6 +11,8 @@
 #define GLFW_INCLUDE_VULKAN
 #include <GLFW/glfw3.h>
 
+#include "core/text_escape.h"
+
 namespace dentsim::app {
 namespace {
 
@@ -71,7 +73,8 @@ int takeModifiers(std::string_view& s) {
 }  // namespace
 
 Result<ScriptedInput> parseScriptedInput(double t_s, const std::string& text) {
-  auto bad = [&](const std::string& why) { return Error{"--input \"" + text + "\": " + why}; };
+  // Escaped: a control byte in an argument cannot break the one line or reach the terminal.
+  auto bad = [&](const std::string& why) { return Error{"--input \"" + escapeControl(text) + "\": " + why}; };
   if (!std::isfinite(t_s) || t_s < 0.0) return bad("the time must be a number of seconds >= 0");
   ScriptedInput in;
   in.t_s = t_s;
@@ -83,7 +86,7 @@ Result<ScriptedInput> parseScriptedInput(double t_s, const std::string& text) {
   const std::string_view verb = s.substr(0, colon), arg = s.substr(colon + 1);
   if (verb == "key") {
     const auto code = keyCode(arg);
-    if (!code) return bad("no key named \"" + std::string(arg) + "\" (A-Z, 0-9, Space, PageUp, PageDown, Up, Down, Left, Right, Escape, F1, Enter, Tab)");
+    if (!code) return bad("no key named \"" + escapeControl(arg) + "\" (A-Z, 0-9, Space, PageUp, PageDown, Up, Down, Left, Right, Escape, F1, Enter, Tab)");
     in.kind = ScriptedInput::Kind::Key;
     in.key = *code;
   } else if (verb == "wheel") {
@@ -106,7 +109,7 @@ Result<ScriptedInput> parseScriptedInput(double t_s, const std::string& text) {
     in.kind = ScriptedInput::Kind::Click;
     in.widget = std::string(arg);
   } else {
-    return bad("unknown event \"" + std::string(verb) + "\" (key, wheel, drag or click)");
+    return bad("unknown event \"" + escapeControl(verb) + "\" (key, wheel, drag or click)");
   }
   return in;
 }

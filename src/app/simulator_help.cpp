@@ -10,6 +10,7 @@
 
 #include "app/simulator_state.h"
 #include "core/config_dir.h"
+#include "core/text_escape.h"
 #include "model/tool_generator.h"
 #include "sim/bring_to_tooth.h"
 #include "volume/volume_hash.h"
@@ -214,7 +215,7 @@ Status Simulator::feedScriptedInput() {
       case ScriptedInput::Kind::Drag: input_.dragBy(in.dx, in.dy, in.mods); break;
       case ScriptedInput::Kind::Click:
         if (!scriptClick(in.widget, true))
-          return makeError("--input", "\"" + in.text + "\": no widget \"" + in.widget + "\" on the panel at " +
+          return makeError("--input", "\"" + escapeControl(in.text) + "\": no widget \"" + escapeControl(in.widget) + "\" on the panel at " +
                                           std::to_string(t) + " s");
         click_widget_ = in.widget;
         return Ok{};  // one click a frame: the next events wait for its release
