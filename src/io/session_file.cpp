@@ -47,7 +47,14 @@ constexpr size_t kHeaderHashBytes = 8;  // XXH64 of the header text [B]
 constexpr size_t kFrameBytes = 8;       // kind, three zero bytes, payload length [B]
 constexpr size_t kRecordHashBytes = 4;  // XXH32 of frame and payload [B]
 
-enum RecordKind : uint8_t { kStepRecord = 1, kParamsRecord = 2, kGapRecord = 3, kEndRecord = 4, kDeviceRecord = 5 };
+enum RecordKind : uint8_t {
+  kStepRecord = 1,
+  kParamsRecord = 2,
+  kGapRecord = 3,
+  kEndRecord = 4,
+  kDeviceRecord = 5,
+  kScheduleRecord = 6,  // right after the step record of a step whose SessionSchedule is not the default
+};
 
 constexpr size_t kPenCount = 2;
 constexpr size_t kStepFixedBytes = 8 + 8 + 4 + 1;            // step, wall_ns, params_serial, pens
@@ -57,6 +64,7 @@ constexpr size_t kParamsFixedBytes = 4 + 8;                  // serial, from_ste
 constexpr size_t kGapBytes = 8 + 8;                          // first_step, steps
 constexpr size_t kEndFixedBytes = 8 + 2 + 2;                 // steps and the two string lengths
 constexpr size_t kDeviceFixedBytes = 8 + 1 + 2 + 2;          // step, pen and the two string lengths
+constexpr size_t kScheduleBytes = 8 + kPenCount * 4 + 4;     // step, clusters of both pens, cuts
 constexpr size_t kMaxDeviceStateBytes = 32;
 constexpr size_t kHashHexDigits = 16;
 constexpr size_t kMaxReasonBytes = 200;
@@ -396,6 +404,13 @@ void encodeStep(std::vector<uint8_t>& p, const SessionStep& s) {
   }
 }
 
+void encodeSchedule(std::vector<uint8_t>& p, uint64_t step, const SessionSchedule& schedule) {
+  p.clear();
+  append<uint64_t>(p, step);
+  for (size_t r = 0; r < kPenCount; ++r) append<uint32_t>(p, schedule.clusters[r]);
+  append<uint32_t>(p, schedule.cuts);
+}
+
 void encodeParams(std::vector<uint8_t>& p, const SessionParams& params) {
   p.clear();
   append<uint32_t>(p, params.serial);
@@ -481,9 +496,11 @@ class SessionParser {
         case kGapRecord: problem = readGap(payload); break;
         case kEndRecord: problem = readEnd(payload); break;
         case kDeviceRecord: problem = readDevice(payload); break;
+        case kScheduleRecord: problem = readSchedule(payload); break;
         default: problem = "unknown record kind " + std::to_string(in_[pos_]);
       }
       if (problem) return fail(*problem);
+      last_kind_ = in_[pos_];
       pos_ += record_bytes;
     }
     return std::move(rec_);
@@ -501,7 +518,9 @@ class SessionParser {
   std::optional<std::string> readParams(std::span<const uint8_t> payload);
   std::optional<std::string> readGap(std::span<const uint8_t> payload);
   std::optional<std::string> readEnd(std::span<const uint8_t> payload);
+  std::optional<std::string> readSchedule(std::span<const uint8_t> payload);
   std::optional<std::string> checkNext(const std::string& what, uint64_t index) const;
+  std::string lastRecord() const;
 
   // "<where>: record <n> at byte <b>: <what>"
   Error fail(const std::string& what) const {
@@ -523,6 +542,7 @@ class SessionParser {
   uint64_t record_ = 0;    // records are numbered from 1, the first after the header
   Anchor anchor_ = Anchor::None;
   uint64_t next_step_ = 0;  // the index the next step or gap must have, unless anchor_ is None
+  uint8_t last_kind_ = 0;   // RecordKind of the record read last; 0: none yet (a schedule's anchor)
 };
 
 std::optional<Error> SessionParser::readHeader() {
@@ -573,6 +593,20 @@ std::optional<std::string> SessionParser::checkNext(const std::string& what, uin
     default:
       return what + " follows params serial " + std::to_string(rec_.params.back().serial) + ", which begins at step " +
              std::to_string(next_step_);
+  }
+}
+
+// The record read last, as a message names it ("step 11's record", "params serial 2"); only its numbers
+// come from the file.
+std::string SessionParser::lastRecord() const {
+  switch (last_kind_) {
+    case kStepRecord: return "step " + std::to_string(rec_.steps.back().step) + "'s record";
+    case kScheduleRecord: return "step " + std::to_string(rec_.steps.back().step) + "'s schedule";
+    case kParamsRecord: return "params serial " + std::to_string(rec_.params.back().serial);
+    case kGapRecord: return "a gap from step " + std::to_string(rec_.gaps.back().first_step);
+    case kDeviceRecord: return "a device event at step " + std::to_string(rec_.devices.back().step);
+    case kEndRecord: return "the end record";
+    default: return "the header";
   }
 }
 
@@ -726,6 +760,26 @@ std::optional<std::string> SessionParser::readDevice(std::span<const uint8_t> pa
   return std::nullopt;
 }
 
+// A schedule belongs to the step record just before it, and says what that step reached; a step
+// that did all its work has none.
+std::optional<std::string> SessionParser::readSchedule(std::span<const uint8_t> payload) {
+  if (payload.size() != kScheduleBytes)
+    return "schedule payload of " + std::to_string(payload.size()) + " bytes, expected " +
+           std::to_string(kScheduleBytes);
+  Cursor c(payload);
+  const uint64_t step = c.next<uint64_t>();
+  SessionSchedule s;
+  for (size_t r = 0; r < kPenCount; ++r) s.clusters[r] = c.next<uint32_t>();
+  s.cuts = c.next<uint32_t>();
+  const std::string what = "schedule for step " + std::to_string(step);
+  if (last_kind_ != kStepRecord || rec_.steps.back().step != step)
+    return what + " does not follow step " + std::to_string(step) + "'s record (it follows " + lastRecord() + ")";
+  if (s.isDefault())
+    return what + " is the default (every field 0xffffffff): a step that did all its work has no schedule record";
+  rec_.steps.back().schedule = s;
+  return std::nullopt;
+}
+
 std::optional<std::string> SessionParser::readEnd(std::span<const uint8_t> payload) {
   const auto bad_length = [&] {
     return "end payload of " + std::to_string(payload.size()) + " bytes does not match its string lengths";
@@ -811,6 +865,10 @@ void SessionWriter::addRecord(uint8_t kind, const std::vector<uint8_t>& payload)
 void SessionWriter::add(const SessionStep& step) {
   encodeStep(scratch_, step);
   addRecord(kStepRecord, scratch_);
+  if (!step.schedule.isDefault()) {
+    encodeSchedule(scratch_, step.step, step.schedule);
+    addRecord(kScheduleRecord, scratch_);
+  }
 }
 
 void SessionWriter::add(const SessionParams& params) {
@@ -911,6 +969,10 @@ std::vector<uint8_t> encodeSession(const SessionRecording& recording) {
     emitDevices(s.step, false);
     encodeStep(payload, s);
     appendRecord(out, kStepRecord, payload);
+    if (!s.schedule.isDefault()) {
+      encodeSchedule(payload, s.step, s.schedule);
+      appendRecord(out, kScheduleRecord, payload);
+    }
   }
   emitDue(0, true);
   emitDevices(0, true);

@@ -56,6 +56,16 @@ struct SessionPenReading {
   double pedal = 0.0;           // [0, 1]
 };
 
+// What a budgeted haptic step reached (sim/haptic_loop.h): replay follows it, not the clock.
+// The default (kAll everywhere) is a step that did all its work; only other steps write a record.
+struct SessionSchedule {
+  static constexpr uint32_t kAll = 0xFFFFFFFFu;
+  std::array<uint32_t, 2> clusters{kAll, kAll};  // clusters each pen's contact pass reached (PenRole order)
+  uint32_t cuts = kAll;                          // queued cut jobs run at the end of the step; kAll: every one
+  bool isDefault() const { return clusters[0] == kAll && clusters[1] == kAll && cuts == kAll; }
+  bool operator==(const SessionSchedule&) const = default;
+};
+
 // One haptic step: what went in (readings) and, for review and scoring, what came out.
 struct SessionStep {
   uint64_t step = 0;            // loop step index; steps follow one another (k, k+1, ...)
@@ -66,6 +76,7 @@ struct SessionStep {
   std::array<Vec3, 2> force_n{};               // force each pen was told to render [N]
   std::array<uint32_t, 2> contacts{};          // shell points of each tool inside tissue
   bool hasReading(size_t pen) const { return (pens >> pen) & 1u; }
+  SessionSchedule schedule;                    // what the step reached; unless default, a schedule record follows the step's
 };
 
 // A parameter set that came into force during the session (a teacher's change).
@@ -141,7 +152,7 @@ class SessionWriter {
 
   // Creates `path`.part and writes the header. Errors name the path.
   Status open(const std::string& path, const SessionInfo& info);
-  void add(const SessionStep& step);
+  void add(const SessionStep& step);  // and, unless step.schedule is the default, its schedule record
   void add(const SessionParams& params);
   void add(const SessionGap& gap);
   void add(const SessionDeviceEvent& event);
@@ -164,7 +175,8 @@ class SessionWriter {
 };
 
 // The whole session in memory to bytes (what a SessionWriter writes for the same calls, in order:
-// header, params records in serial order merged with the steps by from_step, gaps, end).
+// header, params records in serial order merged with the steps by from_step, each step's schedule
+// record right after it, gaps, end).
 std::vector<uint8_t> encodeSession(const SessionRecording& recording);
 
 }  // namespace dentsim

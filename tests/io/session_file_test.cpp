@@ -106,7 +106,9 @@ void expectSameStep(const SessionStep& a, const SessionStep& b) {
     }
     expectSameVec(a.force_n[r], b.force_n[r], at + " force_n");
     EXPECT_EQ(a.contacts[r], b.contacts[r]) << at;
+    EXPECT_EQ(a.schedule.clusters[r], b.schedule.clusters[r]) << at << " schedule.clusters[" << r << "]";
   }
+  EXPECT_EQ(a.schedule.cuts, b.schedule.cuts) << at << " schedule.cuts";
 }
 
 void expectSameRecording(const SessionRecording& a, const SessionRecording& b) {
@@ -801,6 +803,189 @@ TEST(SessionFileTest, RefusesABadEndRecord) {
   r.end = SessionEnd{0, "0123456789abcdef", std::string(201, 'x')};
   bytes = encodeSession(r);
   expectError(parse(bytes), kWhere + ": " + recordAt(bytes, 1) + ": end: reason of 201 bytes is longer than 200");
+}
+
+// ---- schedules (budgeted steps) ------------------------------------------------------------
+
+constexpr uint32_t kAll = SessionSchedule::kAll;
+// The framing docs/SESSIONS.md gives: kind, three zeros and length; the checksum after the payload.
+constexpr size_t kFrameBytes = 1 + 3 + 4;
+constexpr size_t kRecordHashBytes = 4;
+constexpr size_t kSchedulePayloadBytes = 8 + 2 * 4 + 4;  // step, clusters of both pens, cuts
+constexpr size_t kScheduleRecordBytes = kFrameBytes + kSchedulePayloadBytes + kRecordHashBytes;
+static_assert(kScheduleRecordBytes == 32);
+
+SessionSchedule schedule(uint32_t drill_clusters, uint32_t mirror_clusters, uint32_t cuts) {
+  SessionSchedule s;
+  s.clusters = {drill_clusters, mirror_clusters};
+  s.cuts = cuts;
+  return s;
+}
+
+std::vector<uint8_t> schedulePayload(uint64_t step, uint32_t drill_clusters, uint32_t mirror_clusters, uint32_t cuts) {
+  std::vector<uint8_t> p;
+  put<uint64_t>(p, step);
+  put<uint32_t>(p, drill_clusters);
+  put<uint32_t>(p, mirror_clusters);
+  put<uint32_t>(p, cuts);
+  return p;
+}
+
+// testRecording() with four of its seven steps budgeted: each field cut short alone, all three at
+// once, and 0 (a step that reached nothing), which is a schedule like any other; steps 11, 13 and
+// 19 did all their work.
+SessionRecording scheduledRecording() {
+  SessionRecording r = testRecording();
+  r.steps[0].schedule = schedule(3, kAll, kAll);   // step 10: the drill's pass stopped after 3 clusters
+  r.steps[2].schedule = schedule(kAll, 0, kAll);   // step 12: the mirror's pass reached none
+  r.steps[4].schedule = schedule(kAll, kAll, 0);   // step 14: every cut job left for later
+  r.steps[5].schedule = schedule(17, 2, 5);        // step 18: all three
+  return r;
+}
+
+TEST(SessionFileTest, SchedulesRoundTripThroughTheWriterAndEncodeSession) {
+  const SessionRecording r = scheduledRecording();
+  const std::vector<uint8_t> encoded = encodeSession(r);
+  const Result<SessionRecording> back = parse(encoded);
+  ASSERT_TRUE(back.ok()) << back.message();
+  EXPECT_TRUE(back->truncation_warning.empty()) << back->truncation_warning;
+  expectSameRecording(*back, r);
+  for (size_t i = 0; i < r.steps.size(); ++i) EXPECT_EQ(back->steps[i].schedule, r.steps[i].schedule) << "step " << r.steps[i].step;
+  EXPECT_EQ(encodeSession(*back), encoded);
+
+  // The writer, given the calls in encodeSession's order, writes the same bytes.
+  test::TempDir dir;
+  const std::string path = dir.file("s.dses");
+  SessionWriter w;
+  ASSERT_TRUE(w.open(path, r.info).ok());
+  w.add(r.steps[0]);
+  w.add(r.steps[1]);
+  w.add(r.params[0]);
+  for (size_t i = 2; i < 5; ++i) w.add(r.steps[i]);
+  w.add(r.gaps[0]);
+  w.add(r.steps[5]);
+  w.add(r.steps[6]);
+  w.add(r.params[1]);
+  ASSERT_TRUE(w.finish(*r.end).ok());
+  EXPECT_EQ(w.bytesWritten(), encoded.size());
+  EXPECT_EQ(fileBytes(path), encoded);
+  const Result<SessionRecording> read = readSessionFile(path);
+  ASSERT_TRUE(read.ok()) << read.message();
+  expectSameRecording(*read, r);
+}
+
+TEST(SessionFileTest, EachBudgetedStepAddsOneScheduleRecordOf32Bytes) {
+  const std::vector<uint8_t> plain = encodeSession(testRecording());
+  const std::vector<uint8_t> scheduled = encodeSession(scheduledRecording());
+  EXPECT_EQ(scheduled.size(), plain.size() + 4 * kScheduleRecordBytes);  // four budgeted steps
+
+  // Records: step 10, its schedule, step 11, params 1, step 12, its schedule, ...
+  const std::vector<size_t> starts = recordStarts(scheduled);
+  const size_t at = starts[1];
+  ASSERT_EQ(starts[2] - at, kScheduleRecordBytes);
+  EXPECT_EQ(scheduled[starts[0]], 1);
+  EXPECT_EQ(scheduled[starts[2]], 1);
+  std::vector<uint8_t> expected;
+  putRecord(expected, 6, schedulePayload(10, 3, kAll, kAll));
+  EXPECT_EQ(std::vector<uint8_t>(scheduled.begin() + std::ptrdiff_t(at), scheduled.begin() + std::ptrdiff_t(starts[2])),
+            expected);
+
+  // A recording of default schedules only is the file it was before schedules existed.
+  EXPECT_EQ(recordStarts(plain).size(), starts.size() - 4);
+}
+
+// Step 5 and 6 as encodeSteps writes them, then `payload` as a schedule record.
+std::vector<uint8_t> withSchedule(const std::vector<uint8_t>& payload) {
+  std::vector<uint8_t> bytes = encodeSteps({step(5), step(6)});
+  putRecord(bytes, 6, payload);
+  return bytes;
+}
+
+TEST(SessionFileTest, RefusesAScheduleThatDoesNotFollowItsStep) {
+  // After step 6's record, a schedule for step 6 belongs; one for step 5 or 7 does not.
+  ASSERT_TRUE(parse(withSchedule(schedulePayload(6, 1, 2, 3))).ok());
+  std::vector<uint8_t> bytes = withSchedule(schedulePayload(5, 1, 2, 3));
+  expectError(parse(bytes), kWhere + ": " + recordAt(bytes, 3) +
+                                ": schedule for step 5 does not follow step 5's record (it follows step 6's record)");
+  bytes = withSchedule(schedulePayload(7, 1, 2, 3));
+  expectError(parse(bytes), kWhere + ": " + recordAt(bytes, 3) +
+                                ": schedule for step 7 does not follow step 7's record (it follows step 6's record)");
+  // Twice for one step.
+  bytes = withSchedule(schedulePayload(6, 1, 2, 3));
+  putRecord(bytes, 6, schedulePayload(6, 1, 2, 3));
+  expectError(parse(bytes), kWhere + ": " + recordAt(bytes, 4) +
+                                ": schedule for step 6 does not follow step 6's record (it follows step 6's schedule)");
+  // With another record between, or before any step.
+  bytes = encodeSteps({step(5), step(6)});
+  putRecord(bytes, 5, devicePayload(7, 0, "fault", ""));
+  putRecord(bytes, 6, schedulePayload(6, 1, 2, 3));
+  expectError(parse(bytes), kWhere + ": " + recordAt(bytes, 4) +
+                                ": schedule for step 6 does not follow step 6's record (it follows a device event at step 7)");
+  bytes = encodeSteps({step(5), step(6)});
+  putRecord(bytes, 2, paramsPayload(1, 7, "{}"));
+  putRecord(bytes, 6, schedulePayload(6, 1, 2, 3));
+  expectError(parse(bytes), kWhere + ": " + recordAt(bytes, 4) +
+                                ": schedule for step 6 does not follow step 6's record (it follows params serial 1)");
+  bytes = encodeSteps({step(5)});
+  putRecord(bytes, 3, gapPayload(6, 2));
+  putRecord(bytes, 6, schedulePayload(5, 1, 2, 3));
+  expectError(parse(bytes), kWhere + ": " + recordAt(bytes, 3) +
+                                ": schedule for step 5 does not follow step 5's record (it follows a gap from step 6)");
+  bytes = headerOnly();
+  putRecord(bytes, 6, schedulePayload(0, 1, 2, 3));
+  expectError(parse(bytes), kWhere + ": " + recordAt(bytes, 1) +
+                                ": schedule for step 0 does not follow step 0's record (it follows the header)");
+}
+
+TEST(SessionFileTest, RefusesASchedulePayloadOfTheWrongLength) {
+  std::vector<uint8_t> payload = schedulePayload(6, 1, 2, 3);
+  payload.resize(16);  // no cuts
+  std::vector<uint8_t> bytes = withSchedule(payload);
+  expectError(parse(bytes), kWhere + ": " + recordAt(bytes, 3) + ": schedule payload of 16 bytes, expected 20");
+  payload = schedulePayload(6, 1, 2, 3);
+  put<uint32_t>(payload, 4);  // a field this version does not know
+  bytes = withSchedule(payload);
+  expectError(parse(bytes), kWhere + ": " + recordAt(bytes, 3) + ": schedule payload of 24 bytes, expected 20");
+}
+
+TEST(SessionFileTest, RefusesADefaultSchedule) {
+  const std::vector<uint8_t> bytes = withSchedule(schedulePayload(6, kAll, kAll, kAll));
+  expectError(parse(bytes), kWhere + ": " + recordAt(bytes, 3) +
+                                ": schedule for step 6 is the default (every field 0xffffffff): a step that did all "
+                                "its work has no schedule record");
+}
+
+// A crash inside a schedule record keeps every record before it, as anywhere else: its step reads
+// back, but as a step that did all its work (docs/SESSIONS.md says what that means for a replay).
+TEST(SessionFileTest, TruncationInsideAScheduleKeepsTheRecordsBeforeIt) {
+  std::vector<SessionStep> steps = {step(5), step(6)};
+  steps[0].schedule = schedule(1, 2, 3);
+  steps[1].schedule = schedule(4, kAll, 0);
+  const std::vector<uint8_t> bytes = encodeSteps(steps);
+  const std::vector<size_t> starts = recordStarts(bytes);  // step 5, its schedule, step 6, its schedule, end of file
+  ASSERT_EQ(starts.size(), 5u);
+  ASSERT_EQ(starts[4] - starts[3], kScheduleRecordBytes);
+  for (size_t cut = starts[3] + 1; cut < starts[4]; ++cut) {
+    const std::vector<uint8_t> prefix(bytes.begin(), bytes.begin() + std::ptrdiff_t(cut));
+    const Result<SessionRecording> r = parse(prefix);
+    ASSERT_TRUE(r.ok()) << "cut at " << cut << ": " << r.message();
+    EXPECT_EQ(r->truncation_warning, kWhere + ": cut off at byte " + std::to_string(cut) +
+                                         " inside record 4 (which starts at byte " + std::to_string(starts[3]) +
+                                         "); read 2 steps");
+    ASSERT_EQ(r->steps.size(), 2u);
+    expectSameStep(r->steps[0], steps[0]);
+    SessionStep unscheduled = steps[1];
+    unscheduled.schedule = {};
+    expectSameStep(r->steps[1], unscheduled);
+  }
+  // The last record whole, its checksum damaged (a crash before its content reached the disk).
+  std::vector<uint8_t> damaged = bytes;
+  damaged[starts[3] + kFrameBytes + 9] ^= 0xff;
+  const Result<SessionRecording> r = parse(damaged);
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_FALSE(r->truncation_warning.empty());
+  ASSERT_EQ(r->steps.size(), 2u);
+  EXPECT_TRUE(r->steps[1].schedule.isDefault());
 }
 
 TEST(SessionFileTest, HeaderKeysAreAllRequiredAndNoneUnknown) {

@@ -53,11 +53,14 @@ SessionStep seedStep(uint64_t k, uint8_t pens, uint32_t params_serial) {
   return s;
 }
 
-// Steps 3..6 with both pens, drill only and none; parameter sets; a gap; device events; the end record.
+// Steps 3..6 with both pens, drill only and none (step 4 budgeted, so a schedule record follows it);
+// parameter sets; a gap; device events; the end record.
 SessionRecording seedRecording() {
   SessionRecording r;
   r.info = test::fullSessionInfo("molar.dvol", "built-in molar", R"({"k": 0.1, "b": [1, 2.5], "o": {"x": -0.0}})");
   r.steps = {seedStep(3, 0b11, 0), seedStep(4, 0b01, 1), seedStep(5, 0b00, 1), seedStep(9, 0b10, 2)};
+  r.steps[1].schedule.clusters[0] = 2;
+  r.steps[1].schedule.cuts = 0;
   r.params = {{1, 4, R"({"k": 0.2})"}, {2, 6, R"({"k": 0.3})"}};
   r.gaps = {{6, 3}};
   r.devices = {{4, 1, "fault", "HDAPI servo loop: communication error"}, {12, 1, "ready", ""}};
@@ -150,7 +153,7 @@ void mutatePieces(Pieces& p, std::mt19937& rng) {
       return;
     case 5:  // a kind, known or not
       if (!p.records.empty()) {
-        p.records[i][0] = uint8_t(rng() % 6);
+        p.records[i][0] = uint8_t(rng() % 7);
         reseal(p.records[i]);
       }
       return;
@@ -220,8 +223,10 @@ void checkOutcome(const Result<SessionRecording>& r, int iteration, int* accepte
   ASSERT_TRUE(again->truncation_warning.empty()) << again->truncation_warning;
   ASSERT_EQ(again->steps.size(), rec.steps.size()) << "iteration " << iteration;
   ASSERT_EQ(again->devices.size(), rec.devices.size()) << "iteration " << iteration;
-  for (size_t i = 0; i < rec.steps.size(); ++i)
+  for (size_t i = 0; i < rec.steps.size(); ++i) {
     ASSERT_EQ(bits(again->steps[i].reading[0].grip.rotation.w), bits(rec.steps[i].reading[0].grip.rotation.w));
+    ASSERT_EQ(again->steps[i].schedule, rec.steps[i].schedule) << "iteration " << iteration;
+  }
   ASSERT_EQ(again->info.params_json, rec.info.params_json) << "iteration " << iteration;
   ASSERT_EQ(encodeSession(*again), bytes) << "iteration " << iteration;
 }
