@@ -6,6 +6,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "core/steady_clock.h"
+
 namespace dentsim {
 
 namespace {
@@ -67,11 +69,20 @@ ContactFinder::ContactFinder(size_t max_points, double max_march_voxels)
       due_y_(max_points + kLanes),
       due_z_(max_points + kLanes),
       due_phi_(max_points + kLanes),
+      in_contact_(max_points, 0),
+      queued_(max_points, 0),
       max_march_voxels_(max_march_voxels) {
   contacts_.reserve(max_points);
+  last_contacts_.reserve(max_points);
+  order_.reserve(max_points);
+  left_.reserve(max_points);
 }
 
-void ContactFinder::forgetClearances() { std::fill(clear_r2_.begin(), clear_r2_.end(), -1.0f); }
+void ContactFinder::forgetClearances() {
+  std::fill(clear_r2_.begin(), clear_r2_.end(), -1.0f);
+  last_contacts_.clear();
+  left_.clear();
+}
 
 void ContactFinder::adoptShell(const PointShell& shell) {
   for (size_t i = 0; i < shell.size(); ++i) {
@@ -125,8 +136,105 @@ bool ContactFinder::resolve(VoxelField& field, const Vec3& u, const Vec3& inward
   return out->depth_mm > 0;
 }
 
+struct ContactFinder::Placement {
+  std::array<double, 9> rot;  // tool frame to simulation frame
+  std::array<double, 9> m;    // the same over the voxel edge: tool frame [mm] to voxel coordinates
+  Vec3 t;                     // the tool frame's origin in voxel coordinates
+  std::array<Float4, 9> mf;
+  Float4 tx, ty, tz;
+  double inv_voxel = 0.0;
+  Vec3 toVoxel(const Vec3& q) const {
+    return Vec3{m[0] * q.x + m[1] * q.y + m[2] * q.z + t.x, m[3] * q.x + m[4] * q.y + m[5] * q.z + t.y,
+                m[6] * q.x + m[7] * q.y + m[8] * q.z + t.z};
+  }
+  // Whole cluster in empty chunks: nothing to test.
+  bool clear(const VoxelField& field, const ShellCluster& cluster) const {
+    const Vec3 c = toVoxel(cluster.centre);
+    const double r = cluster.radius * inv_voxel + 1.0;
+    return field.chunksEmpty(c - Vec3{r, r, r}, c + Vec3{r, r, r});
+  }
+};
+
+void ContactFinder::testCluster(VoxelField& field, const PointShell& shell, const ShellCluster& cluster,
+                                const Placement& at, uint32_t* looks, ContactStats* st) {
+  ++st->clusters_tested;
+  // Four points at a time: which have left their clearance since they were last sampled.
+  uint32_t n = 0;
+  const uint32_t end = cluster.first + cluster.count;
+  for (uint32_t i = cluster.first; i < end; i += kLanes) {
+    const Float4 qx = load4(&shell_x_[i]), qy = load4(&shell_y_[i]), qz = load4(&shell_z_[i]);
+    const Float4 ux = at.mf[0] * qx + at.mf[1] * qy + at.mf[2] * qz + at.tx;
+    const Float4 uy = at.mf[3] * qx + at.mf[4] * qy + at.mf[5] * qz + at.ty;
+    const Float4 uz = at.mf[6] * qx + at.mf[7] * qy + at.mf[8] * qz + at.tz;
+    const Float4 dx = ux - load4(&clear_x_[i]), dy = uy - load4(&clear_y_[i]), dz = uz - load4(&clear_z_[i]);
+    const Int4 left = dx * dx + dy * dy + dz * dz >= load4(&clear_r2_[i]);  // -1: sample it
+    if ((left[0] | left[1] | left[2] | left[3]) == 0) continue;  // most groups, once the tool settles
+    const uint32_t lanes = std::min<uint32_t>(kLanes, end - i);
+    for (uint32_t k = 0; k < lanes; ++k) {
+      due_[n] = i + k;
+      due_x_[n] = ux[k], due_y_[n] = uy[k], due_z_[n] = uz[k];
+      n += uint32_t(left[k] & 1);
+    }
+  }
+  st->points_clear += cluster.count - n;
+  st->points_tested += n;
+  // The field at those points, four at a time in floats; a point it puts inside tissue is sampled
+  // again exactly, in doubles, for its depth and normal.
+  field.phiBatch(due_x_.data(), due_y_.data(), due_z_.data(), n, due_phi_.data());
+
+  const std::array<double, 9>& rot = at.rot;
+  for (uint32_t j = 0; j < n; ++j) {
+    const uint32_t i = due_[j];
+    const double phi = due_phi_[j];
+    if (phi <= 0) {
+      const Vec3 u{due_x_[j], due_y_[j], due_z_[j]};
+      const bool look = *looks < kLookAroundsPerStep;
+      *looks += look ? 1 : 0;
+      const double reach = field.clearance(u, phi, look) - kClearanceMargin;
+      clear_x_[i] = due_x_[j], clear_y_[i] = due_y_[j], clear_z_[i] = due_z_[j];
+      clear_r2_[i] = reach > 0 ? float(reach * reach) : -1.0f;
+      continue;
+    }
+    clear_r2_[i] = -1.0f;
+    // From the float copy of the shell (to 1e-6 mm), whose cache lines the clearance test read.
+    const Vec3 u = at.toVoxel(Vec3{shell_x_[i], shell_y_[i], shell_z_[i]});
+    const FieldSample s = field.sample(u);
+    if (s.phi <= 0) continue;  // on the surface, to float rounding: sampled again next step
+    const Vec3& q = shell.inward[i];
+    const Vec3 inward{rot[0] * q.x + rot[1] * q.y + rot[2] * q.z, rot[3] * q.x + rot[4] * q.y + rot[5] * q.z,
+                      rot[6] * q.x + rot[7] * q.y + rot[8] * q.z};
+    ContactPoint cp;
+    cp.point = i;
+    cp.position = field.toMm(u);
+    cp.area_mm2 = shell.area_mm2[i];
+    cp.material = s.material;
+    cp.cutting = shell.cutting[i] != 0;
+    if (!resolve(field, u, inward, s, &cp)) continue;
+    contacts_.push_back(cp);
+  }
+}
+
+void ContactFinder::orderClusters(const PointShell& shell) {
+  ++pass_;
+  order_.clear();
+  auto put = [&](uint32_t c) {
+    if (queued_[c] == pass_) return;
+    queued_[c] = pass_;
+    order_.push_back(c);
+  };
+  for (uint32_t c : left_) put(c);
+  // The last contacts are by point and the clusters partition the points in order: one walk.
+  const uint32_t n = uint32_t(shell.clusters.size());
+  uint32_t c = 0;
+  for (const ContactPoint& cp : last_contacts_) {
+    while (c < n && cp.point >= shell.clusters[c].first + shell.clusters[c].count) ++c;
+    if (c < n) put(c);
+  }
+  for (c = 0; c < n; ++c) put(c);
+}
+
 std::span<const ContactPoint> ContactFinder::find(VoxelField& field, const PointShell& shell, const Pose& tool_pose,
-                                                  ContactStats* stats) {
+                                                  ContactStats* stats, const ContactBudget* budget) {
   assert(shell.size() <= contacts_.capacity() && shell.size() <= due_.size());
   if (&shell != clearance_shell_ || &field != clearance_field_) {
     forgetClearances();
@@ -138,84 +246,103 @@ std::span<const ContactPoint> ContactFinder::find(VoxelField& field, const Point
   ContactStats st;
   uint32_t looks = 0;
   // Tool frame straight to voxel coordinates: u = (R q) / voxel + origin's voxel coordinate.
-  const double inv_voxel = 1.0 / field.voxelMm();
-  const std::array<double, 9> rot = tool_pose.rotation.matrix();
-  std::array<double, 9> m = rot;
-  for (double& e : m) e *= inv_voxel;
-  const Vec3 t = field.toVoxel(tool_pose.position);
-  auto toVoxel = [&](const Vec3& q) {
-    return Vec3{m[0] * q.x + m[1] * q.y + m[2] * q.z + t.x, m[3] * q.x + m[4] * q.y + m[5] * q.z + t.y,
-                m[6] * q.x + m[7] * q.y + m[8] * q.z + t.z};
-  };
-  std::array<Float4, 9> mf;
-  for (size_t k = 0; k < 9; ++k) mf[k] = Float4{} + float(m[k]);
-  const Float4 tx = Float4{} + float(t.x), ty = Float4{} + float(t.y), tz = Float4{} + float(t.z);
-  for (const ShellCluster& cluster : shell.clusters) {
-    // Whole cluster in empty chunks: nothing to test.
-    const Vec3 c = toVoxel(cluster.centre);
-    const double r = cluster.radius * inv_voxel + 1.0;
-    if (field.chunksEmpty(c - Vec3{r, r, r}, c + Vec3{r, r, r})) {
-      ++st.clusters_skipped;
-      continue;
-    }
-    ++st.clusters_tested;
-    // Four points at a time: which have left their clearance since they were last sampled.
-    uint32_t n = 0;
-    const uint32_t end = cluster.first + cluster.count;
-    for (uint32_t i = cluster.first; i < end; i += kLanes) {
-      const Float4 qx = load4(&shell_x_[i]), qy = load4(&shell_y_[i]), qz = load4(&shell_z_[i]);
-      const Float4 ux = mf[0] * qx + mf[1] * qy + mf[2] * qz + tx;
-      const Float4 uy = mf[3] * qx + mf[4] * qy + mf[5] * qz + ty;
-      const Float4 uz = mf[6] * qx + mf[7] * qy + mf[8] * qz + tz;
-      const Float4 dx = ux - load4(&clear_x_[i]), dy = uy - load4(&clear_y_[i]), dz = uz - load4(&clear_z_[i]);
-      const Int4 left = dx * dx + dy * dy + dz * dz >= load4(&clear_r2_[i]);  // -1: sample it
-      if ((left[0] | left[1] | left[2] | left[3]) == 0) continue;  // most groups, once the tool settles
-      const uint32_t lanes = std::min<uint32_t>(kLanes, end - i);
-      for (uint32_t k = 0; k < lanes; ++k) {
-        due_[n] = i + k;
-        due_x_[n] = ux[k], due_y_[n] = uy[k], due_z_[n] = uz[k];
-        n += uint32_t(left[k] & 1);
-      }
-    }
-    st.points_clear += cluster.count - n;
-    st.points_tested += n;
-    // The field at those points, four at a time in floats; a point it puts inside tissue is sampled
-    // again exactly, in doubles, for its depth and normal.
-    field.phiBatch(due_x_.data(), due_y_.data(), due_z_.data(), n, due_phi_.data());
+  Placement at;
+  at.inv_voxel = 1.0 / field.voxelMm();
+  at.rot = tool_pose.rotation.matrix();
+  at.m = at.rot;
+  for (double& e : at.m) e *= at.inv_voxel;
+  at.t = field.toVoxel(tool_pose.position);
+  for (size_t k = 0; k < 9; ++k) at.mf[k] = Float4{} + float(at.m[k]);
+  at.tx = Float4{} + float(at.t.x), at.ty = Float4{} + float(at.t.y), at.tz = Float4{} + float(at.t.z);
 
-    for (uint32_t j = 0; j < n; ++j) {
-      const uint32_t i = due_[j];
-      const double phi = due_phi_[j];
-      if (phi <= 0) {
-        const Vec3 u{due_x_[j], due_y_[j], due_z_[j]};
-        const bool look = looks < kLookAroundsPerStep;
-        looks += look ? 1 : 0;
-        const double reach = field.clearance(u, phi, look) - kClearanceMargin;
-        clear_x_[i] = due_x_[j], clear_y_[i] = due_y_[j], clear_z_[i] = due_z_[j];
-        clear_r2_[i] = reach > 0 ? float(reach * reach) : -1.0f;
+  const uint32_t n = uint32_t(shell.clusters.size());
+  if (budget == nullptr) {
+    for (const ShellCluster& cluster : shell.clusters) {
+      if (at.clear(field, cluster)) {
+        ++st.clusters_skipped;
         continue;
       }
-      clear_r2_[i] = -1.0f;
-      // From the float copy of the shell (to 1e-6 mm), whose cache lines the clearance test read.
-      const Vec3 u = toVoxel(Vec3{shell_x_[i], shell_y_[i], shell_z_[i]});
-      const FieldSample s = field.sample(u);
-      if (s.phi <= 0) continue;  // on the surface, to float rounding: sampled again next step
-      const Vec3& q = shell.inward[i];
-      const Vec3 inward{rot[0] * q.x + rot[1] * q.y + rot[2] * q.z, rot[3] * q.x + rot[4] * q.y + rot[5] * q.z,
-                        rot[6] * q.x + rot[7] * q.y + rot[8] * q.z};
-      ContactPoint cp;
-      cp.point = i;
-      cp.position = field.toMm(u);
-      cp.area_mm2 = shell.area_mm2[i];
-      cp.material = s.material;
-      cp.cutting = shell.cutting[i] != 0;
-      if (!resolve(field, u, inward, s, &cp)) continue;
-      contacts_.push_back(cp);
+      testCluster(field, shell, cluster, at, &looks, &st);
     }
+    st.clusters_reached = n;
+    left_.clear();
+  } else {
+    orderClusters(shell);
+    const bool prescribed = budget->clusters != ContactBudget::kAll;
+    uint32_t k = 0;
+    for (; k < n; ++k) {
+      if (prescribed && k >= budget->clusters) break;
+      const ShellCluster& cluster = shell.clusters[order_[k]];
+      if (at.clear(field, cluster)) {
+        ++st.clusters_skipped;
+        continue;
+      }
+      // The clock is read only before a cluster that costs something.
+      if (!prescribed && ((budget->max_points != 0 && st.points_tested >= budget->max_points) ||
+                          (budget->deadline_ns != 0 && steadyNowNs() >= budget->deadline_ns)))
+        break;
+      testCluster(field, shell, cluster, at, &looks, &st);
+    }
+    st.clusters_reached = k;
+    // The clusters not reached keep the last pass's contacts, and come first next time.
+    left_.assign(order_.begin() + k, order_.end());
+    for (uint32_t c : left_) {
+      const ShellCluster& cluster = shell.clusters[c];
+      st.points_left += cluster.count;
+      auto first = std::lower_bound(last_contacts_.begin(), last_contacts_.end(), cluster.first,
+                                    [](const ContactPoint& cp, uint32_t p) { return cp.point < p; });
+      for (; first != last_contacts_.end() && first->point < cluster.first + cluster.count; ++first) {
+        // Carried to where the point is now, its depth moved with it across the tangent plane it
+        // was found under (VPS's local model); one that has left that plane is dropped.
+        ContactPoint cp = *first;
+        const Vec3 now = field.toMm(at.toVoxel(Vec3{shell_x_[cp.point], shell_y_[cp.point], shell_z_[cp.point]}));
+        cp.depth_mm -= dot(now - cp.position, cp.normal);
+        cp.position = now;
+        if (cp.depth_mm <= 0) continue;
+        contacts_.push_back(cp);
+        ++st.contacts_carried;
+      }
+    }
+    st.clusters_left = uint32_t(left_.size());
+    std::sort(contacts_.begin(), contacts_.end(),
+              [](const ContactPoint& a, const ContactPoint& b) { return a.point < b.point; });
   }
+  last_contacts_.assign(contacts_.begin(), contacts_.end());
   st.contacts = uint32_t(contacts_.size());
   if (stats) *stats = st;
   return contacts_;
+}
+
+uint32_t ContactFinder::sweep(VoxelField& field, const PointShell& shell, std::span<const Pose> poses) {
+  for (const ContactPoint& cp : contacts_) in_contact_[cp.point] = 1;
+  uint32_t taken = 0;
+  const double inv_voxel = 1.0 / field.voxelMm();
+  for (const Pose& pose : poses) {
+    Placement at;
+    at.inv_voxel = inv_voxel;
+    at.rot = pose.rotation.matrix();
+    at.m = at.rot;
+    for (double& e : at.m) e *= inv_voxel;
+    at.t = field.toVoxel(pose.position);
+    bool deep = false;
+    for (const ShellCluster& cluster : shell.clusters) {
+      if (at.clear(field, cluster)) continue;
+      uint32_t n = 0;
+      for (uint32_t i = cluster.first; i < cluster.first + cluster.count; ++i) {
+        if (in_contact_[i] != 0) continue;
+        const Vec3 u = at.toVoxel(Vec3{shell_x_[i], shell_y_[i], shell_z_[i]});
+        due_x_[n] = float(u.x), due_y_[n] = float(u.y), due_z_[n] = float(u.z);
+        ++n;
+      }
+      field.phiBatch(due_x_.data(), due_y_.data(), due_z_.data(), n, due_phi_.data());
+      for (uint32_t j = 0; j < n && !deep; ++j) deep = due_phi_[j] >= kShallowPhi;
+      if (deep) break;
+    }
+    ++taken;
+    if (deep) break;
+  }
+  for (const ContactPoint& cp : contacts_) in_contact_[cp.point] = 0;
+  return taken;
 }
 
 ContactForce contactForce(std::span<const ContactPoint> contacts, const SimParams& params, const ToolMotion& motion,

@@ -2,7 +2,8 @@
 //
 // Contents
 //   1. ContactPoint, Mat6
-//   2. ContactFinder: the intersection set of a posed point shell (clusters skip empty chunks)
+//   2. ContactFinder: the intersection set of a posed point shell (clusters skip empty chunks), in full
+//      or within a budget (a deadline or a point count, or a cluster count replay prescribes)
 //   3. contactForce: spring, Hunt-Crossley damper and friction per point, summed to a wrench about a
 //      reference point, with the stiffness the implicit proxy step needs
 //
@@ -48,7 +49,23 @@ struct ContactStats {
   uint32_t clusters_skipped = 0;  // clusters skipped: only empty chunks around them
   uint32_t points_tested = 0;     // points sampled against the field
   uint32_t points_clear = 0;      // points not sampled: still within their clearance
-  uint32_t contacts = 0;          // points inside tissue
+  uint32_t contacts = 0;          // points inside tissue (those carried over included)
+  // A budgeted pass only:
+  uint32_t clusters_reached = 0;  // clusters the pass reached, in its order (tested or skipped)
+  uint32_t clusters_left = 0;     // clusters it did not reach: first in the next pass
+  uint32_t points_left = 0;       // their points
+  uint32_t contacts_carried = 0;  // contacts of those clusters taken from the last pass
+};
+
+// What a pass may spend. A pass reaches clusters in the order: those the last pass did not reach,
+// then those that were in contact, then the rest; it stops before a cluster whose points would be
+// sampled once the deadline has passed or the points sampled reach max_points. Replay gives
+// `clusters` instead: exactly that many, whatever the clock says.
+struct ContactBudget {
+  static constexpr uint32_t kAll = 0xFFFFFFFFu;
+  int64_t deadline_ns = 0;        // steady clock (core/steady_clock.h); 0: none
+  uint32_t max_points = 0;        // 0: none
+  uint32_t clusters = kAll;       // not kAll: reach exactly this many clusters (the two above unused)
 };
 
 class ContactFinder {
@@ -56,13 +73,24 @@ class ContactFinder {
   // Preallocates for a shell of up to max_points points; find() never allocates.
   explicit ContactFinder(size_t max_points, double max_march_voxels = 12.0);
 
-  // The intersection set of `shell` placed by `tool_pose` (tool frame to simulation frame). Between
-  // calls tissue may only be removed (cutting), or forgetClearances() must be called first.
+  // The intersection set of `shell` placed by `tool_pose` (tool frame to simulation frame), ordered
+  // by point. Between calls tissue may only be removed (cutting), or forgetClearances() must be
+  // called first. With a budget, the clusters the pass does not reach keep the contacts the last
+  // pass found for them (the partial pass blended with the last whole one, point by point); a pass
+  // that reaches every cluster gives what an unbudgeted one gives.
   std::span<const ContactPoint> find(VoxelField& field, const PointShell& shell, const Pose& tool_pose,
-                                     ContactStats* stats = nullptr);
+                                     ContactStats* stats = nullptr, const ContactBudget* budget = nullptr);
 
-  // Tissue was added or replaced: sample every point again.
+  // Tissue was added or replaced: sample every point again (and carry no contact over).
   void forgetClearances();
+
+  // The swept check of a move (Xu & Barbic's continuous collision, in discrete sub-poses): the
+  // shell is placed at each of `poses` in turn (the move's sub-poses, from just after the pose of
+  // the last find() to its end) and every point that was not in the last find()'s contact set is
+  // sampled. Returns how many sub-poses the move may take: up to and including the first at which
+  // such a point is a voxel or more inside tissue (it is then in contact, and the next step's
+  // springs hold it), or all of them. The first sub-pose is always taken, so a move never stalls.
+  uint32_t sweep(VoxelField& field, const PointShell& shell, std::span<const Pose> poses);
 
  private:
   // Depth and normal of one point known to be inside tissue; false when it is not inside after all.
@@ -70,6 +98,12 @@ class ContactFinder {
 
   // Copies the shell's positions as floats, laid out for the 4-wide clearance test.
   void adoptShell(const PointShell& shell);
+  // Tests one cluster's points (tool frame to voxel coordinates by m, t), appending its contacts.
+  struct Placement;
+  void testCluster(VoxelField& field, const PointShell& shell, const ShellCluster& cluster, const Placement& at,
+                   uint32_t* looks, ContactStats* st);
+  // The order of a budgeted pass (see ContactBudget) into order_.
+  void orderClusters(const PointShell& shell);
 
   // Per point, where it was last sampled outside tissue, in voxel coordinates, and the square of its
   // clearance there [voxel^2]; negative: sample it. Floats, by component (the clearance test runs four
@@ -80,6 +114,12 @@ class ContactFinder {
   std::vector<float> due_x_, due_y_, due_z_;         // (padded) where they are [voxel]
   std::vector<float> due_phi_;                       // (padded) the field there
   std::vector<ContactPoint> contacts_;
+  std::vector<ContactPoint> last_contacts_;   // the last pass's, by point: carried over for clusters not reached
+  std::vector<uint32_t> order_;               // (clusters) a budgeted pass's order
+  std::vector<uint32_t> left_;                // (clusters) the clusters the last pass did not reach, in its order
+  std::vector<uint8_t> in_contact_;           // (points) set only during sweep(): the last find()'s contacts
+  std::vector<uint64_t> queued_;              // (clusters) the pass that put a cluster in order_ (dedup stamp)
+  uint64_t pass_ = 0;
   const PointShell* clearance_shell_ = nullptr;  // the shell the arrays belong to
   const VoxelField* clearance_field_ = nullptr;  // and the field
   double max_march_voxels_;

@@ -1,10 +1,20 @@
-// HapticLoop: the 1 kHz step (read the pens, contact and coupling, cut, command forces, hand off) and the thread that runs it.
+// HapticLoop: the 1 kHz step (read the pens, contact and coupling, command forces, cut, hand off) and the thread that runs it.
 //
 // Contents
 //   1. HapticState (the snapshot other threads read) and StepReport (what one step did)
 //   2. HapticLoop: set-up, step() for deterministic callers, start()/stop() for the real-time thread
 //   3. StepTimes: a fixed histogram of step durations for p50/p99/max without allocating
 //
+// The step's budget. On the loop's thread a step spends at most device.contact_budget of the period
+// on the contact pass (ContactFinder's budget: clusters not reached keep their last contacts and
+// come first next step), then commands the forces, then runs queued cuts while the clock is within
+// contact_budget + cut_budget of the step's start. A cut is a job (the drill's contacts, the turbine
+// speed, the step) in a queue that keeps the order of the steps; jobs that find no time wait for the
+// next step, so no removal is lost, only late. The force shown changes by at most
+// device.max_force_change_n_per_ms a millisecond, so a pass cut short never jolts the hand. A step
+// whose work was cut short records what it reached (SessionSchedule), and replay follows that, not
+// the clock: the replayed volume is the recorded one. step() called directly has no budget unless
+// setBudget() asks for one (demos, tests and task validation stay independent of the clock).
 // The loop owns the tooth's CPU voxels while it runs: it is their only writer, and cuts land in
 // them at once, so the next contact test already feels the removed material. Everything it hands
 // out goes through lock-free channels: the state snapshot (triple buffer), the voxel edits
@@ -17,6 +27,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <thread>
 #include <vector>
@@ -52,6 +63,7 @@ struct ToolState {
   uint32_t contacts = 0;   // shell points in tissue
   uint32_t points_tested = 0;  // shell points sampled this step
   uint32_t points_clear = 0;   // shell points not sampled: still within their clearance
+  uint32_t points_left = 0;    // shell points the budget left for the next step
 };
 
 struct HapticState {
@@ -64,6 +76,9 @@ struct HapticState {
   std::array<double, DS_MATERIAL_COUNT> removed_by_material_mm3{};  // the same by tissue (Material index)
   uint64_t voxels_changed = 0;         // voxel edits since start
   uint64_t deferred_cuts = 0;          // steps whose cut waited for room
+  uint32_t cut_queue = 0;              // cut jobs waiting after this step
+  uint64_t cut_lag_steps = 0;          // steps the oldest of them has waited (0: none waits)
+  uint64_t contact_overruns = 0;       // contact passes the budget cut short, since start
   bool guided = false;                 // a guide's spring joins the drill's force
   Vec3 guide_n;                        // the guide's force this step [N] (before the device's clamp)
 };
@@ -72,7 +87,13 @@ struct HapticState {
 struct StepReport {
   std::array<ProxyStep, 2> tools{};    // by PenRole; empty when no tool or no reading
   std::array<bool, 2> stepped{};       // the tool was stepped
-  CutStep cut;
+  std::array<bool, 2> force_limited{}; // the force shown was held to its largest change a step
+  CutStep cut;                         // the cut jobs this step ran, summed
+  uint32_t cuts_run = 0;               // cut jobs this step ran (a step's own, or queued ones)
+  uint32_t cuts_forced = 0;            // of which run over the budget because the queue was full
+  uint32_t cuts_waiting = 0;           // jobs left in the queue
+  uint64_t cut_lag_steps = 0;          // steps the oldest waiting job has waited
+  SessionSchedule schedule;            // what the step reached (default: all of it)
   double speed = 0.0;                  // turbine speed used [0..1]
   Vec3 guide_n;                        // the guide's force added to the drill's display [N]
 };
@@ -98,12 +119,24 @@ class StepTimes {
 // Counters the loop keeps while its thread runs; readable from any thread.
 struct LoopCounters {
   std::atomic<uint64_t> steps{0};            // steps run by the thread
+  std::atomic<uint64_t> contact_overruns{0}; // steps whose contact pass the budget cut short (any tool)
+  std::atomic<uint64_t> late_cuts{0};        // steps that left cut jobs for a later step
+  std::atomic<uint64_t> forced_cuts{0};      // cut jobs run over the budget: the queue was full
+  std::atomic<uint64_t> max_cut_lag_steps{0};  // the longest any cut job waited [steps]
   std::atomic<uint64_t> missed_deadlines{0}; // steps that ended after their deadline
+  std::atomic<uint64_t> long_steps{0};       // steps that took longer than the period: missed by their own work
   std::atomic<uint64_t> pen_dropouts{0};     // steps where an attached pen gave no reading
   std::atomic<int64_t> max_step_ns{0};       // longest step [ns]
+  std::atomic<uint64_t> max_step_at{0};      // which step it was
+  std::atomic<int64_t> max_wake_late_ns{0};  // the latest a step began after its slot opened [ns]: the machine's wake-up
 };
 
 // ---- 2. the loop -------------------------------------------------------------------------------------
+
+// What a step's work is held to: nothing (the whole pass, every cut), the clock (the parameter set's
+// fractions of the period), or a fixed count of points sampled per pass with every cut run (a
+// budget that tests can repeat exactly).
+enum class StepBudget { None, Clock, Points };
 
 class HapticLoop {
  public:
@@ -127,13 +160,29 @@ class HapticLoop {
   // Puts a tool's proxy on its pen's current reading (or on `grip` when given).
   void placeTool(PenRole role, const Pose& grip);
 
-  // One step at loop time step() / rate. Deterministic: the same pens and volume give the same result.
+  // One step at loop time step() / rate. Deterministic: the same pens and volume give the same result
+  // (with StepBudget::Clock, the same schedule: see followSchedule).
   const StepReport& step();
+
+  // The budget of step() called directly (default None) and of the thread's steps (default Clock).
+  // points: the pass's point budget for StepBudget::Points. Only while the thread is stopped.
+  void setBudget(StepBudget budget, uint32_t points = 0) {
+    budget_ = budget;
+    budget_points_ = points;
+  }
+  void setThreadBudget(StepBudget budget) { thread_budget_ = budget; }
+  // Runs every waiting cut job now (stop() does, after the thread's last step; a replay does after
+  // its last): the removal a session asked for is all in the voxels when it ends. Returns the jobs
+  // run. Only while the thread is stopped.
+  uint32_t flushCuts();
+  // Replay: the next step reaches what `schedule` says instead of what any budget allows (null: its
+  // own budget). The loop keeps the pointer until it is set again.
+  void followSchedule(const SessionSchedule* schedule) { follow_ = schedule; }
 
   // Runs step() on a thread at the parameter set's rate, with absolute deadlines. While it runs, the
   // thread asks that idle CPUs wake within idleLatencyUs() (IdleLatencyRequest; negative: do not ask).
   Status start();
-  void stop();
+  void stop();  // joins the thread, then flushCuts()
   bool running() const { return thread_.joinable(); }
 
   // Any thread: new parameters, applied at the start of the next step. Returns the set's serial
@@ -149,6 +198,8 @@ class HapticLoop {
   uint64_t droppedRecords() const { return dropped_records_.load(std::memory_order_relaxed); }
   // Consumer thread (one): the latest snapshot.
   const HapticState& latest() { return state_.read(); }
+  // The loop's thread (a step hook), or after stop(): what the latest step did.
+  const StepReport& lastReport() const { return report_; }
   // Any thread: the force for a pen, zero once stale (device I/O threads read this).
   const ForceOutput& forceOutput(PenRole role) const { return forces_[size_t(role)]; }
   const LoopCounters& counters() const { return counters_; }
@@ -182,6 +233,19 @@ class HapticLoop {
   void activate(const ParamsUpdate& update);
   void record(const std::array<PenReading, 2>& readings, int64_t now_ns);
 
+  // The cut stage: a queue of jobs in step order over a ring of contact copies.
+  struct CutJob {
+    uint64_t step = 0;       // the step whose contacts these are (it seeds the cut's rounding)
+    uint32_t first = 0;      // its contacts: cut_pool_[first, first + count)
+    uint32_t count = 0;
+    double speed = 0.0;      // turbine speed [0..1]
+    double dt = 0.0;         // [s]
+  };
+  static constexpr size_t kCutJobs = 256;
+  // Queues the drill's contacts of this step; runs the oldest job first, over budget, while there is no room.
+  void enqueueCut(std::span<const ContactPoint> contacts, double speed, double dt, uint64_t step);
+  void runCut(std::span<const ContactPoint> contacts, double speed, double dt, uint64_t step);
+  void runOldestCut();
   BrickVolume& volume_;
   VoxelField field_;
   TripleBuffer<ParamsUpdate> params_;
@@ -195,6 +259,15 @@ class HapticLoop {
   std::array<const ToolModel*, 2> tools_{};
   double drill_ability_ = 0.0;  // the drill's cutting ability under the active parameters
   Cutter cutter_;
+  std::vector<ContactPoint> cut_pool_;
+  std::array<CutJob, kCutJobs> cut_jobs_{};
+  size_t cut_head_ = 0, cut_count_ = 0;   // the oldest job and how many wait
+  uint32_t cut_write_ = 0;                // where the next job's contacts go in cut_pool_
+  StepBudget budget_ = StepBudget::None;
+  StepBudget thread_budget_ = StepBudget::Clock;
+  uint32_t budget_points_ = 0;
+  const SessionSchedule* follow_ = nullptr;
+  std::array<Vec3, 2> last_force_{};       // the force each pen was shown last step [N]
   EditChannel* edits_;
   GuideSpring* guide_ = nullptr;
   std::array<ForceOutput, 2> forces_;

@@ -105,8 +105,12 @@ const StepReport& ReplayCursor::step() {
     loop_->setParams(changes_[next_change_]);
     ++next_change_;
   }
+  // The recorded step's schedule, not this machine's clock, says how much of its work it did.
+  loop_->followSchedule(&recorded.schedule);
   const StepReport& report = loop_->step();
   ++position_;
+  // As the recording's loop did when it stopped: cuts still waiting go into the voxels.
+  if (position_ == steps_.size()) loop_->flushCuts();
   const Vec3 force = report.stepped[0] ? report.tools[0].display.force : Vec3{};
   const Vec3& expected = recorded.force_n[0];
   if (force.x != expected.x || force.y != expected.y || force.z != expected.z) {

@@ -30,6 +30,8 @@ constexpr Range kRpm{0.0, 1e6, false, true, "in (0, 1e6]"};
 constexpr Range kReach{0.0, 1.0, true, true, "in [0, 1]"};
 constexpr Range kStaleMs{0.0, 100.0, false, true, "in (0, 100]"};
 constexpr Range kRateHz{100.0, 10000.0, true, true, "in [100, 10000]"};
+constexpr Range kBudget{0.0, 0.9, false, true, "in (0, 0.9]"};
+constexpr Range kForceChange{0.0, 1000.0, false, true, "in (0, 1000]"};
 constexpr Range kSpacing{0.001, 1.0, true, true, "in [0.001, 1]"};
 
 const Field<TissueParams> kTissueFields[] = {
@@ -61,6 +63,9 @@ const Field<DeviceParams> kDeviceFields[] = {
     {"max_torque_n_mm", &DeviceParams::max_torque_n_mm, kNonNegative},
     {"stale_after_ms", &DeviceParams::stale_after_ms, kStaleMs},
     {"rate_hz", &DeviceParams::rate_hz, kRateHz},
+    {"contact_budget", &DeviceParams::contact_budget, kBudget},
+    {"cut_budget", &DeviceParams::cut_budget, kBudget},
+    {"max_force_change_n_per_ms", &DeviceParams::max_force_change_n_per_ms, kForceChange},
 };
 const Field<PointShellParams> kPointShellFields[] = {
     {"head_spacing_mm", &PointShellParams::head_spacing_mm, kSpacing},

@@ -68,6 +68,12 @@ struct DeviceParams {
   double max_torque_n_mm = 0.0;      // torque clamp [N mm]; 0 for pens without torque output
   double stale_after_ms = 1.0;       // a force older than this is replaced by zero [ms]
   double rate_hz = 1000.0;           // haptic loop rate [Hz]
+  // The step's own budget on the loop's thread (sim/haptic_loop.h), as fractions of the period: the
+  // contact pass samples no further cluster after the first, and queued cuts start only before the
+  // first and second sum. The rest of the period is the output's and the device driver's.
+  double contact_budget = 0.05;      // of the period
+  double cut_budget = 0.04;          // of the period, after the contact's
+  double max_force_change_n_per_ms = 1.0;  // the force shown may change by this much a millisecond [N/ms]
 };
 
 // How tools become point shells.

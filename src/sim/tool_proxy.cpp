@@ -1,6 +1,7 @@
 // ToolProxy: one implicit step of the 6-DOF virtual coupling against the contact set.
 #include "sim/tool_proxy.h"
 
+#include <array>
 #include <cmath>
 
 namespace dentsim {
@@ -40,7 +41,9 @@ bool clampLength(Vec3* v, double max_len) {
   return true;
 }
 
-ToolProxy::ToolProxy(const ToolModel& tool) : tool_(tool), finder_(tool.shell.size()) {}
+ToolProxy::ToolProxy(const ToolModel& tool) : tool_(tool), finder_(tool.shell.size()) {
+  for (const Vec3& q : tool.shell.positions) reach_mm_ = std::max(reach_mm_, norm(q - tool.grip_local));
+}
 
 void ToolProxy::reset(const Pose& grip) {
   grip_ = grip;
@@ -49,12 +52,13 @@ void ToolProxy::reset(const Pose& grip) {
   angular_velocity_ = {};
 }
 
-ProxyStep ToolProxy::step(VoxelField& field, const SimParams& params, const PenReading& pen, double dt) {
+ProxyStep ToolProxy::step(VoxelField& field, const SimParams& params, const PenReading& pen, double dt,
+                          const ContactBudget* budget) {
   const CouplingParams& k = params.coupling;
   ProxyStep out;
 
   // Contact at the proxy's current pose, with its last velocity for damping and friction.
-  out.contacts = finder_.find(field, tool_.shell, toolPose(), &out.stats);
+  out.contacts = finder_.find(field, tool_.shell, toolPose(), &out.stats, budget);
   out.detail = contactForce(out.contacts, params, ToolMotion{grip_.position, velocity_, angular_velocity_});
   out.contact = out.detail.wrench;
 
@@ -94,6 +98,42 @@ ProxyStep ToolProxy::step(VoxelField& field, const SimParams& params, const PenR
   if (!finite(dp) || !finite(dtheta)) {
     dp = {};
     dtheta = {};
+  }
+  // A pass the budget cut short moves the proxy at most half a voxel (any shell point): the clusters
+  // it did not reach may hold new contact (the leading edge of a sliding bur), and a longer move
+  // without their springs would sink into tissue that the next, whole pass pushes back out of, a
+  // bounce the hand would feel. Half a voxel stays within the field's linear ramp, where a missed
+  // point's depth is small; the proxy still follows a hand moving 10 mm/s at level 10.
+  if (out.stats.clusters_left > 0) {
+    const double limit = kShortPassVoxels * field.voxelMm();
+    const double move = norm(dp) + norm(dtheta) * reach_mm_;
+    if (move > limit) {
+      dp = dp * (limit / move);
+      dtheta = dtheta * (limit / move);
+      out.held = true;
+    }
+  }
+  // The swept check: a move long enough to step over a thin wall is followed through sub-poses,
+  // and ends at the first where a point not already in contact is in tissue.
+  const double travel = norm(dp) + norm(dtheta) * reach_mm_;
+  const double sub_mm = kSweepVoxels * field.voxelMm();
+  if (travel > sub_mm) {
+    const uint32_t n = std::min<uint32_t>(kMaxSweepPoses, uint32_t(std::ceil(travel / sub_mm)));
+    std::array<Pose, kMaxSweepPoses> poses;
+    for (uint32_t j = 0; j < n; ++j) {
+      const double along = double(j + 1) / double(n);
+      const Quat rot = (Quat::fromRotationVector(dtheta * along) * grip_.rotation).normalized();
+      poses[j] = {grip_.position + dp * along - rot.rotate(tool_.grip_local), rot};
+    }
+    // Not under the step's deadline: what the sweep took must not depend on the clock, or a replay
+    // would move the proxy elsewhere. Its cost is bounded by the sub-poses (a fast move near tissue).
+    out.sweep_poses = n;
+    out.sweep_taken = finder_.sweep(field, tool_.shell, std::span<const Pose>(poses.data(), n));
+    if (out.sweep_taken < n) {
+      const double kept = double(out.sweep_taken) / double(n);
+      dp = dp * kept;
+      dtheta = dtheta * kept;
+    }
   }
   grip_.position += dp;
   grip_.rotation = (Quat::fromRotationVector(dtheta) * grip_.rotation).normalized();

@@ -37,6 +37,9 @@ struct ProxyStep {
   ContactStats stats;      // how much of the shell was tested
   std::span<const ContactPoint> contacts;  // the intersection set at the start of the step
   bool force_clamped = false;  // |coupling force| exceeded the device's limit
+  uint32_t sweep_poses = 0;    // sub-poses the swept check followed the move through (0: a slow move, not swept)
+  uint32_t sweep_taken = 0;    // of which the proxy took (fewer: it met tissue on the way)
+  bool held = false;           // the budget cut the contact pass short and the proxy's move was shortened
 };
 
 class ToolProxy {
@@ -45,8 +48,10 @@ class ToolProxy {
 
   // Puts the proxy on the pen, at rest.
   void reset(const Pose& grip);
-  // One coupling step of dt seconds against the field.
-  ProxyStep step(VoxelField& field, const SimParams& params, const PenReading& pen, double dt);
+  // One coupling step of dt seconds against the field. With a budget, the contact pass may stop
+  // early (ContactFinder::find); the swept check never does (its cost is bounded by its sub-poses).
+  ProxyStep step(VoxelField& field, const SimParams& params, const PenReading& pen, double dt,
+                 const ContactBudget* budget = nullptr);
 
   const Pose& grip() const { return grip_; }                 // the proxy's grip frame
   Pose toolPose() const {                                     // tool frame to simulation frame
@@ -58,11 +63,20 @@ class ToolProxy {
 
  private:
   const ToolModel& tool_;
+  double reach_mm_ = 0.0;  // the farthest shell point from the grip [mm]: bounds how far a turn moves a point
   ContactFinder finder_;
   Pose grip_;
   Vec3 velocity_;
   Vec3 angular_velocity_;
 };
+
+// A move in which some shell point may travel more than this many voxels is swept (ContactFinder::sweep)
+// in sub-poses this far apart: well inside what the contact's march resolves (12 voxels), so that
+// no wall thicker than two voxels can be stepped over.
+inline constexpr double kSweepVoxels = 2.0;
+inline constexpr uint32_t kMaxSweepPoses = 64;
+// A step whose contact pass the budget cut short moves no shell point further than this [voxel].
+inline constexpr double kShortPassVoxels = 0.5;
 
 // Solves m x = b for a symmetric positive definite m by Cholesky; false when m is not.
 bool solveSpd6(const Mat6& m, const double* b, double* x);
