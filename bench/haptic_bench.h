@@ -44,8 +44,12 @@ struct HapticBenchSettings {
   double drain_period_ms = 4.0;         // the drain thread's sleep between drains [ms] (a 240 Hz renderer)
   double poll_period_ms = 10.0;         // the bench thread's sleep between looks at the loop's time [ms]
   double max_wall_factor = 20.0;        // give up when the thread run takes this times the path's length
-  double goal_p99_us = 250.0;           // the issue's goals for the thread's step time [us]
-  double goal_max_us = 1000.0;
+  bool budget = true;                   // the thread's steps keep to the step budget (StepBudget::Clock)
+  double rate_hz = 0.0;                 // the loop's rate [Hz]; 0: the preset's (1 kHz)
+  double contact_budget = 0.0;          // device.contact_budget, of the period; 0: the preset's
+  double cut_budget = 0.0;              // device.cut_budget; 0: the preset's
+  double goal_p99_us = 150.0;           // the goals for the thread's step time [us] (issue 45)
+  double goal_max_us = 500.0;
   int goal_level = 10;                  // the level the goals are for
 };
 
@@ -69,6 +73,17 @@ struct StepLoad {
   double force_mean_n = 0.0;       // |force shown to the pen| over the contact steps [N]
   double force_max_n = 0.0;        // [N]
   double lowest_tip_mm = 0.0;      // lowest height the bur's tip reached, simulation frame [mm]
+  double points_left_mean = 0.0;   // shell points the budget left for the next step
+  uint32_t points_left_max = 0;
+};
+
+// A force against its reference, step by step, over the steps where the reference is in contact.
+struct ForceError {
+  uint64_t steps = 0;              // steps compared
+  double rms_n = 0.0, max_n = 0.0; // |F_thread - F_reference| [N]
+  double mean_contact_n = 0.0;     // the reference's mean |F| over those steps [N]
+  double rmsPercent() const { return mean_contact_n > 0 ? 100.0 * rms_n / mean_contact_n : 0.0; }
+  double maxPercent() const { return mean_contact_n > 0 ? 100.0 * max_n / mean_contact_n : 0.0; }
 };
 
 struct HapticBenchRow {
@@ -86,6 +101,10 @@ struct HapticBenchRow {
   // The real-time thread.
   StepTimeSummary thread;           // step times from HapticLoop::stepTimes()
   uint64_t missed_deadlines = 0;    // LoopCounters
+  uint64_t max_step_at = 0;         // the step that took thread.max_us
+  uint64_t long_steps = 0;          // steps longer than the period: misses of the step's own making (the rest
+                                    // began late: the machine woke the thread late)
+  double max_wake_late_us = 0.0;    // the latest a step began after its slot opened (the machine's wake-up) [us]
   uint64_t pen_dropouts = 0;
   std::string scheduler;            // the loop thread's policy as it ran: "SCHED_FIFO 80", "SCHED_OTHER"
   double wall_s = 0.0;              // start() to stop() [s]
@@ -93,6 +112,14 @@ struct HapticBenchRow {
   double removed_mm3 = 0.0;         // tissue removed [mm^3]
   uint64_t voxels_changed = 0;      // voxel edits made
   uint64_t deferred_cuts = 0;       // steps whose cut waited for room
+  bool budgeted = false;            // the thread kept to the step budget
+  double rate_hz = 0.0;             // the loop's rate [Hz]
+  uint64_t contact_overruns = 0;    // steps whose contact pass the budget cut short
+  uint64_t late_cut_steps = 0;      // steps that left cut jobs for later
+  uint64_t max_cut_lag_steps = 0;   // the longest a cut job waited [steps]
+  uint64_t forced_cuts = 0;         // cut jobs run over the budget (the queue was full)
+  bool replay_checked = false;      // the thread's schedules replayed on a copy of the tooth
+  bool replay_equal = false;        // and gave the thread's final voxels
   uint64_t edits_drained = 0;       // edits the drain thread took off the channel
   uint64_t drains = 0;              // drains that found edits
   bool mirror_checked = false;      // replay_edits ran
@@ -103,6 +130,14 @@ struct HapticBenchRow {
   StepTimeSummary step_only;
   StepTimeSummary step_only_guided;   // the same with a guide along the path (sim/guide_spring.h)
   StepLoad step_only_load;
+  // The budget's own error (replay_checked): each of the thread's steps replayed from its schedule,
+  // the force it showed against the force an unbudgeted step shows from the same state (a copy of
+  // the proxy, the same voxels, the same reading).
+  ForceError step_error;
+  // And over the whole path (has_step_only): the force shown by the thread against step only's
+  // (no budget), the two runs on the same pen path, each on its own tooth, so late cuts and passes
+  // cut short show in it as the cavities they make drift apart.
+  ForceError force_error;
   double step_only_removed_mm3 = 0.0;
   uint64_t step_only_voxels_changed = 0;
   bool idle_latency_held = false;     // the thread run's request on idle CPUs was granted

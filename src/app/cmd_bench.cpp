@@ -21,6 +21,7 @@
 #include "bench/plan_bench.h"
 #include "bench/mesh_bench.h"
 #include "bench/voxelize_bench.h"
+#include "core/text_format.h"
 #include "gpu/context.h"
 #include "gpu/mesher_kind.h"
 #include "render/tooth_lod.h"
@@ -72,6 +73,7 @@ struct HapticBenchOptions {
   bool cpu_voxelize = false;       // voxelize with the CPU reference even where there is a GPU
   bool no_step_only = false;       // skip the back-to-back run (and the one after idle)
   bool no_after_idle = false;      // skip the run whose steps each follow 1 ms after the last
+  bool no_budget = false;          // the thread's steps without the step budget (as before issue 45)
   std::string device;              // Vulkan device override
 };
 
@@ -225,6 +227,7 @@ int runHapticBenchCommand(HapticBenchOptions o) {
   if (Status s = createOutputFolder(o.out); !s) return fail(s.message());
   o.settings.step_only = !o.no_step_only;
   o.settings.after_idle = !o.no_after_idle;
+  o.settings.budget = !o.no_budget;
 
   std::optional<gpu::Context> context;
   if (!o.cpu_voxelize) {
@@ -242,7 +245,11 @@ int runHapticBenchCommand(HapticBenchOptions o) {
                  joined(std::vector<double>{o.settings.path.laps}) + (o.cpu_voxelize ? " --cpu-voxelize" : "") +
                  (o.no_step_only ? " --no-step-only" : "") + (o.no_after_idle ? " --no-after-idle" : "") +
                  (o.settings.idle_latency_us != 0 ? " --idle-latency-us " + std::to_string(o.settings.idle_latency_us)
-                                                  : std::string());
+                                                  : std::string()) +
+                 (o.no_budget ? " --no-budget" : "") +
+                 (o.settings.rate_hz > 0 ? " --rate-hz " + formatted("%g", o.settings.rate_hz) : std::string()) +
+                 (o.settings.contact_budget > 0 ? " --contact-budget " + formatted("%g", o.settings.contact_budget) : std::string()) +
+                 (o.settings.cut_budget > 0 ? " --cut-budget " + formatted("%g", o.settings.cut_budget) : std::string());
   info.cpu = bench::cpuModel();
   info.cpu_threads = int(std::thread::hardware_concurrency());
   info.voxelizer = context ? "the GPU voxelizer on " + context->device().name : std::string("the CPU reference");
@@ -348,15 +355,25 @@ void addBenchCommand(CLI::App& root, Action& action) {
   mesh->callback([mopts, &action] { action = [mopts] { return runMeshBench(*mopts); }; });
 
   auto hopts = std::make_shared<HapticBenchOptions>();
-  CLI::App* haptic = bench->add_subcommand("haptic", "Step time of the 1 kHz haptic loop while a 1 mm round bur "
+  CLI::App* haptic = bench->add_subcommand("haptic", "Step time of the haptic loop (1 kHz, its step budget) while a 1 mm round bur "
                                                      "prepares a class I cavity in the molar (thread, step-only and "
-                                                     "after-idle runs, missed deadlines, points per step)");
+                                                     "after-idle runs, missed deadlines, points per step, the budget's overruns and force error)");
   haptic->add_option("--levels", hopts->levels, "Octree levels")->delimiter(',')->check(CLI::Range(5, 11))
       ->capture_default_str();
   haptic->add_option("--laps", hopts->settings.path.laps, "Laps of the cavity outline")->check(finiteIn(0.05, 20.0, "laps"))
       ->capture_default_str();
   haptic->add_flag("--cpu-voxelize", hopts->cpu_voxelize, "Voxelize the molar with the CPU reference");
-  haptic->add_flag("--no-step-only", hopts->no_step_only, "Skip the back-to-back run on the bench thread");
+  haptic->add_flag("--no-step-only", hopts->no_step_only,
+                   "Skip the back-to-back run on the bench thread (the unbudgeted reference of the force error)");
+  haptic->add_flag("--no-budget", hopts->no_budget, "Run the loop's thread without the step budget");
+  haptic->add_option("--rate-hz", hopts->settings.rate_hz, "The loop's rate [Hz] (default: the preset's, 1000)")
+      ->check(finiteIn(100.0, 10000.0, "rate"));
+  haptic->add_option("--contact-budget", hopts->settings.contact_budget,
+                     "The contact pass's budget, a fraction of the period (default: the preset's)")
+      ->check(finiteIn(0.001, 0.9, "contact budget"));
+  haptic->add_option("--cut-budget", hopts->settings.cut_budget,
+                     "The cut stage's budget after the contact's, a fraction of the period (default: the preset's)")
+      ->check(finiteIn(0.001, 0.9, "cut budget"));
   haptic->add_flag("--no-after-idle", hopts->no_after_idle,
                    "Skip the run on the bench thread whose steps each start 1 ms after the last");
   haptic->add_option("--idle-latency-us", hopts->settings.idle_latency_us,
