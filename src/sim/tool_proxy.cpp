@@ -114,10 +114,14 @@ ProxyStep ToolProxy::step(VoxelField& field, const SimParams& params, const PenR
     }
   }
   // The swept check: a move long enough to step over a thin wall is followed through sub-poses,
-  // and ends at the first where a point not already in contact is in tissue.
+  // and ends at the first where a point not already in contact is in tissue. What starts it is the
+  // grip's own travel, the way a fast bur goes through a wall; a turn alone sweeps the long shank
+  // through far more voxels than any point of the head moves, and the springs of the next step
+  // already stop a neck that turns into a wall (a sweep there held the scripted professional's
+  // tilts back and changed its cavity on the micro-CT molar).
   const double travel = norm(dp) + norm(dtheta) * reach_mm_;
   const double sub_mm = kSweepVoxels * field.voxelMm();
-  if (travel > sub_mm) {
+  if (norm(dp) > sub_mm) {
     const uint32_t n = std::min<uint32_t>(kMaxSweepPoses, uint32_t(std::ceil(travel / sub_mm)));
     std::array<Pose, kMaxSweepPoses> poses;
     for (uint32_t j = 0; j < n; ++j) {

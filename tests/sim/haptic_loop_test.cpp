@@ -22,22 +22,6 @@ using test::sphereBur;
 
 constexpr double kR = 0.5;  // bur radius [mm]
 
-// A pen that presses the bur's grip `press` mm below where its tip would touch the surface, and
-// slides it along +x at `speed_mm_s` with the pedal at `pedal`, from t = 0 to `seconds`.
-PenPath pressAndSlide(const Block& b, double press, double speed_mm_s, double pedal, double seconds) {
-  PenPath path;
-  const Vec3 start{0.4, 0.8, b.surface_mm + kR - press};  // grip at the sphere's centre
-  for (double t : {0.0, seconds}) {
-    PenSample s;
-    s.t_s = t;
-    s.pen = PenRole::Drill;
-    s.pose = Pose{start + Vec3{speed_mm_s * t, 0, 0}, Quat{}};
-    s.pedal = pedal;
-    path.samples.push_back(s);
-  }
-  return path;
-}
-
 double tissueVolume(const BrickVolume& v, double voxel_mm) {
   const MaterialTotals t = v.materialTotals();
   double sum = 0;
@@ -66,7 +50,7 @@ CutRun runCut(Material tissue, double ability, double pedal, double seconds) {
   EditChannel channel(20);
   CutRun run;
   run.initial = b.volume;
-  const PenPath path = pressAndSlide(b, 1.5, 2.0, pedal, seconds);
+  const PenPath path = test::pressAndSlide(b, kR, 1.5, 2.0, pedal, seconds);
   ScriptedPen pen(path, PenRole::Drill);
   HapticLoop loop(b.volume, b.frame, params, bur, nullptr, &channel);
   loop.attach(PenRole::Drill, &pen);
@@ -211,7 +195,7 @@ TEST(HapticLoop, AStallSetsTheForceToZeroWithinTwoMilliseconds) {
   Block b = flatBlock(Material::Enamel);
   const ToolModel bur = sphereBur(kR, 0.03, {0, 0, kR});
   const SimParams params = defaultSimParams();
-  const PenPath path = pressAndSlide(b, 1.5, 0.0, 0.0, 10.0);
+  const PenPath path = test::pressAndSlide(b, kR, 1.5, 0.0, 0.0, 10.0);
   ScriptedPen pen(path, PenRole::Drill);
   HapticLoop loop(b.volume, b.frame, params, bur, nullptr, nullptr);
   loop.attach(PenRole::Drill, &pen);

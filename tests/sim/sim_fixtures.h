@@ -59,6 +59,23 @@ inline ToolModel sphereBur(double r, double spacing_mm, Vec3 grip_local = {0, 0,
   return std::move(*tool);
 }
 
+// A drill pen over a flat block that presses a round bur of radius r (its grip at the sphere's
+// centre) `press` mm below where its tip would touch the surface, at (0.4, 0.8) mm, and slides it
+// along +x at `speed_mm_s` with the pedal at `pedal`, from t = 0 to `seconds`.
+inline PenPath pressAndSlide(const Block& b, double r, double press, double speed_mm_s, double pedal, double seconds) {
+  PenPath path;
+  const Vec3 start{0.4, 0.8, b.surface_mm + r - press};
+  for (double t : {0.0, seconds}) {
+    PenSample s;
+    s.t_s = t;
+    s.pen = PenRole::Drill;
+    s.pose = Pose{start + Vec3{speed_mm_s * t, 0, 0}, Quat{}};
+    s.pedal = pedal;
+    path.samples.push_back(s);
+  }
+  return path;
+}
+
 // Tissue-on-sphere spring force for a sphere of radius r pressed d deep into a flat surface:
 // the integral of stiffness * depth over the spherical cap, k * pi * r * d^2 [N].
 inline double capSpringForce(double k, double r, double d) { return k * std::numbers::pi * r * d * d; }

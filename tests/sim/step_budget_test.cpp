@@ -29,17 +29,23 @@ bool sameContacts(std::span<const ContactPoint> a, std::span<const ContactPoint>
   return true;
 }
 
-TEST(ContactBudget, APassThatReachesEveryClusterGivesTheUnbudgetedContacts) {
+// The sphere bur 0.05 mm into dentin (the tool frame's origin is the tip), with the whole pass's contacts.
+struct PressedBur {
   Block b = flatBlock(Material::Dentin);
-  const ToolModel bur = sphereBur(kR, 0.03);
-  VoxelField field(b.volume, b.frame);
-  const Pose pose{{0.8, 0.8, b.surface_mm - 0.05}, Quat{}};  // the tool frame's origin is the tip
-  ContactFinder whole(bur.shell.size()), budgeted(bur.shell.size());
-  ContactStats ws, bs;
-  const std::vector<ContactPoint> expected = [&] {
-    auto c = whole.find(field, bur.shell, pose, &ws);
+  ToolModel bur = sphereBur(kR, 0.03);
+  VoxelField field{b.volume, b.frame};
+  Pose pose{{0.8, 0.8, b.surface_mm - 0.05}, Quat{}};
+  ContactFinder whole{bur.shell.size()}, budgeted{bur.shell.size()};
+  std::vector<ContactPoint> expected = [this] {
+    auto c = whole.find(field, bur.shell, pose);
     return std::vector<ContactPoint>(c.begin(), c.end());
   }();
+};
+
+TEST(ContactBudget, APassThatReachesEveryClusterGivesTheUnbudgetedContacts) {
+  PressedBur p;
+  auto& [b, bur, field, pose, whole, budgeted, expected] = p;
+  ContactStats bs;
   ASSERT_GT(expected.size(), 50u);
   ContactBudget roomy;
   roomy.max_points = 1u << 30;
@@ -53,13 +59,8 @@ TEST(ContactBudget, APassThatReachesEveryClusterGivesTheUnbudgetedContacts) {
 }
 
 TEST(ContactBudget, ThePointsAPassDidNotReachComeFirstInTheNextAndTheTwoMakeTheWhole) {
-  Block b = flatBlock(Material::Dentin);
-  const ToolModel bur = sphereBur(kR, 0.03);
-  VoxelField field(b.volume, b.frame);
-  const Pose pose{{0.8, 0.8, b.surface_mm - 0.05}, Quat{}};  // the tool frame's origin is the tip
-  ContactFinder whole(bur.shell.size()), budgeted(bur.shell.size());
-  const auto all = whole.find(field, bur.shell, pose);
-  const std::vector<ContactPoint> expected(all.begin(), all.end());
+  PressedBur p;
+  auto& [b, bur, field, pose, whole, budgeted, expected] = p;
 
   // Half the sampled points' worth of budget: the pass stops early, and what it did not reach has no
   // contacts yet (there was no earlier pass to carry them from).
@@ -87,21 +88,6 @@ TEST(ContactBudget, ThePointsAPassDidNotReachComeFirstInTheNextAndTheTwoMakeTheW
 
 // ---- the loop ------------------------------------------------------------------------------------------
 
-// A pen that presses into the block and slides along +x with the pedal down.
-PenPath pressAndSlide(const Block& b, double press, double speed_mm_s, double pedal, double seconds) {
-  PenPath path;
-  const Vec3 start{0.4, 0.8, b.surface_mm + kR - press};
-  for (double t : {0.0, seconds}) {
-    PenSample s;
-    s.t_s = t;
-    s.pen = PenRole::Drill;
-    s.pose = Pose{start + Vec3{speed_mm_s * t, 0, 0}, Quat{}};
-    s.pedal = pedal;
-    path.samples.push_back(s);
-  }
-  return path;
-}
-
 struct BudgetRun {
   BrickVolume final_volume{3};
   std::vector<SessionSchedule> schedules;
@@ -120,7 +106,7 @@ BudgetRun runBudgeted(StepBudget budget, uint32_t points, const SimParams& param
                       const std::vector<SessionSchedule>* follow = nullptr, double pedal = 1.0) {
   Block b = flatBlock(Material::Dentin);
   const ToolModel bur = sphereBur(kR, 0.03, {0, 0, kR});
-  const PenPath path = pressAndSlide(b, 0.3, 3.0, pedal, steps / params.device.rate_hz);
+  const PenPath path = test::pressAndSlide(b, kR, 0.3, 3.0, pedal, steps / params.device.rate_hz);
   SimParams with_bur = params;
   with_bur.burs["test_sphere"].cutting_ability = 0.8;
   ScriptedPen pen(path, PenRole::Drill);
