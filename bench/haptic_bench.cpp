@@ -268,6 +268,8 @@ ReplayedRun replaySteps(BrickVolume& volume, const VolumeFrame& frame, const Sim
     sink.clear();
     edits.drain(&sink);
   }
+  // As the thread's stop() did: cut jobs still waiting go into the voxels.
+  if (follow != nullptr) loop.flushCuts();
   return {summarize(times), sums.load(),          loop.latest().removed_mm3, loop.latest().voxels_changed,
           std::move(forces),  step_sums.result()};
 }
