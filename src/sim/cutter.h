@@ -43,6 +43,18 @@ struct CutStep {
   // The same by tissue, indexed by Material (Empty unused): what the sound engine colours the cut by.
   std::array<double, DS_MATERIAL_COUNT> removed_by_material_mm3{};
   bool deferred = false;          // not cut: no room in the channel or the volume's reserve
+
+  // Sums another step's cut into this one (a haptic step that ran several queued cut jobs).
+  CutStep& operator+=(const CutStep& o) {
+    candidates += o.candidates;
+    voxels_changed += o.voxels_changed;
+    demand_mm3 += o.demand_mm3;
+    expected_mm3 += o.expected_mm3;
+    removed_mm3 += o.removed_mm3;
+    for (size_t m = 0; m < removed_by_material_mm3.size(); ++m) removed_by_material_mm3[m] += o.removed_by_material_mm3[m];
+    deferred = deferred || o.deferred;
+    return *this;
+  }
 };
 
 class Cutter {

@@ -112,17 +112,15 @@ void HapticLoop::record(const std::array<PenReading, 2>& readings, int64_t now_n
 // ---- the cut stage ------------------------------------------------------------------------------------
 
 void HapticLoop::runCut(std::span<const ContactPoint> contacts, double speed, double dt, uint64_t step) {
-  const CutStep c = cutter_.cut(volume_, field_, contacts, *active_params_, drill_ability_, speed, dt, step, edits_);
-  CutStep& sum = report_.cut;
-  sum.candidates += c.candidates;
-  sum.voxels_changed += c.voxels_changed;
-  sum.demand_mm3 += c.demand_mm3;
-  sum.expected_mm3 += c.expected_mm3;
-  sum.removed_mm3 += c.removed_mm3;
-  for (size_t m = 0; m < sum.removed_by_material_mm3.size(); ++m)
-    sum.removed_by_material_mm3[m] += c.removed_by_material_mm3[m];
-  sum.deferred = sum.deferred || c.deferred;
+  report_.cut += cutter_.cut(volume_, field_, contacts, *active_params_, drill_ability_, speed, dt, step, edits_);
   ++report_.cuts_run;
+}
+
+void HapticLoop::bookCut(const CutStep& cut) {
+  totals_.removed_mm3 += cut.removed_mm3;
+  for (size_t m = 0; m < totals_.removed_by_material_mm3.size(); ++m)
+    totals_.removed_by_material_mm3[m] += cut.removed_by_material_mm3[m];
+  totals_.voxels_changed += cut.voxels_changed;
 }
 
 void HapticLoop::runOldestCut() {
@@ -289,10 +287,7 @@ const StepReport& HapticLoop::step() {
   totals_.pedal = report_.speed;
   totals_.guide_n = report_.guide_n;
   totals_.rpm = report_.speed * p.turbine.max_rpm;
-  totals_.removed_mm3 += report_.cut.removed_mm3;
-  for (size_t m = 0; m < totals_.removed_by_material_mm3.size(); ++m)
-    totals_.removed_by_material_mm3[m] += report_.cut.removed_by_material_mm3[m];
-  totals_.voxels_changed += report_.cut.voxels_changed;
+  bookCut(report_.cut);
   totals_.deferred_cuts += report_.cut.deferred ? 1 : 0;
   totals_.cut_queue = report_.cuts_waiting;
   totals_.cut_lag_steps = report_.cut_lag_steps;
@@ -329,11 +324,10 @@ uint32_t HapticLoop::flushCuts() {
   // Booked to the last step's report, as if that step had had the time to run them.
   const CutStep before = report_.cut;
   const uint32_t runs = report_.cuts_run;
+  report_.cut = CutStep{};
   while (cut_count_ > 0) runOldestCut();
-  totals_.removed_mm3 += report_.cut.removed_mm3 - before.removed_mm3;
-  for (size_t m = 0; m < totals_.removed_by_material_mm3.size(); ++m)
-    totals_.removed_by_material_mm3[m] += report_.cut.removed_by_material_mm3[m] - before.removed_by_material_mm3[m];
-  totals_.voxels_changed += report_.cut.voxels_changed - before.voxels_changed;
+  bookCut(report_.cut);
+  report_.cut += before;
   report_.cuts_waiting = 0;
   report_.cut_lag_steps = 0;
   totals_.cut_queue = 0;

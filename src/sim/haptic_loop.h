@@ -246,6 +246,7 @@ class HapticLoop {
   void enqueueCut(std::span<const ContactPoint> contacts, double speed, double dt, uint64_t step);
   void runCut(std::span<const ContactPoint> contacts, double speed, double dt, uint64_t step);
   void runOldestCut();
+  void bookCut(const CutStep& cut);  // adds a cut's removal to the running totals
   BrickVolume& volume_;
   VoxelField field_;
   TripleBuffer<ParamsUpdate> params_;
