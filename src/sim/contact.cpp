@@ -277,9 +277,11 @@ std::span<const ContactPoint> ContactFinder::find(VoxelField& field, const Point
         ++st.clusters_skipped;
         continue;
       }
-      // The clock is read only before a cluster that costs something.
-      if (!prescribed && ((budget->max_points != 0 && st.points_tested >= budget->max_points) ||
-                          (budget->deadline_ns != 0 && steadyNowNs() >= budget->deadline_ns)))
+      // The clock is read only before a cluster that costs something, and a pass tests at least one:
+      // a step that starts past its deadline (a stall) still makes progress through the shell.
+      if (!prescribed && st.clusters_tested > 0 &&
+          ((budget->max_points != 0 && st.points_tested >= budget->max_points) ||
+           (budget->deadline_ns != 0 && steadyNowNs() >= budget->deadline_ns)))
         break;
       testCluster(field, shell, cluster, at, &looks, &st);
     }

@@ -59,7 +59,8 @@ struct ContactStats {
 
 // What a pass may spend. A pass reaches clusters in the order: those the last pass did not reach,
 // then those that were in contact, then the rest; it stops before a cluster whose points would be
-// sampled once the deadline has passed or the points sampled reach max_points. Replay gives
+// sampled once the deadline has passed or the points sampled reach max_points, but never before the
+// first such cluster: a pass begun late still gets somewhere. Replay gives
 // `clusters` instead: exactly that many, whatever the clock says.
 struct ContactBudget {
   static constexpr uint32_t kAll = 0xFFFFFFFFu;
