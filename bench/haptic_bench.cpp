@@ -33,6 +33,7 @@
 #include "io/pen_playback.h"
 #include "sim/edit_channel.h"
 #include "sim/guide_spring.h"
+#include "sim/deadline_clock.h"
 #include "sim/haptic_loop.h"
 #include "sim/idle_latency.h"
 #include "sim/sim_params.h"
@@ -240,9 +241,7 @@ ReplayedRun replaySteps(BrickVolume& volume, const VolumeFrame& frame, const Sim
     if (period_ns > 0 && i > 0) {
       next += period_ns;
       if (steadyNowNs() < next) {
-        const timespec ts{time_t(next / 1'000'000'000), long(next % 1'000'000'000)};
-        while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-        }
+        sleepUntilNs(next);
       } else {
         next = steadyNowNs();  // the last step overran its slot: the schedule restarts now
       }
@@ -279,6 +278,45 @@ ForceError forceError(const std::vector<Vec3>& thread, const std::vector<Vec3>& 
   ErrorSums sums;
   for (size_t i = 0; i < std::min(thread.size(), reference.size()); ++i) sums.add(thread[i], reference[i]);
   return sums.result();
+}
+
+struct BareTimerRun {
+  std::string scheduler;
+  uint64_t missed = 0;
+  int64_t max_wake_late_ns = 0;
+};
+
+// The loop's thread without the loop: the same real-time request and DeadlineClock, each step a busy
+// wait of busy_ns. Errors: a thread that cannot start.
+Result<BareTimerRun> runBareTimer(uint64_t steps, int64_t period_ns, int64_t busy_ns, int32_t idle_latency_us) {
+  BareTimerRun out;
+  auto body = [&] {
+    (void)enterRealTime();
+    const IdleLatencyRequest idle(idle_latency_us);
+    sched_param sp{};
+    int policy = 0;
+    out.scheduler = pthread_getschedparam(pthread_self(), &policy, &sp) == 0 ? schedulerName(policy, sp.sched_priority)
+                                                                             : schedulerName(-1, 0);
+    DeadlineClock clock(steadyNowNs());
+    for (uint64_t i = 0; i < steps; ++i) {
+      const int64_t t0 = steadyNowNs();
+      out.max_wake_late_ns = std::max(out.max_wake_late_ns, clock.open(period_ns, t0));
+      while (steadyNowNs() - t0 < busy_ns) {
+      }
+      if (!clock.close(steadyNowNs(), period_ns)) {
+        ++out.missed;
+        continue;
+      }
+      clock.sleep();
+    }
+  };
+  try {
+    std::thread t(body);
+    t.join();
+  } catch (const std::system_error& e) {
+    return makeError("bench haptic", std::string("cannot start the bare timer's thread: ") + e.what());
+  }
+  return out;
 }
 
 }  // namespace
@@ -440,6 +478,18 @@ Result<HapticBenchRow> runHapticBench(int level, const VolumeMaker& make_volume,
     thread_forces = std::move(probe.forces);
   }
   mirror.reset();
+  if (s.bare_timer) {
+    const auto period_ns = int64_t(std::llround(1e9 / rate));
+    auto bare = runBareTimer(row.thread.steps, period_ns, int64_t(std::llround(row.thread.mean_us * 1e3)),
+                             s.idle_latency_us);
+    if (!bare) return bare.error();
+    row.has_bare_timer = true;
+    row.bare_scheduler = bare->scheduler;
+    row.bare_steps = row.thread.steps;
+    row.bare_missed = bare->missed;
+    row.bare_busy_us = row.thread.mean_us;
+    row.bare_max_wake_late_us = double(bare->max_wake_late_ns) / 1000.0;
+  }
   row.p99_met = row.thread.p99_us < s.goal_p99_us;
   row.max_met = row.thread.max_us < s.goal_max_us;
   {
@@ -453,6 +503,14 @@ Result<HapticBenchRow> runHapticBench(int level, const VolumeMaker& make_volume,
                   static_cast<unsigned long long>(row.missed_deadlines), static_cast<unsigned long long>(row.long_steps),
                   row.max_wake_late_us, row.load.points_mean, row.load.clear_mean, row.removed_mm3, row.idle_latency_note.c_str());
     say(line);
+    if (row.has_bare_timer) {
+      std::snprintf(line, sizeof line,
+                    "level %d bare timer (%s, each step a %.1f us busy wait): %llu steps, %llu missed (latest wake %.0f us "
+                    "after its slot)",
+                    level, row.bare_scheduler.c_str(), row.bare_busy_us, static_cast<unsigned long long>(row.bare_steps),
+                    static_cast<unsigned long long>(row.bare_missed), row.bare_max_wake_late_us);
+      say(line);
+    }
     std::snprintf(line, sizeof line,
                   "level %d budget %s at %.0f Hz: %llu passes cut short (%.0f points left/step, max %u); %llu steps left "
                   "cuts for later (longest wait %llu steps, %llu forced); replay of the schedules: %s; force shown against "
@@ -472,6 +530,8 @@ Result<HapticBenchRow> runHapticBench(int level, const VolumeMaker& make_volume,
     std::optional<BrickVolume> paced_volume;
     if (s.after_idle) paced_volume = *pristine;
     BrickVolume guided_volume = *pristine;
+    std::optional<BrickVolume> floor_volume;
+    if (s.floor_offset_mm > 0) floor_volume = *pristine;
     const ReplayedRun back_to_back =
         replaySteps(*pristine, tooth->frame, params, *tool, path->path, row.thread.steps, 0, -1);
     row.has_step_only = true;
@@ -491,6 +551,20 @@ Result<HapticBenchRow> runHapticBench(int level, const VolumeMaker& make_volume,
                   row.force_error.max_n, row.force_error.maxPercent(),
                   static_cast<unsigned long long>(row.force_error.steps));
     say(line);
+    if (floor_volume) {
+      PenPath moved = path->path;
+      for (PenSample& sample : moved.samples) sample.pose.position.x += s.floor_offset_mm;
+      const ReplayedRun off = replaySteps(*floor_volume, tooth->frame, params, *tool, moved, row.thread.steps, 0, -1);
+      floor_volume.reset();
+      row.has_path_floor = true;
+      row.path_floor_offset_mm = s.floor_offset_mm;
+      row.path_floor = forceError(off.forces, back_to_back.forces);
+      std::snprintf(line, sizeof line,
+                    "level %d the path error's floor: step only with the pen %.4f mm off, against step only: RMS %.4f N "
+                    "(%.2f %%), max %.4f N",
+                    level, s.floor_offset_mm, row.path_floor.rms_n, row.path_floor.rmsPercent(), row.path_floor.max_n);
+      say(line);
+    }
     const GuidePath guide = guideAlong(path->path);
     const ReplayedRun guided =
         replaySteps(guided_volume, tooth->frame, params, *tool, path->path, row.thread.steps, 0, -1, &guide);
@@ -621,6 +695,15 @@ nlohmann::json hapticReportJson(const HapticReportInfo& info, const std::vector<
                                               {"replay_equal", r.replay_equal}}}}},
                       {"step_error", r.replay_checked ? errorJson(r.step_error) : nlohmann::json(nullptr)},
                       {"force_error", r.has_step_only ? errorJson(r.force_error) : nlohmann::json(nullptr)},
+                      {"path_error_floor", r.has_path_floor ? nlohmann::json{{"pen_offset_mm", r.path_floor_offset_mm},
+                                                                             {"error", errorJson(r.path_floor)}}
+                                                            : nlohmann::json(nullptr)},
+                      {"bare_timer", r.has_bare_timer ? nlohmann::json{{"scheduler", r.bare_scheduler},
+                                                                      {"steps", r.bare_steps},
+                                                                      {"busy_us", r.bare_busy_us},
+                                                                      {"missed_deadlines", r.bare_missed},
+                                                                      {"max_wake_late_us", r.bare_max_wake_late_us}}
+                                                      : nlohmann::json(nullptr)},
                       {"step_only", step_only},
                       {"after_idle", after_idle},
                       {"p99_met", r.p99_met},
@@ -641,6 +724,8 @@ nlohmann::json hapticReportJson(const HapticReportInfo& info, const std::vector<
                         {"contact_budget", s.contact_budget > 0 ? s.contact_budget : defaultSimParams().device.contact_budget},
                         {"cut_budget", s.cut_budget > 0 ? s.cut_budget : defaultSimParams().device.cut_budget},
                         {"step_only", s.step_only},
+                        {"floor_offset_mm", s.floor_offset_mm},
+                        {"bare_timer", s.bare_timer},
                         {"after_idle", s.after_idle},
                         {"idle_latency_us", s.idle_latency_us},
                         {"replay_edits", s.replay_edits},
@@ -692,6 +777,10 @@ std::string hapticRowsTable(const std::vector<HapticBenchRow>& rows, const Hapti
     else
       o << "(level " << s.goal_level << " only)";
     o << " |\n";
+    if (r.has_bare_timer)
+      o << "| " << r.level << " | " << formatted("%.4f", r.voxel_mm) << " | bare timer (" << r.bare_scheduler << ", "
+        << formatted("%.1f", r.bare_busy_us) << " us busy) | " << count(r.bare_steps) << " | " << count(r.bare_missed)
+        << " | - | - | - | - | - | - | - | - | - | - | - |\n";
     if (r.has_step_only)
       o << "| " << r.level << " | " << formatted("%.4f", r.voxel_mm) << " | step only | " << count(r.step_only.steps)
         << " | - | " << formatted("%.1f", r.step_only.p50_us) << " | " << formatted("%.1f", r.step_only.p99_us) << " | "
@@ -737,7 +826,10 @@ std::string hapticReportMarkdown(const HapticReportInfo& info, const std::vector
        "passes the path's end; a second thread drains the voxel edits every "
     << formatted("%g", s.drain_period_ms) << " ms" << (s.replay_edits ? " into a mirror copy, as the renderer would" : "")
     << ". Step times are HapticLoop::stepTimes() (0.5 us bins; a percentile is its bin's upper edge); a missed "
-       "deadline is a step that ended after its slot. Points sampled / step: shell points sampled against the "
+       "deadline is a step that ended after its slot. Bare timer: right after the thread, a thread at the same "
+       "policy on the same clock whose every step is a busy wait as long as the thread's mean step: its misses "
+       "are the machine's late wake-ups, which no step budget can shorten. Points sampled / step: shell points "
+       "sampled against the "
        "field, from every step's snapshot. Points skipped: those still within the clearance of their last sample "
        "(the contacts are exactly those of a full test); points in clusters of empty 64^3 chunks count in neither. "
        "Step only: the same steps on the "
@@ -761,19 +853,24 @@ std::string hapticReportMarkdown(const HapticReportInfo& info, const std::vector
   o << "\nThe step budget on the thread. Step error: each of the thread's steps replayed from its "
        "schedule, the force it showed against the force an unbudgeted step shows from the same state (the "
        "proxy as the step found it, the same voxels, the same reading). Path error: the force shown by the "
-       "thread against step only's (no budget) on the same pen path, each cutting its own tooth. Both over the "
+       "thread against step only's (no budget) on the same pen path, each cutting its own tooth. Its floor: "
+       "step only again with the pen path moved "
+    << formatted("%g", s.floor_offset_mm * 1000.0)
+    << " um, against step only; a force that is not the reference's bit for bit cuts a cavity that drifts "
+       "from it, and the pen-to-proxy spring turns that drift into force. All over the "
        "steps where the reference exceeds 0.01 N; percentages of the reference's mean.\n\n"
        "| level | rate [Hz] | budget | passes cut short | points left / step (mean, max) | steps leaving cuts | "
        "longest cut wait [steps] | forced cuts | replay of the schedules | step error RMS [N] (% of mean) | "
-       "max [N] (%) | path error RMS [N] (% of mean) | max [N] (%) |\n"
-       "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
+       "max [N] (%) | path error RMS [N] (% of mean) | max [N] (%) | its floor RMS [N] (% of mean) | max [N] (%) |\n"
+       "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const HapticBenchRow& r : rows)
     o << "| " << r.level << " | " << formatted("%g", r.rate_hz) << " | " << (r.budgeted ? "on" : "off") << " | "
       << r.contact_overruns << " | " << formatted("%.0f", r.load.points_left_mean) << ", " << r.load.points_left_max << " | "
       << r.late_cut_steps << " | " << r.max_cut_lag_steps << " | " << r.forced_cuts << " | "
       << (r.replay_checked ? (r.replay_equal ? "same voxels" : "OTHER VOXELS") : "not checked") << " | "
       << (r.replay_checked ? errorCells(r.step_error) : std::string("- | -")) << " | "
-      << (r.has_step_only ? errorCells(r.force_error) : std::string("- | -")) << " |\n";
+      << (r.has_step_only ? errorCells(r.force_error) : std::string("- | -")) << " | "
+      << (r.has_path_floor ? errorCells(r.path_floor) : std::string("- | -")) << " |\n";
   o << "\nIdle CPUs while the thread and the after-idle run ran (requested: "
     << (s.idle_latency_us < 0 ? std::string("nothing") : "wake within " + std::to_string(s.idle_latency_us) + " us")
     << "):";

@@ -48,6 +48,11 @@ struct HapticBenchSettings {
   double rate_hz = 0.0;                 // the loop's rate [Hz]; 0: the preset's (1 kHz)
   double contact_budget = 0.0;          // device.contact_budget, of the period; 0: the preset's
   double cut_budget = 0.0;              // device.cut_budget; 0: the preset's
+  // The path error's floor: step only again with the pen path moved this far along x [mm] (0: not run).
+  // A tenth of a micrometre is far below any pen's resolution; what it changes is the floor under
+  // which no step that is not bit for bit the reference's can bring the path error.
+  double floor_offset_mm = 0.0001;
+  bool bare_timer = true;               // after the thread, the machine's own misses (DeadlineClock, a busy wait)
   double goal_p99_us = 150.0;           // the goals for the thread's step time [us] (issue 45)
   double goal_max_us = 500.0;
   int goal_level = 10;                  // the level the goals are for
@@ -118,6 +123,15 @@ struct HapticBenchRow {
   uint64_t late_cut_steps = 0;      // steps that left cut jobs for later
   uint64_t max_cut_lag_steps = 0;   // the longest a cut job waited [steps]
   uint64_t forced_cuts = 0;         // cut jobs run over the budget (the queue was full)
+  // The bare timer: a thread at the loop's policy on the same DeadlineClock, each step a busy wait as
+  // long as the loop thread's mean step, as many steps, right after the loop's run. What it misses is
+  // the machine's (late wake-ups), not the step's.
+  bool has_bare_timer = false;
+  std::string bare_scheduler;
+  uint64_t bare_steps = 0;
+  uint64_t bare_missed = 0;
+  double bare_busy_us = 0.0;
+  double bare_max_wake_late_us = 0.0;
   bool replay_checked = false;      // the thread's schedules replayed on a copy of the tooth
   bool replay_equal = false;        // and gave the thread's final voxels
   uint64_t edits_drained = 0;       // edits the drain thread took off the channel
@@ -138,6 +152,10 @@ struct HapticBenchRow {
   // (no budget), the two runs on the same pen path, each on its own tooth, so late cuts and passes
   // cut short show in it as the cavities they make drift apart.
   ForceError force_error;
+  // The path error's floor (settings.floor_offset_mm): step only with the pen moved, against step only.
+  bool has_path_floor = false;
+  double path_floor_offset_mm = 0.0;
+  ForceError path_floor;
   double step_only_removed_mm3 = 0.0;
   uint64_t step_only_voxels_changed = 0;
   bool idle_latency_held = false;     // the thread run's request on idle CPUs was granted

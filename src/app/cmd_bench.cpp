@@ -74,6 +74,7 @@ struct HapticBenchOptions {
   bool no_step_only = false;       // skip the back-to-back run (and the one after idle)
   bool no_after_idle = false;      // skip the run whose steps each follow 1 ms after the last
   bool no_budget = false;          // the thread's steps without the step budget (as before issue 45)
+  bool no_bare_timer = false;      // skip the bare timer (the machine's own misses)
   std::string device;              // Vulkan device override
 };
 
@@ -228,6 +229,7 @@ int runHapticBenchCommand(HapticBenchOptions o) {
   o.settings.step_only = !o.no_step_only;
   o.settings.after_idle = !o.no_after_idle;
   o.settings.budget = !o.no_budget;
+  o.settings.bare_timer = !o.no_bare_timer;
 
   std::optional<gpu::Context> context;
   if (!o.cpu_voxelize) {
@@ -249,7 +251,11 @@ int runHapticBenchCommand(HapticBenchOptions o) {
                  (o.no_budget ? " --no-budget" : "") +
                  (o.settings.rate_hz > 0 ? " --rate-hz " + formatted("%g", o.settings.rate_hz) : std::string()) +
                  (o.settings.contact_budget > 0 ? " --contact-budget " + formatted("%g", o.settings.contact_budget) : std::string()) +
-                 (o.settings.cut_budget > 0 ? " --cut-budget " + formatted("%g", o.settings.cut_budget) : std::string());
+                 (o.settings.cut_budget > 0 ? " --cut-budget " + formatted("%g", o.settings.cut_budget) : std::string()) +
+                 (o.no_bare_timer ? " --no-bare-timer" : "") +
+                 (o.settings.floor_offset_mm != bench::HapticBenchSettings{}.floor_offset_mm
+                      ? " --floor-offset-mm " + formatted("%g", o.settings.floor_offset_mm)
+                      : std::string());
   info.cpu = bench::cpuModel();
   info.cpu_threads = int(std::thread::hardware_concurrency());
   info.voxelizer = context ? "the GPU voxelizer on " + context->device().name : std::string("the CPU reference");
@@ -374,6 +380,13 @@ void addBenchCommand(CLI::App& root, Action& action) {
   haptic->add_option("--cut-budget", hopts->settings.cut_budget,
                      "The cut stage's budget after the contact's, a fraction of the period (default: the preset's)")
       ->check(finiteIn(0.001, 0.9, "cut budget"));
+  haptic->add_flag("--no-bare-timer", hopts->no_bare_timer,
+                   "Skip the bare timer: after the thread, a thread at the same priority whose steps are busy waits "
+                   "(the machine's own missed deadlines)");
+  haptic->add_option("--floor-offset-mm", hopts->settings.floor_offset_mm,
+                     "The path error's floor: step only again with the pen path moved this far [mm]; 0: skip")
+      ->check(finiteIn(0.0, 1.0, "offset"))
+      ->capture_default_str();
   haptic->add_flag("--no-after-idle", hopts->no_after_idle,
                    "Skip the run on the bench thread whose steps each start 1 ms after the last");
   haptic->add_option("--idle-latency-us", hopts->settings.idle_latency_us,

@@ -1,15 +1,13 @@
 // HapticLoop: the haptic step as a table of contents, and the real-time thread with absolute deadlines.
 #include "sim/haptic_loop.h"
 
-#include <sys/prctl.h>
-#include <time.h>
-
 #include <algorithm>
 #include <cmath>
 #include <system_error>
 
 #include "core/percentile.h"
 #include "core/steady_clock.h"
+#include "sim/deadline_clock.h"
 #include "sim/idle_latency.h"
 
 namespace dentsim {
@@ -258,6 +256,10 @@ const StepReport& HapticLoop::step() {
     if (report_.cuts_run - report_.cuts_forced >= allowed) return false;
     return !clocked || steadyNowNs() < cut_deadline;
   };
+  while (cut_count_ > 0 && step_index - cut_jobs_[cut_head_].step >= kMaxCutLagSteps) {
+    runOldestCut();
+    ++report_.cuts_forced;
+  }
   if (cutting) {
     if (cut_count_ == 0 && mayRunAnother())
       runCut(report_.tools[0].contacts, report_.speed, dt, step_index);
@@ -337,11 +339,7 @@ uint32_t HapticLoop::flushCuts() {
 }
 
 void HapticLoop::run() {
-  // Wake-ups as close to the deadline as the kernel allows; real-time priority where permitted.
-  prctl(PR_SET_TIMERSLACK, 1UL, 0UL, 0UL, 0UL);
-  sched_param sp{};
-  sp.sched_priority = 80;
-  (void)pthread_setschedparam(pthread_self(), SCHED_FIFO, &sp);
+  (void)enterRealTime();
 
   // Held until run() returns; set up before the first step, read by others after stop() joins.
   const IdleLatencyRequest idle(idle_latency_us_);
@@ -353,13 +351,12 @@ void HapticLoop::run() {
   const StepBudget direct = budget_;
   budget_ = thread_budget_;
   auto period_ns = [&] { return int64_t(std::llround(1e9 / active_params_->device.rate_hz)); };
-  int64_t deadline = steadyNowNs();
+  DeadlineClock clock(steadyNowNs());
   while (!stop_requested_.load(std::memory_order_relaxed)) {
-    const int64_t slot = deadline;  // when this step's slot opened: the last deadline
-    deadline += period_ns();
     const int64_t t0 = steadyNowNs();
-    if (t0 - slot > counters_.max_wake_late_ns.load(std::memory_order_relaxed))
-      counters_.max_wake_late_ns.store(t0 - slot, std::memory_order_relaxed);
+    const int64_t late = clock.open(period_ns(), t0);
+    if (late > counters_.max_wake_late_ns.load(std::memory_order_relaxed))
+      counters_.max_wake_late_ns.store(late, std::memory_order_relaxed);
     step();
     const int64_t t1 = steadyNowNs();
     times_.add(t1 - t0);
@@ -369,17 +366,11 @@ void HapticLoop::run() {
       counters_.max_step_at.store(totals_.step - 1, std::memory_order_relaxed);
     }
     if (t1 - t0 > period_ns()) counters_.long_steps.fetch_add(1, std::memory_order_relaxed);
-    if (t1 > deadline) {
+    if (!clock.close(t1, period_ns())) {
       counters_.missed_deadlines.fetch_add(1, std::memory_order_relaxed);
-      // Far behind (a stall): start a new schedule instead of running a burst of catch-up steps.
-      if (t1 - deadline > 4 * period_ns()) deadline = t1;
       continue;
     }
-    timespec ts{};
-    ts.tv_sec = time_t(deadline / 1'000'000'000);
-    ts.tv_nsec = long(deadline % 1'000'000'000);
-    while (clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr) == EINTR) {
-    }
+    clock.sleep();
   }
   budget_ = direct;
 }

@@ -140,6 +140,11 @@ enum class StepBudget { None, Clock, Points };
 
 class HapticLoop {
  public:
+  // The longest a job waits: one older runs at once, over budget. The bench's loop waits 4-5 steps at
+  // most on a steady machine, but a machine slowed for a while (another tenant, a throttled core) left
+  // jobs 20 to 100 steps behind, and the tissue the bur had already taken pushed on it all that time.
+  static constexpr uint64_t kMaxCutLagSteps = 8;
+
   // `volume` is the tooth's CPU copy: the loop edits it and must be its only user while running.
   // `edits` (may be null) receives every voxel edit for the GPU side. `mirror` may be null.
   // Reserves spare bricks in `volume` so cutting never allocates.

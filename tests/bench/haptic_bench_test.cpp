@@ -191,6 +191,20 @@ TEST(HapticBenchTest, ShortRunReportIsConsistent) {
     EXPECT_EQ(r.step_only_load.clear_mean, r.load.clear_mean);
     EXPECT_EQ(r.step_only_load.contacts_max, r.load.contacts_max);
   }
+  // The path error's floor: step only again with the pen a tenth of a micrometre off.
+  ASSERT_TRUE(r.has_path_floor);
+  EXPECT_EQ(r.path_floor_offset_mm, s.floor_offset_mm);
+  EXPECT_GT(r.path_floor.steps, 0u);
+  EXPECT_GT(r.path_floor.mean_contact_n, 0.0);
+  EXPECT_LE(r.path_floor.rms_n, r.path_floor.max_n);
+  // The bare timer ran as many steps as the thread, at the thread's policy, each a busy wait as long
+  // as the thread's mean step.
+  ASSERT_TRUE(r.has_bare_timer);
+  EXPECT_EQ(r.bare_steps, r.thread.steps);
+  EXPECT_EQ(r.bare_scheduler, r.scheduler);
+  EXPECT_EQ(r.bare_busy_us, r.thread.mean_us);
+  EXPECT_LE(r.bare_missed, r.bare_steps);
+  EXPECT_GE(r.bare_max_wake_late_us, 0.0);
   // The run whose steps each start 1 ms after the last has no budget either: it cuts as step only.
   ASSERT_TRUE(r.has_after_idle);
   EXPECT_EQ(r.after_idle.steps, r.thread.steps);
@@ -213,6 +227,10 @@ TEST(HapticBenchTest, ShortRunReportIsConsistent) {
   EXPECT_EQ(j["levels"][0]["thread"]["edits_drained"], r.edits_drained);
   EXPECT_EQ(j["levels"][0]["thread"]["budget"]["replay_equal"], r.replay_equal);
   EXPECT_EQ(j["levels"][0]["force_error"]["rms_n"], r.force_error.rms_n);
+  EXPECT_EQ(j["levels"][0]["path_error_floor"]["error"]["rms_n"], r.path_floor.rms_n);
+  EXPECT_EQ(j["levels"][0]["path_error_floor"]["pen_offset_mm"], s.floor_offset_mm);
+  EXPECT_EQ(j["levels"][0]["bare_timer"]["missed_deadlines"], r.bare_missed);
+  EXPECT_EQ(j["levels"][0]["bare_timer"]["steps"], r.bare_steps);
 
   EXPECT_TRUE(j["goals"]["met"].is_null());  // no level 10 here
   const std::string md = hapticReportMarkdown(info, rows);
@@ -220,6 +238,8 @@ TEST(HapticBenchTest, ShortRunReportIsConsistent) {
   EXPECT_NE(md.find("step only"), std::string::npos);
   EXPECT_NE(md.find("passes cut short"), std::string::npos);
   EXPECT_NE(md.find("| after idle | "), std::string::npos);
+  EXPECT_NE(md.find("| bare timer ("), std::string::npos);
+  EXPECT_NE(md.find("its floor RMS"), std::string::npos);
   EXPECT_NE(md.find(r.idle_latency_note), std::string::npos);
   EXPECT_EQ(j["levels"][0]["thread"]["idle_latency"]["held"], r.idle_latency_held);
   EXPECT_EQ(j["levels"][0]["after_idle"]["times"]["steps"], r.after_idle.steps);

@@ -155,8 +155,10 @@ TEST(StepBudget, AClockBudgetTooSmallForTheWorkStillCutsAllItWasAskedToAndReplay
   const size_t short_steps = size_t(std::count_if(live.schedules.begin(), live.schedules.end(),
                                                   [](const SessionSchedule& s) { return !s.isDefault(); }));
   EXPECT_GT(short_steps, size_t(steps / 2));
-  // The queue filled (256 jobs) and ran its oldest over budget; the rest ran when the run ended.
+  // Jobs that waited kMaxCutLagSteps ran over budget, so none waited longer; the rest ran when the
+  // run ended.
   EXPECT_GT(live.forced, 0u);
+  EXPECT_EQ(live.max_lag, HapticLoop::kMaxCutLagSteps - 1);
   EXPECT_GT(live.flushed, 0u);
   EXPECT_GT(live.removed_mm3, 0.0);
   const BudgetRun replay = runBudgeted(StepBudget::None, 0, tight, steps, &live.schedules);
