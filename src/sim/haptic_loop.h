@@ -140,9 +140,11 @@ enum class StepBudget { None, Clock, Points };
 
 class HapticLoop {
  public:
-  // The longest a job waits: one older runs at once, over budget. The bench's loop waits 4-5 steps at
-  // most on a steady machine, but a machine slowed for a while (another tenant, a throttled core) left
-  // jobs 20 to 100 steps behind, and the tissue the bur had already taken pushed on it all that time.
+  // The longest a job waits: one older runs at once, over budget. On a steady machine the bench's
+  // loop waits up to 5-7 steps, but a machine slowed for a while (another tenant, a throttled core)
+  // left jobs 20 to 100 steps behind: the tissue the bur had already taken pushed on it for up to
+  // 0.1 s, half a millimetre of travel. A step made longer by a forced job stays far inside its
+  // period; a cavity that far behind the bur is felt.
   static constexpr uint64_t kMaxCutLagSteps = 8;
 
   // `volume` is the tooth's CPU copy: the loop edits it and must be its only user while running.
