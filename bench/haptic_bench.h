@@ -122,7 +122,7 @@ struct HapticBenchRow {
   uint64_t contact_overruns = 0;    // steps whose contact pass the budget cut short
   uint64_t late_cut_steps = 0;      // steps that left cut jobs for later
   uint64_t max_cut_lag_steps = 0;   // the longest a cut job waited [steps]
-  uint64_t forced_cuts = 0;         // cut jobs run over the budget (the queue was full)
+  uint64_t forced_cuts = 0;         // cut jobs run over the budget (too late, or the queue was full)
   // The bare timer: a thread at the loop's policy on the same DeadlineClock, each step a busy wait as
   // long as the loop thread's mean step, as many steps, right after the loop's run. What it misses is
   // the machine's (late wake-ups), not the step's.

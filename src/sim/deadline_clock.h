@@ -2,9 +2,9 @@
 //
 // A step's slot opens at the last deadline and closes one period later. A step that ends after its
 // deadline missed it; one that began late because the kernel (or a virtual machine's host) woke the
-// thread late misses it through no time of its own, so the clock keeps both: how late each wake
-// came, and whether the step itself took longer than a period. The bench runs the same clock with
-// a busy wait in place of the step, at the same priority, so the two threads' misses compare.
+// thread late misses it through no time of its own, so opening a slot says how late the step began
+// (the loop counts the steps that themselves took longer than a period). The bench runs the same
+// clock with a busy wait in place of the step, at the same priority, so the two threads' misses compare.
 #pragma once
 
 #include <cstdint>

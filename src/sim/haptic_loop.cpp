@@ -121,11 +121,12 @@ void HapticLoop::bookCut(const CutStep& cut) {
   totals_.voxels_changed += cut.voxels_changed;
 }
 
-void HapticLoop::runOldestCut() {
+void HapticLoop::runOldestCut(bool forced) {
   const CutJob& job = cut_jobs_[cut_head_];
   runCut(std::span<const ContactPoint>(cut_pool_.data() + job.first, job.count), job.speed, job.dt, job.step);
   cut_head_ = (cut_head_ + 1) % kCutJobs;
   --cut_count_;
+  report_.cuts_forced += forced ? 1 : 0;
 }
 
 void HapticLoop::enqueueCut(std::span<const ContactPoint> contacts, double speed, double dt, uint64_t step) {
@@ -146,8 +147,7 @@ void HapticLoop::enqueueCut(std::span<const ContactPoint> contacts, double speed
   };
   int64_t at = place();
   while (at < 0 && cut_count_ > 0) {
-    runOldestCut();
-    ++report_.cuts_forced;
+    runOldestCut(/*forced=*/true);
     at = place();
   }
   if (at < 0) return;  // a contact set larger than the ring: cannot happen (the ring holds four shells)
@@ -257,8 +257,7 @@ const StepReport& HapticLoop::step() {
     return !clocked || steadyNowNs() < cut_deadline;
   };
   while (cut_count_ > 0 && step_index - cut_jobs_[cut_head_].step >= kMaxCutLagSteps) {
-    runOldestCut();
-    ++report_.cuts_forced;
+    runOldestCut(/*forced=*/true);
   }
   if (cutting) {
     if (cut_count_ == 0 && mayRunAnother())
@@ -350,11 +349,12 @@ void HapticLoop::run() {
   // The thread's steps keep to the clock's budget; step() called directly keeps its own.
   const StepBudget direct = budget_;
   budget_ = thread_budget_;
-  auto period_ns = [&] { return int64_t(std::llround(1e9 / active_params_->device.rate_hz)); };
   DeadlineClock clock(steadyNowNs());
   while (!stop_requested_.load(std::memory_order_relaxed)) {
+    // The rate in force when the slot opens holds for the whole slot, even if the step activates new parameters.
+    const auto period_ns = int64_t(std::llround(1e9 / active_params_->device.rate_hz));
     const int64_t t0 = steadyNowNs();
-    const int64_t late = clock.open(period_ns(), t0);
+    const int64_t late = clock.open(period_ns, t0);
     if (late > counters_.max_wake_late_ns.load(std::memory_order_relaxed))
       counters_.max_wake_late_ns.store(late, std::memory_order_relaxed);
     step();
@@ -365,8 +365,8 @@ void HapticLoop::run() {
       counters_.max_step_ns.store(t1 - t0, std::memory_order_relaxed);
       counters_.max_step_at.store(totals_.step - 1, std::memory_order_relaxed);
     }
-    if (t1 - t0 > period_ns()) counters_.long_steps.fetch_add(1, std::memory_order_relaxed);
-    if (!clock.close(t1, period_ns())) {
+    if (t1 - t0 > period_ns) counters_.long_steps.fetch_add(1, std::memory_order_relaxed);
+    if (!clock.close(t1, period_ns)) {
       counters_.missed_deadlines.fetch_add(1, std::memory_order_relaxed);
       continue;
     }

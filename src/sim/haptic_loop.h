@@ -90,7 +90,7 @@ struct StepReport {
   std::array<bool, 2> force_limited{}; // the force shown was held to its largest change a step
   CutStep cut;                         // the cut jobs this step ran, summed
   uint32_t cuts_run = 0;               // cut jobs this step ran (a step's own, or queued ones)
-  uint32_t cuts_forced = 0;            // of which run over the budget because the queue was full
+  uint32_t cuts_forced = 0;            // of which run over the budget: waited kMaxCutLagSteps, or the queue was full
   uint32_t cuts_waiting = 0;           // jobs left in the queue
   uint64_t cut_lag_steps = 0;          // steps the oldest waiting job has waited
   SessionSchedule schedule;            // what the step reached (default: all of it)
@@ -121,7 +121,7 @@ struct LoopCounters {
   std::atomic<uint64_t> steps{0};            // steps run by the thread
   std::atomic<uint64_t> contact_overruns{0}; // steps whose contact pass the budget cut short (any tool)
   std::atomic<uint64_t> late_cuts{0};        // steps that left cut jobs for a later step
-  std::atomic<uint64_t> forced_cuts{0};      // cut jobs run over the budget: the queue was full
+  std::atomic<uint64_t> forced_cuts{0};      // cut jobs run over the budget: too late, or the queue was full
   std::atomic<uint64_t> max_cut_lag_steps{0};  // the longest any cut job waited [steps]
   std::atomic<uint64_t> missed_deadlines{0}; // steps that ended after their deadline
   std::atomic<uint64_t> long_steps{0};       // steps that took longer than the period: missed by their own work
@@ -252,7 +252,9 @@ class HapticLoop {
   // Queues the drill's contacts of this step; runs the oldest job first, over budget, while there is no room.
   void enqueueCut(std::span<const ContactPoint> contacts, double speed, double dt, uint64_t step);
   void runCut(std::span<const ContactPoint> contacts, double speed, double dt, uint64_t step);
-  void runOldestCut();
+  // Runs the oldest waiting job; forced: over the budget (too late, or no room), counted as such and
+  // not in a schedule's count of jobs run.
+  void runOldestCut(bool forced = false);
   void bookCut(const CutStep& cut);  // adds a cut's removal to the running totals
   BrickVolume& volume_;
   VoxelField field_;
